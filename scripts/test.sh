@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs what is missing (test data included), builds, and runs every test: once in an
+# optimised build, then the unit tests again under AddressSanitizer and UBSan.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+jobs=$(nproc)
+"$root/scripts/setup-debian.sh" --with-test-data
+
+"$root/scripts/build.sh" "$root/build"
+ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
+
+"$root/scripts/build.sh" "$root/build-sanitize" -DOER_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$jobs" -LE slow
