@@ -9,6 +9,7 @@ build_packages=(
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev
     libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
+    libssl-dev
     libgtest-dev libgmock-dev
 )
 # Real-world data for tests (DESIGN.md section 5); the service itself never needs them.

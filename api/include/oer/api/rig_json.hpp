@@ -1,0 +1,13 @@
+#pragma once
+// The light rig as JSON (DESIGN.md section 7): the same document from the CLI and the API.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "oer/rig.hpp"
+
+namespace oer::api {
+
+nlohmann::json rig_to_json(const Rig& rig, const std::string& id);
+
+}  // namespace oer::api

@@ -1,0 +1,189 @@
+#include "oer/api/rig_options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <functional>
+
+#include "oer/api/invalid_parameter.hpp"
+
+namespace oer::api {
+
+namespace {
+
+long long parse_integer(const std::string& name, const std::string& text, long long low,
+                        long long high) {
+    long long value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty()) {
+        throw InvalidParameter(name, "expected an integer, got '" + text + "'");
+    }
+    if (value < low || value > high) {
+        throw InvalidParameter(name, "must be in " + std::to_string(low) + ".." +
+                                         std::to_string(high) + ", got " + text);
+    }
+    return value;
+}
+
+double parse_number(const std::string& name, const std::string& text, double low, double high) {
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size() || text.empty() ||
+        !std::isfinite(value)) {
+        throw InvalidParameter(name, "expected a finite number, got '" + text + "'");
+    }
+    if (value < low || value > high) {
+        throw InvalidParameter(name, "must be in [" + std::to_string(low) + ", " +
+                                         std::to_string(high) + "], got " + text);
+    }
+    return value;
+}
+
+template <typename Enum>
+Enum parse_enum(const std::string& name, const std::string& text,
+                const std::function<Enum(const std::string&)>& from_string) {
+    try {
+        return from_string(text);
+    } catch (const Error& error) {
+        throw InvalidParameter(name, error.what());
+    }
+}
+
+WindowChoice window_choice_from_string(const std::string& text) {
+    if (text == "auto") {
+        return WindowChoice::Auto;
+    }
+    switch (window_kind_from_string(text)) {
+        case WindowKind::None:
+            return WindowChoice::None;
+        case WindowKind::Hanning:
+            return WindowChoice::Hanning;
+        case WindowKind::Lanczos:
+            return WindowChoice::Lanczos;
+    }
+    throw Error(ErrorKind::Internal, "unknown window kind");
+}
+
+std::string to_string(WindowChoice choice) {
+    switch (choice) {
+        case WindowChoice::None:
+            return "none";
+        case WindowChoice::Hanning:
+            return "hanning";
+        case WindowChoice::Lanczos:
+            return "lanczos";
+        case WindowChoice::Auto:
+            return "auto";
+    }
+    throw Error(ErrorKind::Internal, "unknown window choice");
+}
+
+using Setter = std::function<void(RigOptions&, const std::string& name, const std::string& value)>;
+
+const std::map<std::string, Setter>& setters() {
+    static const std::map<std::string, Setter> table = {
+        {"light_count",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.light_count = v == "auto" ? std::nullopt
+                                         : std::optional<int>(int(parse_integer(n, v, 0, 16)));
+         }},
+        {"max_lights",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.max_lights = int(parse_integer(n, v, 0, 16));
+         }},
+        {"shadow_threshold",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.shadow_visibility_threshold = parse_number(n, v, 0.0, 1.0);
+         }},
+        {"sh_order",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.sh_order = v == "auto" ? std::nullopt
+                                      : std::optional<int>(int(parse_integer(n, v, 1, kMaxShOrder)));
+         }},
+        {"max_sh_order",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.max_sh_order = int(parse_integer(n, v, 1, kMaxShOrder));
+         }},
+        {"sh_tolerance",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.sh_tolerance = parse_number(n, v, 1e-6, 0.5);
+         }},
+        {"window",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.window = parse_enum<WindowChoice>(n, v, window_choice_from_string);
+         }},
+        {"window_cutoff",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.window_cutoff = parse_number(n, v, 0.0, 1000.0);
+         }},
+        {"model",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.model = parse_enum<LightingModel>(n, v, lighting_model_from_string);
+         }},
+        {"clustering",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.location.clustering = parse_enum<Clustering>(n, v, clustering_from_string);
+         }},
+        {"blur_radius",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.location.blur_radius = parse_number(n, v, 0.0, 64.0);
+         }},
+        {"light_percentile",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.location.light_percentile = parse_number(n, v, 0.5, 0.99999);
+         }},
+        {"halo_percentile",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.location.halo_percentile = parse_number(n, v, 0.5, 0.99999);
+         }},
+        {"clusters",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.location.cluster_count = int(parse_integer(n, v, 1, 64));
+         }},
+        {"seed",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             o.location.seed = std::uint64_t(parse_integer(n, v, 0, (1ll << 53)));
+         }},
+    };
+    return table;
+}
+
+}  // namespace
+
+bool is_rig_option(const std::string& name) { return setters().contains(name); }
+
+RigOptions parse_rig_options(const std::map<std::string, std::string>& parameters) {
+    RigOptions options;
+    for (const auto& [name, value] : parameters) {
+        const auto setter = setters().find(name);
+        if (setter == setters().end()) {
+            throw InvalidParameter(name, "unknown preprocessing option");
+        }
+        setter->second(options, name, value);
+    }
+    if (options.location.halo_percentile > options.location.light_percentile) {
+        throw InvalidParameter("halo_percentile", "must not exceed light_percentile");
+    }
+    return options;
+}
+
+nlohmann::json rig_options_to_json(const RigOptions& options) {
+    nlohmann::json json;
+    json["light_count"] = options.light_count ? nlohmann::json(*options.light_count) : "auto";
+    json["max_lights"] = options.max_lights;
+    json["shadow_threshold"] = options.shadow_visibility_threshold;
+    json["sh_order"] = options.sh_order ? nlohmann::json(*options.sh_order) : "auto";
+    json["max_sh_order"] = options.max_sh_order;
+    json["sh_tolerance"] = options.sh_tolerance;
+    json["window"] = to_string(options.window);
+    json["window_cutoff"] = options.window_cutoff;
+    json["model"] = to_string(options.model);
+    json["clustering"] = to_string(options.location.clustering);
+    json["blur_radius"] = options.location.blur_radius;
+    json["light_percentile"] = options.location.light_percentile;
+    json["halo_percentile"] = options.location.halo_percentile;
+    json["clusters"] = options.location.cluster_count;
+    json["seed"] = options.location.seed;
+    return json;
+}
+
+}  // namespace oer::api

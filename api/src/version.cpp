@@ -1,5 +1,0 @@
-#include "oer/api/version.hpp"
-
-namespace oer::api {
-const char* version() { return kVersion; }
-}  // namespace oer::api

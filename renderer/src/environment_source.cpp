@@ -1,0 +1,98 @@
+#include "oer/environment_source.hpp"
+
+#include <array>
+
+#include "oer/environment_layouts.hpp"
+#include "oer/error.hpp"
+
+namespace oer {
+
+std::string to_string(EnvironmentLayout layout) {
+    switch (layout) {
+        case EnvironmentLayout::Equirect:
+            return "equirect";
+        case EnvironmentLayout::Cross:
+            return "cross";
+        case EnvironmentLayout::MirrorBall:
+            return "mirror-ball";
+        case EnvironmentLayout::CubeFaces:
+            return "cube-faces";
+    }
+    throw Error(ErrorKind::Internal, "unknown environment layout");
+}
+
+EnvironmentLayout environment_layout_from_string(const std::string& name) {
+    for (const EnvironmentLayout layout :
+         {EnvironmentLayout::Equirect, EnvironmentLayout::Cross, EnvironmentLayout::MirrorBall,
+          EnvironmentLayout::CubeFaces}) {
+        if (to_string(layout) == name) {
+            return layout;
+        }
+    }
+    throw Error(ErrorKind::InvalidInput, "layout '" + name +
+                                             "' is not one of equirect, cross, mirror-ball, "
+                                             "cube-faces");
+}
+
+namespace {
+
+void add_counts(RepairCounts& total, const RepairCounts& more) {
+    total.nan += more.nan;
+    total.inf += more.inf;
+    total.negative += more.negative;
+}
+
+}  // namespace
+
+LoadedImage decode_environment(std::span<const EncodedImage> images, EnvironmentLayout layout,
+                               const ImageLimits& limits) {
+    const std::size_t expected = layout == EnvironmentLayout::CubeFaces ? 6 : 1;
+    if (images.size() != expected) {
+        throw Error(ErrorKind::InvalidInput, "layout " + to_string(layout) + " takes " +
+                                                 std::to_string(expected) + " image(s), got " +
+                                                 std::to_string(images.size()));
+    }
+    std::vector<LoadedImage> decoded;
+    for (const EncodedImage& image : images) {
+        decoded.push_back(load_image_memory(image.bytes, image.name, limits));
+    }
+    LoadedImage result;
+    for (const LoadedImage& image : decoded) {
+        add_counts(result.repaired, image.repaired);
+    }
+    const auto check_output = [&](int width) {
+        if (std::uint64_t(width) * std::uint64_t(width / 2) > limits.max_pixels) {
+            throw Error(ErrorKind::LimitExceeded,
+                        images[0].name + ": the resampled equirect map would exceed the pixel limit");
+        }
+    };
+    switch (layout) {
+        case EnvironmentLayout::Equirect:
+            result.image = std::move(decoded[0].image);
+            return result;
+        case EnvironmentLayout::Cross: {
+            const HdrImage& cross = decoded[0].image;
+            const int face = std::min(cross.width, cross.height) / 3;
+            check_output(4 * face);
+            result.image = equirect_from_cross(cross, 4 * face);
+            return result;
+        }
+        case EnvironmentLayout::MirrorBall: {
+            check_output(2 * decoded[0].image.width);
+            result.image = equirect_from_mirror_ball(decoded[0].image, 2 * decoded[0].image.width);
+            return result;
+        }
+        case EnvironmentLayout::CubeFaces: {
+            std::array<const HdrImage*, 6> faces{};
+            for (std::size_t i = 0; i < 6; ++i) {
+                faces[i] = &decoded[i].image;
+            }
+            check_output(4 * decoded[0].image.width);
+            result.image = equirect_from_cube_faces(faces, 4 * decoded[0].image.width);
+            return result;
+        }
+    }
+    throw Error(ErrorKind::Internal, "unknown environment layout");
+}
+
+}  // namespace oer

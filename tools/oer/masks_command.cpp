@@ -1,0 +1,32 @@
+#include "commands.hpp"
+#include "environment_input.hpp"
+#include "oer/image_io.hpp"
+#include "oer/light_overlay.hpp"
+#include "oer/tonemap.hpp"
+
+namespace oer::cli {
+
+int masks_command(const std::vector<std::string>& arguments) {
+    std::set<std::string> valued = rig_option_flags();
+    valued.insert({"o", "exposure", "tonemap"});
+    const CommandLine line = parse_command_line(arguments, valued, {});
+    if (line.positional.size() != 1 || !line.value("o")) {
+        throw UsageError("masks takes one MAP and -o OUT.png");
+    }
+    double exposure = 0.0;
+    if (const auto text = line.value("exposure")) {
+        try {
+            exposure = std::stod(*text);
+        } catch (const std::exception&) {
+            throw UsageError("--exposure expects a number of stops, got '" + *text + "'");
+        }
+    }
+    const ToneMapper mapper = tone_mapper_from_string(line.value("tonemap").value_or("neutral"));
+    const EnvironmentInput input = read_environment(line.positional[0], line);
+    const Rig rig = build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(line));
+    const HdrImage display = to_display(input.loaded.image, exposure, mapper);
+    write_image_file(draw_light_overlay(display, rig.lights), *line.value("o"));
+    return 0;
+}
+
+}  // namespace oer::cli
