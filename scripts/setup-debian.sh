@@ -4,7 +4,7 @@
 set -euo pipefail
 
 build_packages=(
-    build-essential cmake pkg-config git
+    build-essential cmake pkg-config git clang-format
     libopenimageio-dev openimageio-tools libopenexr-dev
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev

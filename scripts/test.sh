@@ -6,9 +6,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 jobs=$(nproc)
 "$root/scripts/setup-debian.sh" --with-test-data
 
-"$root/scripts/build.sh" "$root/build"
+"$root/scripts/build.sh" "$root/build" -DOER_WERROR=ON
 ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
 
-"$root/scripts/build.sh" "$root/build-sanitize" -DOER_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+"$root/scripts/build.sh" "$root/build-sanitize" -DOER_SANITIZE=ON -DOER_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOER_BUILD_BENCHMARKS=OFF
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$jobs" -LE slow

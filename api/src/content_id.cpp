@@ -34,7 +34,9 @@ std::string sha256_hex(std::span<const std::byte> bytes) {
     return digest_hex(bytes.data(), bytes.size());
 }
 
-std::string sha256_hex(std::string_view text) { return digest_hex(text.data(), text.size()); }
+std::string sha256_hex(std::string_view text) {
+    return digest_hex(text.data(), text.size());
+}
 
 std::string rig_id(const std::string& source_digest, const RigOptions& options) {
     return sha256_hex("oer-rig-v1\n" + source_digest + "\n" + rig_options_to_json(options).dump());

@@ -6,7 +6,9 @@ namespace oer::api {
 
 namespace {
 
-nlohmann::json vector_json(const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+nlohmann::json vector_json(const glm::dvec3& v) {
+    return nlohmann::json::array({v.x, v.y, v.z});
+}
 
 nlohmann::json coefficients_json(const ShRgb& sh) {
     nlohmann::json list = nlohmann::json::array();

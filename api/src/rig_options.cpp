@@ -83,8 +83,8 @@ const std::map<std::string, Setter>& setters() {
     static const std::map<std::string, Setter> table = {
         {"light_count",
          [](RigOptions& o, const std::string& n, const std::string& v) {
-             o.light_count = v == "auto" ? std::nullopt
-                                         : std::optional<int>(int(parse_integer(n, v, 0, 16)));
+             o.light_count =
+                 v == "auto" ? std::nullopt : std::optional<int>(int(parse_integer(n, v, 0, 16)));
          }},
         {"max_lights",
          [](RigOptions& o, const std::string& n, const std::string& v) {
@@ -96,8 +96,9 @@ const std::map<std::string, Setter>& setters() {
          }},
         {"sh_order",
          [](RigOptions& o, const std::string& n, const std::string& v) {
-             o.sh_order = v == "auto" ? std::nullopt
-                                      : std::optional<int>(int(parse_integer(n, v, 1, kMaxShOrder)));
+             o.sh_order = v == "auto"
+                              ? std::nullopt
+                              : std::optional<int>(int(parse_integer(n, v, 1, kMaxShOrder)));
          }},
         {"max_sh_order",
          [](RigOptions& o, const std::string& n, const std::string& v) {
@@ -149,7 +150,9 @@ const std::map<std::string, Setter>& setters() {
 
 }  // namespace
 
-bool is_rig_option(const std::string& name) { return setters().contains(name); }
+bool is_rig_option(const std::string& name) {
+    return setters().contains(name);
+}
 
 RigOptions parse_rig_options(const std::map<std::string, std::string>& parameters) {
     RigOptions options;

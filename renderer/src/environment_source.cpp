@@ -62,8 +62,9 @@ LoadedImage decode_environment(std::span<const EncodedImage> images, Environment
     }
     const auto check_output = [&](int width) {
         if (std::uint64_t(width) * std::uint64_t(width / 2) > limits.max_pixels) {
-            throw Error(ErrorKind::LimitExceeded,
-                        images[0].name + ": the resampled equirect map would exceed the pixel limit");
+            throw Error(
+                ErrorKind::LimitExceeded,
+                images[0].name + ": the resampled equirect map would exceed the pixel limit");
         }
     };
     switch (layout) {

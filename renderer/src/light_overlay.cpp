@@ -14,13 +14,25 @@ namespace {
 
 // 3x5 bitmap digits, one row per 3-bit number, most significant bit on the left.
 constexpr std::array<std::array<std::uint8_t, 5>, 10> kDigits = {{
-    {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1},
-    {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7},
+    {7, 5, 5, 5, 7},
+    {2, 6, 2, 2, 7},
+    {7, 1, 7, 4, 7},
+    {7, 1, 7, 1, 7},
+    {5, 5, 7, 1, 1},
+    {7, 4, 7, 1, 7},
+    {7, 4, 7, 5, 7},
+    {7, 1, 1, 1, 1},
+    {7, 5, 7, 5, 7},
+    {7, 5, 7, 1, 7},
 }};
 
 constexpr std::array<glm::vec3, 6> kColours = {{
-    {1.0f, 0.2f, 0.2f}, {0.2f, 1.0f, 0.2f}, {0.3f, 0.5f, 1.0f},
-    {1.0f, 1.0f, 0.2f}, {1.0f, 0.2f, 1.0f}, {0.2f, 1.0f, 1.0f},
+    {1.0f, 0.2f, 0.2f},
+    {0.2f, 1.0f, 0.2f},
+    {0.3f, 0.5f, 1.0f},
+    {1.0f, 1.0f, 0.2f},
+    {1.0f, 0.2f, 1.0f},
+    {0.2f, 1.0f, 1.0f},
 }};
 
 void fill(HdrImage& image, int x0, int y0, int size, glm::vec3 colour) {
@@ -59,7 +71,8 @@ void draw_number(HdrImage& image, int number, int x, int y, int scale, glm::vec3
 HdrImage draw_light_overlay(const HdrImage& display, const std::vector<Light>& lights) {
     const int w = display.width, h = display.height;
     if (lights.size() > 255) {
-        throw Error(ErrorKind::InvalidInput, "too many lights to draw: " + std::to_string(lights.size()));
+        throw Error(ErrorKind::InvalidInput,
+                    "too many lights to draw: " + std::to_string(lights.size()));
     }
     std::vector<std::uint8_t> label(display.pixel_count(), 0);
     for (std::size_t k = 0; k < lights.size(); ++k) {

@@ -12,7 +12,9 @@
 
 namespace oer {
 
-std::string to_string(LightingModel model) { return model == LightingModel::Hdr ? "hdr" : "thesis"; }
+std::string to_string(LightingModel model) {
+    return model == LightingModel::Hdr ? "hdr" : "thesis";
+}
 
 LightingModel lighting_model_from_string(const std::string& name) {
     if (name == "hdr") {
@@ -71,7 +73,8 @@ void validate(const RigOptions& options) {
     if (options.max_lights < 0 || options.max_lights > 16) {
         fail("max_lights must be 0..16, got " + std::to_string(options.max_lights));
     }
-    if (!(options.shadow_visibility_threshold >= 0.0 && options.shadow_visibility_threshold <= 1.0)) {
+    if (!(options.shadow_visibility_threshold >= 0.0 &&
+          options.shadow_visibility_threshold <= 1.0)) {
         fail("shadow_threshold must be in [0, 1]");
     }
     if (options.sh_order && (*options.sh_order < 1 || *options.sh_order > kMaxShOrder)) {
@@ -99,7 +102,9 @@ std::vector<std::vector<std::uint32_t>> pixel_lists(const std::vector<Light>& li
     return lists;
 }
 
-double luminance_of(const glm::dvec3& rgb) { return 0.265 * rgb.r + 0.670 * rgb.g + 0.065 * rgb.b; }
+double luminance_of(const glm::dvec3& rgb) {
+    return 0.265 * rgb.r + 0.670 * rgb.g + 0.065 * rgb.b;
+}
 
 // The largest darkening light k's shadow can cause: max over normals of E_k(n) / E_all(n),
 // with irradiance from the order-3 SH the renderer shades with (so the figure is the one a
@@ -131,7 +136,8 @@ LightChoice choose_lights(const LightLocation& located, const ShProjection& cand
         }
         choice.reason = "requested " + std::to_string(*options.light_count);
         if (located.lights.size() < std::size_t(*options.light_count)) {
-            choice.reason += "; found " + std::to_string(located.lights.size()) + ": " + located.note;
+            choice.reason +=
+                "; found " + std::to_string(located.lights.size()) + ": " + located.note;
         }
         return choice;
     }
@@ -195,8 +201,8 @@ OrderChoice choose_order(const HdrImage& image, const ShProjection& order3,
             radiance = order3.all.truncated(order);
         } else {
             if (high.order == 0) {
-                const int max_odd = options.max_sh_order % 2 == 1 ? options.max_sh_order
-                                                                  : options.max_sh_order - 1;
+                const int max_odd =
+                    options.max_sh_order % 2 == 1 ? options.max_sh_order : options.max_sh_order - 1;
                 high = project_environment(image, {}, max_odd).all;
             }
             radiance = high.truncated(order);
@@ -279,7 +285,8 @@ Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOpti
         case WindowChoice::Lanczos:
             rig.window.kind =
                 options.window == WindowChoice::Hanning ? WindowKind::Hanning : WindowKind::Lanczos;
-            rig.window.cutoff = options.window_cutoff > 0.0 ? options.window_cutoff : 2.0 * rig.order;
+            rig.window.cutoff =
+                options.window_cutoff > 0.0 ? options.window_cutoff : 2.0 * rig.order;
             rig.window_reason = "requested " + to_string(rig.window.kind);
             break;
         case WindowChoice::Auto:

@@ -112,7 +112,8 @@ HdrImage thesis_tone_map(const HdrImage& linear) {
     for (std::size_t i = 0; i < linear.pixel_count(); ++i) {
         log_sum += std::log(delta + luminance(glm::dvec3(linear.rgb(i))) / 179.0);
     }
-    const double log_average = std::exp(log_sum / double(std::max<std::size_t>(1, linear.pixel_count())));
+    const double log_average =
+        std::exp(log_sum / double(std::max<std::size_t>(1, linear.pixel_count())));
     const double scale = key / log_average;
     HdrImage out(linear.width, linear.height);
     float largest = 0.0f;

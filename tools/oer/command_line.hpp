@@ -12,14 +12,15 @@ namespace oer::cli {
 
 // A usage mistake: the message is printed with the command's usage, exit status 2.
 class UsageError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 struct CommandLine {
     std::vector<std::string> positional;
-    std::map<std::string, std::vector<std::string>> values;  // flag (without --) -> values, in order
-    std::set<std::string> switches;                          // flags without a value that were given
+    std::map<std::string, std::vector<std::string>>
+        values;                      // flag (without --) -> values, in order
+    std::set<std::string> switches;  // flags without a value that were given
 
     std::optional<std::string> value(const std::string& flag) const;  // the last one given
     bool has(const std::string& flag) const { return switches.contains(flag); }

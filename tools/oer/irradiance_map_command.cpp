@@ -2,9 +2,9 @@
 
 #include "commands.hpp"
 #include "environment_input.hpp"
+#include "oer/api/light_switches.hpp"
 #include "oer/image_io.hpp"
 #include "oer/irradiance_map.hpp"
-#include "oer/api/light_switches.hpp"
 
 namespace oer::cli {
 
@@ -35,7 +35,8 @@ int irradiance_map_command(const std::vector<std::string>& arguments) {
                   << (samples == 0 ? input.loaded.image.pixel_count() : samples)
                   << " samples at most\n";
     } else {
-        const Rig rig = build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(line));
+        const Rig rig =
+            build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(line));
         const std::vector<double> visibility =
             api::parse_light_switches(line.value("lights"), rig.lights.size());
         map = irradiance_map_from_sh(

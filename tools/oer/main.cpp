@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "commands.hpp"
 #include "command_line.hpp"
+#include "commands.hpp"
 #include "oer/api/version.hpp"
 #include "oer/error.hpp"
 

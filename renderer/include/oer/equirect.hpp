@@ -8,8 +8,8 @@
 #include <cstddef>
 #include <vector>
 
-#include <glm/vec2.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace oer::equirect {

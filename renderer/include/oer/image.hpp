@@ -13,7 +13,8 @@ struct HdrImage {
     std::vector<float> pixels;  // width * height * 3 floats
 
     HdrImage() = default;
-    HdrImage(int w, int h) : width(w), height(h), pixels(std::size_t(w) * std::size_t(h) * 3, 0.0f) {}
+    HdrImage(int w, int h)
+        : width(w), height(h), pixels(std::size_t(w) * std::size_t(h) * 3, 0.0f) {}
 
     std::size_t pixel_count() const { return std::size_t(width) * std::size_t(height); }
     float* at(int x, int y) { return &pixels[(std::size_t(y) * std::size_t(width) + x) * 3]; }

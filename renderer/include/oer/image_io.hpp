@@ -12,7 +12,8 @@
 namespace oer {
 
 struct ImageLimits {
-    std::uint64_t max_pixels = 64ull * 1024 * 1024;  // checked against the header, before allocating
+    std::uint64_t max_pixels =
+        64ull * 1024 * 1024;  // checked against the header, before allocating
     int max_dimension = 32768;
 };
 

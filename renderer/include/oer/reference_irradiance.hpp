@@ -14,7 +14,7 @@ namespace oer {
 std::vector<glm::dvec3> fibonacci_sphere(int n);
 
 class ReferenceIrradiance {
-public:
+  public:
     // max_samples bounds the work: a larger map is first reduced, area-preservingly, to at
     // most that many samples (blocks of pixels, each carrying sum(L dOmega) of its pixels at
     // their dOmega-weighted mean direction). 0 means never reduce.
@@ -24,13 +24,14 @@ public:
     std::vector<glm::dvec3> at(std::span<const glm::dvec3> normals) const;  // uses 2 threads
     std::size_t sample_count() const { return directions_.size(); }
 
-private:
+  private:
     std::vector<glm::dvec3> directions_;
     std::vector<glm::dvec3> weighted_radiance_;  // sum of L * dOmega
 };
 
 // Relative RMS error of approx against reference over all normals and channels:
 // sqrt(sum |approx - ref|^2) / sqrt(sum |ref|^2).
-double relative_rms_error(std::span<const glm::dvec3> approx, std::span<const glm::dvec3> reference);
+double relative_rms_error(std::span<const glm::dvec3> approx,
+                          std::span<const glm::dvec3> reference);
 
 }  // namespace oer

@@ -27,14 +27,14 @@ Clustering clustering_from_string(const std::string& name);  // throws oer::Erro
 enum class WindowChoice { None, Hanning, Lanczos, Auto };
 
 struct RigOptions {
-    std::optional<int> light_count;      // empty: auto (visible shadows only, up to max_lights)
+    std::optional<int> light_count;  // empty: auto (visible shadows only, up to max_lights)
     int max_lights = 4;
     double shadow_visibility_threshold = 0.05;  // auto: keep a light whose darkening reaches this
-    std::optional<int> sh_order;         // empty: auto (lowest order under sh_tolerance)
+    std::optional<int> sh_order;                // empty: auto (lowest order under sh_tolerance)
     int max_sh_order = 9;
-    double sh_tolerance = 0.01;          // relative RMS irradiance error against the reference
+    double sh_tolerance = 0.01;  // relative RMS irradiance error against the reference
     WindowChoice window = WindowChoice::None;
-    double window_cutoff = 0.0;          // for Hanning / Lanczos; 0 means 2 * order
+    double window_cutoff = 0.0;  // for Hanning / Lanczos; 0 means 2 * order
     LightingModel model = LightingModel::Hdr;
     LightLocationOptions location;
 };
@@ -53,7 +53,8 @@ struct Rig {
     std::string window_reason;
     ShProjection sh;  // unwindowed radiance: whole map and per light (of the tone-mapped map
                       // in the thesis model)
-    double reference_error = -1.0;      // relative RMS irradiance error of the chosen order, if measured
+    double reference_error =
+        -1.0;  // relative RMS irradiance error of the chosen order, if measured
     std::map<std::string, double> timings_ms;
 };
 

@@ -13,8 +13,12 @@ namespace oer {
 
 inline constexpr int kMaxShOrder = 16;
 
-constexpr int sh_index(int l, int m) { return l * (l + 1) + m; }
-constexpr int sh_count(int order) { return order * order; }
+constexpr int sh_index(int l, int m) {
+    return l * (l + 1) + m;
+}
+constexpr int sh_count(int order) {
+    return order * order;
+}
 
 // Writes the order^2 basis values at unit direction d into out (size >= order^2), by the
 // standard recurrence for associated Legendre functions. 1 <= order <= kMaxShOrder.

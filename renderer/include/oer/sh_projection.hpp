@@ -14,7 +14,7 @@
 namespace oer {
 
 struct ShProjection {
-    ShRgb all;                   // the whole map
+    ShRgb all;                     // the whole map
     std::vector<ShRgb> per_light;  // each light's own pixels
 };
 

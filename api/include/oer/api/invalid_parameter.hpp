@@ -8,12 +8,13 @@
 namespace oer::api {
 
 class InvalidParameter : public Error {
-public:
+  public:
     InvalidParameter(std::string parameter, const std::string& detail)
-        : Error(ErrorKind::InvalidInput, parameter + ": " + detail), parameter_(std::move(parameter)) {}
+        : Error(ErrorKind::InvalidInput, parameter + ": " + detail),
+          parameter_(std::move(parameter)) {}
     const std::string& parameter() const { return parameter_; }
 
-private:
+  private:
     std::string parameter_;
 };
 
