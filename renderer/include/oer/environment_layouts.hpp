@@ -2,6 +2,11 @@
 // The two other environment layouts of the thesis, resampled to equirect (DESIGN.md section 3
 // mapping): cube maps (six faces, or one horizontal or vertical cross) with faces oriented as
 // in the OpenGL cube-map table, and mirror-ball light probes.
+//
+// Every function returns an out_width x (out_width / 2) equirect map (out_width in
+// [2, 32768]): each output pixel samples the source bilinearly at its own direction (cube
+// faces clamp at their edges, no filtering across faces). Invalid sources or sizes throw
+// oer::Error(ErrorKind::InvalidInput) saying what is wrong.
 #include <array>
 
 #include "oer/image.hpp"
@@ -26,6 +31,9 @@ HdrImage equirect_from_cross(const HdrImage& cross, int out_width);
 // Mirror ball photographed along -Z (the camera looks down -Z at a ball centred in a square
 // image): the ball's image point at normalised (u, v) in [-1, 1]^2 (v up) reflects the
 // direction r = 2 (n . e) n - e with e = (0, 0, 1) and n = (u, v, sqrt(1 - u^2 - v^2)).
+// The disc touches the image's edges. Pixels outside it are only reached by the bilinear taps
+// of rim points, i.e. of directions near -Z, which the ball squeezes into its rim (-Z itself
+// is the whole rim and is read from one rim point).
 HdrImage equirect_from_mirror_ball(const HdrImage& probe, int out_width);
 
 }  // namespace oer
