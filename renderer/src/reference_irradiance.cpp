@@ -23,7 +23,7 @@ typedef double v4d __attribute__((vector_size(32)));
 
 // E(n) for up to kNormalBlock normals at once; every normal sums the samples in sample order,
 // exactly as a scalar loop would.
-__attribute__((target_clones("avx2", "default"))) void irradiance_block(
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) void irradiance_block(
     const glm::dvec3* directions, const glm::dvec3* weights, std::size_t samples,
     const glm::dvec3* normals, std::size_t count, glm::dvec3* out) {
     double nx[kNormalBlock] = {}, ny[kNormalBlock] = {}, nz[kNormalBlock] = {};

@@ -67,7 +67,7 @@ template <int K>
         accumulate<2 * order - 1>(table, stride, r, g, b, sums); \
         break;
 
-__attribute__((target_clones("avx2", "default"))) void row_sums_dispatch(
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) void row_sums_dispatch(
     int terms, const double* table, std::size_t stride, int width, const float* row,
     double* scratch, double* sums) {
     double* r = scratch;
