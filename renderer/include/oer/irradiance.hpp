@@ -21,7 +21,8 @@ enum class WindowKind { None, Hanning, Lanczos };
 
 // Per-band window. Hanning: w_l = (1 + cos(pi l / cutoff)) / 2 for l < cutoff, else 0.
 // Lanczos: w_l = sinc(pi l / cutoff) for l < cutoff, else 0 (sinc(x) = sin x / x).
-// A larger cutoff is a weaker window; None is w_l = 1.
+// A larger cutoff is a weaker window; None is w_l = 1. factor() throws oer::Error
+// (InvalidInput) for a Hanning or Lanczos window whose cutoff is not a positive number.
 struct ShWindow {
     WindowKind kind = WindowKind::None;
     double cutoff = 0.0;
@@ -39,13 +40,22 @@ std::array<glm::dmat4, 3> irradiance_matrices(const ShRgb& radiance);
 
 // window: auto (after Sloan, "Deringing Spherical Harmonics", 2017): the weakest window of the
 // given kind (largest cutoff) such that the irradiance of every on/off subset of the lights is
-// non-negative over the sphere (checked on a dense set of normals). Since the composed
-// coefficients are affine in each light's visibility, checking the 2^n subsets covers every
-// fractional visibility too. Returns kind None when no window is needed.
+// non-negative over the sphere, i.e. min_relative_irradiance >= -1e-9 (rounding). Since the
+// composed coefficients are affine in each light's visibility, checking the 2^n subsets covers
+// every fractional visibility too. One window (one cutoff) serves every subset. Returns kind
+// None when no window is needed (or kind is None). Search: a 64-step scan of cutoffs in
+// (0, 4 order] (extended by doubling while still non-negative) from the top, then bisection
+// above the largest non-negative step. If even the strongest window rings (only possible with
+// negative radiance) the strongest window tried is returned.
 ShWindow choose_deringing_window(const ShProjection& projection, WindowKind kind);
 
-// Smallest value of the irradiance (luminance-weighted RGB minimum over channels) of any subset
-// over the sphere, relative to the largest irradiance of the full map; negative means ringing.
+// On the normals fibonacci_sphere(2048) (reference_irradiance.hpp), per RGB channel: the
+// smallest windowed irradiance of any on/off subset of the lights, divided by the largest
+// windowed irradiance of the full map (every light on) in that channel; the minimum over the
+// channels whose largest irradiance is positive, and at most 0 (0 when nothing is negative).
+// Negative means ringing. The minimum over the 2^n subsets is computed exactly without
+// enumerating them: at each normal the worst subset switches off exactly the lights whose own
+// irradiance there is positive.
 double min_relative_irradiance(const ShProjection& projection, const ShWindow& window);
 
 }  // namespace oer

@@ -21,7 +21,9 @@ constexpr int sh_count(int order) {
 }
 
 // Writes the order^2 basis values at unit direction d into out (size >= order^2), by the
-// standard recurrence for associated Legendre functions. 1 <= order <= kMaxShOrder.
+// standard recurrence for associated Legendre functions in z and the polynomial form
+// (x + i y)^m in azimuth (no angles, so exact at the poles). 1 <= order <= kMaxShOrder; d is
+// used as given (not normalised). Throws oer::Error (InvalidInput) on a bad order or short span.
 void sh_evaluate(int order, const glm::dvec3& d, std::span<double> out);
 
 // RGB coefficients of one function on the sphere.
@@ -34,8 +36,9 @@ struct ShRgb {
 
     // Value of the expansion at unit direction d.
     glm::dvec3 evaluate(const glm::dvec3& d) const;
-    // The first order_^2 coefficients (order_ <= order).
+    // The first order_^2 coefficients (1 <= order_ <= order, else oer::Error).
     ShRgb truncated(int order_) const;
+    // Element-wise; the orders must match (else oer::Error InvalidInput).
     ShRgb& operator+=(const ShRgb& other);
     ShRgb& operator-=(const ShRgb& other);
     ShRgb& operator*=(double factor);

@@ -18,15 +18,21 @@ struct ShProjection {
     std::vector<ShRgb> per_light;  // each light's own pixels
 };
 
-// light_pixels[k] lists the pixel indices (y * width + x) of light k; lists are disjoint.
+// light_pixels[k] lists the pixel indices (y * width + x) of light k; lists are disjoint (for
+// subsets to mean anything) and best sorted (fastest; any order gives the same result).
+// Separable: per row, azimuthal Fourier sums times polar Legendre factors, in double; maps of
+// 64 Ki pixels or more use 2 threads, with a fixed split, so results are deterministic.
+// Throws oer::Error (InvalidInput) on an order outside [1, kMaxShOrder], an empty or
+// inconsistent image, or a pixel index outside the map.
 ShProjection project_environment(const HdrImage& image,
                                  std::span<const std::vector<std::uint32_t>> light_pixels,
                                  int order);
 
 // Coefficients with lights switched on or off: c(all) - sum over k with on[k] false of c(k).
+// on.size() must equal per_light.size() (else oer::Error InvalidInput); likewise below.
 ShRgb subset_coefficients(const ShProjection& projection, std::span<const bool> on);
 
-// Fractional visibility v_k in [0, 1]: c(all) - sum (1 - v_k) c(k).
+// Fractional visibility v_k in [0, 1] (else oer::Error): c(all) - sum (1 - v_k) c(k).
 ShRgb visibility_coefficients(const ShProjection& projection, std::span<const double> visibility);
 
 }  // namespace oer
