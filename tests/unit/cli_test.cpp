@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Run {
+struct ProcessResult {
     int status = -1;
     std::string out;
     std::string err;
@@ -34,12 +34,12 @@ class CliTest : public ::testing::Test {
     }
     void TearDown() override { fs::remove_all(dir_); }
 
-    Run run(const std::string& arguments) {
+    ProcessResult run(const std::string& arguments) {
         const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
         const std::string command = std::string(OER_CLI_PATH) + " " + arguments + " >" +
                                     out.string() + " 2>" + err.string() + " </dev/null";
         const int raw = std::system(command.c_str());
-        Run result;
+        ProcessResult result;
         result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
         result.out = slurp(out);
         result.err = slurp(err);
@@ -57,7 +57,7 @@ class CliTest : public ::testing::Test {
 }  // namespace
 
 TEST_F(CliTest, PreprocessDefaultPrintsTheRig) {
-    const Run result = run("preprocess default");
+    const ProcessResult result = run("preprocess default");
     ASSERT_EQ(result.status, 0) << result.err;
     const nlohmann::json rig = nlohmann::json::parse(result.out);
     EXPECT_EQ(rig.at("id").get<std::string>().size(), 64u);
@@ -82,7 +82,8 @@ TEST_F(CliTest, PreprocessDefaultPrintsTheRig) {
 }
 
 TEST_F(CliTest, ExplicitOptionsAreHonoured) {
-    const Run result = run("preprocess default --light-count 2 --sh-order 5 --window hanning");
+    const ProcessResult result =
+        run("preprocess default --light-count 2 --sh-order 5 --window hanning");
     ASSERT_EQ(result.status, 0) << result.err;
     const nlohmann::json rig = nlohmann::json::parse(result.out);
     EXPECT_EQ(rig.at("lights").size(), 2u);
@@ -92,7 +93,7 @@ TEST_F(CliTest, ExplicitOptionsAreHonoured) {
 }
 
 TEST_F(CliTest, ErrorsNameTheProblemOnOneLine) {
-    Run result = run("preprocess " + (dir_ / "missing.exr").string());
+    ProcessResult result = run("preprocess " + (dir_ / "missing.exr").string());
     EXPECT_EQ(result.status, 1);
     EXPECT_NE(result.err.find("missing.exr"), std::string::npos) << result.err;
     EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
@@ -117,7 +118,7 @@ TEST_F(CliTest, ErrorsNameTheProblemOnOneLine) {
 
 TEST_F(CliTest, IrradianceMapMatchesTheRigsShIrradiance) {
     const fs::path out = dir_ / "irradiance.exr";
-    Run result =
+    ProcessResult result =
         run("irradiance-map default --sh-order 3 --light-count 3 --size 64x32 -o " + out.string());
     ASSERT_EQ(result.status, 0) << result.err;
     const oer::HdrImage map = oer::load_image_file(out.string()).image;
@@ -134,8 +135,10 @@ TEST_F(CliTest, IrradianceMapMatchesTheRigsShIrradiance) {
     const oer::ShRgb irradiance = oer::irradiance_coefficients(radiance);
     for (int y = 0; y < 32; y += 5) {
         for (int x = 0; x < 64; x += 7) {
-            const glm::dvec3 expected =
-                irradiance.evaluate(oer::equirect::pixel_direction(x, y, 64, 32));
+            // Unwindowed order-3 irradiance of the studio rings below zero in places; the file
+            // keeps those values, and the loader repairs negative radiance to 0.
+            const glm::dvec3 expected = glm::max(
+                irradiance.evaluate(oer::equirect::pixel_direction(x, y, 64, 32)), glm::dvec3(0.0));
             const float* got = map.at(x, y);
             EXPECT_NEAR(got[0], expected.r, 1e-4 * std::abs(expected.r) + 1e-4);
             EXPECT_NEAR(got[1], expected.g, 1e-4 * std::abs(expected.g) + 1e-4);
@@ -156,7 +159,7 @@ TEST_F(CliTest, IrradianceMapMatchesTheRigsShIrradiance) {
 
 TEST_F(CliTest, MasksOutlinesEveryLight) {
     const fs::path out = dir_ / "masks.png";
-    const Run result = run("masks default -o " + out.string());
+    const ProcessResult result = run("masks default -o " + out.string());
     ASSERT_EQ(result.status, 0) << result.err;
     const oer::HdrImage picture = oer::load_image_file(out.string()).image;
     const oer::HdrImage studio = oer::make_default_environment();

@@ -47,12 +47,21 @@ void expect_same_coefficients(const ShRgb& a, const ShRgb& b, double tolerance) 
     }
 }
 
-// Two strong lights and one faint small one whose shadow nobody could see.
+// Two strong lights and one faint small one whose shadow nobody could see: it carries 0.2 %
+// of the strong lights' intensity.
 HdrImage two_strong_one_faint() {
     return disc_map(512, 256, glm::vec3(0.2f),
                     {{{0.6, 0.7, -0.4}, 0.15, {60.0f, 50.0f, 40.0f}},
                      {{-0.7, 0.4, 0.5}, 0.10, {20.0f, 30.0f, 60.0f}},
-                     {{0.1, -0.2, 0.95}, 0.03, {0.9f, 0.9f, 0.9f}}});
+                     {{0.1, -0.2, 0.95}, 0.03, {3.0f, 3.0f, 3.0f}}});
+}
+
+// The strong lights and their blurred halos fill most of the top 1 % of pixels; a lower light
+// percentile makes the faint light a candidate, so that the auto count has to judge it.
+RigOptions faint_light_is_a_candidate(RigOptions options) {
+    options.location.light_percentile = 0.98;
+    options.location.halo_percentile = 0.95;
+    return options;
 }
 
 }  // namespace
@@ -76,17 +85,19 @@ TEST(Rig, DefaultStudioYieldsItsSoftBoxes) {
 
 TEST(Rig, AutoLightCountDropsLightsWithInvisibleShadows) {
     const HdrImage map = two_strong_one_faint();
-    const Rig automatic = build_rig(map, {}, RigOptions{});
+    const Rig automatic = build_rig(map, {}, faint_light_is_a_candidate(RigOptions{}));
     EXPECT_EQ(automatic.lights.size(), 2u) << automatic.light_count_reason;
-    EXPECT_NE(automatic.light_count_reason.find("auto"), std::string::npos);
-    const Rig explicit_three = build_rig(map, {}, with_counts(3, std::nullopt));
+    EXPECT_NE(automatic.light_count_reason.find("candidate 3 darkens at most"), std::string::npos)
+        << automatic.light_count_reason;
+    const Rig explicit_three =
+        build_rig(map, {}, faint_light_is_a_candidate(with_counts(3, std::nullopt)));
     EXPECT_EQ(explicit_three.lights.size(), 3u) << explicit_three.light_count_reason;
     EXPECT_EQ(explicit_three.light_count_reason, "requested 3");
 }
 
 TEST(Rig, AutoLightCountThresholdIsRespected) {
     // A threshold of 0 keeps every candidate; a threshold of 1 keeps none.
-    RigOptions keep_all;
+    RigOptions keep_all = faint_light_is_a_candidate(RigOptions{});
     keep_all.shadow_visibility_threshold = 0.0;
     keep_all.max_lights = 3;
     EXPECT_EQ(build_rig(two_strong_one_faint(), {}, keep_all).lights.size(), 3u);
@@ -97,10 +108,12 @@ TEST(Rig, AutoLightCountThresholdIsRespected) {
 
 TEST(Rig, ConstantMapNeedsOrderOneAndNoLights) {
     const Rig rig =
-        build_rig(oer::testing::constant_map(64, 32, glm::vec3(2.0f)), {}, RigOptions{});
+        build_rig(oer::testing::constant_map(256, 128, glm::vec3(2.0f)), {}, RigOptions{});
     EXPECT_EQ(rig.order, 1) << rig.order_reason;
     EXPECT_TRUE(rig.lights.empty());
-    EXPECT_LT(rig.reference_error, 1e-6);
+    // What remains is the reference's own quadrature error at pixel centres (3e-5 at 256x128,
+    // falling with the square of the pixel size: reference_irradiance_test.cpp).
+    EXPECT_LT(rig.reference_error, 1e-4);
     EXPECT_NEAR(rig.sh.all.coefficients[0].r, 2.0 * std::sqrt(4.0 * kPi), 1e-9);
 }
 
@@ -140,7 +153,9 @@ TEST(Rig, CoefficientsEqualADirectProjectionWhateverPathBuiltThem) {
 }
 
 TEST(Rig, MasksAreDisjoint) {
-    const Rig rig = build_rig(two_strong_one_faint(), {}, with_counts(3, 3));
+    const Rig rig =
+        build_rig(two_strong_one_faint(), {}, faint_light_is_a_candidate(with_counts(3, 3)));
+    ASSERT_EQ(rig.lights.size(), 3u);
     std::set<std::uint32_t> seen;
     for (const Light& light : rig.lights) {
         for (const std::uint32_t pixel : light.pixels) {
