@@ -27,7 +27,7 @@ struct LightLocationOptions {
     double blur_radius = 4.0;
     double light_percentile = 0.99;  // in (0, 1)
     double halo_percentile = 0.96;   // in (0, 1), <= light_percentile
-    int cluster_count = 10;          // >= 1; also bounds the number of lights found
+    int cluster_count = 10;          // in [1, 256]; also bounds the number of lights found
     Clustering clustering = Clustering::Directions;
     // Improvement over the thesis: the chosen cluster grows to every remaining bright pixel
     // connected to it (8-neighbours, across the seam and the poles) before its centre and
