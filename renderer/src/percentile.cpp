@@ -48,6 +48,7 @@ PercentilePair select_all(const float* values, std::size_t n, std::size_t high_r
 struct Tally {
     std::size_t below = 0;   // values < lower
     std::size_t inside = 0;  // values in [lower, upper]
+    std::size_t equal = 0;   // values == lower
     float minimum = 0.0f;
 };
 
@@ -61,7 +62,7 @@ Tally tally(const float* values, std::size_t n, float lower, float upper) {
     std::fill(minimum, minimum + lanes, values[0]);
     std::size_t i = 0;
     while (i + lanes <= n) {
-        std::uint32_t below[lanes] = {}, inside[lanes] = {};
+        std::uint32_t below[lanes] = {}, inside[lanes] = {}, equal[lanes] = {};
         const std::size_t end = std::min(n - (n - i) % lanes, i + flush_every);
         for (; i < end; i += lanes) {
             for (std::size_t j = 0; j < lanes; ++j) {
@@ -69,11 +70,13 @@ Tally tally(const float* values, std::size_t n, float lower, float upper) {
                 minimum[j] = v < minimum[j] ? v : minimum[j];
                 below[j] += std::uint32_t(v < lower);
                 inside[j] += std::uint32_t((v >= lower) & (v <= upper));
+                equal[j] += std::uint32_t(v == lower);
             }
         }
         for (std::size_t j = 0; j < lanes; ++j) {
             result.below += below[j];
             result.inside += inside[j];
+            result.equal += equal[j];
         }
     }
     result.minimum = *std::min_element(minimum, minimum + lanes);
@@ -82,6 +85,7 @@ Tally tally(const float* values, std::size_t n, float lower, float upper) {
         result.minimum = std::min(result.minimum, v);
         result.below += std::size_t(v < lower);
         result.inside += std::size_t((v >= lower) & (v <= upper));
+        result.equal += std::size_t(v == lower);
     }
     return result;
 }
@@ -125,20 +129,34 @@ PercentilePair select_percentiles(const float* values, std::size_t n, double hig
     // values inside it.
     const Tally counts = tally(values, n, lower, upper);
     const std::size_t below = counts.below;
-    LargeBuffer<float> inside(counts.inside + 1);  // + 1: the copy writes one past its last
+    if (below > low_rank || below + counts.inside <= high_rank) {
+        return select_all(values, n, high_rank, low_rank);  // the bracket missed a rank
+    }
+    // Ranks [below, ties_end) hold values equal to lower (a uniform background often fills
+    // the bracket's bottom): those need no selection, the rest are selected among the values
+    // in (lower, upper].
+    PercentilePair result;
+    result.minimum = counts.minimum;
+    const std::size_t ties_end = below + counts.equal;
+    if (high_rank < ties_end) {
+        result.high = result.low = lower;
+        return result;
+    }
+    LargeBuffer<float> inside(counts.inside - counts.equal + 1);  // + 1: see below
     std::size_t copied = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const float v = values[i];
-        inside[copied] = v;
-        copied += std::size_t((v >= lower) & (v <= upper));
+        inside[copied] = v;  // written every time, kept only when in the bracket
+        copied += std::size_t((v > lower) & (v <= upper));
     }
-    inside.resize(copied);
-    if (below > low_rank || below + inside.size() <= high_rank) {
-        return select_all(values, n, high_rank, low_rank);  // the bracket missed a rank
+    if (low_rank < ties_end) {
+        float* high_it = inside.data() + (high_rank - ties_end);
+        std::nth_element(inside.data(), high_it, inside.data() + copied);
+        result.high = *high_it;
+        result.low = lower;
+    } else {
+        select_two(inside.data(), copied, high_rank - ties_end, low_rank - ties_end, result);
     }
-    PercentilePair result;
-    select_two(inside.data(), inside.size(), high_rank - below, low_rank - below, result);
-    result.minimum = counts.minimum;
     return result;
 }
 

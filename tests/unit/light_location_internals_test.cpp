@@ -54,6 +54,21 @@ TEST(Percentile, SelectionMatchesAFullSort) {
     }
 }
 
+TEST(Percentile, TiesAtTheBracketsBottom) {
+    // A uniform background with a few brighter values: the low rank, or both, fall among the
+    // ties with the bracket's lower bound.
+    const std::size_t n = 100000;
+    for (std::size_t bright : {std::size_t(0), std::size_t(10), std::size_t(500), std::size_t(2000),
+                               std::size_t(5000)}) {
+        std::vector<float> values(n, 5.0f);
+        for (std::size_t i = 0; i < bright; ++i) {
+            values[(i * 7919) % n] = 6.0f + float(i);
+        }
+        values[n / 2] = 1.0f;  // and one darker pixel
+        expect_exact_percentiles(values, 0.99, 0.96);
+    }
+}
+
 TEST(Percentile, SelectionIsExactWhenTheSampleIsMisleading) {
     // Zeros exactly where percentile.cpp samples (one value per stride, at a hashed offset),
     // ones everywhere else: the sample's bracket [0, 0] misses both ranks, and the exact

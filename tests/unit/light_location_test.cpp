@@ -530,9 +530,11 @@ TEST(LightLocation, InvalidArgumentsThrowInvalidInput) {
     inverted.light_percentile = 0.9;
     inverted.halo_percentile = 0.95;
     expect_invalid(scene.image, 3, inverted, "above light_percentile");
-    LightLocationOptions no_clusters;
-    no_clusters.cluster_count = 0;
-    expect_invalid(scene.image, 3, no_clusters, "cluster_count");
+    for (int clusters : {0, -3, 257}) {
+        LightLocationOptions o;
+        o.cluster_count = clusters;
+        expect_invalid(scene.image, 3, o, "cluster_count");
+    }
     for (double r : {-1.0, nan, 5000.0}) {
         LightLocationOptions o;
         o.blur_radius = r;

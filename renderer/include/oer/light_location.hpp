@@ -27,8 +27,9 @@ struct LightLocationOptions {
     double blur_radius = 4.0;
     double light_percentile = 0.99;  // in (0, 1)
     double halo_percentile = 0.96;   // in (0, 1), <= light_percentile
-    int cluster_count = 10;          // >= 1; also bounds the number of lights found
+    int cluster_count = 10;          // in [1, 256]; also bounds the number of lights found
     Clustering clustering = Clustering::Directions;
+    std::uint64_t seed = 0x5eed;  // k-means++ seeding: same input, same lights
     // Improvement over the thesis: the chosen cluster grows to every remaining bright pixel
     // connected to it (8-neighbours, across the seam and the poles) before its centre and
     // sigma are measured, so that a light larger than one k-means cluster (a window, a sun's
@@ -36,7 +37,6 @@ struct LightLocationOptions {
     // fragments that become extra lights. false: the thesis's cluster alone. Directions only:
     // Clustering::Pixels is the thesis's algorithm as published.
     bool grow_connected = true;
-    std::uint64_t seed = 0x5eed;  // k-means++ seeding: same input, same lights
 };
 
 struct Light {
