@@ -140,6 +140,13 @@ const std::map<std::string, Setter>& setters() {
          [](RigOptions& o, const std::string& n, const std::string& v) {
              o.location.cluster_count = int(parse_integer(n, v, 1, 64));
          }},
+        {"grow_connected",
+         [](RigOptions& o, const std::string& n, const std::string& v) {
+             if (v != "true" && v != "false") {
+                 throw InvalidParameter(n, "expected true or false, got '" + v + "'");
+             }
+             o.location.grow_connected = v == "true";
+         }},
         {"seed",
          [](RigOptions& o, const std::string& n, const std::string& v) {
              o.location.seed = std::uint64_t(parse_integer(n, v, 0, (1ll << 53)));
@@ -186,6 +193,7 @@ nlohmann::json rig_options_to_json(const RigOptions& options) {
     json["halo_percentile"] = options.location.halo_percentile;
     json["clusters"] = options.location.cluster_count;
     json["seed"] = options.location.seed;
+    json["grow_connected"] = options.location.grow_connected;
     return json;
 }
 

@@ -48,6 +48,7 @@ TEST(RigOptions, ParsesEveryOption) {
         {"halo_percentile", "0.9"},
         {"clusters", "12"},
         {"seed", "42"},
+        {"grow_connected", "false"},
     });
     EXPECT_EQ(options.light_count, 3);
     EXPECT_EQ(options.max_lights, 6);
@@ -64,6 +65,7 @@ TEST(RigOptions, ParsesEveryOption) {
     EXPECT_DOUBLE_EQ(options.location.halo_percentile, 0.9);
     EXPECT_EQ(options.location.cluster_count, 12);
     EXPECT_EQ(options.location.seed, 42u);
+    EXPECT_FALSE(options.location.grow_connected);
 }
 
 TEST(RigOptions, RejectsBadValuesNamingTheParameter) {
@@ -80,6 +82,7 @@ TEST(RigOptions, RejectsBadValuesNamingTheParameter) {
     EXPECT_EQ(parameter_of_failure({{"light_percentile", "0.9"}, {"halo_percentile", "0.95"}}),
               "halo_percentile");
     EXPECT_EQ(parameter_of_failure({{"colour", "red"}}), "colour");
+    EXPECT_EQ(parameter_of_failure({{"grow_connected", "yes"}}), "grow_connected");
 }
 
 TEST(RigOptions, CanonicalJsonFillsDefaults) {
@@ -90,7 +93,8 @@ TEST(RigOptions, CanonicalJsonFillsDefaults) {
     EXPECT_EQ(json.at("window"), "none");
     EXPECT_EQ(json.at("model"), "hdr");
     EXPECT_EQ(json.at("clustering"), "directions");
-    EXPECT_EQ(json.size(), 15u);
+    EXPECT_EQ(json.at("grow_connected"), true);
+    EXPECT_EQ(json.size(), 16u);
 }
 
 TEST(ContentId, Sha256MatchesTheStandardTestVectors) {

@@ -103,10 +103,10 @@ EnvironmentInput read_environment(const std::string& map, const CommandLine& lin
 
 const std::set<std::string>& rig_option_flags() {
     static const std::set<std::string> flags = {
-        "light-count",  "max-lights",       "shadow-threshold", "sh-order", "max-sh-order",
-        "sh-tolerance", "window",           "window-cutoff",    "model",    "clustering",
-        "blur-radius",  "light-percentile", "halo-percentile",  "clusters", "seed",
-        "layout",       "max-pixels"};
+        "light-count",    "max-lights",       "shadow-threshold", "sh-order", "max-sh-order",
+        "sh-tolerance",   "window",           "window-cutoff",    "model",    "clustering",
+        "blur-radius",    "light-percentile", "halo-percentile",  "clusters", "seed",
+        "grow-connected", "layout",           "max-pixels"};
     return flags;
 }
 

@@ -23,7 +23,7 @@ MAP is an .hdr or .exr file, or 'default' for the built-in studio environment.
 comma-separated files +X,-X,+Y,-Y,+Z,-Z). --max-pixels WxH bounds the decoded map.
 Preprocessing options (every command): --max-lights N --shadow-threshold F --max-sh-order N
 --sh-tolerance F --window-cutoff F --blur-radius F --light-percentile F --halo-percentile F
---clusters N --seed N
+--clusters N --seed N --grow-connected true|false
 )";
 
 }  // namespace

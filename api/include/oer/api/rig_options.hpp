@@ -14,7 +14,8 @@ namespace oer::api {
 // Recognised names: light_count (auto|0..16), max_lights, shadow_threshold, sh_order
 // (auto|1..16), max_sh_order, sh_tolerance, window (none|hanning|lanczos|auto), window_cutoff,
 // model (hdr|thesis), clustering (directions|pixels), blur_radius, light_percentile,
-// halo_percentile, clusters, seed. Unknown names and bad values throw InvalidParameter.
+// halo_percentile, clusters, seed, grow_connected (true|false). Unknown names and bad values throw
+// InvalidParameter.
 RigOptions parse_rig_options(const std::map<std::string, std::string>& parameters);
 
 // Is name one of the recognised option names?
