@@ -407,17 +407,30 @@ LightLocation locate_lights(const HdrImage& image, int max_lights,
             }
         }
 
-        // Its core: the cluster's members; with grow_connected, also every remaining bright
-        // pixel connected to them.
+        // Its core. With grow_connected: the connected bright region around the cluster's
+        // brightest member, so that a cluster k-means drew across several separate lamps yields
+        // one compact light (the other lamps stay bright for the next iterations). Without it:
+        // the cluster's members, as the thesis has it.
         core.clear();
-        for (std::size_t j = 0; j < bright.size(); ++j) {
-            if (cluster_of[j] == chosen) {
-                core.push_back(bright[j]);
-                state[bright[j]] = taken_now;
-            }
-        }
         if (grow) {
+            std::uint32_t brightest = 0;
+            double brightest_luminance = -std::numeric_limits<double>::infinity();
+            for (std::size_t j = 0; j < bright.size(); ++j) {
+                if (cluster_of[j] == chosen && blurred[bright[j]] > brightest_luminance) {
+                    brightest_luminance = blurred[bright[j]];
+                    brightest = bright[j];
+                }
+            }
+            core.push_back(brightest);
+            state[brightest] = taken_now;
             grow_connected(core, state.data(), width, height, stack);
+        } else {
+            for (std::size_t j = 0; j < bright.size(); ++j) {
+                if (cluster_of[j] == chosen) {
+                    core.push_back(bright[j]);
+                    state[bright[j]] = taken_now;
+                }
+            }
         }
         const PointSpace::Spread spread =
             space.spread(core, &clusters.centres[chosen * std::size_t(dim)]);
@@ -447,10 +460,10 @@ LightLocation locate_lights(const HdrImage& image, int max_lights,
     if (int(found) < max_lights) {
         std::ostringstream note;
         if (k == 0) {
-            // The last step clustered what was left into one cluster and took all of it.
+            // One cluster fewer per light: the clusters ran out before the lights.
             note << "cluster_count " << options.cluster_count << " allows at most "
                  << plural(std::size_t(options.cluster_count), "light") << " (asked for "
-                 << max_lights << "); the last took every bright pixel left";
+                 << max_lights << ")";
         } else {
             note << "no bright pixels left after " << plural(found, "light") << " (asked for "
                  << max_lights << ")";

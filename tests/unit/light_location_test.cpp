@@ -479,16 +479,19 @@ TEST(LightLocation, FewerBrightPixelsThanClusters) {
             << spike;
     }
 
-    // cluster_count bounds the number of lights: with one cluster, the one light is every
-    // bright pixel.
+    // cluster_count bounds the number of lights. With one cluster, the thesis's light is the
+    // whole cluster, every bright pixel; the connected core is the brightest spike alone.
     o.cluster_count = 1;
+    o.grow_connected = false;
     const LightLocation bounded = locate_lights(image, 5, o);
     ASSERT_EQ(bounded.lights.size(), 1u);
-    EXPECT_EQ(bounded.note,
-              "cluster_count 1 allows at most 1 light (asked for 5); the last took every bright "
-              "pixel left");
+    EXPECT_EQ(bounded.note, "cluster_count 1 allows at most 1 light (asked for 5)");
     EXPECT_TRUE(contains_all(bounded.lights[0].pixels,
                              {spikes[0], spikes[1], spikes[2], spikes[3], spikes[4]}));
+    o.grow_connected = true;
+    const LightLocation connected = locate_lights(image, 5, o);
+    ASSERT_EQ(connected.lights.size(), 1u);
+    EXPECT_EQ(connected.lights[0].pixels, (std::vector<std::uint32_t>{spikes[4]}));
 }
 
 TEST(LightLocation, NonFiniteRadianceDoesNotThrow) {

@@ -30,12 +30,13 @@ struct LightLocationOptions {
     int cluster_count = 10;          // in [1, 256]; also bounds the number of lights found
     Clustering clustering = Clustering::Directions;
     std::uint64_t seed = 0x5eed;  // k-means++ seeding: same input, same lights
-    // Improvement over the thesis: the chosen cluster grows to every remaining bright pixel
-    // connected to it (8-neighbours, across the seam and the poles) before its centre and
-    // sigma are measured, so that a light larger than one k-means cluster (a window, a sun's
-    // glow, a disc at a pole, which get several clusters) is taken whole instead of leaving
-    // fragments that become extra lights. false: the thesis's cluster alone. Directions only:
-    // Clustering::Pixels is the thesis's algorithm as published.
+    // Improvement over the thesis: a light's core is the connected region of remaining bright
+    // pixels (8-neighbours, across the seam and the poles) around the chosen cluster's
+    // brightest member, measured before its centre and sigma. A light larger than one k-means
+    // cluster (a window, a sun's glow, a disc at a pole) is taken whole instead of leaving
+    // fragments that become extra lights, and a cluster spanning several separate lamps gives
+    // one lamp. false: the thesis's cluster members. Directions only: Clustering::Pixels is
+    // the thesis's algorithm as published.
     bool grow_connected = true;
 };
 
