@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "oer/api/invalid_parameter.hpp"
+#include "oer/enum_names.hpp"
 
 namespace oer::api {
 
@@ -48,33 +49,17 @@ Enum parse_enum(const std::string& name, const std::string& text,
     }
 }
 
+constexpr EnumNames<WindowChoice, 4> kWindowChoiceNames = {{{WindowChoice::None, "none"},
+                                                            {WindowChoice::Hanning, "hanning"},
+                                                            {WindowChoice::Lanczos, "lanczos"},
+                                                            {WindowChoice::Auto, "auto"}}};
+
 WindowChoice window_choice_from_string(const std::string& text) {
-    if (text == "auto") {
-        return WindowChoice::Auto;
-    }
-    switch (window_kind_from_string(text)) {
-        case WindowKind::None:
-            return WindowChoice::None;
-        case WindowKind::Hanning:
-            return WindowChoice::Hanning;
-        case WindowKind::Lanczos:
-            return WindowChoice::Lanczos;
-    }
-    throw Error(ErrorKind::Internal, "unknown window kind");
+    return value_named(text, kWindowChoiceNames, "window");
 }
 
 std::string to_string(WindowChoice choice) {
-    switch (choice) {
-        case WindowChoice::None:
-            return "none";
-        case WindowChoice::Hanning:
-            return "hanning";
-        case WindowChoice::Lanczos:
-            return "lanczos";
-        case WindowChoice::Auto:
-            return "auto";
-    }
-    throw Error(ErrorKind::Internal, "unknown window choice");
+    return name_of(choice, kWindowChoiceNames);
 }
 
 using Setter = std::function<void(RigOptions&, const std::string& name, const std::string& value)>;

@@ -2,36 +2,26 @@
 
 #include <array>
 
+#include "oer/enum_names.hpp"
 #include "oer/environment_layouts.hpp"
 #include "oer/error.hpp"
 
 namespace oer {
 
+namespace {
+constexpr EnumNames<EnvironmentLayout, 4> kLayoutNames = {
+    {{EnvironmentLayout::Equirect, "equirect"},
+     {EnvironmentLayout::Cross, "cross"},
+     {EnvironmentLayout::MirrorBall, "mirror-ball"},
+     {EnvironmentLayout::CubeFaces, "cube-faces"}}};
+}  // namespace
+
 std::string to_string(EnvironmentLayout layout) {
-    switch (layout) {
-        case EnvironmentLayout::Equirect:
-            return "equirect";
-        case EnvironmentLayout::Cross:
-            return "cross";
-        case EnvironmentLayout::MirrorBall:
-            return "mirror-ball";
-        case EnvironmentLayout::CubeFaces:
-            return "cube-faces";
-    }
-    throw Error(ErrorKind::Internal, "unknown environment layout");
+    return name_of(layout, kLayoutNames);
 }
 
 EnvironmentLayout environment_layout_from_string(const std::string& name) {
-    for (const EnvironmentLayout layout :
-         {EnvironmentLayout::Equirect, EnvironmentLayout::Cross, EnvironmentLayout::MirrorBall,
-          EnvironmentLayout::CubeFaces}) {
-        if (to_string(layout) == name) {
-            return layout;
-        }
-    }
-    throw Error(ErrorKind::InvalidInput, "layout '" + name +
-                                             "' is not one of equirect, cross, mirror-ball, "
-                                             "cube-faces");
+    return value_named(name, kLayoutNames, "layout");
 }
 
 namespace {

@@ -1,5 +1,7 @@
 #include "oer/irradiance.hpp"
 
+#include "oer/enum_names.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -154,26 +156,18 @@ double ShWindow::factor(int l) const {
     return 1.0;
 }
 
+namespace {
+constexpr EnumNames<WindowKind, 3> kWindowNames = {{{WindowKind::None, "none"},
+                                                    {WindowKind::Hanning, "hanning"},
+                                                    {WindowKind::Lanczos, "lanczos"}}};
+}  // namespace
+
 std::string to_string(WindowKind kind) {
-    switch (kind) {
-        case WindowKind::None:
-            return "none";
-        case WindowKind::Hanning:
-            return "hanning";
-        case WindowKind::Lanczos:
-            return "lanczos";
-    }
-    throw Error(ErrorKind::Internal, "to_string: unknown WindowKind " + std::to_string(int(kind)));
+    return name_of(kind, kWindowNames);
 }
 
 WindowKind window_kind_from_string(const std::string& name) {
-    for (const WindowKind kind : {WindowKind::None, WindowKind::Hanning, WindowKind::Lanczos}) {
-        if (name == to_string(kind)) {
-            return kind;
-        }
-    }
-    throw Error(ErrorKind::InvalidInput,
-                "unknown SH window \"" + name + "\" (expected none, hanning or lanczos)");
+    return value_named(name, kWindowNames, "SH window");
 }
 
 ShRgb irradiance_coefficients(const ShRgb& radiance, const ShWindow& window) {

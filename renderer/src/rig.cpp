@@ -6,39 +6,34 @@
 #include <cstdio>
 #include <string>
 
+#include "oer/enum_names.hpp"
 #include "oer/error.hpp"
 #include "oer/reference_irradiance.hpp"
 #include "oer/tonemap.hpp"
 
 namespace oer {
 
+namespace {
+constexpr EnumNames<LightingModel, 2> kModelNames = {
+    {{LightingModel::Hdr, "hdr"}, {LightingModel::Thesis, "thesis"}}};
+constexpr EnumNames<Clustering, 2> kClusteringNames = {
+    {{Clustering::Directions, "directions"}, {Clustering::Pixels, "pixels"}}};
+}  // namespace
+
 std::string to_string(LightingModel model) {
-    return model == LightingModel::Hdr ? "hdr" : "thesis";
+    return name_of(model, kModelNames);
 }
 
 LightingModel lighting_model_from_string(const std::string& name) {
-    if (name == "hdr") {
-        return LightingModel::Hdr;
-    }
-    if (name == "thesis") {
-        return LightingModel::Thesis;
-    }
-    throw Error(ErrorKind::InvalidInput, "lighting model '" + name + "' is not one of hdr, thesis");
+    return value_named(name, kModelNames, "lighting model");
 }
 
 std::string to_string(Clustering clustering) {
-    return clustering == Clustering::Directions ? "directions" : "pixels";
+    return name_of(clustering, kClusteringNames);
 }
 
 Clustering clustering_from_string(const std::string& name) {
-    if (name == "directions") {
-        return Clustering::Directions;
-    }
-    if (name == "pixels") {
-        return Clustering::Pixels;
-    }
-    throw Error(ErrorKind::InvalidInput,
-                "clustering '" + name + "' is not one of directions, pixels");
+    return value_named(name, kClusteringNames, "clustering");
 }
 
 namespace {

@@ -3,35 +3,23 @@
 #include <algorithm>
 #include <cmath>
 
+#include "oer/enum_names.hpp"
 #include "oer/error.hpp"
 #include "oer/light_location.hpp"
 
 namespace oer {
 
+namespace {
+constexpr EnumNames<ToneMapper, 3> kToneMapperNames = {
+    {{ToneMapper::Neutral, "neutral"}, {ToneMapper::Aces, "aces"}, {ToneMapper::None, "none"}}};
+}  // namespace
+
 std::string to_string(ToneMapper mapper) {
-    switch (mapper) {
-        case ToneMapper::Neutral:
-            return "neutral";
-        case ToneMapper::Aces:
-            return "aces";
-        case ToneMapper::None:
-            return "none";
-    }
-    throw Error(ErrorKind::Internal, "unknown tone mapper");
+    return name_of(mapper, kToneMapperNames);
 }
 
 ToneMapper tone_mapper_from_string(const std::string& name) {
-    if (name == "neutral") {
-        return ToneMapper::Neutral;
-    }
-    if (name == "aces") {
-        return ToneMapper::Aces;
-    }
-    if (name == "none") {
-        return ToneMapper::None;
-    }
-    throw Error(ErrorKind::InvalidInput,
-                "tone mapper '" + name + "' is not one of neutral, aces, none");
+    return value_named(name, kToneMapperNames, "tone mapper");
 }
 
 namespace {
