@@ -1,7 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <numbers>
 #include <string>
@@ -10,8 +15,10 @@
 #include <glm/vec3.hpp>
 
 #include "oer/environment_layouts.hpp"
+#include "oer/environment_source.hpp"
 #include "oer/equirect.hpp"
 #include "oer/error.hpp"
+#include "oer/image_io.hpp"
 
 using namespace oer;
 using std::numbers::pi;
@@ -294,4 +301,52 @@ TEST(EnvironmentLayouts, InvalidInputsAreRejected) {
     HdrImage inconsistent(4, 4);
     inconsistent.pixels.resize(3);
     expect_invalid([&] { equirect_from_mirror_ball(inconsistent, 64); }, "values");
+}
+
+TEST(EnvironmentSource, DecodesSixEncodedFacesLikeTheFacesThemselves) {
+    const int n = 16;
+    const auto faces = render_faces(n, [](int, glm::dvec3 d) { return f(d); });
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("oer-source-test-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    std::array<std::vector<std::byte>, 6> bytes;
+    std::vector<EncodedImage> encoded;
+    for (int i = 0; i < 6; ++i) {
+        const std::filesystem::path path = dir / ("face" + std::to_string(i) + ".exr");
+        write_image_file(faces[i], path.string());
+        std::ifstream in(path, std::ios::binary);
+        const std::string content{std::istreambuf_iterator<char>(in), {}};
+        bytes[i].resize(content.size());
+        std::memcpy(bytes[i].data(), content.data(), content.size());
+        encoded.push_back({path.filename().string(), bytes[i]});
+    }
+    std::filesystem::remove_all(dir);
+
+    const LoadedImage decoded = decode_environment(encoded, EnvironmentLayout::CubeFaces, {});
+    const HdrImage direct = equirect_from_cube_faces(pointers(faces), 4 * n);
+    ASSERT_EQ(decoded.image.width, 4 * n);
+    ASSERT_EQ(decoded.image.height, 2 * n);
+    EXPECT_EQ(decoded.image.pixels, direct.pixels);
+
+    // Six images for cube faces, one for the other layouts; a pixel limit on the output.
+    EXPECT_THROW(decode_environment(std::span(encoded).first(5), EnvironmentLayout::CubeFaces, {}),
+                 Error);
+    EXPECT_THROW(decode_environment(encoded, EnvironmentLayout::Equirect, {}), Error);
+    ImageLimits small;
+    small.max_pixels = 4 * n * 2 * n - 1;
+    try {
+        decode_environment(encoded, EnvironmentLayout::CubeFaces, small);
+        ADD_FAILURE() << "the resampled map exceeds the pixel limit";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded) << error.what();
+    }
+}
+
+TEST(EnvironmentSource, LayoutNamesRoundTrip) {
+    for (const EnvironmentLayout layout :
+         {EnvironmentLayout::Equirect, EnvironmentLayout::Cross, EnvironmentLayout::MirrorBall,
+          EnvironmentLayout::CubeFaces}) {
+        EXPECT_EQ(environment_layout_from_string(to_string(layout)), layout);
+    }
+    EXPECT_THROW(environment_layout_from_string("octahedral"), Error);
 }
