@@ -8,7 +8,7 @@ build_packages=(
     libopenimageio-dev openimageio-tools libopenexr-dev
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev
-    libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
+    libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
     libssl-dev
     libgtest-dev libgmock-dev
 )
