@@ -20,7 +20,7 @@ struct GlInfo {
 };
 
 class GlContext {
-public:
+  public:
     // Creates a context and makes it current on the calling thread. Throws oer::Error (kind
     // Unsupported) listing what each platform attempt answered when none works.
     static std::unique_ptr<GlContext> create();
@@ -32,7 +32,7 @@ public:
     void make_current();
     const GlInfo& info() const { return info_; }
 
-private:
+  private:
     GlContext() = default;
     struct Egl;
     std::unique_ptr<Egl> egl_;

@@ -34,12 +34,12 @@ struct Material {
 };
 
 struct Primitive {
-    std::string name;                 // "mesh 'Box' primitive 0" etc., for messages
-    std::vector<glm::vec3> positions;  // world space of the file
-    std::vector<glm::vec3> normals;    // unit, one per position
-    std::vector<glm::vec2> texcoords;  // empty, or one per position
+    std::string name;                    // "mesh 'Box' primitive 0" etc., for messages
+    std::vector<glm::vec3> positions;    // world space of the file
+    std::vector<glm::vec3> normals;      // unit, one per position
+    std::vector<glm::vec2> texcoords;    // empty, or one per position
     std::vector<std::uint32_t> indices;  // triangle list, 3 per triangle, all < positions.size()
-    int material = 0;                  // index into Mesh::materials
+    int material = 0;                    // index into Mesh::materials
 };
 
 struct Bounds {
@@ -52,7 +52,7 @@ struct Mesh {
     std::vector<Primitive> primitives;
     std::vector<Material> materials;  // at least one
     std::vector<Texture> textures;
-    Bounds bounds;                    // of every position
+    Bounds bounds;  // of every position
     std::uint64_t triangle_count = 0;
     std::uint64_t vertex_count = 0;
 };

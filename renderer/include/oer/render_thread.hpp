@@ -16,7 +16,7 @@
 namespace oer {
 
 class RenderThread {
-public:
+  public:
     // Starts the thread and creates its context; throws what GlContext::create throws.
     RenderThread();
     // Finishes the jobs already submitted, then destroys the context and joins.
@@ -38,7 +38,7 @@ public:
 
     std::size_t queue_depth() const;
 
-private:
+  private:
     void enqueue(std::function<void()> job);
     void run();
 

@@ -1,0 +1,621 @@
+#include "oer/frame_renderer.hpp"
+
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "frame_shaders.hpp"
+#include "gl_program.hpp"
+#include "gpu_mesh.hpp"
+#include "oer/equirect.hpp"
+#include "oer/error.hpp"
+#include "oer/gl_context.hpp"
+#include "oer/irradiance.hpp"
+#include "sh_shader_constants.hpp"
+
+namespace oer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double elapsed_ms(Clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+}
+
+void fail(const std::string& member, const std::string& message) {
+    throw Error(ErrorKind::InvalidInput, member + ": " + message);
+}
+
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            if (!std::isfinite(m[c][r])) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// The ground: a square in the plane y = 0 facing +Y, scaled and placed per frame.
+Mesh unit_ground() {
+    Mesh mesh;
+    Primitive quad;
+    quad.name = "ground";
+    quad.positions = {{-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}};
+    quad.normals.assign(4, {0, 1, 0});
+    quad.indices = {0, 1, 2, 0, 2, 3};
+    mesh.primitives.push_back(std::move(quad));
+    // A horizontal Lambertian plane of albedo 0.8 (DESIGN.md section 7).
+    Material material;
+    material.name = "ground";
+    material.base_color = {0.8f, 0.8f, 0.8f, 1.0f};
+    material.specular = false;
+    mesh.materials.push_back(material);
+    return mesh;
+}
+
+struct SceneBounds {
+    Bounds box;
+    glm::vec3 centre{0.0f};
+    float radius = 1.0f;
+};
+
+SceneBounds scene_bounds(const std::vector<SceneObject>& objects) {
+    SceneBounds scene;
+    bool any = false;
+    for (const SceneObject& object : objects) {
+        const Bounds& b = object.mesh->bounds;
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::vec3 local{(corner & 1) ? b.max.x : b.min.x,
+                                  (corner & 2) ? b.max.y : b.min.y,
+                                  (corner & 4) ? b.max.z : b.min.z};
+            const glm::vec3 world = glm::vec3(object.transform * glm::vec4(local, 1.0f));
+            scene.box.min = any ? glm::min(scene.box.min, world) : world;
+            scene.box.max = any ? glm::max(scene.box.max, world) : world;
+            any = true;
+        }
+    }
+    if (!any) {
+        scene.box = {glm::vec3(-0.5f), glm::vec3(0.5f)};
+    }
+    scene.centre = scene.box.centre();
+    scene.radius = std::max(1e-4f, 0.5f * glm::length(scene.box.max - scene.box.min));
+    return scene;
+}
+
+// Orthographic light view fitted to the scene's bounding sphere along the light's direction.
+glm::mat4 light_matrix(const glm::vec3& direction, const SceneBounds& scene) {
+    const glm::vec3 up = std::abs(direction.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const float r = scene.radius;
+    const glm::mat4 view = glm::lookAt(scene.centre + direction * (2.0f * r), scene.centre, up);
+    return glm::ortho(-r, r, -r, r, r, 3.0f * r) * view;
+}
+
+}  // namespace
+
+struct FrameRenderer::State {
+    FrameLimits limits;
+    std::map<std::string, std::unique_ptr<gl::Program>> programs;
+
+    struct CachedMesh {
+        std::weak_ptr<const Mesh> owner;
+        std::uint64_t id = 0;
+        GpuMesh gpu;
+    };
+    std::map<const Mesh*, CachedMesh> meshes;
+    std::uint64_t next_mesh_id = 1;
+
+    struct CachedEnvironment {
+        std::weak_ptr<const HdrImage> owner;
+        gl::Object texture;
+    };
+    std::map<const HdrImage*, CachedEnvironment> environments;
+
+    struct CachedShadow {
+        gl::Object texture;
+        std::uint64_t last_used = 0;
+    };
+    std::map<std::string, CachedShadow> shadows;
+    std::uint64_t frame_counter = 0;
+
+    Mesh ground_mesh = unit_ground();
+    GpuMesh ground;
+    gl::Object empty_vertex_array;
+    gl::Object shadow_framebuffer;
+    gl::Object compare_linear;
+    gl::Object compare_nearest;
+    gl::Object irradiance_buffer;
+    int max_samples = 1;
+
+    gl::Program& program(const char* vertex, const char* fragment, const std::string& defines,
+                         const std::string& name) {
+        const std::string key = name + "\n" + defines;
+        auto found = programs.find(key);
+        if (found == programs.end()) {
+            found =
+                programs
+                    .emplace(key, std::make_unique<gl::Program>(vertex, fragment, defines, name))
+                    .first;
+        }
+        return *found->second;
+    }
+
+    CachedMesh& mesh(const std::shared_ptr<const Mesh>& owner) {
+        auto found = meshes.find(owner.get());
+        if (found != meshes.end() && found->second.owner.expired()) {
+            meshes.erase(found);  // the address was reused by a new mesh
+            found = meshes.end();
+        }
+        if (found == meshes.end()) {
+            std::erase_if(meshes, [](const auto& entry) { return entry.second.owner.expired(); });
+            CachedMesh cached{owner, next_mesh_id++, upload_mesh(*owner)};
+            found = meshes.emplace(owner.get(), std::move(cached)).first;
+        }
+        return found->second;
+    }
+
+    GLuint environment(const std::shared_ptr<const HdrImage>& owner) {
+        auto found = environments.find(owner.get());
+        if (found != environments.end() && found->second.owner.expired()) {
+            environments.erase(found);
+            found = environments.end();
+        }
+        if (found == environments.end()) {
+            std::erase_if(environments,
+                          [](const auto& entry) { return entry.second.owner.expired(); });
+            gl::Object texture = gl::create_texture(GL_TEXTURE_2D);
+            glTextureStorage2D(texture.get(), 1, GL_RGB32F, owner->width, owner->height);
+            glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+            glTextureSubImage2D(texture.get(), 0, 0, 0, owner->width, owner->height, GL_RGB,
+                                GL_FLOAT, owner->pixels.data());
+            glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+            glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+            glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+            glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            found = environments.emplace(owner.get(), CachedEnvironment{owner, std::move(texture)})
+                        .first;
+        }
+        return found->second.texture.get();
+    }
+};
+
+FrameRenderer::FrameRenderer(const FrameLimits& limits) : state_(std::make_unique<State>()) {
+    state_->limits = limits;
+    state_->ground = upload_mesh(state_->ground_mesh);
+    state_->empty_vertex_array = gl::create_vertex_array();
+    state_->shadow_framebuffer = gl::create_framebuffer();
+    state_->irradiance_buffer = gl::create_buffer();
+    for (auto [sampler, filter] : {std::pair{&state_->compare_linear, GL_LINEAR},
+                                   std::pair{&state_->compare_nearest, GL_NEAREST}}) {
+        *sampler = gl::create_sampler();
+        glSamplerParameteri(sampler->get(), GL_TEXTURE_MIN_FILTER, filter);
+        glSamplerParameteri(sampler->get(), GL_TEXTURE_MAG_FILTER, filter);
+        glSamplerParameteri(sampler->get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glSamplerParameteri(sampler->get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glSamplerParameteri(sampler->get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glSamplerParameteri(sampler->get(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    }
+    glGetIntegerv(GL_MAX_SAMPLES, &state_->max_samples);
+    check_gl_errors("FrameRenderer set-up");
+}
+
+FrameRenderer::~FrameRenderer() = default;
+
+std::size_t FrameRenderer::cached_shadow_maps() const {
+    return state_->shadows.size();
+}
+
+namespace {
+
+void validate(const FrameRequest& request, const FrameLimits& limits) {
+    if (!request.rig) {
+        fail("environment", "no light rig given");
+    }
+    if (request.width < 1 || request.height < 1) {
+        fail("width", "the frame must be at least 1x1");
+    }
+    if (request.width > limits.max_width || request.height > limits.max_height) {
+        throw Error(ErrorKind::LimitExceeded,
+                    "width/height: " + std::to_string(request.width) + "x" +
+                        std::to_string(request.height) + " is over the limit of " +
+                        std::to_string(limits.max_width) + "x" + std::to_string(limits.max_height));
+    }
+    if (!request.lights.empty() && request.lights.size() != request.rig->lights.size()) {
+        fail("lights", "the environment has " + std::to_string(request.rig->lights.size()) +
+                           " light(s), got " + std::to_string(request.lights.size()) + " switches");
+    }
+    if (request.samples < 1 || request.samples > 16) {
+        fail("samples", "must be in 1..16");
+    }
+    if (request.shadows.resolution < 16 ||
+        request.shadows.resolution > limits.max_shadow_resolution) {
+        throw Error(ErrorKind::LimitExceeded, "shadow_resolution: must be in 16.." +
+                                                  std::to_string(limits.max_shadow_resolution));
+    }
+    if (!std::isfinite(request.exposure_ev) || std::abs(request.exposure_ev) > 64.0) {
+        fail("exposure", "must be a finite number of stops in [-64, 64]");
+    }
+    if (!std::isfinite(request.yaw_degrees)) {
+        fail("yaw", "must be finite");
+    }
+    for (std::size_t i = 0; i < request.objects.size(); ++i) {
+        const SceneObject& object = request.objects[i];
+        const std::string member = "objects[" + std::to_string(i) + "]";
+        if (!object.mesh) {
+            fail(member + ".mesh", "no mesh given");
+        }
+        if (!finite(object.transform) || std::abs(glm::determinant(object.transform)) < 1e-12f) {
+            fail(member + ".transform", "must be finite and invertible");
+        }
+        if (object.base_color &&
+            !(glm::all(glm::greaterThanEqual(*object.base_color, glm::vec3(0))) &&
+              std::isfinite(object.base_color->x + object.base_color->y + object.base_color->z))) {
+            fail(member + ".base_color", "must be finite and non-negative");
+        }
+    }
+    if (!request.linear && request.background.kind == BackgroundKind::Colour &&
+        !glm::all(
+            glm::lessThanEqual(glm::abs(request.background.colour - 0.5f), glm::vec3(0.5f)))) {
+        fail("background", "the colour must be in [0, 1]");
+    }
+    if (request.background.kind == BackgroundKind::Environment && !request.environment) {
+        fail("background", "the environment background needs the environment map");
+    }
+    if (request.camera) {
+        validate_camera(*request.camera);
+    }
+}
+
+}  // namespace
+
+Frame FrameRenderer::render(const FrameRequest& request) {
+    validate(request, state_->limits);
+    State& state = *state_;
+    const Rig& rig = *request.rig;
+    const auto frame_start = Clock::now();
+    ++state.frame_counter;
+    Frame frame;
+    frame.width = request.width;
+    frame.height = request.height;
+
+    // Which lights are on; their directions turned by the environment's yaw.
+    const std::size_t light_count = rig.lights.size();
+    std::vector<bool> on(light_count, true);
+    for (std::size_t k = 0; k < request.lights.size(); ++k) {
+        on[k] = request.lights[k];
+    }
+    std::vector<std::size_t> lit;
+    for (std::size_t k = 0; k < light_count; ++k) {
+        if (on[k]) {
+            lit.push_back(k);
+        }
+    }
+    const double yaw = glm::radians(request.yaw_degrees);
+    const glm::vec2 yaw_cos_sin{float(std::cos(yaw)), float(std::sin(yaw))};
+
+    // Irradiance sets: the map without the lights that are off, then each light that is on.
+    auto start = Clock::now();
+    std::vector<double> visibility(light_count);
+    for (std::size_t k = 0; k < light_count; ++k) {
+        visibility[k] = on[k] ? 1.0 : 0.0;
+    }
+    std::vector<ShRgb> sets{
+        irradiance_coefficients(visibility_coefficients(rig.sh, visibility), rig.window)};
+    for (const std::size_t k : lit) {
+        sets.push_back(irradiance_coefficients(rig.sh.per_light[k], rig.window));
+    }
+    const int order = rig.sh.all.order;
+    const int count = order * order;
+    std::vector<float> packed;
+    packed.reserve(sets.size() * count * 4);
+    for (const ShRgb& set : sets) {
+        for (const glm::dvec3& c : set.coefficients) {
+            packed.insert(packed.end(), {float(c.r), float(c.g), float(c.b), 0.0f});
+        }
+    }
+    state.irradiance_buffer = gl::create_buffer();
+    glNamedBufferStorage(state.irradiance_buffer.get(), GLsizeiptr(packed.size() * sizeof(float)),
+                         packed.data(), 0);
+    double attenuation_base = 1.0;
+    if (rig.model == LightingModel::Thesis) {
+        for (std::size_t k = 0; k < light_count; ++k) {
+            attenuation_base -= on[k] ? 0.0 : rig.lights[k].luminance_share;
+        }
+    }
+
+    // Scene and camera.
+    const SceneBounds scene = scene_bounds(request.objects);
+    const float aspect = float(request.width) / float(request.height);
+    const Camera camera = request.camera.value_or(frame_bounds(scene.box, 45.0f, aspect));
+    const float ground_half_size = 20.0f * scene.radius;
+    const float eye_distance = glm::length(camera.eye - scene.centre);
+    const float far_plane =
+        eye_distance + (request.ground ? 1.5f * ground_half_size : 2.0f * scene.radius);
+    const float near_plane = std::max(far_plane * 1e-5f, 0.5f * (eye_distance - scene.radius));
+    const glm::mat4 view_projection =
+        projection_matrix(camera, aspect, std::min(near_plane, far_plane * 0.5f), far_plane) *
+        view_matrix(camera);
+    frame.timings_ms["setup"] = elapsed_ms(start);
+
+    // Shadow maps, cached by scene, light direction and resolution.
+    start = Clock::now();
+    const bool shadows = request.shadows.enabled && !lit.empty();
+    std::string scene_key;
+    for (const SceneObject& object : request.objects) {
+        const std::uint64_t id = state.mesh(object.mesh).id;
+        scene_key.append(reinterpret_cast<const char*>(&id), sizeof id);
+        scene_key.append(reinterpret_cast<const char*>(glm::value_ptr(object.transform)),
+                         16 * sizeof(float));
+    }
+    const int resolution = request.shadows.resolution;
+    std::vector<glm::mat4> light_matrices;
+    std::vector<GLuint> shadow_textures;
+    gl::Program& depth = state.program(shaders::kMeshVertex, shaders::kDepthFragment, "", "depth");
+    for (const std::size_t k : lit) {
+        const glm::vec3 direction = glm::normalize(
+            glm::vec3(equirect::rotate_yaw(rig.lights[k].direction, request.yaw_degrees)));
+        light_matrices.push_back(light_matrix(direction, scene));
+        if (!shadows) {
+            continue;
+        }
+        std::string key = scene_key;
+        key.append(reinterpret_cast<const char*>(glm::value_ptr(direction)), 3 * sizeof(float));
+        key.append(reinterpret_cast<const char*>(&resolution), sizeof resolution);
+        auto found = state.shadows.find(key);
+        if (found == state.shadows.end()) {
+            if (state.shadows.size() >= state.limits.max_cached_shadow_maps) {
+                const auto oldest = std::min_element(
+                    state.shadows.begin(), state.shadows.end(), [](const auto& a, const auto& b) {
+                        return a.second.last_used < b.second.last_used;
+                    });
+                state.shadows.erase(oldest);
+            }
+            State::CachedShadow cached;
+            cached.texture = gl::create_texture(GL_TEXTURE_2D);
+            glTextureStorage2D(cached.texture.get(), 1, GL_DEPTH_COMPONENT32F, resolution,
+                               resolution);
+            glNamedFramebufferTexture(state.shadow_framebuffer.get(), GL_DEPTH_ATTACHMENT,
+                                      cached.texture.get(), 0);
+            glNamedFramebufferDrawBuffer(state.shadow_framebuffer.get(), GL_NONE);
+            glBindFramebuffer(GL_FRAMEBUFFER, state.shadow_framebuffer.get());
+            glViewport(0, 0, resolution, resolution);
+            glEnable(GL_DEPTH_TEST);
+            glDepthMask(GL_TRUE);
+            glDepthFunc(GL_LESS);
+            const float clear_depth = 1.0f;
+            glClearNamedFramebufferfv(state.shadow_framebuffer.get(), GL_DEPTH, 0, &clear_depth);
+            // Front faces culled and a slope-scaled bias: the depths stored are of the casters'
+            // back faces, pushed away, so lit surfaces do not shadow themselves.
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_FRONT);
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(1.5f, 2.0f);
+            glUseProgram(depth.id());
+            glUniformMatrix4fv(depth.uniform("u_view_projection"), 1, GL_FALSE,
+                               glm::value_ptr(light_matrices.back()));
+            for (const SceneObject& object : request.objects) {
+                glUniformMatrix4fv(depth.uniform("u_model"), 1, GL_FALSE,
+                                   glm::value_ptr(object.transform));
+                for (const GpuPrimitive& primitive : state.mesh(object.mesh).gpu.primitives) {
+                    glBindVertexArray(primitive.vertex_array.get());
+                    glDrawElements(GL_TRIANGLES, primitive.index_count, GL_UNSIGNED_INT, nullptr);
+                }
+            }
+            glDisable(GL_POLYGON_OFFSET_FILL);
+            glDisable(GL_CULL_FACE);
+            found = state.shadows.emplace(std::move(key), std::move(cached)).first;
+            ++frame.shadow_maps_rendered;
+        }
+        found->second.last_used = state.frame_counter;
+        shadow_textures.push_back(found->second.texture.get());
+    }
+    glFinish();
+    frame.timings_ms["shadow_pass"] = elapsed_ms(start);
+
+    // Colour pass into a multisampled float target.
+    start = Clock::now();
+    const int samples = std::min(request.samples, std::max(1, state.max_samples));
+    const GLenum colour_format = request.linear ? GL_RGBA32F : GL_RGBA16F;
+    gl::Object colour = gl::create_renderbuffer();
+    gl::Object depth_buffer = gl::create_renderbuffer();
+    glNamedRenderbufferStorageMultisample(colour.get(), samples > 1 ? samples : 0, colour_format,
+                                          request.width, request.height);
+    glNamedRenderbufferStorageMultisample(depth_buffer.get(), samples > 1 ? samples : 0,
+                                          GL_DEPTH_COMPONENT24, request.width, request.height);
+    gl::Object target = gl::create_framebuffer();
+    glNamedFramebufferRenderbuffer(target.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                   colour.get());
+    glNamedFramebufferRenderbuffer(target.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                   depth_buffer.get());
+    if (glCheckNamedFramebufferStatus(target.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        throw Error(ErrorKind::Internal, "colour target framebuffer is incomplete");
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, target.get());
+    glViewport(0, 0, request.width, request.height);
+    const float clear_colour[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(target.get(), GL_COLOR, 0, clear_colour);
+    const float clear_depth = 1.0f;
+    glClearNamedFramebufferfv(target.get(), GL_DEPTH, 0, &clear_depth);
+
+    if (request.background.kind == BackgroundKind::Environment) {
+        gl::Program& background = state.program(shaders::kFullscreenVertex,
+                                                shaders::kBackgroundFragment, "", "background");
+        glDisable(GL_DEPTH_TEST);
+        glDepthMask(GL_FALSE);
+        glUseProgram(background.id());
+        glUniformMatrix4fv(background.uniform("u_inverse_view_projection"), 1, GL_FALSE,
+                           glm::value_ptr(glm::inverse(view_projection)));
+        glUniform2f(background.uniform("u_yaw"), yaw_cos_sin.x, yaw_cos_sin.y);
+        glBindTextureUnit(0, state.environment(request.environment));
+        glBindVertexArray(state.empty_vertex_array.get());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    const std::string defines =
+        "#define SH_ORDER " + std::to_string(order) + "\n#define LIGHTS_ON " +
+        std::to_string(lit.size()) + "\n#define SHADOWS " + std::to_string(shadows ? 1 : 0) +
+        "\n#define PCF " + std::to_string(request.shadows.filter == ShadowFilter::Pcf ? 1 : 0) +
+        "\n";
+    gl::Program& shade =
+        state.program(shaders::kMeshVertex, shaders::kShadeFragment, defines, "shade");
+    glUseProgram(shade.id());
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glUniformMatrix4fv(shade.uniform("u_view_projection"), 1, GL_FALSE,
+                       glm::value_ptr(view_projection));
+    const std::vector<float>& sh_scale = sh_shader_scales(order);
+    glUniform1fv(shade.uniform("u_sh_scale"), GLsizei(sh_scale.size()), sh_scale.data());
+    glUniform2f(shade.uniform("u_yaw"), yaw_cos_sin.x, yaw_cos_sin.y);
+    glUniform3fv(shade.uniform("u_eye"), 1, glm::value_ptr(camera.eye));
+    const bool thesis = rig.model == LightingModel::Thesis;
+    glUniform1f(shade.uniform("u_albedo_scale"), thesis ? 1.0f : float(1.0 / std::numbers::pi));
+    glUniform1f(shade.uniform("u_attenuation_base"), float(attenuation_base));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, state.irradiance_buffer.get());
+    for (std::size_t i = 0; i < lit.size(); ++i) {
+        const std::size_t k = lit[i];
+        const std::string index = "[" + std::to_string(i) + "]";
+        const glm::vec3 direction = glm::normalize(
+            glm::vec3(equirect::rotate_yaw(rig.lights[k].direction, request.yaw_degrees)));
+        // Intensity from the light's own SH: sum L dOmega = sqrt(4 pi) c_00, in the units of
+        // the projected map (radiance in the hdr model, tone-mapped values in the thesis's).
+        const glm::vec3 intensity =
+            glm::vec3(rig.sh.per_light[k].coefficients[0] * std::sqrt(4.0 * std::numbers::pi));
+        glUniformMatrix4fv(shade.uniform("u_light_matrix" + index), 1, GL_FALSE,
+                           glm::value_ptr(light_matrices[i]));
+        glUniform3fv(shade.uniform("u_light_direction" + index), 1, glm::value_ptr(direction));
+        glUniform3fv(shade.uniform("u_light_intensity" + index), 1, glm::value_ptr(intensity));
+        // PCF radius: a penumbra about half the scene's radius from its occluder, seen through
+        // the light's angular radius; at least one texel.
+        const float kernel = std::max(1.0f / float(resolution),
+                                      0.25f * float(std::tan(rig.lights[k].angular_radius)));
+        glUniform1f(shade.uniform("u_light_kernel" + index), kernel);
+        glUniform1f(shade.uniform("u_light_share" + index),
+                    thesis ? float(rig.lights[k].luminance_share) : 0.0f);
+        glUniform1f(shade.uniform("u_normal_offset" + index),
+                    1.5f * 2.0f * scene.radius / float(resolution));
+        if (shadows) {
+            glBindTextureUnit(GLuint(1 + i), shadow_textures[i]);
+            glBindSampler(GLuint(1 + i), request.shadows.filter == ShadowFilter::Pcf
+                                             ? state.compare_linear.get()
+                                             : state.compare_nearest.get());
+        }
+    }
+
+    const auto draw = [&](const Mesh& mesh, const GpuMesh& gpu, const glm::mat4& model,
+                          const std::optional<glm::vec3>& base_override) {
+        glUniformMatrix4fv(shade.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
+        const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
+        glUniformMatrix3fv(shade.uniform("u_normal_matrix"), 1, GL_FALSE,
+                           glm::value_ptr(normal_matrix));
+        for (const GpuPrimitive& primitive : gpu.primitives) {
+            const Material& material = mesh.materials.at(std::size_t(primitive.material));
+            const glm::vec4 base =
+                base_override ? glm::vec4(*base_override, 1.0f) : material.base_color;
+            glUniform4fv(shade.uniform("u_base_color"), 1, glm::value_ptr(base));
+            const bool textured = !base_override && material.base_color_texture >= 0;
+            glUniform1i(shade.uniform("u_has_texture"), textured ? 1 : 0);
+            if (textured) {
+                glBindTextureUnit(0,
+                                  gpu.textures.at(std::size_t(material.base_color_texture)).get());
+            }
+            glUniform1f(shade.uniform("u_specular_weight"), material.specular ? 0.04f : 0.0f);
+            // Blinn-Phong exponent of a GGX roughness (alpha = roughness^2): 2 / alpha^2 - 2.
+            const float alpha = std::max(0.02f, material.roughness * material.roughness);
+            glUniform1f(shade.uniform("u_shininess"),
+                        std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f));
+            glBindVertexArray(primitive.vertex_array.get());
+            glDrawElements(GL_TRIANGLES, primitive.index_count, GL_UNSIGNED_INT, nullptr);
+        }
+    };
+    for (const SceneObject& object : request.objects) {
+        const State::CachedMesh& cached = state.mesh(object.mesh);
+        draw(*object.mesh, cached.gpu, object.transform, object.base_color);
+    }
+    if (request.ground) {
+        const glm::mat4 ground_model =
+            glm::translate(glm::mat4(1.0f),
+                           glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
+            glm::scale(glm::mat4(1.0f), glm::vec3(ground_half_size, 1.0f, ground_half_size));
+        draw(state.ground_mesh, state.ground, ground_model, std::nullopt);
+    }
+    for (std::size_t i = 0; i < lit.size(); ++i) {
+        glBindSampler(GLuint(1 + i), 0);
+    }
+
+    // Resolve the samples.
+    gl::Object resolved = gl::create_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(resolved.get(), 1, colour_format, request.width, request.height);
+    gl::Object resolved_target = gl::create_framebuffer();
+    glNamedFramebufferTexture(resolved_target.get(), GL_COLOR_ATTACHMENT0, resolved.get(), 0);
+    glBlitNamedFramebuffer(target.get(), resolved_target.get(), 0, 0, request.width, request.height,
+                           0, 0, request.width, request.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glFinish();
+    frame.timings_ms["colour_pass"] = elapsed_ms(start);
+
+    start = Clock::now();
+    const std::size_t row_floats = std::size_t(request.width) * 4;
+    if (request.linear) {
+        std::vector<float> pixels(row_floats * std::size_t(request.height));
+        glGetTextureImage(resolved.get(), 0, GL_RGBA, GL_FLOAT,
+                          GLsizei(pixels.size() * sizeof(float)), pixels.data());
+        frame.linear.resize(pixels.size());
+        for (int y = 0; y < request.height; ++y) {
+            std::memcpy(&frame.linear[std::size_t(y) * row_floats],
+                        &pixels[std::size_t(request.height - 1 - y) * row_floats],
+                        row_floats * sizeof(float));
+        }
+    } else {
+        gl::Object display = gl::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(display.get(), 1, GL_RGBA8, request.width, request.height);
+        gl::Object display_target = gl::create_framebuffer();
+        glNamedFramebufferTexture(display_target.get(), GL_COLOR_ATTACHMENT0, display.get(), 0);
+        glBindFramebuffer(GL_FRAMEBUFFER, display_target.get());
+        glDisable(GL_DEPTH_TEST);
+        gl::Program& tone =
+            state.program(shaders::kFullscreenVertex, shaders::kDisplayFragment, "", "display");
+        glUseProgram(tone.id());
+        glUniform1f(tone.uniform("u_exposure_scale"), float(std::exp2(request.exposure_ev)));
+        glUniform1i(tone.uniform("u_tone_mapper"), request.tone_mapper == ToneMapper::Neutral ? 0
+                                                   : request.tone_mapper == ToneMapper::Aces  ? 1
+                                                                                              : 2);
+        const glm::vec4 background = request.background.kind == BackgroundKind::Colour
+                                         ? glm::vec4(request.background.colour, 1.0f)
+                                         : glm::vec4(0.0f);
+        glUniform4fv(tone.uniform("u_background"), 1, glm::value_ptr(background));
+        glBindTextureUnit(0, resolved.get());
+        glBindVertexArray(state.empty_vertex_array.get());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        std::vector<std::uint8_t> pixels(row_floats * std::size_t(request.height));
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glGetTextureImage(display.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(pixels.size()),
+                          pixels.data());
+        frame.display.width = request.width;
+        frame.display.height = request.height;
+        frame.display.pixels.resize(pixels.size());
+        for (int y = 0; y < request.height; ++y) {
+            std::memcpy(&frame.display.pixels[std::size_t(y) * row_floats],
+                        &pixels[std::size_t(request.height - 1 - y) * row_floats], row_floats);
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    check_gl_errors("FrameRenderer::render");
+    frame.timings_ms["readback"] = elapsed_ms(start);
+    frame.timings_ms["total"] = elapsed_ms(frame_start);
+    return frame;
+}
+
+}  // namespace oer
