@@ -21,6 +21,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "bench_support.hpp"
 #include "literal_thesis.hpp"
 #include "oer/equirect.hpp"
 #include "oer/image.hpp"
@@ -30,7 +31,12 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using oer::bench::best_ms;
+using oer::bench::Clock;
+using oer::bench::kDiscs;
+using oer::bench::kMaxDiscs;
+using oer::bench::make_synthetic_map;
+using oer::bench::ms_since;
 using std::numbers::pi;
 
 // DESIGN.md section 8.
@@ -43,81 +49,6 @@ constexpr int kLiteralMaxRepetitions = 3;
 constexpr double kLiteralBudgetMs = 4000.0;  // no further repetition once this much is spent
 constexpr int kProjectionRepetitions = 20;
 const char* const kRealMapDirectory = "/usr/share/blender/datafiles/studiolights/world";
-
-double ms_since(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// Best (minimum) wall time of up to max_repetitions runs of f, at least one, stopping early
-// once budget_ms has been spent.
-template <class F>
-double best_ms(int max_repetitions, double budget_ms, F&& f) {
-    double best = std::numeric_limits<double>::infinity();
-    double spent = 0.0;
-    for (int r = 0; r < max_repetitions; ++r) {
-        const auto start = Clock::now();
-        f();
-        const double elapsed = ms_since(start);
-        best = std::min(best, elapsed);
-        spent += elapsed;
-        if (spent + best > budget_ms) {
-            break;
-        }
-    }
-    return best;
-}
-
-// The bright discs of the synthetic maps: distinct sizes, colours and radiances, of comparable
-// power, away from the seam and the poles (the literal thesis clusters in pixel space).
-struct Disc {
-    double azimuth_degrees;    // phi of DESIGN.md section 3
-    double elevation_degrees;  // 90 - theta
-    double radius_degrees;
-    glm::vec3 radiance;
-};
-constexpr Disc kDiscs[] = {
-    {-120.0, 35.0, 4.0, {60.0f, 57.0f, 51.0f}},   {-50.0, 55.0, 3.2, {76.5f, 81.0f, 90.0f}},
-    {20.0, 25.0, 2.6, {130.0f, 91.0f, 58.5f}},    {80.0, 45.0, 2.1, {108.0f, 144.0f, 180.0f}},
-    {140.0, 15.0, 1.7, {250.0f, 212.5f, 150.0f}}, {-10.0, 70.0, 1.4, {315.0f, 350.0f, 280.0f}},
-};
-constexpr int kMaxDiscs = int(std::size(kDiscs));
-
-glm::dvec3 disc_centre(const Disc& disc) {
-    const double phi = disc.azimuth_degrees * pi / 180.0;
-    const double elevation = disc.elevation_degrees * pi / 180.0;
-    return {std::cos(elevation) * std::cos(phi), std::sin(elevation),
-            std::cos(elevation) * std::sin(phi)};
-}
-
-// A dim sky gradient (horizon to zenith, brighter towards +X) over a darker ground, plus the
-// first `lights` discs.
-oer::HdrImage make_synthetic_map(int width, int height, int lights) {
-    const oer::equirect::Grid grid(width, height);
-    std::vector<glm::dvec3> centres;
-    std::vector<double> cos_radii;
-    for (int k = 0; k < lights; ++k) {
-        centres.push_back(disc_centre(kDiscs[k]));
-        cos_radii.push_back(std::cos(kDiscs[k].radius_degrees * pi / 180.0));
-    }
-    oer::HdrImage image(width, height);
-    const glm::vec3 zenith(0.08f, 0.12f, 0.25f), horizon(0.30f, 0.32f, 0.35f),
-        ground(0.06f, 0.05f, 0.04f);
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) {
-            const glm::dvec3 d = grid.direction(x, y);
-            glm::vec3 value = d.y >= 0.0 ? horizon + (zenith - horizon) * float(std::sqrt(d.y))
-                                         : ground * float(1.0 + 0.5 * d.y);
-            value *= float(1.0 + 0.5 * d.x);
-            for (int k = 0; k < lights; ++k) {
-                if (glm::dot(d, centres[k]) >= cos_radii[k]) {
-                    value = kDiscs[k].radiance;
-                }
-            }
-            image.set(std::size_t(y) * std::size_t(width) + std::size_t(x), value);
-        }
-    }
-    return image;
-}
 
 // How many of the first `discs` discs have a light direction inside them.
 int discs_hit(const std::vector<glm::dvec3>& directions, int discs) {
