@@ -34,10 +34,12 @@ struct Material {
 };
 
 struct Primitive {
-    std::string name;                    // "mesh 'Box' primitive 0" etc., for messages
-    std::vector<glm::vec3> positions;    // world space of the file
-    std::vector<glm::vec3> normals;      // unit, one per position
-    std::vector<glm::vec2> texcoords;    // empty, or one per position
+    std::string name;                  // "mesh 'Box' primitive 0" etc., for messages
+    std::vector<glm::vec3> positions;  // world space of the file
+    std::vector<glm::vec3> normals;    // unit, one per position
+    // Empty, or one per position; never empty when the material has a texture (a glTF
+    // primitive without TEXCOORD_0 whose material has one gets (0, 0) everywhere).
+    std::vector<glm::vec2> texcoords;
     std::vector<std::uint32_t> indices;  // triangle list, 3 per triangle, all < positions.size()
     int material = 0;                    // index into Mesh::materials
 };
@@ -48,6 +50,15 @@ struct Bounds {
     glm::vec3 centre() const { return (min + max) * 0.5f; }
 };
 
+// What the loaders repaired rather than rejected, for the API to report.
+struct MeshRepairs {
+    // Normals present in the file but zero-length or non-finite, computed from the triangles
+    // instead (angle-weighted, as for a file without normals).
+    std::uint64_t normals_replaced = 0;
+    // Normals present in the file whose length was not 1 (beyond 1e-3), normalised.
+    std::uint64_t normals_renormalised = 0;
+};
+
 struct Mesh {
     std::vector<Primitive> primitives;
     std::vector<Material> materials;  // at least one
@@ -55,6 +66,10 @@ struct Mesh {
     Bounds bounds;  // of every position
     std::uint64_t triangle_count = 0;
     std::uint64_t vertex_count = 0;
+    MeshRepairs repairs;
+    // What was ignored (an OBJ's mtllib, a texture on a texCoord other than 0, ...), one line
+    // each, for the API to pass on.
+    std::vector<std::string> warnings;
 };
 
 }  // namespace oer

@@ -1,0 +1,249 @@
+// tinygltf run on bytes only (see gltf_parsing.hpp).
+#include "gltf_parsing.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <new>
+
+#include "gltf_schema.hpp"
+#include "mesh_errors.hpp"
+#include "texture_decoding.hpp"
+
+namespace oer::mesh_detail {
+
+namespace {
+
+void refuse(const std::string& path, void* user) {
+    auto& context = *static_cast<ParseContext*>(user);
+    if (std::find(context.refused_uris.begin(), context.refused_uris.end(), path) ==
+        context.refused_uris.end()) {
+        context.refused_uris.push_back(path);
+    }
+}
+
+bool refuse_file_exists(const std::string& path, void* user) {
+    refuse(path, user);
+    return false;
+}
+
+std::string keep_path(const std::string& path, void*) {
+    return path;
+}
+
+bool refuse_read(std::vector<unsigned char>*, std::string* err, const std::string& path,
+                 void* user) {
+    refuse(path, user);
+    if (err != nullptr) {
+        *err += "reading files is not allowed\n";
+    }
+    return false;
+}
+
+bool refuse_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err != nullptr) {
+        *err += "writing files is not allowed\n";
+    }
+    return false;
+}
+
+// tinygltf hands an image in a bufferView over without checking the view against its buffer:
+// check that first, then the header against the limit; keep the encoded bytes.
+bool keep_encoded_image(tinygltf::Image* image, const int index, std::string* err, std::string*,
+                        int, int, const unsigned char* bytes, int size, void* user) {
+    auto& context = *static_cast<ParseContext*>(user);
+    const std::string label = image_label(context.asset, index, image->name);
+    try {
+        if (image->bufferView >= 0) {
+            const auto& views = context.model->bufferViews;
+            const auto& buffers = context.model->buffers;
+            if (std::size_t(image->bufferView) >= views.size()) {
+                throw Error(ErrorKind::InvalidInput, label + ": its bufferView does not exist");
+            }
+            const tinygltf::BufferView& view = views[std::size_t(image->bufferView)];
+            if (view.buffer < 0 || std::size_t(view.buffer) >= buffers.size()) {
+                throw Error(ErrorKind::InvalidInput, label + ": its buffer does not exist");
+            }
+            const std::size_t buffer_size = buffers[std::size_t(view.buffer)].data.size();
+            if (view.byteOffset > buffer_size || view.byteLength > buffer_size - view.byteOffset ||
+                view.byteLength != std::size_t(size)) {
+                throw Error(ErrorKind::InvalidInput,
+                            label + ": its bufferView runs past the end of its buffer");
+            }
+        }
+        if (size <= 0 || bytes == nullptr) {
+            throw Error(ErrorKind::InvalidInput, label + ": the image is empty");
+        }
+        const std::span<const std::byte> encoded(reinterpret_cast<const std::byte*>(bytes),
+                                                 std::size_t(size));
+        const ImageHeader header =
+            check_image_header(encoded, context.limits->max_texture_pixels, label);
+        image->width = header.width;
+        image->height = header.height;
+        context.encoded_images[index].assign(encoded.begin(), encoded.end());
+        return true;
+    } catch (const Error& error) {
+        context.image_error = error;
+    } catch (const std::bad_alloc&) {
+        context.image_error = Error(ErrorKind::LimitExceeded, label + ": out of memory");
+    } catch (const std::exception& error) {
+        context.image_error = Error(ErrorKind::Internal, label + ": " + error.what());
+    }
+    if (err != nullptr) {
+        *err += std::string(context.image_error->what()) + "\n";
+    }
+    return false;
+}
+
+// tinygltf's parser recurses into "extras" and "extensions": refuse absurdly nested JSON
+// before it sees it. Brackets inside strings do not count.
+void check_json_nesting(std::span<const std::byte> json, const std::string& asset) {
+    constexpr int max_depth = 128;
+    int depth = 0;
+    bool in_string = false;
+    bool escaped = false;
+    for (std::byte b : json) {
+        const char c = char(b);
+        if (in_string) {
+            if (escaped) {
+                escaped = false;
+            } else if (c == '\\') {
+                escaped = true;
+            } else if (c == '"') {
+                in_string = false;
+            }
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max_depth) {
+                fail(ErrorKind::InvalidInput, asset,
+                     "the JSON is nested more than " + std::to_string(max_depth) + " levels deep");
+            }
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+}
+
+std::uint32_t little_endian_u32(std::span<const std::byte> bytes, std::size_t at) {
+    std::uint32_t value = 0;
+    for (std::size_t i = 0; i < 4; ++i) {
+        value |= std::uint32_t(bytes[at + i]) << (8 * i);
+    }
+    return value;
+}
+
+// The GLB container, checked before tinygltf reads it (its check of the BIN chunk's length
+// forgets the chunk header). Returns the JSON chunk.
+std::span<const std::byte> check_glb(std::span<const std::byte> bytes, const std::string& asset) {
+    if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0) {
+        fail(ErrorKind::InvalidInput, asset, "not a binary glTF (.glb) file: no 'glTF' header");
+    }
+    const std::uint32_t version = little_endian_u32(bytes, 4);
+    if (version != 2) {
+        fail(ErrorKind::Unsupported, asset,
+             "binary glTF version " + std::to_string(version) + " is not supported (only 2)");
+    }
+    const std::uint64_t length = little_endian_u32(bytes, 8);
+    if (length > bytes.size() || length < 20) {
+        fail(ErrorKind::InvalidInput, asset,
+             "the .glb header says " + std::to_string(length) + " bytes, the file has " +
+                 std::to_string(bytes.size()));
+    }
+    const std::uint64_t json_length = little_endian_u32(bytes, 12);
+    if (std::memcmp(bytes.data() + 16, "JSON", 4) != 0 || json_length == 0 ||
+        20 + json_length > length) {
+        fail(ErrorKind::InvalidInput, asset,
+             "the .glb file's first chunk is not a valid JSON chunk");
+    }
+    const std::uint64_t bin_start = 20 + json_length;
+    if (bin_start < length) {
+        if (bin_start + 8 > length) {
+            fail(ErrorKind::InvalidInput, asset, "the .glb file's second chunk is truncated");
+        }
+        const std::uint64_t bin_length = little_endian_u32(bytes, std::size_t(bin_start));
+        if (bin_start + 8 + bin_length > length) {
+            fail(ErrorKind::InvalidInput, asset,
+                 "the .glb file's BIN chunk runs past the end of the file");
+        }
+    }
+    return bytes.subspan(20, std::size_t(json_length));
+}
+
+}  // namespace
+
+std::string image_label(const std::string& asset, int index, const std::string& name) {
+    return asset + ": image " + std::to_string(index) + (name.empty() ? "" : " '" + name + "'");
+}
+
+tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& asset, bool binary,
+                           const MeshLimits& limits, ParseContext& context) {
+    if (bytes.size() > std::size_t(std::numeric_limits<unsigned int>::max())) {
+        fail(ErrorKind::LimitExceeded, asset, "glTF files of 4 GiB or more are not supported");
+    }
+    const std::span<const std::byte> json = binary ? check_glb(bytes, asset) : bytes;
+    check_json_nesting(json, asset);
+    check_gltf_schema(json, asset);
+
+    tinygltf::Model model;
+    context.asset = asset;
+    context.limits = &limits;
+    context.model = &model;
+    tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{&refuse_file_exists, &keep_path, &refuse_read,
+                                                &refuse_write, &context});
+    loader.SetImageLoader(&keep_encoded_image, &context);
+    std::string err;
+    std::string warn;
+    bool ok = false;
+    try {
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        const auto size = static_cast<unsigned int>(bytes.size());
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, size, "")
+                    : loader.LoadASCIIFromString(&model, &err, &warn,
+                                                 reinterpret_cast<const char*>(data), size, "");
+    } catch (const std::bad_alloc&) {
+        fail(ErrorKind::LimitExceeded, asset, "out of memory while parsing the glTF");
+    } catch (const std::exception& error) {
+        fail(ErrorKind::InvalidInput, asset,
+             std::string("not a valid glTF 2.0 asset: ") + error.what());
+    }
+    if (context.image_error) {
+        throw *context.image_error;
+    }
+    context.warnings = warn;
+    if (!context.refused_uris.empty() && context.refused_uris.front().rfind("data:", 0) == 0) {
+        // tinygltf takes a data: URI of a media type it does not know for a file name.
+        fail(ErrorKind::Unsupported, asset,
+             "unsupported data: URI '" + one_line(context.refused_uris.front(), 60) +
+                 "': buffers must be application/octet-stream or application/gltf-buffer, images "
+                 "image/png or image/jpeg, all base64");
+    }
+    if (!context.refused_uris.empty()) {
+        fail(ErrorKind::Unsupported, asset,
+             "external file '" + one_line(context.refused_uris.front(), 200) +
+                 "' referenced by the asset is not allowed: embed buffers as data: URIs or use "
+                 ".glb");
+    }
+    if (!ok) {
+        fail(ErrorKind::InvalidInput, asset,
+             "not a valid glTF 2.0 asset: " +
+                 (err.empty() ? std::string("(no reason given)") : one_line(err)));
+    }
+    if (model.asset.version.rfind("2.", 0) != 0) {
+        fail(
+            ErrorKind::Unsupported, asset,
+            "glTF version '" + one_line(model.asset.version, 40) + "' is not supported (only 2.0)");
+    }
+    for (const std::string& extension : model.extensionsRequired) {
+        if (extension != "KHR_texture_transform") {
+            fail(ErrorKind::Unsupported, asset,
+                 "the asset requires the extension " + one_line(extension, 80) +
+                     ", which is not supported");
+        }
+    }
+    return model;
+}
+
+}  // namespace oer::mesh_detail

@@ -1,0 +1,16 @@
+#pragma once
+// Private to the glTF loader: the JSON types of the glTF properties the loader uses (and of
+// every name, extension and texture reference), checked against the glTF 2.0 schema before
+// tinygltf parses the asset. tinygltf silently replaces a property of the wrong type by its
+// default ("scene": "hello" becomes the first scene); this refuses it, naming the property.
+#include <cstddef>
+#include <span>
+#include <string>
+
+namespace oer::mesh_detail {
+
+// `json` is the .gltf text or a .glb's JSON chunk. Throws oer::Error (InvalidInput) naming
+// `asset` and the property's path ("materials[0].pbrMetallicRoughness must be an object").
+void check_gltf_schema(std::span<const std::byte> json, const std::string& asset);
+
+}  // namespace oer::mesh_detail
