@@ -17,16 +17,20 @@ namespace oer {
 
 class RenderThread {
   public:
-    // Starts the thread and creates its context; throws what GlContext::create throws.
+    // Starts the thread and creates its context (current on that thread for every job); waits
+    // for it and throws what GlContext::create throws.
     RenderThread();
-    // Finishes the jobs already submitted, then destroys the context and joins.
+    // Finishes the jobs already submitted (and those they submit), then destroys the context
+    // and joins. No job is dropped: every future becomes ready.
     ~RenderThread();
     RenderThread(const RenderThread&) = delete;
     RenderThread& operator=(const RenderThread&) = delete;
 
     const GlInfo& info() const { return info_; }
 
-    // Runs job() on the GL thread; the future carries its result or its exception.
+    // Runs job() on the GL thread, after the jobs submitted before it; the future carries its
+    // result or its exception (the thread keeps running). A job must not wait for a job it
+    // submits to the same thread.
     template <typename Job>
     auto submit(Job job) -> std::future<std::invoke_result_t<Job>> {
         using Result = std::invoke_result_t<Job>;
@@ -36,11 +40,13 @@ class RenderThread {
         return result;
     }
 
+    // The jobs waiting to start (not counting one that is running).
     std::size_t queue_depth() const;
 
   private:
     void enqueue(std::function<void()> job);
-    void run();
+    // The thread's body: creates the context, reports it through `started`, runs jobs.
+    void run(std::promise<void>& started);
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
