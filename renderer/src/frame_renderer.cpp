@@ -129,6 +129,57 @@ struct FrameRenderer::State {
     std::map<std::string, CachedShadow> shadows;
     std::uint64_t frame_counter = 0;
 
+    // Render targets are kept between frames of the same size: fresh ones cost a page fault per
+    // 4 KiB on first touch, several milliseconds a frame.
+    struct Targets {
+        gl::Object colour;  // multisampled (or not) float colour
+        gl::Object depth;
+        gl::Object framebuffer;
+        gl::Object resolved;  // single-sample float colour
+        gl::Object resolved_framebuffer;
+        gl::Object display;  // RGBA8 after tone mapping
+        gl::Object display_framebuffer;
+    };
+    std::map<std::tuple<int, int, int, GLenum>, Targets> targets;
+
+    Targets& targets_for(int width, int height, int samples, GLenum format) {
+        const auto key = std::make_tuple(width, height, samples, format);
+        auto found = targets.find(key);
+        if (found != targets.end()) {
+            return found->second;
+        }
+        if (targets.size() >= 4) {
+            targets.clear();
+        }
+        Targets t;
+        t.colour = gl::create_renderbuffer();
+        t.depth = gl::create_renderbuffer();
+        glNamedRenderbufferStorageMultisample(t.colour.get(), samples > 1 ? samples : 0, format,
+                                              width, height);
+        glNamedRenderbufferStorageMultisample(t.depth.get(), samples > 1 ? samples : 0,
+                                              GL_DEPTH_COMPONENT24, width, height);
+        t.framebuffer = gl::create_framebuffer();
+        glNamedFramebufferRenderbuffer(t.framebuffer.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                       t.colour.get());
+        glNamedFramebufferRenderbuffer(t.framebuffer.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                       t.depth.get());
+        if (glCheckNamedFramebufferStatus(t.framebuffer.get(), GL_FRAMEBUFFER) !=
+            GL_FRAMEBUFFER_COMPLETE) {
+            throw Error(ErrorKind::Internal, "colour target framebuffer is incomplete");
+        }
+        t.resolved = gl::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(t.resolved.get(), 1, format, width, height);
+        t.resolved_framebuffer = gl::create_framebuffer();
+        glNamedFramebufferTexture(t.resolved_framebuffer.get(), GL_COLOR_ATTACHMENT0,
+                                  t.resolved.get(), 0);
+        t.display = gl::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(t.display.get(), 1, GL_RGBA8, width, height);
+        t.display_framebuffer = gl::create_framebuffer();
+        glNamedFramebufferTexture(t.display_framebuffer.get(), GL_COLOR_ATTACHMENT0,
+                                  t.display.get(), 0);
+        return targets.emplace(key, std::move(t)).first->second;
+    }
+
     Mesh ground_mesh = unit_ground();
     GpuMesh ground;
     gl::Object empty_vertex_array;
@@ -427,26 +478,18 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     start = Clock::now();
     const int samples = std::min(request.samples, std::max(1, state.max_samples));
     const GLenum colour_format = request.linear ? GL_RGBA32F : GL_RGBA16F;
-    gl::Object colour = gl::create_renderbuffer();
-    gl::Object depth_buffer = gl::create_renderbuffer();
-    glNamedRenderbufferStorageMultisample(colour.get(), samples > 1 ? samples : 0, colour_format,
-                                          request.width, request.height);
-    glNamedRenderbufferStorageMultisample(depth_buffer.get(), samples > 1 ? samples : 0,
-                                          GL_DEPTH_COMPONENT24, request.width, request.height);
-    gl::Object target = gl::create_framebuffer();
-    glNamedFramebufferRenderbuffer(target.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                   colour.get());
-    glNamedFramebufferRenderbuffer(target.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
-                                   depth_buffer.get());
-    if (glCheckNamedFramebufferStatus(target.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        throw Error(ErrorKind::Internal, "colour target framebuffer is incomplete");
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, target.get());
+    State::Targets& targets =
+        state.targets_for(request.width, request.height, samples, colour_format);
+    const GLuint target = targets.framebuffer.get();
+    glBindFramebuffer(GL_FRAMEBUFFER, target);
     glViewport(0, 0, request.width, request.height);
+    // Clears honour the write masks, which the previous frame's passes may have left off.
+    glDepthMask(GL_TRUE);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     const float clear_colour[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    glClearNamedFramebufferfv(target.get(), GL_COLOR, 0, clear_colour);
+    glClearNamedFramebufferfv(target, GL_COLOR, 0, clear_colour);
     const float clear_depth = 1.0f;
-    glClearNamedFramebufferfv(target.get(), GL_DEPTH, 0, &clear_depth);
+    glClearNamedFramebufferfv(target, GL_DEPTH, 0, &clear_depth);
 
     if (request.background.kind == BackgroundKind::Environment) {
         gl::Program& background = state.program(shaders::kFullscreenVertex,
@@ -467,12 +510,21 @@ Frame FrameRenderer::render(const FrameRequest& request) {
         std::to_string(lit.size()) + "\n#define SHADOWS " + std::to_string(shadows ? 1 : 0) +
         "\n#define PCF " + std::to_string(request.shadows.filter == ShadowFilter::Pcf ? 1 : 0) +
         "\n";
-    gl::Program& shade =
-        state.program(shaders::kMeshVertex, shaders::kShadeFragment, defines, "shade");
-    glUseProgram(shade.id());
+    const glm::mat4 ground_model =
+        glm::translate(glm::mat4(1.0f),
+                       glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
+        glm::scale(glm::mat4(1.0f), glm::vec3(ground_half_size, 1.0f, ground_half_size));
+
+    // No depth pre-pass: on llvmpipe the vertex work of a 70k-triangle mesh costs more than the
+    // overdraw it saves (bench/frame_benchmark: 512x512 without shadows 38 ms without a
+    // pre-pass, 76 ms with one).
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
+
+    gl::Program& shade =
+        state.program(shaders::kMeshVertex, shaders::kShadeFragment, defines, "shade");
+    glUseProgram(shade.id());
     glUniformMatrix4fv(shade.uniform("u_view_projection"), 1, GL_FALSE,
                        glm::value_ptr(view_projection));
     const std::vector<float>& sh_scale = sh_shader_scales(order);
@@ -483,6 +535,13 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     glUniform1f(shade.uniform("u_albedo_scale"), thesis ? 1.0f : float(1.0 / std::numbers::pi));
     glUniform1f(shade.uniform("u_attenuation_base"), float(attenuation_base));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, state.irradiance_buffer.get());
+    // The ground's normal is +Y, which the yaw leaves unchanged.
+    std::vector<glm::vec3> flat_irradiance;
+    for (const ShRgb& set : sets) {
+        flat_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
+    }
+    glUniform3fv(shade.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
+                 glm::value_ptr(flat_irradiance[0]));
     for (std::size_t i = 0; i < lit.size(); ++i) {
         const std::size_t k = lit[i];
         const std::string index = "[" + std::to_string(i) + "]";
@@ -514,7 +573,8 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     }
 
     const auto draw = [&](const Mesh& mesh, const GpuMesh& gpu, const glm::mat4& model,
-                          const std::optional<glm::vec3>& base_override) {
+                          const std::optional<glm::vec3>& base_override, bool flat) {
+        glUniform1i(shade.uniform("u_flat"), flat ? 1 : 0);
         glUniformMatrix4fv(shade.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
         glUniformMatrix3fv(shade.uniform("u_normal_matrix"), 1, GL_FALSE,
@@ -541,26 +601,20 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     };
     for (const SceneObject& object : request.objects) {
         const State::CachedMesh& cached = state.mesh(object.mesh);
-        draw(*object.mesh, cached.gpu, object.transform, object.base_color);
+        draw(*object.mesh, cached.gpu, object.transform, object.base_color, false);
     }
     if (request.ground) {
-        const glm::mat4 ground_model =
-            glm::translate(glm::mat4(1.0f),
-                           glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
-            glm::scale(glm::mat4(1.0f), glm::vec3(ground_half_size, 1.0f, ground_half_size));
-        draw(state.ground_mesh, state.ground, ground_model, std::nullopt);
+        draw(state.ground_mesh, state.ground, ground_model, std::nullopt, true);
     }
     for (std::size_t i = 0; i < lit.size(); ++i) {
         glBindSampler(GLuint(1 + i), 0);
     }
 
     // Resolve the samples.
-    gl::Object resolved = gl::create_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(resolved.get(), 1, colour_format, request.width, request.height);
-    gl::Object resolved_target = gl::create_framebuffer();
-    glNamedFramebufferTexture(resolved_target.get(), GL_COLOR_ATTACHMENT0, resolved.get(), 0);
-    glBlitNamedFramebuffer(target.get(), resolved_target.get(), 0, 0, request.width, request.height,
-                           0, 0, request.width, request.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    const GLuint resolved = targets.resolved.get();
+    glBlitNamedFramebuffer(target, targets.resolved_framebuffer.get(), 0, 0, request.width,
+                           request.height, 0, 0, request.width, request.height, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
     glFinish();
     frame.timings_ms["colour_pass"] = elapsed_ms(start);
 
@@ -568,8 +622,8 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     const std::size_t row_floats = std::size_t(request.width) * 4;
     if (request.linear) {
         std::vector<float> pixels(row_floats * std::size_t(request.height));
-        glGetTextureImage(resolved.get(), 0, GL_RGBA, GL_FLOAT,
-                          GLsizei(pixels.size() * sizeof(float)), pixels.data());
+        glGetTextureImage(resolved, 0, GL_RGBA, GL_FLOAT, GLsizei(pixels.size() * sizeof(float)),
+                          pixels.data());
         frame.linear.resize(pixels.size());
         for (int y = 0; y < request.height; ++y) {
             std::memcpy(&frame.linear[std::size_t(y) * row_floats],
@@ -577,11 +631,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
                         row_floats * sizeof(float));
         }
     } else {
-        gl::Object display = gl::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(display.get(), 1, GL_RGBA8, request.width, request.height);
-        gl::Object display_target = gl::create_framebuffer();
-        glNamedFramebufferTexture(display_target.get(), GL_COLOR_ATTACHMENT0, display.get(), 0);
-        glBindFramebuffer(GL_FRAMEBUFFER, display_target.get());
+        glBindFramebuffer(GL_FRAMEBUFFER, targets.display_framebuffer.get());
         glDisable(GL_DEPTH_TEST);
         gl::Program& tone =
             state.program(shaders::kFullscreenVertex, shaders::kDisplayFragment, "", "display");
@@ -594,13 +644,13 @@ Frame FrameRenderer::render(const FrameRequest& request) {
                                          ? glm::vec4(request.background.colour, 1.0f)
                                          : glm::vec4(0.0f);
         glUniform4fv(tone.uniform("u_background"), 1, glm::value_ptr(background));
-        glBindTextureUnit(0, resolved.get());
+        glBindTextureUnit(0, resolved);
         glBindVertexArray(state.empty_vertex_array.get());
         glDrawArrays(GL_TRIANGLES, 0, 3);
         std::vector<std::uint8_t> pixels(row_floats * std::size_t(request.height));
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glGetTextureImage(display.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(pixels.size()),
-                          pixels.data());
+        glGetTextureImage(targets.display.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                          GLsizei(pixels.size()), pixels.data());
         frame.display.width = request.width;
         frame.display.height = request.height;
         frame.display.pixels.resize(pixels.size());
@@ -610,6 +660,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDepthMask(GL_TRUE);
     glBindVertexArray(0);
     glUseProgram(0);
     check_gl_errors("FrameRenderer::render");

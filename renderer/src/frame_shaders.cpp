@@ -44,6 +44,10 @@ uniform float u_specular_weight;  // 0: Lambertian only
 uniform float u_shininess;
 uniform vec3 u_eye;
 uniform float u_albedo_scale;      // 1 / pi (hdr model) or 1 (thesis model)
+// The ground plane's normal never changes: its irradiance per set is computed once per frame
+// on the CPU, and no SH is evaluated for its pixels.
+uniform int u_flat;
+uniform vec3 u_flat_irradiance[1 + LIGHTS_ON];
 uniform float u_attenuation_base;  // thesis: 1 - sum of the off lights' luminance shares
 #if LIGHTS_ON > 0
 uniform mat4 u_light_matrix[LIGHTS_ON];
@@ -128,8 +132,21 @@ float visibility(int k, vec3 position, vec3 normal) {
     // gradient noise, Jimenez 2014) so that its pattern becomes fine noise, not bands.
     float angle = 2.0 * PI * fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
     mat2 rotation = mat2(cos(angle), sin(angle), -sin(angle), cos(angle));
+    // Four spread taps first: where they agree the point is fully lit or fully in shadow, as
+    // nearly every point is; only penumbrae pay for the other twelve.
+    const int EARLY[4] = int[](0, 1, 5, 7);
     float sum = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        vec2 uv = uvz.xy + rotation * POISSON[EARLY[i]] * u_light_kernel[k];
+        sum += texture(u_shadow_map[k], vec3(uv, reference));
+    }
+    if (sum == 0.0 || sum == 4.0) {
+        return sum / 4.0;
+    }
     for (int i = 0; i < 16; ++i) {
+        if (i == 0 || i == 1 || i == 5 || i == 7) {
+            continue;
+        }
         vec2 uv = uvz.xy + rotation * POISSON[i] * u_light_kernel[k];
         sum += texture(u_shadow_map[k], vec3(uv, reference));
     }
@@ -153,8 +170,10 @@ void main() {
     // The environment turned by yaw lights normal n as the unturned one lights n turned back.
     vec3 sh_normal = vec3(u_yaw.x * n.x - u_yaw.y * n.z, n.y, u_yaw.y * n.x + u_yaw.x * n.z);
     float Y[SH_COUNT];
-    sh_basis(sh_normal, Y);
-    vec3 E = irradiance(0, Y);
+    if (u_flat == 0) {
+        sh_basis(sh_normal, Y);
+    }
+    vec3 E = u_flat != 0 ? u_flat_irradiance[0] : irradiance(0, Y);
     float attenuation = u_attenuation_base;
     vec3 specular = vec3(0.0);
 #if LIGHTS_ON > 0
@@ -163,7 +182,7 @@ void main() {
         float v = visibility(k, v_world_position, n);
         // c = c(on) - (1 - v) c(k) (DESIGN.md section 2): skipped where the light is seen.
         if (v < 1.0) {
-            E -= (1.0 - v) * irradiance(k + 1, Y);
+            E -= (1.0 - v) * (u_flat != 0 ? u_flat_irradiance[k + 1] : irradiance(k + 1, Y));
             attenuation -= (1.0 - v) * u_light_share[k];
         }
         if (u_specular_weight > 0.0 && v > 0.0) {

@@ -9,5 +9,6 @@ namespace oer::cli {
 int preprocess_command(const std::vector<std::string>& arguments);
 int irradiance_map_command(const std::vector<std::string>& arguments);
 int masks_command(const std::vector<std::string>& arguments);
+int render_command(const std::vector<std::string>& arguments);
 
 }  // namespace oer::cli

@@ -16,9 +16,15 @@ constexpr const char* kUsage = R"(usage:
                      [--model hdr|thesis] [--clustering directions|pixels] [options]
   oer irradiance-map MAP [--size WxH] [--exact] [--lights 1,0,...] -o OUT.(exr|hdr)
   oer masks MAP [--exposure EV] [--tonemap neutral|aces|none] -o OUT.png
+  oer render --env MAP --mesh MESH [--mesh MESH ...] [--eye X,Y,Z --target X,Y,Z --up X,Y,Z
+             --fov DEG] [--lights 1,0,1] [--size WxH] [--ground on|off]
+             [--background env|transparent|#rrggbb] [--tonemap neutral|aces|none]
+             [--exposure EV] [--shadows on|off] [--shadow-resolution N] [--shadow-filter pcf|hard]
+             [--samples N] [--yaw DEG] [--quality Q] -o OUT.(jpg|png|exr)
   oer --version
 
-MAP is an .hdr or .exr file, or 'default' for the built-in studio environment.
+MAP is an .hdr or .exr file, or 'default' for the built-in studio environment; MESH is a .glb,
+.gltf (embedded data) or .obj file, or 'default' for the built-in dress form.
 --layout equirect|cross|mirror-ball|cube-faces reads other layouts (cube-faces: MAP is six
 comma-separated files +X,-X,+Y,-Y,+Z,-Z). --max-pixels WxH bounds the decoded map.
 Preprocessing options (every command): --max-lights N --shadow-threshold F --max-sh-order N
@@ -42,6 +48,7 @@ int main(int argc, char** argv) {
         {"preprocess", oer::cli::preprocess_command},
         {"irradiance-map", oer::cli::irradiance_map_command},
         {"masks", oer::cli::masks_command},
+        {"render", oer::cli::render_command},
     };
     const auto command = commands.find(arguments[0]);
     if (command == commands.end()) {

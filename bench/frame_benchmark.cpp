@@ -1,0 +1,218 @@
+// Frame benchmark (DESIGN.md section 8): the Stanford bunny on a ground plane lit by rigs of 0
+// to 4 lights, per-pass frame times at several sizes and shadow-map resolutions, with shadow
+// maps cached (camera moves) and not (the lights move every frame), and JPEG encoding.
+// Prints plain text; a missed target is reported, never an error.
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_support.hpp"
+#include "oer/frame_renderer.hpp"
+#include "oer/image_encoding.hpp"
+#include "oer/mesh_loading.hpp"
+#include "oer/render_thread.hpp"
+#include "oer/rig.hpp"
+
+namespace {
+
+using oer::bench::best_ms;
+using oer::bench::Clock;
+using oer::bench::ms_since;
+
+constexpr const char* kBunny = "/usr/share/glmark2/models/bunny.obj";
+constexpr int kRepetitions = 7;
+constexpr double kBudgetMs = 3000.0;
+// DESIGN.md section 8: colour pass + readback, bunny on a ground plane, 2 lights, cached shadows.
+constexpr double kTargetFps1366 = 30.0;
+constexpr double kTargetMs512 = 15.0;
+
+struct Measurement {
+    double frame_ms = 0.0;                 // best wall time of one render call
+    std::map<std::string, double> passes;  // of that best frame
+};
+
+class Bench {
+  public:
+    Bench() : thread_(std::make_unique<oer::RenderThread>()) {
+        renderer_ = thread_->submit([] { return std::make_shared<oer::FrameRenderer>(); }).get();
+    }
+    ~Bench() {
+        thread_->submit([this] { renderer_.reset(); }).get();
+    }
+
+    const oer::GlInfo& info() const { return thread_->info(); }
+
+    // cached: the camera orbits between frames; otherwise the environment's yaw changes by a
+    // thousandth of a degree per frame, so every shadow map is rendered again.
+    Measurement measure(oer::FrameRequest request, bool cached) {
+        render(request);  // warm: programs, meshes, and the cached shadow maps
+        Measurement best;
+        best.frame_ms = 1e30;
+        best_ms(kRepetitions, kBudgetMs, [&] {
+            if (cached) {
+                request.camera->eye.x += 0.01f;
+            } else {
+                // A yaw never used before in this run: every shadow map is new.
+                request.yaw_degrees = 1e-3 * double(++yaw_step_);
+            }
+            const auto start = Clock::now();
+            oer::Frame result = render(request);
+            const double ms = ms_since(start);
+            if (ms < best.frame_ms) {
+                best.frame_ms = ms;
+                best.passes = result.timings_ms;
+            }
+        });
+        return best;
+    }
+
+    oer::Frame render(const oer::FrameRequest& request) {
+        return thread_->submit([&] { return renderer_->render(request); }).get();
+    }
+
+  private:
+    int yaw_step_ = 0;
+    std::unique_ptr<oer::RenderThread> thread_;
+    std::shared_ptr<oer::FrameRenderer> renderer_;
+};
+
+std::shared_ptr<const oer::Rig> rig_with(int lights) {
+    oer::RigOptions options;
+    options.light_count = lights;
+    options.sh_order = 3;
+    return std::make_shared<const oer::Rig>(
+        oer::build_rig(oer::bench::make_synthetic_map(1024, 512, lights), {}, options));
+}
+
+oer::FrameRequest bunny_request(std::shared_ptr<const oer::Mesh> bunny,
+                                std::shared_ptr<const oer::Rig> rig, int width, int height) {
+    oer::FrameRequest request;
+    request.rig = std::move(rig);
+    request.objects.push_back({std::move(bunny), glm::mat4(1.0f), std::nullopt});
+    request.width = width;
+    request.height = height;
+    request.ground = true;
+    request.background.kind = oer::BackgroundKind::Colour;
+    request.background.colour = {0.9f, 0.9f, 0.92f};
+    request.camera =
+        oer::frame_bounds(request.objects[0].mesh->bounds, 45.0f, float(width) / float(height));
+    return request;
+}
+
+double pass(const Measurement& m, const char* name) {
+    const auto found = m.passes.find(name);
+    return found == m.passes.end() ? 0.0 : found->second;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+    const auto start = Clock::now();
+    if (!std::filesystem::exists(kBunny)) {
+        std::printf("frame benchmark: %s is missing (Debian package glmark2-data); nothing run\n",
+                    kBunny);
+        return 0;
+    }
+    const auto bunny = std::make_shared<const oer::Mesh>(oer::load_mesh_file(kBunny));
+    Bench bench;
+    std::printf("oer frame benchmark: %s (%s), bunny %llu triangles on a ground plane\n",
+                bench.info().renderer.c_str(), bench.info().platform.c_str(),
+                static_cast<unsigned long long>(bunny->triangle_count));
+    std::printf("best of up to %d frames; passes of that frame in ms\n\n", kRepetitions);
+
+    std::vector<std::shared_ptr<const oer::Rig>> rigs;
+    for (int lights = 0; lights <= 4; ++lights) {
+        rigs.push_back(rig_with(lights));
+    }
+
+    std::printf("size        lights  shadow  msaa  cache    frame ms  shadow  colour  readback\n");
+    const std::pair<int, int> sizes[] = {{512, 512}, {1024, 1024}, {1366, 768}, {1920, 1080}};
+    std::map<std::string, double> targets;
+    for (const auto& [width, height] : sizes) {
+        for (int lights = 0; lights <= 4; ++lights) {
+            for (const int samples : {1, 4}) {
+                for (const bool cached : {true, false}) {
+                    // --quick: only the configurations of the targets.
+                    if ((lights == 0 && !cached) ||
+                        (quick && (lights != 2 || !cached || samples != 1 || width == 1024 ||
+                                   width == 1920))) {
+                        continue;
+                    }
+                    oer::FrameRequest request = bunny_request(bunny, rigs[lights], width, height);
+                    request.samples = samples;
+                    request.shadows.resolution = 2048;
+                    const Measurement m = bench.measure(request, cached);
+                    std::printf("%4dx%-4d   %4d   %6d  %4d  %-6s  %9.1f  %6.1f  %6.1f  %8.1f\n",
+                                width, height, lights, 2048, samples, cached ? "cached" : "none",
+                                m.frame_ms, pass(m, "shadow_pass"), pass(m, "colour_pass"),
+                                pass(m, "readback"));
+                    if (lights == 2 && cached && samples == 1) {
+                        targets[std::to_string(width) + "x" + std::to_string(height)] =
+                            pass(m, "colour_pass") + pass(m, "readback");
+                    }
+                }
+            }
+        }
+    }
+
+    std::printf("\nshadow filter, 2 lights, cached shadow maps, msaa 1 (colour pass ms):\n");
+    for (const auto& [width, height] : {std::pair{512, 512}, std::pair{1366, 768}}) {
+        for (const bool shadows : {false, true}) {
+            for (const auto filter : {oer::ShadowFilter::Hard, oer::ShadowFilter::Pcf}) {
+                if (!shadows && filter == oer::ShadowFilter::Pcf) {
+                    continue;
+                }
+                oer::FrameRequest request = bunny_request(bunny, rigs[2], width, height);
+                request.samples = 1;
+                request.shadows.enabled = shadows;
+                request.shadows.filter = filter;
+                const Measurement m = bench.measure(request, true);
+                std::printf("  %4dx%-4d  %-12s %7.1f\n", width, height,
+                            !shadows                            ? "no shadows"
+                            : filter == oer::ShadowFilter::Hard ? "hard"
+                                                                : "pcf",
+                            pass(m, "colour_pass"));
+            }
+        }
+    }
+    if (quick) {
+        return 0;
+    }
+    std::printf(
+        "\nshadow-map resolution, 1024x1024, 2 lights, msaa 1, shadow maps rendered every "
+        "frame:\n");
+    for (const int resolution : {512, 1024, 2048, 4096}) {
+        oer::FrameRequest request = bunny_request(bunny, rigs[2], 1024, 1024);
+        request.samples = 1;
+        request.shadows.resolution = resolution;
+        const Measurement m = bench.measure(request, false);
+        std::printf("  %4d: frame %6.1f ms, shadow pass %6.1f ms\n", resolution, m.frame_ms,
+                    pass(m, "shadow_pass"));
+    }
+
+    std::printf("\nJPEG encoding (quality 85) of a bunny frame, 2 lights:\n");
+    for (const auto& [width, height] : sizes) {
+        oer::FrameRequest request = bunny_request(bunny, rigs[2], width, height);
+        const oer::Frame frame = bench.render(request);
+        std::size_t bytes = 0;
+        const double ms = best_ms(kRepetitions, kBudgetMs,
+                                  [&] { bytes = oer::encode_jpeg(frame.display, 85).size(); });
+        std::printf("  %4dx%-4d  %6.2f ms  %8zu bytes\n", width, height, ms, bytes);
+    }
+
+    std::printf(
+        "\nDESIGN.md section 8 targets (colour pass + readback, bunny, ground, 2 lights, "
+        "cached shadow maps, msaa 1):\n");
+    const double ms1366 = targets["1366x768"], ms512 = targets["512x512"];
+    std::printf("  1366x768  %6.1f ms = %5.1f fps   target >= %.0f fps   %s\n", ms1366,
+                1000.0 / ms1366, kTargetFps1366,
+                1000.0 / ms1366 >= kTargetFps1366 ? "met" : "NOT met");
+    std::printf("  512x512   %6.1f ms              target <= %.0f ms    %s\n", ms512, kTargetMs512,
+                ms512 <= kTargetMs512 ? "met" : "NOT met");
+    std::printf("\nbenchmark took %.1f s\n", ms_since(start) / 1000.0);
+    return 0;
+}

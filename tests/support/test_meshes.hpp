@@ -1,0 +1,85 @@
+#pragma once
+// Simple meshes with known geometry for renderer tests.
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "oer/mesh.hpp"
+
+namespace oer::testing {
+
+inline Material lambertian(glm::vec3 albedo) {
+    Material material;
+    material.name = "lambertian";
+    material.base_color = glm::vec4(albedo, 1.0f);
+    material.specular = false;
+    return material;
+}
+
+inline void finish(Mesh& mesh) {
+    mesh.bounds = {mesh.primitives[0].positions[0], mesh.primitives[0].positions[0]};
+    for (const Primitive& primitive : mesh.primitives) {
+        for (const glm::vec3& p : primitive.positions) {
+            mesh.bounds.min = glm::min(mesh.bounds.min, p);
+            mesh.bounds.max = glm::max(mesh.bounds.max, p);
+        }
+        mesh.vertex_count += primitive.positions.size();
+        mesh.triangle_count += primitive.indices.size() / 3;
+    }
+}
+
+// A UV sphere with exact unit normals, counter-clockwise seen from outside.
+inline Mesh uv_sphere(glm::vec3 centre, float radius, int segments, int rings, glm::vec3 albedo) {
+    Mesh mesh;
+    Primitive sphere;
+    sphere.name = "sphere";
+    for (int r = 0; r <= rings; ++r) {
+        const double theta = std::numbers::pi * r / rings;
+        for (int s = 0; s <= segments; ++s) {
+            const double phi = 2.0 * std::numbers::pi * s / segments;
+            const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                              -std::sin(theta) * std::sin(phi));
+            sphere.positions.push_back(centre + radius * n);
+            sphere.normals.push_back(n);
+        }
+    }
+    for (int r = 0; r < rings; ++r) {
+        for (int s = 0; s < segments; ++s) {
+            const std::uint32_t a = r * (segments + 1) + s, b = a + segments + 1;
+            sphere.indices.insert(sphere.indices.end(), {a, b, a + 1, a + 1, b, b + 1});
+        }
+    }
+    mesh.primitives.push_back(std::move(sphere));
+    mesh.materials.push_back(lambertian(albedo));
+    finish(mesh);
+    return mesh;
+}
+
+// An axis-aligned box with flat faces, counter-clockwise seen from outside.
+inline Mesh box(glm::vec3 low, glm::vec3 high, glm::vec3 albedo) {
+    Mesh mesh;
+    Primitive faces;
+    faces.name = "box";
+    const glm::vec3 normals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                  {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    const glm::vec3 centre = (low + high) * 0.5f, half = (high - low) * 0.5f;
+    for (const glm::vec3& n : normals) {
+        // Two axes spanning the face, with u x v = n.
+        const glm::vec3 u = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, n.y) : glm::vec3(0, 1, 0);
+        const glm::vec3 v = glm::cross(n, u);
+        const std::uint32_t base = std::uint32_t(faces.positions.size());
+        for (const auto& [a, b] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+            faces.positions.push_back(centre + half * (n + float(a) * u + float(b) * v));
+            faces.normals.push_back(n);
+        }
+        faces.indices.insert(faces.indices.end(),
+                             {base, base + 1, base + 2, base, base + 2, base + 3});
+    }
+    mesh.primitives.push_back(std::move(faces));
+    mesh.materials.push_back(lambertian(albedo));
+    finish(mesh);
+    return mesh;
+}
+
+}  // namespace oer::testing
