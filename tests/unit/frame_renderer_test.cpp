@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <optional>
@@ -18,6 +19,7 @@
 #include "oer/error.hpp"
 #include "oer/frame_renderer.hpp"
 #include "oer/irradiance.hpp"
+#include "oer/mesh_loading.hpp"
 #include "oer/render_thread.hpp"
 #include "oer/rig.hpp"
 #include "synthetic_maps.hpp"
@@ -525,4 +527,34 @@ TEST_F(FrameRendererTest, MemoryIsBoundedOverManyFrames) {
     std::printf("resident memory after 10 frames %ld KiB, growth over 190 more %ld KiB\n",
                 after_ten, growth_kib);
     EXPECT_LT(growth_kib, 16 * 1024);
+}
+
+TEST_F(FrameRendererTest, BrokenAssetsAreRejectedAndLeaveTheRendererClean) {
+    const std::string root = "/usr/share/assimp/models/glTF2/";
+    if (!std::filesystem::exists(root)) {
+        GTEST_SKIP() << "assimp-testmodels is not installed: " << root << " is missing";
+    }
+    int rejected = 0;
+    for (const char* sample :
+         {"IndexOutOfRange/IndexOutOfRange.gltf",
+          "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "MissingBin/BoxTextured.gltf",
+          "RecursiveNodes/RecursiveNodes.gltf"}) {
+        if (!std::filesystem::exists(root + std::string(sample))) {
+            continue;
+        }
+        try {
+            load_mesh_file(root + std::string(sample));
+            ADD_FAILURE() << sample << " was accepted";
+        } catch (const Error& error) {
+            EXPECT_FALSE(std::string(error.what()).empty());
+            ++rejected;
+        }
+    }
+    EXPECT_EQ(rejected, 4);
+    // A frame after the rejections: render() ends with check_gl_errors, which throws on any
+    // GL error or debug-output error left behind.
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.ground = true;
+    EXPECT_NO_THROW(render(request));
 }
