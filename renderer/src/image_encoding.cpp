@@ -14,6 +14,7 @@
 
 #include "jpeg_codec.hpp"
 #include "oer/error.hpp"
+#include "one_line.hpp"
 #include "png_structure.hpp"
 
 namespace oer {
@@ -47,21 +48,13 @@ void validate(const char* what, int width, int height, std::size_t values, int c
     }
 }
 
-std::string trim(std::string text) {
-    std::replace(text.begin(), text.end(), '\n', ' ');
-    while (!text.empty() && text.back() == ' ') {
-        text.pop_back();
-    }
-    return text;
-}
-
 // Writes one image through OpenImageIO's `format` writer into memory.
 std::vector<std::uint8_t> write_to_memory(const char* format, const OIIO::ImageSpec& spec,
                                           const void* pixels) {
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
     if (!out) {
         throw Error(ErrorKind::Internal, std::string("OpenImageIO has no ") + format +
-                                             " writer: " + trim(OIIO::geterror()));
+                                             " writer: " + detail::one_line(OIIO::geterror()));
     }
     if (!out->supports("ioproxy")) {
         throw Error(ErrorKind::Internal,
@@ -73,7 +66,7 @@ std::vector<std::uint8_t> write_to_memory(const char* format, const OIIO::ImageS
     if (!out->set_ioproxy(&proxy) || !out->open(name, spec) ||
         !out->write_image(spec.format, pixels) || !out->close()) {
         throw Error(ErrorKind::Internal,
-                    std::string(format) + " encoding failed: " + trim(out->geterror()));
+                    std::string(format) + " encoding failed: " + detail::one_line(out->geterror()));
     }
     return bytes;
 }
@@ -94,7 +87,8 @@ Rgba8Image decode_png(const std::vector<std::uint8_t>& bytes) {
     config.attribute(unassociated_alpha, 1);  // keep colour as stored, not times alpha
     OIIO::ImageSpec spec;
     if (!in->set_ioproxy(&proxy) || !in->open("<memory>.png", spec, config)) {
-        throw Error(ErrorKind::InvalidInput, "not a readable PNG: " + trim(in->geterror()));
+        throw Error(ErrorKind::InvalidInput,
+                    "not a readable PNG: " + detail::one_line(in->geterror()));
     }
     const int channels = spec.nchannels;
     if (spec.width <= 0 || spec.height <= 0 || channels < 1 || channels > 4) {
@@ -111,7 +105,7 @@ Rgba8Image decode_png(const std::vector<std::uint8_t>& bytes) {
     // 16-bit PNGs are scaled to 8 bits by OpenImageIO.
     if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, stored.data())) {
         throw Error(ErrorKind::InvalidInput, "corrupt PNG (" + size_text(spec.width, spec.height) +
-                                                 "): " + trim(in->geterror()));
+                                                 "): " + detail::one_line(in->geterror()));
     }
     Rgba8Image image;
     image.width = spec.width;

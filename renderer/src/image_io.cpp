@@ -22,7 +22,7 @@ namespace oer {
 namespace {
 
 using image_io_detail::fail;
-using image_io_detail::trim;
+using image_io_detail::one_line;
 
 // ---------------------------------------------------------------------------------------------
 // Colour: integer-coded pixels are taken as sRGB-encoded (8-bit photographs, a user's JPEG
@@ -96,7 +96,7 @@ void check_header(const OIIO::ImageSpec& spec, const std::string& name, const Im
 
 // The reader's error, or a generic one when it set none.
 std::string reader_error(OIIO::ImageInput& in) {
-    std::string message = trim(in.geterror());
+    std::string message = one_line(in.geterror());
     return message.empty() ? std::string("unknown read error") : message;
 }
 
@@ -280,7 +280,7 @@ OpenAttempt try_open(std::unique_ptr<OIIO::ImageInput> in, OIIO::Filesystem::IOP
     if (in->set_ioproxy(&proxy) && in->open(name, spec, open_config())) {
         return {std::move(in), {}};
     }
-    return {nullptr, trim(in->geterror())};
+    return {nullptr, one_line(in->geterror())};
 }
 
 // Opens and reads an image whose bytes come through proxy; head holds its first bytes.

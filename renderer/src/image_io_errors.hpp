@@ -4,6 +4,7 @@
 #include <string>
 
 #include "oer/error.hpp"
+#include "one_line.hpp"
 
 namespace oer::image_io_detail {
 
@@ -11,21 +12,6 @@ namespace oer::image_io_detail {
     throw Error(kind, name + ": " + what);
 }
 
-// OpenImageIO's messages end with newlines and may hold several lines: make them one line,
-// so that they embed in ours.
-inline std::string trim(std::string text) {
-    while (!text.empty() && (text.back() == '\n' || text.back() == ' ' || text.back() == '\r')) {
-        text.pop_back();
-    }
-    std::string line;
-    for (char c : text) {
-        if (c == '\n') {
-            line += "; ";
-        } else if (c != '\r') {
-            line += c;
-        }
-    }
-    return line;
-}
+using detail::one_line;
 
 }  // namespace oer::image_io_detail

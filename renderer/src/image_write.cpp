@@ -19,7 +19,7 @@ namespace oer {
 namespace {
 
 using image_io_detail::fail;
-using image_io_detail::trim;
+using image_io_detail::one_line;
 
 enum class Encoding { LinearFloat, Display8 };
 
@@ -55,7 +55,7 @@ void write_image_file(const HdrImage& image, const std::string& path) {
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
     if (!out) {
         fail(ErrorKind::Unsupported, path,
-             "no image writer (OpenImageIO: " + trim(OIIO::geterror()) + ")");
+             "no image writer (OpenImageIO: " + one_line(OIIO::geterror()) + ")");
     }
     const bool linear = encoding == Encoding::LinearFloat;
     OIIO::ImageSpec spec(image.width, image.height, 3,
@@ -67,7 +67,7 @@ void write_image_file(const HdrImage& image, const std::string& path) {
         spec.attribute("Compression", "jpeg:95");
     }
     if (!out->open(path, spec)) {
-        fail(ErrorKind::Io, path, "cannot create the file (" + trim(out->geterror()) + ")");
+        fail(ErrorKind::Io, path, "cannot create the file (" + one_line(out->geterror()) + ")");
     }
     bool ok;
     if (linear) {
@@ -79,7 +79,7 @@ void write_image_file(const HdrImage& image, const std::string& path) {
     }
     ok = out->close() && ok;
     if (!ok) {
-        fail(ErrorKind::Io, path, "cannot write the image (" + trim(out->geterror()) + ")");
+        fail(ErrorKind::Io, path, "cannot write the image (" + one_line(out->geterror()) + ")");
     }
 }
 

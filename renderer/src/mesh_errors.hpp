@@ -1,10 +1,11 @@
 #pragma once
-// Private to the mesh loaders: their errors, which always name the asset first, and the
-// one-line form of a library's (tinygltf's, tinyobjloader's) multi-line messages.
+// Private to the mesh loaders: their errors, which always name the asset first (one_line.hpp
+// flattens the libraries' multi-line messages).
 #include <cstddef>
 #include <string>
 
 #include "oer/error.hpp"
+#include "one_line.hpp"
 
 namespace oer::mesh_detail {
 
@@ -12,25 +13,6 @@ namespace oer::mesh_detail {
     throw Error(kind, asset + ": " + what);
 }
 
-// Newlines become "; ", and the text is cut at `max_chars` (a library may quote a whole data:
-// URI in its message).
-inline std::string one_line(const std::string& text, std::size_t max_chars = 400) {
-    std::string line;
-    for (char c : text) {
-        if (c == '\n') {
-            line += "; ";
-        } else if (c != '\r') {
-            line += c;
-        }
-    }
-    while (!line.empty() && (line.back() == ' ' || line.back() == ';')) {
-        line.pop_back();
-    }
-    if (line.size() > max_chars) {
-        line.resize(max_chars);
-        line += "...";
-    }
-    return line;
-}
+using detail::one_line;
 
 }  // namespace oer::mesh_detail
