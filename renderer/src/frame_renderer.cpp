@@ -20,7 +20,9 @@
 #include "oer/error.hpp"
 #include "oer/gl_context.hpp"
 #include "oer/irradiance.hpp"
+#include "render_targets.hpp"
 #include "sh_shader_constants.hpp"
+#include "shadow_map_cache.hpp"
 
 namespace oer {
 
@@ -105,6 +107,8 @@ glm::mat4 light_matrix(const glm::vec3& direction, const SceneBounds& scene) {
 }  // namespace
 
 struct FrameRenderer::State {
+    explicit State(const FrameLimits& limits_)
+        : limits(limits_), shadows(limits_.max_cached_shadow_maps) {}
     FrameLimits limits;
     std::map<std::string, std::unique_ptr<gl::Program>> programs;
 
@@ -122,68 +126,12 @@ struct FrameRenderer::State {
     };
     std::map<const HdrImage*, CachedEnvironment> environments;
 
-    struct CachedShadow {
-        gl::Object texture;
-        std::uint64_t last_used = 0;
-    };
-    std::map<std::string, CachedShadow> shadows;
-    std::uint64_t frame_counter = 0;
-
-    // Render targets are kept between frames of the same size: fresh ones cost a page fault per
-    // 4 KiB on first touch, several milliseconds a frame.
-    struct Targets {
-        gl::Object colour;  // multisampled (or not) float colour
-        gl::Object depth;
-        gl::Object framebuffer;
-        gl::Object resolved;  // single-sample float colour
-        gl::Object resolved_framebuffer;
-        gl::Object display;  // RGBA8 after tone mapping
-        gl::Object display_framebuffer;
-    };
-    std::map<std::tuple<int, int, int, GLenum>, Targets> targets;
-
-    Targets& targets_for(int width, int height, int samples, GLenum format) {
-        const auto key = std::make_tuple(width, height, samples, format);
-        auto found = targets.find(key);
-        if (found != targets.end()) {
-            return found->second;
-        }
-        if (targets.size() >= 4) {
-            targets.clear();
-        }
-        Targets t;
-        t.colour = gl::create_renderbuffer();
-        t.depth = gl::create_renderbuffer();
-        glNamedRenderbufferStorageMultisample(t.colour.get(), samples > 1 ? samples : 0, format,
-                                              width, height);
-        glNamedRenderbufferStorageMultisample(t.depth.get(), samples > 1 ? samples : 0,
-                                              GL_DEPTH_COMPONENT24, width, height);
-        t.framebuffer = gl::create_framebuffer();
-        glNamedFramebufferRenderbuffer(t.framebuffer.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                       t.colour.get());
-        glNamedFramebufferRenderbuffer(t.framebuffer.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
-                                       t.depth.get());
-        if (glCheckNamedFramebufferStatus(t.framebuffer.get(), GL_FRAMEBUFFER) !=
-            GL_FRAMEBUFFER_COMPLETE) {
-            throw Error(ErrorKind::Internal, "colour target framebuffer is incomplete");
-        }
-        t.resolved = gl::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(t.resolved.get(), 1, format, width, height);
-        t.resolved_framebuffer = gl::create_framebuffer();
-        glNamedFramebufferTexture(t.resolved_framebuffer.get(), GL_COLOR_ATTACHMENT0,
-                                  t.resolved.get(), 0);
-        t.display = gl::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(t.display.get(), 1, GL_RGBA8, width, height);
-        t.display_framebuffer = gl::create_framebuffer();
-        glNamedFramebufferTexture(t.display_framebuffer.get(), GL_COLOR_ATTACHMENT0,
-                                  t.display.get(), 0);
-        return targets.emplace(key, std::move(t)).first->second;
-    }
+    ShadowMapCache shadows;
+    RenderTargetCache targets;
 
     Mesh ground_mesh = unit_ground();
     GpuMesh ground;
     gl::Object empty_vertex_array;
-    gl::Object shadow_framebuffer;
     gl::Object compare_linear;
     gl::Object compare_nearest;
     gl::Object irradiance_buffer;
@@ -241,11 +189,9 @@ struct FrameRenderer::State {
     }
 };
 
-FrameRenderer::FrameRenderer(const FrameLimits& limits) : state_(std::make_unique<State>()) {
-    state_->limits = limits;
+FrameRenderer::FrameRenderer(const FrameLimits& limits) : state_(std::make_unique<State>(limits)) {
     state_->ground = upload_mesh(state_->ground_mesh);
     state_->empty_vertex_array = gl::create_vertex_array();
-    state_->shadow_framebuffer = gl::create_framebuffer();
     state_->irradiance_buffer = gl::create_buffer();
     for (auto [sampler, filter] : {std::pair{&state_->compare_linear, GL_LINEAR},
                                    std::pair{&state_->compare_nearest, GL_NEAREST}}) {
@@ -335,7 +281,6 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     State& state = *state_;
     const Rig& rig = *request.rig;
     const auto frame_start = Clock::now();
-    ++state.frame_counter;
     Frame frame;
     frame.width = request.width;
     frame.height = request.height;
@@ -423,53 +368,26 @@ Frame FrameRenderer::render(const FrameRequest& request) {
         std::string key = scene_key;
         key.append(reinterpret_cast<const char*>(glm::value_ptr(direction)), 3 * sizeof(float));
         key.append(reinterpret_cast<const char*>(&resolution), sizeof resolution);
-        auto found = state.shadows.find(key);
-        if (found == state.shadows.end()) {
-            if (state.shadows.size() >= state.limits.max_cached_shadow_maps) {
-                const auto oldest = std::min_element(
-                    state.shadows.begin(), state.shadows.end(), [](const auto& a, const auto& b) {
-                        return a.second.last_used < b.second.last_used;
-                    });
-                state.shadows.erase(oldest);
-            }
-            State::CachedShadow cached;
-            cached.texture = gl::create_texture(GL_TEXTURE_2D);
-            glTextureStorage2D(cached.texture.get(), 1, GL_DEPTH_COMPONENT32F, resolution,
-                               resolution);
-            glNamedFramebufferTexture(state.shadow_framebuffer.get(), GL_DEPTH_ATTACHMENT,
-                                      cached.texture.get(), 0);
-            glNamedFramebufferDrawBuffer(state.shadow_framebuffer.get(), GL_NONE);
-            glBindFramebuffer(GL_FRAMEBUFFER, state.shadow_framebuffer.get());
-            glViewport(0, 0, resolution, resolution);
-            glEnable(GL_DEPTH_TEST);
-            glDepthMask(GL_TRUE);
-            glDepthFunc(GL_LESS);
-            const float clear_depth = 1.0f;
-            glClearNamedFramebufferfv(state.shadow_framebuffer.get(), GL_DEPTH, 0, &clear_depth);
-            // Front faces culled and a slope-scaled bias: the depths stored are of the casters'
-            // back faces, pushed away, so lit surfaces do not shadow themselves.
-            glEnable(GL_CULL_FACE);
-            glCullFace(GL_FRONT);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(1.5f, 2.0f);
-            glUseProgram(depth.id());
-            glUniformMatrix4fv(depth.uniform("u_view_projection"), 1, GL_FALSE,
-                               glm::value_ptr(light_matrices.back()));
-            for (const SceneObject& object : request.objects) {
-                glUniformMatrix4fv(depth.uniform("u_model"), 1, GL_FALSE,
-                                   glm::value_ptr(object.transform));
-                for (const GpuPrimitive& primitive : state.mesh(object.mesh).gpu.primitives) {
-                    glBindVertexArray(primitive.vertex_array.get());
-                    glDrawElements(GL_TRIANGLES, primitive.index_count, GL_UNSIGNED_INT, nullptr);
+        const glm::mat4& matrix = light_matrices.back();
+        bool rendered = false;
+        shadow_textures.push_back(state.shadows.get(
+            key, resolution,
+            [&] {
+                glUseProgram(depth.id());
+                glUniformMatrix4fv(depth.uniform("u_view_projection"), 1, GL_FALSE,
+                                   glm::value_ptr(matrix));
+                for (const SceneObject& object : request.objects) {
+                    glUniformMatrix4fv(depth.uniform("u_model"), 1, GL_FALSE,
+                                       glm::value_ptr(object.transform));
+                    for (const GpuPrimitive& primitive : state.mesh(object.mesh).gpu.primitives) {
+                        glBindVertexArray(primitive.vertex_array.get());
+                        glDrawElements(GL_TRIANGLES, primitive.index_count, GL_UNSIGNED_INT,
+                                       nullptr);
+                    }
                 }
-            }
-            glDisable(GL_POLYGON_OFFSET_FILL);
-            glDisable(GL_CULL_FACE);
-            found = state.shadows.emplace(std::move(key), std::move(cached)).first;
-            ++frame.shadow_maps_rendered;
-        }
-        found->second.last_used = state.frame_counter;
-        shadow_textures.push_back(found->second.texture.get());
+            },
+            rendered));
+        frame.shadow_maps_rendered += rendered ? 1 : 0;
     }
     glFinish();
     frame.timings_ms["shadow_pass"] = elapsed_ms(start);
@@ -478,8 +396,8 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     start = Clock::now();
     const int samples = std::min(request.samples, std::max(1, state.max_samples));
     const GLenum colour_format = request.linear ? GL_RGBA32F : GL_RGBA16F;
-    State::Targets& targets =
-        state.targets_for(request.width, request.height, samples, colour_format);
+    RenderTargets& targets =
+        state.targets.get(request.width, request.height, samples, colour_format);
     const GLuint target = targets.framebuffer.get();
     glBindFramebuffer(GL_FRAMEBUFFER, target);
     glViewport(0, 0, request.width, request.height);
