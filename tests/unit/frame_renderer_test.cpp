@@ -141,6 +141,26 @@ class FrameRendererTest : public ::testing::Test {
     static inline std::shared_ptr<FrameRenderer> renderer_;
 };
 
+// A grey box standing on the ground, hard shadows from a fine shadow map, linear output: the
+// set-up of the tests that compare shadows with ray-cast geometry.
+FrameRequest box_on_ground_request(std::shared_ptr<const Rig> rig, glm::dvec3 low, glm::dvec3 high,
+                                   const Camera& camera, int size) {
+    FrameRequest request;
+    request.rig = std::move(rig);
+    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
+                                   glm::vec3(low), glm::vec3(high), glm::vec3(0.5f))),
+                               glm::mat4(1.0f), std::nullopt});
+    request.camera = camera;
+    request.width = request.height = size;
+    request.ground = true;
+    request.background.kind = BackgroundKind::Transparent;
+    request.samples = 1;
+    request.linear = true;
+    request.shadows.filter = ShadowFilter::Hard;
+    request.shadows.resolution = 4096;
+    return request;
+}
+
 Camera front_camera() {
     Camera camera;
     camera.eye = {0.0f, 0.0f, 3.5f};
@@ -221,22 +241,10 @@ TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
     const auto rig = make_rig(three_light_map(), 3, 3);
     ASSERT_EQ(rig->lights.size(), 3u);
     const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
-    FrameRequest request;
-    request.rig = rig;
-    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
-                                   glm::vec3(low), glm::vec3(high), glm::vec3(0.5f))),
-                               glm::mat4(1.0f), std::nullopt});
     Camera camera;
     camera.eye = {0.0f, 4.0f, 3.0f};
     camera.fov_y_degrees = 50.0f;
-    request.camera = camera;
-    request.width = request.height = 160;
-    request.ground = true;
-    request.background.kind = BackgroundKind::Transparent;
-    request.samples = 1;
-    request.linear = true;
-    request.shadows.filter = ShadowFilter::Hard;
-    request.shadows.resolution = 4096;
+    FrameRequest request = box_on_ground_request(rig, low, high, camera, 160);
 
     // Classify ground pixels by the lights whose shadow covers them, keeping only pixels whose
     // neighbours two pixels away agree (away from every edge).
@@ -313,22 +321,11 @@ TEST_F(FrameRendererTest, ShadowEdgeLiesWhereGeometryPutsIt) {
                               1, 3);
     ASSERT_EQ(rig->lights.size(), 1u);
     const glm::dvec3 low{-0.4, 0.0, -0.25}, high{0.4, 0.5, 0.25};
-    FrameRequest request;
-    request.rig = rig;
-    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
-                                   glm::vec3(low), glm::vec3(high), glm::vec3(0.5f))),
-                               glm::mat4(1.0f), std::nullopt});
     Camera camera;
     camera.eye = {0.0f, 6.0f, 0.0f};
     camera.up = {0.0f, 0.0f, -1.0f};
     camera.fov_y_degrees = 30.0f;
-    request.camera = camera;
-    request.width = request.height = 256;
-    request.background.kind = BackgroundKind::Transparent;
-    request.samples = 1;
-    request.linear = true;
-    request.shadows.filter = ShadowFilter::Hard;
-    request.shadows.resolution = 4096;
+    FrameRequest request = box_on_ground_request(rig, low, high, camera, 256);
     const Frame shadowed = render(request);
     request.shadows.enabled = false;
     const Frame unshadowed = render(request);
