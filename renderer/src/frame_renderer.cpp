@@ -320,9 +320,8 @@ Frame FrameRenderer::render(const FrameRequest& request) {
             packed.insert(packed.end(), {float(c.r), float(c.g), float(c.b), 0.0f});
         }
     }
-    state.irradiance_buffer = gl::create_buffer();
-    glNamedBufferStorage(state.irradiance_buffer.get(), GLsizeiptr(packed.size() * sizeof(float)),
-                         packed.data(), 0);
+    glNamedBufferData(state.irradiance_buffer.get(), GLsizeiptr(packed.size() * sizeof(float)),
+                      packed.data(), GL_DYNAMIC_DRAW);
     double attenuation_base = 1.0;
     if (rig.model == LightingModel::Thesis) {
         for (std::size_t k = 0; k < light_count; ++k) {
@@ -355,12 +354,14 @@ Frame FrameRenderer::render(const FrameRequest& request) {
                          16 * sizeof(float));
     }
     const int resolution = request.shadows.resolution;
+    std::vector<glm::vec3> light_directions;  // of the lights that are on, turned by the yaw
     std::vector<glm::mat4> light_matrices;
     std::vector<GLuint> shadow_textures;
     gl::Program& depth = state.program(shaders::kMeshVertex, shaders::kDepthFragment, "", "depth");
     for (const std::size_t k : lit) {
         const glm::vec3 direction = glm::normalize(
             glm::vec3(equirect::rotate_yaw(rig.lights[k].direction, request.yaw_degrees)));
+        light_directions.push_back(direction);
         light_matrices.push_back(light_matrix(direction, scene));
         if (!shadows) {
             continue;
@@ -463,8 +464,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     for (std::size_t i = 0; i < lit.size(); ++i) {
         const std::size_t k = lit[i];
         const std::string index = "[" + std::to_string(i) + "]";
-        const glm::vec3 direction = glm::normalize(
-            glm::vec3(equirect::rotate_yaw(rig.lights[k].direction, request.yaw_degrees)));
+        const glm::vec3& direction = light_directions[i];
         // Intensity from the light's own SH: sum L dOmega = sqrt(4 pi) c_00, in the units of
         // the projected map (radiance in the hdr model, tone-mapped values in the thesis's).
         const glm::vec3 intensity =

@@ -97,10 +97,6 @@ std::vector<std::vector<std::uint32_t>> pixel_lists(const std::vector<Light>& li
     return lists;
 }
 
-double luminance_of(const glm::dvec3& rgb) {
-    return 0.265 * rgb.r + 0.670 * rgb.g + 0.065 * rgb.b;
-}
-
 // The largest darkening light k's shadow can cause: max over normals of E_k(n) / E_all(n),
 // with irradiance from the order-3 SH the renderer shades with (so the figure is the one a
 // viewer would see).
@@ -108,11 +104,11 @@ double largest_darkening(const ShRgb& all_irradiance, const ShRgb& light_irradia
                          const std::vector<glm::dvec3>& normals) {
     double largest = 0.0;
     for (const glm::dvec3& n : normals) {
-        const double total = luminance_of(all_irradiance.evaluate(n));
+        const double total = luminance(all_irradiance.evaluate(n));
         if (total <= 0.0) {
             continue;
         }
-        largest = std::max(largest, luminance_of(light_irradiance.evaluate(n)) / total);
+        largest = std::max(largest, luminance(light_irradiance.evaluate(n)) / total);
     }
     return std::min(largest, 1.0);
 }

@@ -88,6 +88,18 @@ bool hits_box(glm::dvec3 origin, glm::dvec3 dir, glm::dvec3 low, glm::dvec3 high
     return near_t <= far_t;
 }
 
+// The unit sphere's normal seen through pixel (x, y), or nothing for pixels that miss it or
+// graze its silhouette (within about a pixel of the edge).
+std::optional<glm::dvec3> sphere_normal(const Camera& camera, int width, int height, int x, int y) {
+    const glm::dvec3 eye(camera.eye);
+    const glm::dvec3 ray = pixel_ray(camera, width, height, x, y);
+    const auto t = hit_sphere(eye, ray, {0, 0, 0}, 1.0);
+    if (!t || glm::length(glm::cross(ray, eye)) > 0.97) {
+        return std::nullopt;
+    }
+    return glm::normalize(eye + *t * ray);
+}
+
 glm::dvec3 linear_rgb(const Frame& frame, int x, int y) {
     const float* p = &frame.linear[(std::size_t(y) * frame.width + x) * 4];
     return {p[0], p[1], p[2]};
@@ -214,17 +226,13 @@ TEST_F(FrameRendererTest, SpherePixelsMatchTheRigsShIrradianceAtTheirNormals) {
         int checked = 0;
         for (int y = 0; y < frame.height; ++y) {
             for (int x = 0; x < frame.width; ++x) {
-                const Camera camera = *request.camera;
-                const glm::dvec3 ray = pixel_ray(camera, frame.width, frame.height, x, y);
-                const auto t = hit_sphere(glm::dvec3(camera.eye), ray, {0, 0, 0}, 1.0);
-                // Skip the silhouette: rays grazing the sphere within a pixel of its edge.
-                if (!t || glm::length(glm::cross(ray, glm::dvec3(camera.eye))) > 0.97) {
+                const auto normal = sphere_normal(*request.camera, frame.width, frame.height, x, y);
+                if (!normal) {
                     continue;
                 }
-                const glm::dvec3 normal = glm::normalize(glm::dvec3(camera.eye) + *t * ray);
                 // The environment turned by yaw lights n as the unturned one lights n turned back.
                 const glm::dvec3 expected =
-                    irradiance.evaluate(equirect::rotate_yaw(normal, -yaw)) / kPi;
+                    irradiance.evaluate(equirect::rotate_yaw(*normal, -yaw)) / kPi;
                 const glm::dvec3 got = linear_rgb(frame, x, y);
                 for (int c = 0; c < 3; ++c) {
                     ASSERT_NEAR(got[c], expected[c], 0.01 * std::abs(expected[c]) + 0.002 * largest)
@@ -415,14 +423,11 @@ TEST_F(FrameRendererTest, ThesisModelScalesByTheAttenuationFactor) {
     int checked = 0;
     for (int y = 0; y < frame.height; y += 3) {
         for (int x = 0; x < frame.width; x += 3) {
-            const Camera camera = *request.camera;
-            const glm::dvec3 ray = pixel_ray(camera, frame.width, frame.height, x, y);
-            const auto t = hit_sphere(glm::dvec3(camera.eye), ray, {0, 0, 0}, 1.0);
-            if (!t || glm::length(glm::cross(ray, glm::dvec3(camera.eye))) > 0.97) {
+            const auto normal = sphere_normal(*request.camera, frame.width, frame.height, x, y);
+            if (!normal) {
                 continue;
             }
-            const glm::dvec3 normal = glm::normalize(glm::dvec3(camera.eye) + *t * ray);
-            const glm::dvec3 expected = irradiance.evaluate(normal) * attenuation;  // albedo 1
+            const glm::dvec3 expected = irradiance.evaluate(*normal) * attenuation;  // albedo 1
             const glm::dvec3 got = linear_rgb(frame, x, y);
             EXPECT_NEAR(got.g, expected.g, 0.01 * std::abs(expected.g) + 1e-3) << x << "," << y;
             ++checked;

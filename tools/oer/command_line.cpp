@@ -1,6 +1,7 @@
 #include "command_line.hpp"
 
 #include <charconv>
+#include <cmath>
 
 namespace oer::cli {
 
@@ -40,6 +41,27 @@ CommandLine parse_command_line(const std::vector<std::string>& arguments,
         }
     }
     return line;
+}
+
+double parse_double(const std::string& flag, const std::string& text) {
+    try {
+        std::size_t used = 0;
+        const double value = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(value)) {
+            return value;
+        }
+    } catch (const std::exception&) {
+    }
+    throw UsageError("--" + flag + " expects a number, got '" + text + "'");
+}
+
+int parse_int(const std::string& flag, const std::string& text, int low, int high) {
+    const double value = parse_double(flag, text);
+    if (value != std::floor(value) || value < low || value > high) {
+        throw UsageError("--" + flag + " expects an integer in " + std::to_string(low) + ".." +
+                         std::to_string(high) + ", got '" + text + "'");
+    }
+    return int(value);
 }
 
 std::pair<int, int> parse_size(const std::string& flag, const std::string& text, int max) {

@@ -31,6 +31,10 @@ CommandLine parse_command_line(const std::vector<std::string>& arguments,
                                const std::set<std::string>& valued,
                                const std::set<std::string>& switches);
 
+// A finite number, and an integer in [low, high]; throw UsageError naming --flag.
+double parse_double(const std::string& flag, const std::string& text);
+int parse_int(const std::string& flag, const std::string& text, int low, int high);
+
 // "640x480" -> {640, 480}; each in 1..max.
 std::pair<int, int> parse_size(const std::string& flag, const std::string& text, int max);
 

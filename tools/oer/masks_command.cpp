@@ -13,14 +13,7 @@ int masks_command(const std::vector<std::string>& arguments) {
     if (line.positional.size() != 1 || !line.value("o")) {
         throw UsageError("masks takes one MAP and -o OUT.png");
     }
-    double exposure = 0.0;
-    if (const auto text = line.value("exposure")) {
-        try {
-            exposure = std::stod(*text);
-        } catch (const std::exception&) {
-            throw UsageError("--exposure expects a number of stops, got '" + *text + "'");
-        }
-    }
+    const double exposure = parse_double("exposure", line.value("exposure").value_or("0"));
     const ToneMapper mapper = tone_mapper_from_string(line.value("tonemap").value_or("neutral"));
     const EnvironmentInput input = read_environment(line.positional[0], line);
     const Rig rig = build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(line));

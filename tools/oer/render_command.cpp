@@ -45,27 +45,6 @@ glm::vec3 parse_vector(const std::string& flag, const std::string& text) {
     return v;
 }
 
-double parse_double(const std::string& flag, const std::string& text) {
-    try {
-        std::size_t used = 0;
-        const double value = std::stod(text, &used);
-        if (used == text.size() && std::isfinite(value)) {
-            return value;
-        }
-    } catch (const std::exception&) {
-    }
-    throw UsageError("--" + flag + " expects a number, got '" + text + "'");
-}
-
-int parse_int(const std::string& flag, const std::string& text, int low, int high) {
-    const double value = parse_double(flag, text);
-    if (value != std::floor(value) || value < low || value > high) {
-        throw UsageError("--" + flag + " expects an integer in " + std::to_string(low) + ".." +
-                         std::to_string(high) + ", got '" + text + "'");
-    }
-    return int(value);
-}
-
 bool parse_on_off(const std::string& flag, const std::string& text) {
     if (text == "on" || text == "off") {
         return text == "on";
