@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -22,6 +23,7 @@
 #include "oer/irradiance.hpp"
 #include "render_targets.hpp"
 #include "sh_shader_constants.hpp"
+#include "shadow_layers.hpp"
 #include "shadow_map_cache.hpp"
 
 namespace oer {
@@ -104,6 +106,36 @@ glm::mat4 light_matrix(const glm::vec3& direction, const SceneBounds& scene) {
     return glm::ortho(-r, r, -r, r, r, 3.0f * r) * view;
 }
 
+// The name of element i of a uniform array: "name[i]".
+std::string element(const char* name, std::size_t i) {
+    std::string text = name;
+    text += '[';
+    text += std::to_string(i);
+    text += ']';
+    return text;
+}
+
+// Surface kinds, the geometry pass's stencil values; each has its own shading program.
+constexpr int kBackgroundSurface = 0;
+constexpr int kObjectSurface = 1;
+constexpr int kGroundSurface = 2;
+
+// Supersamples per pixel side for `samples` samples per pixel (FrameRequest::samples).
+int supersampling_scale(int samples) {
+    return int(std::ceil(std::sqrt(double(samples)) - 1e-9));
+}
+
+void set_display_uniforms(gl::Program& program, const FrameRequest& request) {
+    glUniform1f(program.uniform("u_exposure_scale"), float(std::exp2(request.exposure_ev)));
+    glUniform1i(program.uniform("u_tone_mapper"), request.tone_mapper == ToneMapper::Neutral ? 0
+                                                  : request.tone_mapper == ToneMapper::Aces  ? 1
+                                                                                             : 2);
+    const glm::vec4 background = request.background.kind == BackgroundKind::Colour
+                                     ? glm::vec4(request.background.colour, 1.0f)
+                                     : glm::vec4(0.0f);
+    glUniform4fv(program.uniform("u_background"), 1, glm::value_ptr(background));
+}
+
 }  // namespace
 
 struct FrameRenderer::State {
@@ -127,6 +159,8 @@ struct FrameRenderer::State {
     std::map<const HdrImage*, CachedEnvironment> environments;
 
     ShadowMapCache shadows;
+    ShadowLayers shadow_layers;
+    gl::Object bake_framebuffer;
     RenderTargetCache targets;
 
     Mesh ground_mesh = unit_ground();
@@ -135,19 +169,52 @@ struct FrameRenderer::State {
     gl::Object compare_linear;
     gl::Object compare_nearest;
     gl::Object irradiance_buffer;
-    int max_samples = 1;
+    int max_texture_size = 0;
 
     gl::Program& program(const char* vertex, const char* fragment, const std::string& defines,
                          const std::string& name) {
         const std::string key = name + "\n" + defines;
         auto found = programs.find(key);
         if (found == programs.end()) {
-            found =
-                programs
-                    .emplace(key, std::make_unique<gl::Program>(vertex, fragment, defines, name))
-                    .first;
+            found = programs
+                        .emplace(key, std::make_unique<gl::Program>(shaders::compose(vertex),
+                                                                    shaders::compose(fragment),
+                                                                    defines, name))
+                        .first;
         }
         return *found->second;
+    }
+
+    // Bakes the visibility of the frame's light `light` (the index among the lights that are
+    // on) over the ground plane at ground_height into map.ground_visibility, from its depth,
+    // which the shadow layers hold.
+    void bake_ground_visibility(ShadowMap& map, int light, const glm::mat4& inverse_light_matrix,
+                                float ground_height, const std::string& lighting_defines,
+                                const std::function<void(gl::Program&)>& set_light_uniforms) {
+        const GLint resolution = [&] {
+            GLint width = 0;
+            glGetTextureLevelParameteriv(map.depth.get(), 0, GL_TEXTURE_WIDTH, &width);
+            return width;
+        }();
+        map.ground_visibility = gl::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(map.ground_visibility.get(), 1, GL_R8, resolution, resolution);
+        glNamedFramebufferTexture(bake_framebuffer.get(), GL_COLOR_ATTACHMENT0,
+                                  map.ground_visibility.get(), 0);
+        glBindFramebuffer(GL_FRAMEBUFFER, bake_framebuffer.get());
+        glViewport(0, 0, resolution, resolution);
+        glDisable(GL_DEPTH_TEST);
+        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        gl::Program& bake = program(shaders::kFullscreenVertex, shaders::kGroundVisibilityFragment,
+                                    lighting_defines, "ground visibility");
+        glUseProgram(bake.id());
+        set_light_uniforms(bake);
+        glUniformMatrix4fv(bake.uniform("u_inverse_light_matrix"), 1, GL_FALSE,
+                           glm::value_ptr(inverse_light_matrix));
+        glUniform1f(bake.uniform("u_ground_height"), ground_height);
+        glUniform1i(bake.uniform("u_light"), light);
+        glUniform2f(bake.uniform("u_size"), float(resolution), float(resolution));
+        glBindVertexArray(empty_vertex_array.get());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
     }
 
     CachedMesh& mesh(const std::shared_ptr<const Mesh>& owner) {
@@ -203,7 +270,8 @@ FrameRenderer::FrameRenderer(const FrameLimits& limits) : state_(std::make_uniqu
         glSamplerParameteri(sampler->get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
         glSamplerParameteri(sampler->get(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     }
-    glGetIntegerv(GL_MAX_SAMPLES, &state_->max_samples);
+    state_->bake_framebuffer = gl::create_framebuffer();
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &state_->max_texture_size);
     check_gl_errors("FrameRenderer set-up");
 }
 
@@ -215,7 +283,7 @@ std::size_t FrameRenderer::cached_shadow_maps() const {
 
 namespace {
 
-void validate(const FrameRequest& request, const FrameLimits& limits) {
+void validate(const FrameRequest& request, const FrameLimits& limits, int max_texture_size) {
     if (!request.rig) {
         fail("environment", "no light rig given");
     }
@@ -234,6 +302,16 @@ void validate(const FrameRequest& request, const FrameLimits& limits) {
     }
     if (request.samples < 1 || request.samples > 16) {
         fail("samples", "must be in 1..16");
+    }
+    const int scale = supersampling_scale(request.samples);
+    if (std::int64_t(request.width) * request.height * scale * scale > limits.max_samples_total ||
+        std::max(request.width, request.height) * scale > max_texture_size) {
+        throw Error(ErrorKind::LimitExceeded,
+                    "samples: " + std::to_string(scale * scale) + " samples per pixel at " +
+                        std::to_string(request.width) + "x" + std::to_string(request.height) +
+                        " are over the limit of " + std::to_string(limits.max_samples_total) +
+                        " samples per frame and " + std::to_string(max_texture_size) +
+                        " samples per side");
     }
     if (request.shadows.resolution < 16 ||
         request.shadows.resolution > limits.max_shadow_resolution) {
@@ -277,7 +355,7 @@ void validate(const FrameRequest& request, const FrameLimits& limits) {
 }  // namespace
 
 Frame FrameRenderer::render(const FrameRequest& request) {
-    validate(request, state_->limits);
+    validate(request, state_->limits, state_->max_texture_size);
     State& state = *state_;
     const Rig& rig = *request.rig;
     const auto frame_start = Clock::now();
@@ -343,7 +421,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
         view_matrix(camera);
     frame.timings_ms["setup"] = elapsed_ms(start);
 
-    // Shadow maps, cached by scene, light direction and resolution.
+    // Shadow maps, cached by scene, light, filter and resolution, held as layers by rig light.
     start = Clock::now();
     const bool shadows = request.shadows.enabled && !lit.empty();
     std::string scene_key;
@@ -354,29 +432,57 @@ Frame FrameRenderer::render(const FrameRequest& request) {
                          16 * sizeof(float));
     }
     const int resolution = request.shadows.resolution;
+    const bool pcf = request.shadows.filter == ShadowFilter::Pcf;
+    const std::string lighting_defines = "#define SH_ORDER " + std::to_string(order) +
+                                         "\n#define LIGHTS_ON " + std::to_string(lit.size()) +
+                                         "\n#define SHADOWS " + std::to_string(shadows ? 1 : 0) +
+                                         "\n#define PCF " + std::to_string(pcf ? 1 : 0) + "\n";
     std::vector<glm::vec3> light_directions;  // of the lights that are on, turned by the yaw
     std::vector<glm::mat4> light_matrices;
-    std::vector<GLuint> shadow_textures;
-    gl::Program& depth = state.program(shaders::kMeshVertex, shaders::kDepthFragment, "", "depth");
+    std::vector<float> light_kernels;
     for (const std::size_t k : lit) {
         const glm::vec3 direction = glm::normalize(
             glm::vec3(equirect::rotate_yaw(rig.lights[k].direction, request.yaw_degrees)));
         light_directions.push_back(direction);
         light_matrices.push_back(light_matrix(direction, scene));
-        if (!shadows) {
-            continue;
+        // PCF radius: a penumbra about half the scene's radius from its occluder, seen through
+        // the light's angular radius; at least one texel.
+        light_kernels.push_back(std::max(1.0f / float(resolution),
+                                         0.25f * float(std::tan(rig.lights[k].angular_radius))));
+    }
+    const float normal_offset = 1.5f * 2.0f * scene.radius / float(resolution);
+    // The lights' uniforms, shared by the shading pass and the ground-visibility bake.
+    const auto set_light_uniforms = [&](gl::Program& program) {
+        const std::vector<float>& sh_scale = sh_shader_scales(order);
+        glUniform1fv(program.uniform("u_sh_scale"), GLsizei(sh_scale.size()), sh_scale.data());
+        for (std::size_t i = 0; i < lit.size(); ++i) {
+            glUniformMatrix4fv(program.uniform(element("u_light_matrix", i)), 1, GL_FALSE,
+                               glm::value_ptr(light_matrices[i]));
+            glUniform1i(program.uniform(element("u_light_layer", i)), GLint(lit[i]));
+            glUniform1f(program.uniform(element("u_light_kernel", i)), light_kernels[i]);
+            glUniform1f(program.uniform(element("u_normal_offset", i)), normal_offset);
         }
+    };
+    if (shadows) {
+        state.shadow_layers.reserve(int(light_count), resolution);
+        glBindTextureUnit(4, state.shadow_layers.depth());
+        glBindSampler(4, pcf ? state.compare_linear.get() : state.compare_nearest.get());
+    }
+    gl::Program& depth = state.program(shaders::kMeshVertex, shaders::kDepthFragment, "", "depth");
+    for (std::size_t i = 0; shadows && i < lit.size(); ++i) {
         std::string key = scene_key;
-        key.append(reinterpret_cast<const char*>(glm::value_ptr(direction)), 3 * sizeof(float));
+        key.append(reinterpret_cast<const char*>(glm::value_ptr(light_directions[i])),
+                   3 * sizeof(float));
+        key.append(reinterpret_cast<const char*>(&light_kernels[i]), sizeof(float));
         key.append(reinterpret_cast<const char*>(&resolution), sizeof resolution);
-        const glm::mat4& matrix = light_matrices.back();
+        key.push_back(pcf ? 'p' : 'h');
         bool rendered = false;
-        shadow_textures.push_back(state.shadows.get(
+        ShadowMap& map = state.shadows.get(
             key, resolution,
             [&] {
                 glUseProgram(depth.id());
                 glUniformMatrix4fv(depth.uniform("u_view_projection"), 1, GL_FALSE,
-                                   glm::value_ptr(matrix));
+                                   glm::value_ptr(light_matrices[i]));
                 for (const SceneObject& object : request.objects) {
                     glUniformMatrix4fv(depth.uniform("u_model"), 1, GL_FALSE,
                                        glm::value_ptr(object.transform));
@@ -387,131 +493,73 @@ Frame FrameRenderer::render(const FrameRequest& request) {
                     }
                 }
             },
-            rendered));
+            rendered);
         frame.shadow_maps_rendered += rendered ? 1 : 0;
+        const int layer = int(lit[i]);
+        state.shadow_layers.hold_depth(layer, map);
+        if (!request.ground) {
+            continue;
+        }
+        if (!map.ground_visibility) {
+            state.bake_ground_visibility(map, int(i), glm::inverse(light_matrices[i]),
+                                         scene.box.min.y, lighting_defines, set_light_uniforms);
+        }
+        state.shadow_layers.hold_ground_visibility(layer, map);
     }
     glFinish();
     frame.timings_ms["shadow_pass"] = elapsed_ms(start);
 
-    // Colour pass into a multisampled float target.
+    // Geometry pass: the G-buffer, supersampled for anti-aliasing.
     start = Clock::now();
-    const int samples = std::min(request.samples, std::max(1, state.max_samples));
-    const GLenum colour_format = request.linear ? GL_RGBA32F : GL_RGBA16F;
+    const int scale = supersampling_scale(request.samples);
+    const int samples_wide = request.width * scale;
+    const int samples_high = request.height * scale;
     RenderTargets& targets =
-        state.targets.get(request.width, request.height, samples, colour_format);
-    const GLuint target = targets.framebuffer.get();
-    glBindFramebuffer(GL_FRAMEBUFFER, target);
-    glViewport(0, 0, request.width, request.height);
+        state.targets.get(request.width, request.height, scale, request.linear);
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.geometry_framebuffer.get());
+    glViewport(0, 0, samples_wide, samples_high);
     // Clears honour the write masks, which the previous frame's passes may have left off.
     glDepthMask(GL_TRUE);
-    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    const float clear_colour[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    glClearNamedFramebufferfv(target, GL_COLOR, 0, clear_colour);
-    const float clear_depth = 1.0f;
-    glClearNamedFramebufferfv(target, GL_DEPTH, 0, &clear_depth);
-
-    if (request.background.kind == BackgroundKind::Environment) {
-        gl::Program& background = state.program(shaders::kFullscreenVertex,
-                                                shaders::kBackgroundFragment, "", "background");
-        glDisable(GL_DEPTH_TEST);
-        glDepthMask(GL_FALSE);
-        glUseProgram(background.id());
-        glUniformMatrix4fv(background.uniform("u_inverse_view_projection"), 1, GL_FALSE,
-                           glm::value_ptr(glm::inverse(view_projection)));
-        glUniform2f(background.uniform("u_yaw"), yaw_cos_sin.x, yaw_cos_sin.y);
-        glBindTextureUnit(0, state.environment(request.environment));
-        glBindVertexArray(state.empty_vertex_array.get());
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+    for (GLuint buffer = 0; buffer < 3; ++buffer) {
+        glColorMaski(buffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        const float clear_colour[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        glClearNamedFramebufferfv(targets.geometry_framebuffer.get(), GL_COLOR, GLint(buffer),
+                                  clear_colour);
     }
-
-    const std::string defines =
-        "#define SH_ORDER " + std::to_string(order) + "\n#define LIGHTS_ON " +
-        std::to_string(lit.size()) + "\n#define SHADOWS " + std::to_string(shadows ? 1 : 0) +
-        "\n#define PCF " + std::to_string(request.shadows.filter == ShadowFilter::Pcf ? 1 : 0) +
-        "\n";
-    const glm::mat4 ground_model =
-        glm::translate(glm::mat4(1.0f),
-                       glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
-        glm::scale(glm::mat4(1.0f), glm::vec3(ground_half_size, 1.0f, ground_half_size));
-
-    // No depth pre-pass: on llvmpipe the vertex work of a 70k-triangle mesh costs more than the
-    // overdraw it saves (bench/frame_benchmark: 512x512 without shadows 38 ms without a
-    // pre-pass, 76 ms with one).
+    glStencilMask(0xff);
+    glClearNamedFramebufferfi(targets.geometry_framebuffer.get(), GL_DEPTH_STENCIL, 0, 1.0f,
+                              kBackgroundSurface);
     glEnable(GL_DEPTH_TEST);
-    glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
-
-    gl::Program& shade =
-        state.program(shaders::kMeshVertex, shaders::kShadeFragment, defines, "shade");
-    glUseProgram(shade.id());
-    glUniformMatrix4fv(shade.uniform("u_view_projection"), 1, GL_FALSE,
+    glEnable(GL_STENCIL_TEST);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    gl::Program& geometry =
+        state.program(shaders::kMeshVertex, shaders::kGeometryFragment, "", "geometry");
+    glUseProgram(geometry.id());
+    glUniformMatrix4fv(geometry.uniform("u_view_projection"), 1, GL_FALSE,
                        glm::value_ptr(view_projection));
-    const std::vector<float>& sh_scale = sh_shader_scales(order);
-    glUniform1fv(shade.uniform("u_sh_scale"), GLsizei(sh_scale.size()), sh_scale.data());
-    glUniform2f(shade.uniform("u_yaw"), yaw_cos_sin.x, yaw_cos_sin.y);
-    glUniform3fv(shade.uniform("u_eye"), 1, glm::value_ptr(camera.eye));
-    const bool thesis = rig.model == LightingModel::Thesis;
-    glUniform1f(shade.uniform("u_albedo_scale"), thesis ? 1.0f : float(1.0 / std::numbers::pi));
-    glUniform1f(shade.uniform("u_attenuation_base"), float(attenuation_base));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, state.irradiance_buffer.get());
-    // The ground's normal is +Y, which the yaw leaves unchanged.
-    std::vector<glm::vec3> flat_irradiance;
-    for (const ShRgb& set : sets) {
-        flat_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
-    }
-    glUniform3fv(shade.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
-                 glm::value_ptr(flat_irradiance[0]));
-    for (std::size_t i = 0; i < lit.size(); ++i) {
-        const std::size_t k = lit[i];
-        const std::string index = "[" + std::to_string(i) + "]";
-        const glm::vec3& direction = light_directions[i];
-        // Intensity from the light's own SH: sum L dOmega = sqrt(4 pi) c_00, in the units of
-        // the projected map (radiance in the hdr model, tone-mapped values in the thesis's).
-        const glm::vec3 intensity =
-            glm::vec3(rig.sh.per_light[k].coefficients[0] * std::sqrt(4.0 * std::numbers::pi));
-        glUniformMatrix4fv(shade.uniform("u_light_matrix" + index), 1, GL_FALSE,
-                           glm::value_ptr(light_matrices[i]));
-        glUniform3fv(shade.uniform("u_light_direction" + index), 1, glm::value_ptr(direction));
-        glUniform3fv(shade.uniform("u_light_intensity" + index), 1, glm::value_ptr(intensity));
-        // PCF radius: a penumbra about half the scene's radius from its occluder, seen through
-        // the light's angular radius; at least one texel.
-        const float kernel = std::max(1.0f / float(resolution),
-                                      0.25f * float(std::tan(rig.lights[k].angular_radius)));
-        glUniform1f(shade.uniform("u_light_kernel" + index), kernel);
-        glUniform1f(shade.uniform("u_light_share" + index),
-                    thesis ? float(rig.lights[k].luminance_share) : 0.0f);
-        glUniform1f(shade.uniform("u_normal_offset" + index),
-                    1.5f * 2.0f * scene.radius / float(resolution));
-        if (shadows) {
-            glBindTextureUnit(GLuint(1 + i), shadow_textures[i]);
-            glBindSampler(GLuint(1 + i), request.shadows.filter == ShadowFilter::Pcf
-                                             ? state.compare_linear.get()
-                                             : state.compare_nearest.get());
-        }
-    }
-
     const auto draw = [&](const Mesh& mesh, const GpuMesh& gpu, const glm::mat4& model,
-                          const std::optional<glm::vec3>& base_override, bool flat) {
-        glUniform1i(shade.uniform("u_flat"), flat ? 1 : 0);
-        glUniformMatrix4fv(shade.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
+                          const std::optional<glm::vec3>& base_override, int surface_kind) {
+        glStencilFunc(GL_ALWAYS, surface_kind, 0xff);
+        glUniformMatrix4fv(geometry.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
-        glUniformMatrix3fv(shade.uniform("u_normal_matrix"), 1, GL_FALSE,
+        glUniformMatrix3fv(geometry.uniform("u_normal_matrix"), 1, GL_FALSE,
                            glm::value_ptr(normal_matrix));
         for (const GpuPrimitive& primitive : gpu.primitives) {
             const Material& material = mesh.materials.at(std::size_t(primitive.material));
             const glm::vec4 base =
                 base_override ? glm::vec4(*base_override, 1.0f) : material.base_color;
-            glUniform4fv(shade.uniform("u_base_color"), 1, glm::value_ptr(base));
+            glUniform4fv(geometry.uniform("u_base_color"), 1, glm::value_ptr(base));
             const bool textured = !base_override && material.base_color_texture >= 0;
-            glUniform1i(shade.uniform("u_has_texture"), textured ? 1 : 0);
+            glUniform1i(geometry.uniform("u_has_texture"), textured ? 1 : 0);
             if (textured) {
                 glBindTextureUnit(0,
                                   gpu.textures.at(std::size_t(material.base_color_texture)).get());
             }
-            glUniform1f(shade.uniform("u_specular_weight"), material.specular ? 0.04f : 0.0f);
+            glUniform1f(geometry.uniform("u_specular_weight"), material.specular ? 0.04f : 0.0f);
             // Blinn-Phong exponent of a GGX roughness (alpha = roughness^2): 2 / alpha^2 - 2.
             const float alpha = std::max(0.02f, material.roughness * material.roughness);
-            glUniform1f(shade.uniform("u_shininess"),
+            glUniform1f(geometry.uniform("u_shininess"),
                         std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f));
             glBindVertexArray(primitive.vertex_array.get());
             glDrawElements(GL_TRIANGLES, primitive.index_count, GL_UNSIGNED_INT, nullptr);
@@ -519,62 +567,131 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     };
     for (const SceneObject& object : request.objects) {
         const State::CachedMesh& cached = state.mesh(object.mesh);
-        draw(*object.mesh, cached.gpu, object.transform, object.base_color, false);
+        draw(*object.mesh, cached.gpu, object.transform, object.base_color, kObjectSurface);
     }
     if (request.ground) {
-        draw(state.ground_mesh, state.ground, ground_model, std::nullopt, true);
+        const glm::mat4 ground_model =
+            glm::translate(glm::mat4(1.0f),
+                           glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
+            glm::scale(glm::mat4(1.0f), glm::vec3(ground_half_size, 1.0f, ground_half_size));
+        draw(state.ground_mesh, state.ground, ground_model, std::nullopt, kGroundSurface);
     }
-    for (std::size_t i = 0; i < lit.size(); ++i) {
-        glBindSampler(GLuint(1 + i), 0);
-    }
-
-    // Resolve the samples.
-    const GLuint resolved = targets.resolved.get();
-    glBlitNamedFramebuffer(target, targets.resolved_framebuffer.get(), 0, 0, request.width,
-                           request.height, 0, 0, request.width, request.height, GL_COLOR_BUFFER_BIT,
-                           GL_NEAREST);
+    glDisable(GL_DEPTH_TEST);
     glFinish();
-    frame.timings_ms["colour_pass"] = elapsed_ms(start);
+    frame.timings_ms["geometry_pass"] = elapsed_ms(start);
 
+    // Shading pass: each sample shaded once from the G-buffer by its surface's program, which
+    // the stencil test routes to it.
     start = Clock::now();
-    const std::size_t row_floats = std::size_t(request.width) * 4;
+    const bool environment_background = request.background.kind == BackgroundKind::Environment;
+    const bool display_in_shading = scale == 1 && !request.linear;
+    const std::string shading_defines = lighting_defines + "#define ENVIRONMENT_BACKGROUND " +
+                                        std::to_string(environment_background ? 1 : 0) +
+                                        "\n#define DISPLAY_OUTPUT " +
+                                        std::to_string(display_in_shading ? 1 : 0) + "\n";
+    // The ground's normal is +Y, which the yaw leaves unchanged.
+    std::vector<glm::vec3> flat_irradiance;
+    for (const ShRgb& set : sets) {
+        flat_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
+    }
+    const bool thesis = rig.model == LightingModel::Thesis;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, state.irradiance_buffer.get());
+    glBindTextureUnit(0, targets.positions.get());
+    glBindTextureUnit(1, targets.normals.get());
+    glBindTextureUnit(2, targets.albedos.get());
+    if (environment_background) {
+        glBindTextureUnit(3, state.environment(request.environment));
+    }
+    if (shadows) {
+        glBindTextureUnit(5, state.shadow_layers.ground_visibility());
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.shaded_framebuffer.get());
+    glBindVertexArray(state.empty_vertex_array.get());
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    for (const int surface : {kBackgroundSurface, kObjectSurface, kGroundSurface}) {
+        if ((surface == kObjectSurface && request.objects.empty()) ||
+            (surface == kGroundSurface && !request.ground)) {
+            continue;
+        }
+        gl::Program& shade = state.program(
+            shaders::kFullscreenVertex, shaders::kShadeFragment,
+            shading_defines + "#define SURFACE " + std::to_string(surface) + "\n", "shade");
+        glUseProgram(shade.id());
+        set_light_uniforms(shade);
+        glUniformMatrix4fv(shade.uniform("u_inverse_view_projection"), 1, GL_FALSE,
+                           glm::value_ptr(glm::inverse(view_projection)));
+        glUniform2f(shade.uniform("u_viewport_size"), float(samples_wide), float(samples_high));
+        glUniform2f(shade.uniform("u_yaw"), yaw_cos_sin.x, yaw_cos_sin.y);
+        glUniform3fv(shade.uniform("u_eye"), 1, glm::value_ptr(camera.eye));
+        glUniform1f(shade.uniform("u_albedo_scale"), thesis ? 1.0f : float(1.0 / std::numbers::pi));
+        glUniform1f(shade.uniform("u_attenuation_base"), float(attenuation_base));
+        glUniform3fv(shade.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
+                     glm::value_ptr(flat_irradiance[0]));
+        for (std::size_t i = 0; i < lit.size(); ++i) {
+            const std::size_t k = lit[i];
+            // Intensity from the light's own SH: sum L dOmega = sqrt(4 pi) c_00, in the units
+            // of the projected map (radiance in the hdr model, tone-mapped values in the
+            // thesis's).
+            const glm::vec3 intensity =
+                glm::vec3(rig.sh.per_light[k].coefficients[0] * std::sqrt(4.0 * std::numbers::pi));
+            glUniform3fv(shade.uniform(element("u_light_direction", i)), 1,
+                         glm::value_ptr(light_directions[i]));
+            glUniform3fv(shade.uniform(element("u_light_intensity", i)), 1,
+                         glm::value_ptr(intensity));
+            glUniform1f(shade.uniform(element("u_light_share", i)),
+                        thesis ? float(rig.lights[k].luminance_share) : 0.0f);
+        }
+        if (display_in_shading) {
+            set_display_uniforms(shade, request);
+        }
+        glStencilFunc(GL_EQUAL, surface, 0xff);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    glDisable(GL_STENCIL_TEST);
+    glBindSampler(4, 0);
+
+    // Resolve: the mean of each pixel's supersamples, then the display transform.
+    if (scale > 1) {
+        gl::Program& resolve = state.program(
+            shaders::kFullscreenVertex, shaders::kResolveFragment,
+            "#define DISPLAY_OUTPUT " + std::to_string(request.linear ? 0 : 1) + "\n", "resolve");
+        glUseProgram(resolve.id());
+        glUniform1i(resolve.uniform("u_scale"), scale);
+        if (!request.linear) {
+            set_display_uniforms(resolve, request);
+        }
+        glBindTextureUnit(0, targets.shaded.get());
+        glBindFramebuffer(GL_FRAMEBUFFER, targets.output_framebuffer.get());
+        glViewport(0, 0, request.width, request.height);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    glFinish();
+    frame.timings_ms["shading_pass"] = elapsed_ms(start);
+
+    // Readback, top row first.
+    start = Clock::now();
+    const std::size_t row_values = std::size_t(request.width) * 4;
     if (request.linear) {
-        std::vector<float> pixels(row_floats * std::size_t(request.height));
-        glGetTextureImage(resolved, 0, GL_RGBA, GL_FLOAT, GLsizei(pixels.size() * sizeof(float)),
-                          pixels.data());
+        std::vector<float> pixels(row_values * std::size_t(request.height));
+        glGetTextureImage(targets.result(), 0, GL_RGBA, GL_FLOAT,
+                          GLsizei(pixels.size() * sizeof(float)), pixels.data());
         frame.linear.resize(pixels.size());
         for (int y = 0; y < request.height; ++y) {
-            std::memcpy(&frame.linear[std::size_t(y) * row_floats],
-                        &pixels[std::size_t(request.height - 1 - y) * row_floats],
-                        row_floats * sizeof(float));
+            std::memcpy(&frame.linear[std::size_t(y) * row_values],
+                        &pixels[std::size_t(request.height - 1 - y) * row_values],
+                        row_values * sizeof(float));
         }
     } else {
-        glBindFramebuffer(GL_FRAMEBUFFER, targets.display_framebuffer.get());
-        glDisable(GL_DEPTH_TEST);
-        gl::Program& tone =
-            state.program(shaders::kFullscreenVertex, shaders::kDisplayFragment, "", "display");
-        glUseProgram(tone.id());
-        glUniform1f(tone.uniform("u_exposure_scale"), float(std::exp2(request.exposure_ev)));
-        glUniform1i(tone.uniform("u_tone_mapper"), request.tone_mapper == ToneMapper::Neutral ? 0
-                                                   : request.tone_mapper == ToneMapper::Aces  ? 1
-                                                                                              : 2);
-        const glm::vec4 background = request.background.kind == BackgroundKind::Colour
-                                         ? glm::vec4(request.background.colour, 1.0f)
-                                         : glm::vec4(0.0f);
-        glUniform4fv(tone.uniform("u_background"), 1, glm::value_ptr(background));
-        glBindTextureUnit(0, resolved);
-        glBindVertexArray(state.empty_vertex_array.get());
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        std::vector<std::uint8_t> pixels(row_floats * std::size_t(request.height));
+        std::vector<std::uint8_t> pixels(row_values * std::size_t(request.height));
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glGetTextureImage(targets.display.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                          GLsizei(pixels.size()), pixels.data());
+        glGetTextureImage(targets.result(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(pixels.size()),
+                          pixels.data());
         frame.display.width = request.width;
         frame.display.height = request.height;
         frame.display.pixels.resize(pixels.size());
         for (int y = 0; y < request.height; ++y) {
-            std::memcpy(&frame.display.pixels[std::size_t(y) * row_floats],
-                        &pixels[std::size_t(request.height - 1 - y) * row_floats], row_floats);
+            std::memcpy(&frame.display.pixels[std::size_t(y) * row_values],
+                        &pixels[std::size_t(request.height - 1 - y) * row_values], row_values);
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

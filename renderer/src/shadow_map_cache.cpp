@@ -9,8 +9,8 @@ ShadowMapCache::ShadowMapCache(std::size_t capacity)
     glNamedFramebufferDrawBuffer(framebuffer_.get(), GL_NONE);
 }
 
-GLuint ShadowMapCache::get(const std::string& key, int resolution,
-                           const std::function<void()>& draw_casters, bool& rendered) {
+ShadowMap& ShadowMapCache::get(const std::string& key, int resolution,
+                               const std::function<void()>& draw_casters, bool& rendered) {
     ++clock_;
     auto found = entries_.find(key);
     rendered = found == entries_.end();
@@ -21,10 +21,11 @@ GLuint ShadowMapCache::get(const std::string& key, int resolution,
                                                 return a.second.last_used < b.second.last_used;
                                             }));
         }
-        Entry entry;
-        entry.texture = gl::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(entry.texture.get(), 1, GL_DEPTH_COMPONENT32F, resolution, resolution);
-        glNamedFramebufferTexture(framebuffer_.get(), GL_DEPTH_ATTACHMENT, entry.texture.get(), 0);
+        ShadowMap entry;
+        entry.serial = next_serial_++;
+        entry.depth = gl::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(entry.depth.get(), 1, GL_DEPTH_COMPONENT32F, resolution, resolution);
+        glNamedFramebufferTexture(framebuffer_.get(), GL_DEPTH_ATTACHMENT, entry.depth.get(), 0);
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
         glViewport(0, 0, resolution, resolution);
         glEnable(GL_DEPTH_TEST);
@@ -44,7 +45,7 @@ GLuint ShadowMapCache::get(const std::string& key, int resolution,
         found = entries_.emplace(key, std::move(entry)).first;
     }
     found->second.last_used = clock_;
-    return found->second.texture.get();
+    return found->second;
 }
 
 }  // namespace oer

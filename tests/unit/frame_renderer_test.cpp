@@ -458,6 +458,109 @@ TEST_F(FrameRendererTest, TransparentBackgroundGivesAlphaAndDisplayOutput) {
     EXPECT_EQ(coloured.display.pixels[3], 255);
 }
 
+TEST_F(FrameRendererTest, AntiAliasingAveragesSupersamplesBeforeToneMapping) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.ground = true;
+    request.shadows.resolution = 1024;
+    request.samples = 4;
+    const Frame antialiased = render(request);
+    // The same samples: a frame twice as wide and high, one sample per pixel.
+    request.samples = 1;
+    request.width = request.height = 256;
+    const Frame fine = render(request);
+    double largest_difference = 0.0;
+    int partly_covered = 0;
+    for (int y = 0; y < 128; ++y) {
+        for (int x = 0; x < 128; ++x) {
+            for (int c = 0; c < 4; ++c) {
+                double mean = 0.0;
+                for (int s = 0; s < 4; ++s) {
+                    const int fx = 2 * x + (s & 1), fy = 2 * y + (s >> 1);
+                    mean += 0.25 * fine.linear[(std::size_t(fy) * 256 + fx) * 4 + c];
+                }
+                const double value = antialiased.linear[(std::size_t(y) * 128 + x) * 4 + c];
+                largest_difference =
+                    std::max(largest_difference, std::abs(value - mean) / (std::abs(mean) + 1e-3));
+            }
+            const float alpha = linear_alpha(antialiased, x, y);
+            partly_covered += alpha > 0.1f && alpha < 0.9f ? 1 : 0;
+        }
+    }
+    EXPECT_LT(largest_difference, 1e-5);
+    // The sphere's silhouette over the transparent background: coverage between 0 and 1.
+    EXPECT_GT(partly_covered, 100);
+}
+
+TEST_F(FrameRendererTest, SixteenShadowingLightsEachCastTheirShadow) {
+    // 16 lights need 16 shadow maps: more than one texture unit each would exceed what GPUs
+    // and llvmpipe offer.
+    std::vector<oer::testing::DiscLight> discs;
+    for (int i = 0; i < 16; ++i) {
+        const double angle = 2.0 * kPi * i / 16.0;
+        discs.push_back({{std::cos(angle), 0.9, std::sin(angle)}, 0.06, {100.0f, 100.0f, 100.0f}});
+    }
+    RigOptions options;
+    options.light_count = 16;
+    options.sh_order = 3;
+    options.location.cluster_count = 16;
+    const auto rig = std::make_shared<const Rig>(
+        build_rig(oer::testing::disc_map(1024, 512, glm::vec3(0.1f), discs), {}, options));
+    ASSERT_EQ(rig->lights.size(), 16u);
+    // A long, low box (a sphere would cast the same shadow map from every direction, so a
+    // light reading another's map would go unnoticed), seen from above.
+    const glm::dvec3 low{-1.2, 0.0, -0.3}, high{0.6, 0.5, 0.3};
+    Camera above;
+    above.eye = {0.0f, 6.0f, 0.01f};
+    above.fov_y_degrees = 50.0f;
+    FrameRequest request = box_on_ground_request(rig, low, high, above, 96);
+    request.shadows.filter = ShadowFilter::Pcf;
+    request.shadows.resolution = 1024;
+    const Frame all_on = render(request);
+    EXPECT_EQ(all_on.shadow_maps_rendered, 16);
+    for (int k = 0; k < 16; k += 5) {
+        request.lights.assign(16, true);
+        request.lights[std::size_t(k)] = false;
+        const Frame one_off = render(request);
+        EXPECT_EQ(one_off.shadow_maps_rendered, 0) << "light " << k;
+        // Over the ground, light k's part of the frame is zero in the box's shadow along light
+        // k's direction (ray cast against a box shrunk or grown by a margin for the filter) and
+        // whole elsewhere.
+        const glm::dvec3 towards_light = rig->lights[std::size_t(k)].direction;
+        const glm::dvec3 margin{0.05};
+        double lit_part = 0.0;
+        int shadowed = 0, lit = 0;
+        std::vector<std::pair<double, bool>> ground;  // part, in shadow
+        for (int y = 0; y < 96; ++y) {
+            for (int x = 0; x < 96; ++x) {
+                const glm::dvec3 eye(above.eye), ray = pixel_ray(above, 96, 96, x, y);
+                if (hits_box(eye, ray, low - margin, high + margin) || ray.y >= 0.0) {
+                    continue;
+                }
+                const glm::dvec3 point = eye + (-eye.y / ray.y) * ray;
+                const double part = linear_rgb(all_on, x, y).g - linear_rgb(one_off, x, y).g;
+                if (hits_box(point, towards_light, low + margin, high - margin)) {
+                    ground.push_back({part, true});
+                    ++shadowed;
+                } else if (!hits_box(point, towards_light, low - margin, high + margin)) {
+                    ground.push_back({part, false});
+                    lit_part = std::max(lit_part, part);
+                    ++lit;
+                }
+            }
+        }
+        ASSERT_GT(shadowed, 20) << "light " << k;
+        ASSERT_GT(lit, 1000) << "light " << k;
+        for (const auto& [part, in_shadow] : ground) {
+            if (in_shadow) {
+                EXPECT_LT(part, 0.02 * lit_part) << "light " << k;
+            } else {
+                EXPECT_GT(part, 0.98 * lit_part) << "light " << k;
+            }
+        }
+    }
+}
+
 TEST_F(FrameRendererTest, ShadowMapsAreCachedAcrossCameraMoves) {
     const auto rig = make_rig(three_light_map(), 3, 3);
     FrameRequest request = sphere_request(rig, front_camera());
@@ -505,6 +608,10 @@ TEST_F(FrameRendererTest, MalformedRequestsAreRejectedNamingTheMember) {
     request = good;
     request.background.kind = BackgroundKind::Environment;
     expect_error(request, ErrorKind::InvalidInput, "background");
+    request = good;
+    request.width = request.height = 4096;
+    request.samples = 16;
+    expect_error(request, ErrorKind::LimitExceeded, "samples");
     // The renderer is still fine afterwards.
     EXPECT_EQ(render(good).width, 128);
 }

@@ -5,6 +5,7 @@
 //
 // A FrameRenderer holds GL objects (meshes, environment textures, cached shadow maps): create
 // and use it on one thread with a current GL context (inside RenderThread jobs).
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -60,7 +61,9 @@ struct FrameRequest {
     double exposure_ev = 0.0;
     ToneMapper tone_mapper = ToneMapper::Neutral;
     ShadowOptions shadows;
-    int samples = 4;           // multisample anti-aliasing; 1 for none
+    // Anti-aliasing samples per pixel, 1 for none: the frame is shaded at s x s samples per
+    // pixel, s = ceil(sqrt(samples)), and their radiance averaged before tone mapping.
+    int samples = 4;
     double yaw_degrees = 0.0;  // environment rotation about +Y, lights and SH alike
     bool linear = false;       // true: keep linear radiance (EXR), no exposure or tone mapping
 };
@@ -78,6 +81,8 @@ struct FrameLimits {
     int max_width = 4096;
     int max_height = 4096;
     int max_shadow_resolution = 8192;
+    // Pixels times samples: the G-buffer costs about 48 bytes per sample.
+    std::int64_t max_samples_total = 4096LL * 4096LL;
     std::size_t max_cached_shadow_maps = 32;
 };
 

@@ -1,0 +1,53 @@
+#include "shadow_layers.hpp"
+
+namespace oer {
+
+namespace {
+
+// The depth array's comparison and filter come from the sampler bound with it (hard or PCF).
+gl::Object make_array(GLenum format, GLint filter, int resolution, int layers) {
+    gl::Object texture = gl::create_texture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(texture.get(), 1, format, resolution, resolution, layers);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, filter);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, filter);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return texture;
+}
+
+void copy_layer(const gl::Object& from, const gl::Object& to, int layer, int resolution) {
+    glCopyImageSubData(from.get(), GL_TEXTURE_2D, 0, 0, 0, 0, to.get(), GL_TEXTURE_2D_ARRAY, 0, 0,
+                       0, layer, resolution, resolution, 1);
+}
+
+}  // namespace
+
+void ShadowLayers::reserve(int layers, int resolution) {
+    if (layers == layers_ && resolution == resolution_) {
+        return;
+    }
+    layers_ = layers;
+    resolution_ = resolution;
+    depth_serials_.assign(std::size_t(layers), 0);
+    ground_visibility_serials_.assign(std::size_t(layers), 0);
+    depth_ = make_array(GL_DEPTH_COMPONENT32F, GL_LINEAR, resolution, layers);
+    ground_visibility_ = make_array(GL_R8, GL_LINEAR, resolution, layers);
+}
+
+void ShadowLayers::hold_depth(int layer, const ShadowMap& map) {
+    std::uint64_t& held = depth_serials_.at(std::size_t(layer));
+    if (held != map.serial) {
+        copy_layer(map.depth, depth_, layer, resolution_);
+        held = map.serial;
+    }
+}
+
+void ShadowLayers::hold_ground_visibility(int layer, const ShadowMap& map) {
+    std::uint64_t& held = ground_visibility_serials_.at(std::size_t(layer));
+    if (held != map.serial) {
+        copy_layer(map.ground_visibility, ground_visibility_, layer, resolution_);
+        held = map.serial;
+    }
+}
+
+}  // namespace oer
