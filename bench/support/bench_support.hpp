@@ -3,6 +3,7 @@
 // with known bright discs.
 #include <chrono>
 #include <cstddef>
+#include <ctime>
 #include <limits>
 
 #include <glm/vec3.hpp>
@@ -15,6 +16,14 @@ using Clock = std::chrono::steady_clock;
 
 inline double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// CPU time of the whole process (every thread: llvmpipe's rasteriser threads included), in ms.
+// On a shared machine other processes inflate wall times but not this.
+inline double process_cpu_ms() {
+    timespec now{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
 }
 
 // Best (minimum) wall time of up to max_repetitions runs of f, at least one, stopping early
