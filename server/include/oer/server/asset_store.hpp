@@ -1,0 +1,92 @@
+#pragma once
+// Uploaded assets and what is derived from them, kept as files in a data folder so that they
+// survive restarts. Sources (environment maps, meshes) are content-addressed: their id is the
+// SHA-256 of their bytes. Derived entries (rigs) are stored under an id the caller computes
+// (a rig's id hashes its source and its options), sealed with a checksum of their payload.
+//
+// Layout: DIR/environments/<id>.<ext>, DIR/meshes/<id>.<ext> (the upload's bytes as they came,
+// the extension naming their format), DIR/rigs/<id>.sealed (a header line
+// "oer-sealed-v1 <sha256 of payload> <payload length>\n", then the payload).
+//
+// Writes are atomic: a uniquely named temporary file beside the entry is written, flushed to
+// disk, renamed over the entry, and the folder flushed, so a crash leaves either the old entry
+// or the new one, never part of one. Reads are checked: a source whose bytes no longer hash to
+// its id, or a sealed entry whose payload does not match its header, is logged, deleted and
+// reported absent, so the caller recomputes it (or asks for the upload again) instead of
+// serving damaged data. Ids are validated before any path is built from them.
+//
+// Thread-safe: operations on one id are serialised (by a lock chosen from the id), operations
+// on different ids mostly run in parallel. A data folder belongs to one process at a time.
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "oer/server/log_line.hpp"
+
+namespace oer::server {
+
+enum class SourceKind { Environment, Mesh };
+enum class DerivedKind { Rig };
+
+struct StoredSource {
+    std::string bytes;
+    std::string extension;  // as given to put_source, e.g. "glb"
+};
+
+// Exactly 64 lowercase hexadecimal digits (a SHA-256 in hex), the only ids the store accepts.
+bool is_asset_id(std::string_view text);
+
+// Lowercase, without the dot: environments exr, hdr, png, jpg, jpeg, tif, tiff;
+// meshes glb, gltf, obj.
+std::span<const std::string_view> allowed_extensions(SourceKind kind);
+
+class AssetStore {
+  public:
+    using Log = std::function<void(std::string_view line)>;
+
+    // Creates the folder and its sub-folders if missing, and removes temporary files that an
+    // interrupted write left behind. Failures throw oer::Error (Io). Corrupt entries and
+    // removed temporary files are reported to log, one line each.
+    explicit AssetStore(std::filesystem::path folder, Log log = log_line);
+
+    const std::filesystem::path& folder() const { return folder_; }
+
+    // Stores the bytes (again, if already there) and returns their id. An extension not allowed
+    // for the kind throws oer::Error (Unsupported); the same bytes already stored under another
+    // extension throw oer::Error (InvalidInput).
+    std::string put_source(SourceKind kind, std::string_view bytes, std::string_view extension);
+    // nullopt when absent, or when the entry was corrupt (then it is logged and deleted). Reads
+    // and hashes the whole entry, so hot assets belong in a ByteLruCache in front of the store.
+    std::optional<StoredSource> get_source(SourceKind kind, std::string_view id);
+
+    void put_derived(DerivedKind kind, std::string_view id, std::string_view bytes);
+    // nullopt when absent, or when the entry was corrupt (then it is logged and deleted).
+    std::optional<std::string> get_derived(DerivedKind kind, std::string_view id);
+
+    // Whether an entry is on disk; cheap, so unchecked: only a get verifies the bytes.
+    bool contains(SourceKind kind, std::string_view id) const;
+    bool contains(DerivedKind kind, std::string_view id) const;
+
+    bool remove(SourceKind kind, std::string_view id);  // true if there was an entry
+    bool remove(DerivedKind kind, std::string_view id);
+
+    // Every operation taking an id throws oer::Error (InvalidInput) for one that is not
+    // is_asset_id, and every operation throws oer::Error (Io) when the file system fails.
+
+  private:
+    std::optional<std::filesystem::path> find_source(SourceKind kind, std::string_view id) const;
+    std::filesystem::path derived_path(DerivedKind kind, std::string_view id) const;
+    std::mutex& lock_for(std::string_view id);
+    void drop_corrupt(const std::filesystem::path& path, const std::string& reason);
+
+    const std::filesystem::path folder_;
+    const Log log_;
+    std::array<std::mutex, 256> id_locks_;  // chosen by an id's first two hex digits
+};
+
+}  // namespace oer::server

@@ -1,0 +1,59 @@
+#pragma once
+// The service's configuration from command-line flags and environment variables. Every flag
+// --name is also the variable OER_NAME (upper case, dashes as underscores), so a container
+// can be configured without a command line; a flag wins over its variable. One table of
+// options in service_config.cpp drives parsing, the defaults and the --help text.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace oer::server {
+
+struct ServiceConfig {
+    std::string host = "127.0.0.1";
+    int port = 8080;  // 0: the system picks a free port
+    std::filesystem::path data_dir = "./oer-data";
+    std::string api_key;                    // empty: no key required
+    std::vector<std::string> cors_origins;  // empty: no CORS headers; "*" allows any origin
+    std::uint64_t max_upload_bytes = 256ull << 20;
+    std::uint64_t max_image_pixels = 64ull << 20;  // 8192 x 8192
+    std::uint64_t max_triangles = 5'000'000;
+    int max_frame_width = 4096;
+    int max_frame_height = 4096;
+    int max_queue_depth = 16;  // render requests waiting; more are answered 503
+    int render_workers = 1;
+    int request_timeout_seconds = 30;
+    int idle_timeout_seconds = 5;  // keep-alive connections idle longer are closed
+    int keep_alive_max_count = 100;
+    int http_threads = 8;
+    std::uint64_t frame_cache_bytes = 256ull << 20;  // 0: no frame cache
+    bool access_log = true;                          // one line per request on stderr
+};
+
+// The value of an environment variable, or nullopt when it is not set. Tests pass a map's
+// lookup; the service passes process_environment.
+using EnvironmentLookup = std::function<std::optional<std::string>(const std::string& name)>;
+std::optional<std::string> process_environment(const std::string& name);
+
+// "data-dir" -> "OER_DATA_DIR".
+std::string environment_variable_of(const std::string& flag);
+
+struct ServiceCommandLine {
+    bool help = false;  // --help (or -h) was given: print service_help_text() and exit
+    ServiceConfig config;
+};
+
+// arguments: argv without the program name; "--name value" or "--name=value", the last one
+// given counts. Unknown flags, missing values and invalid values (from a flag or a variable)
+// throw oer::api::InvalidParameter naming the flag or the variable and the problem, e.g.
+// --port: expected an integer 0..65535, got "abc"
+ServiceCommandLine parse_service_command_line(const std::vector<std::string>& arguments,
+                                              const EnvironmentLookup& environment);
+
+// Usage, then every option with its value, meaning, variable and default.
+std::string service_help_text();
+
+}  // namespace oer::server

@@ -1,0 +1,251 @@
+#include "oer/server/service_config.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdlib>
+#include <map>
+#include <string_view>
+
+#include "oer/api/invalid_parameter.hpp"
+#include "quoted_excerpt.hpp"
+
+namespace oer::server {
+
+namespace {
+
+using api::InvalidParameter;
+
+// One option: how it is spelled, what it means, how a value is stored in the configuration and
+// how the configuration's value is shown as the default in --help.
+struct Option {
+    std::string_view flag;  // without the leading "--"
+    std::string_view value_name;
+    std::string_view meaning;
+    // source: "--flag" or "OER_FLAG", whichever gave the text, for the error message.
+    std::function<void(ServiceConfig&, const std::string& source, const std::string& text)> set;
+    std::function<std::string(const ServiceConfig&)> show;
+};
+
+template <class Integer>
+Option integer_option(std::string_view flag, std::string_view value_name, std::string_view meaning,
+                      Integer ServiceConfig::*member, std::uint64_t low, std::uint64_t high) {
+    return Option{flag, value_name, meaning,
+                  [member, low, high](ServiceConfig& config, const std::string& source,
+                                      const std::string& text) {
+                      std::uint64_t value = 0;
+                      const auto [end, error] =
+                          std::from_chars(text.data(), text.data() + text.size(), value);
+                      if (error != std::errc() || end != text.data() + text.size() || value < low ||
+                          value > high) {
+                          throw InvalidParameter(
+                              source, "expected an integer " + std::to_string(low) + ".." +
+                                          std::to_string(high) + ", got " + quoted_excerpt(text));
+                      }
+                      config.*member = Integer(value);
+                  },
+                  [member](const ServiceConfig& config) { return std::to_string(config.*member); }};
+}
+
+Option text_option(std::string_view flag, std::string_view value_name, std::string_view meaning,
+                   std::string ServiceConfig::*member, bool may_be_empty) {
+    return Option{flag, value_name, meaning,
+                  [member, may_be_empty](ServiceConfig& config, const std::string& source,
+                                         const std::string& text) {
+                      if (text.empty() && !may_be_empty) {
+                          throw InvalidParameter(source, "expected a non-empty value");
+                      }
+                      config.*member = text;
+                  },
+                  [member](const ServiceConfig& config) { return config.*member; }};
+}
+
+std::string_view trimmed(std::string_view text) {
+    const auto first = text.find_first_not_of(" \t");
+    if (first == std::string_view::npos) {
+        return {};
+    }
+    return text.substr(first, text.find_last_not_of(" \t") - first + 1);
+}
+
+// "https://a.example, http://b.example:3000" or "*"; an origin is a scheme and a host (and a
+// port), never a path, so it carries no trailing slash.
+std::vector<std::string> parse_origins(const std::string& source, const std::string& text) {
+    std::vector<std::string> origins;
+    if (trimmed(text).empty()) {
+        return origins;
+    }
+    std::string_view rest = text;
+    while (true) {
+        const auto comma = rest.find(',');
+        const std::string_view origin = trimmed(rest.substr(0, comma));
+        const bool has_scheme = origin.starts_with("http://") || origin.starts_with("https://");
+        if (origin != "*" && (!has_scheme || origin.ends_with('/') ||
+                              origin.find_first_of(" \t") != std::string_view::npos)) {
+            throw InvalidParameter(source,
+                                   "expected a comma-separated list of origins like "
+                                   "https://shop.example or *, got " +
+                                       quoted_excerpt(origin));
+        }
+        origins.emplace_back(origin);
+        if (comma == std::string_view::npos) {
+            return origins;
+        }
+        rest.remove_prefix(comma + 1);
+    }
+}
+
+std::string join(const std::vector<std::string>& items) {
+    std::string text;
+    for (const std::string& item : items) {
+        text += (text.empty() ? "" : ",") + item;
+    }
+    return text;
+}
+
+const std::vector<Option>& options() {
+    static const std::vector<Option> table{
+        text_option("host", "ADDRESS", "address to listen on", &ServiceConfig::host, false),
+        integer_option("port", "PORT", "TCP port to listen on; 0 picks a free one",
+                       &ServiceConfig::port, 0, 65535),
+        Option{"data-dir", "DIR", "folder of the asset store, created if missing",
+               [](ServiceConfig& config, const std::string& source, const std::string& text) {
+                   if (text.empty()) {
+                       throw InvalidParameter(source, "expected a folder, got an empty value");
+                   }
+                   config.data_dir = text;
+               },
+               [](const ServiceConfig& config) { return config.data_dir.string(); }},
+        text_option("api-key", "KEY", "key every request must carry; empty: none",
+                    &ServiceConfig::api_key, true),
+        Option{"cors-origins", "LIST",
+               "comma-separated origins allowed to call the API from a browser (* for any); "
+               "empty: none",
+               [](ServiceConfig& config, const std::string& source, const std::string& text) {
+                   config.cors_origins = parse_origins(source, text);
+               },
+               [](const ServiceConfig& config) { return join(config.cors_origins); }},
+        integer_option("max-upload-bytes", "BYTES", "largest request body",
+                       &ServiceConfig::max_upload_bytes, 1, 1ull << 40),
+        integer_option("max-image-pixels", "PIXELS", "largest environment map (width x height)",
+                       &ServiceConfig::max_image_pixels, 1, 1ull << 32),
+        integer_option("max-triangles", "COUNT", "most triangles in one mesh",
+                       &ServiceConfig::max_triangles, 1, 1ull << 32),
+        integer_option("max-frame-width", "PIXELS", "widest frame a request may ask for",
+                       &ServiceConfig::max_frame_width, 1, 16384),
+        integer_option("max-frame-height", "PIXELS", "tallest frame a request may ask for",
+                       &ServiceConfig::max_frame_height, 1, 16384),
+        integer_option("max-queue-depth", "COUNT",
+                       "render requests that may wait; more are answered 503",
+                       &ServiceConfig::max_queue_depth, 1, 10000),
+        integer_option("render-workers", "COUNT", "frames rendered at once",
+                       &ServiceConfig::render_workers, 1, 64),
+        integer_option("request-timeout-seconds", "SECONDS",
+                       "longest a request may take to arrive or be answered",
+                       &ServiceConfig::request_timeout_seconds, 1, 3600),
+        integer_option("idle-timeout-seconds", "SECONDS",
+                       "longest an idle keep-alive connection stays open",
+                       &ServiceConfig::idle_timeout_seconds, 1, 3600),
+        integer_option("keep-alive-max-count", "COUNT", "most requests on one connection",
+                       &ServiceConfig::keep_alive_max_count, 1, 100000),
+        integer_option("http-threads", "COUNT", "threads serving HTTP connections",
+                       &ServiceConfig::http_threads, 1, 1024),
+        integer_option("frame-cache-bytes", "BYTES", "memory for encoded frames; 0: no cache",
+                       &ServiceConfig::frame_cache_bytes, 0, 1ull << 40),
+        Option{"access-log", "on|off", "one line per request on stderr",
+               [](ServiceConfig& config, const std::string& source, const std::string& text) {
+                   if (text != "on" && text != "off") {
+                       throw InvalidParameter(source,
+                                              "expected on or off, got " + quoted_excerpt(text));
+                   }
+                   config.access_log = text == "on";
+               },
+               [](const ServiceConfig& config) {
+                   return std::string(config.access_log ? "on" : "off");
+               }},
+    };
+    return table;
+}
+
+const Option* find_option(std::string_view flag) {
+    const auto& table = options();
+    const auto found =
+        std::find_if(table.begin(), table.end(), [&](const Option& o) { return o.flag == flag; });
+    return found == table.end() ? nullptr : &*found;
+}
+
+}  // namespace
+
+std::optional<std::string> process_environment(const std::string& name) {
+    const char* value = std::getenv(name.c_str());
+    return value ? std::optional<std::string>(value) : std::nullopt;
+}
+
+std::string environment_variable_of(const std::string& flag) {
+    std::string name = "OER_";
+    for (const char c : flag) {
+        name += c == '-' ? '_' : char(std::toupper(static_cast<unsigned char>(c)));
+    }
+    return name;
+}
+
+ServiceCommandLine parse_service_command_line(const std::vector<std::string>& arguments,
+                                              const EnvironmentLookup& environment) {
+    ServiceCommandLine command_line;
+    std::map<std::string_view, std::string> given;  // flag -> text of its last occurrence
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string& argument = arguments[i];
+        if (argument == "--help" || argument == "-h") {
+            command_line.help = true;
+            return command_line;
+        }
+        if (!argument.starts_with("--")) {
+            throw InvalidParameter(argument, "unexpected argument; options are --name VALUE");
+        }
+        const auto equals = argument.find('=');
+        const std::string flag =
+            argument.substr(2, equals == std::string::npos ? equals : equals - 2);
+        const Option* option = find_option(flag);
+        if (option == nullptr) {
+            throw InvalidParameter("--" + flag, "unknown option (oer-server --help lists them)");
+        }
+        if (equals != std::string::npos) {
+            given[option->flag] = argument.substr(equals + 1);
+        } else if (i + 1 < arguments.size()) {
+            given[option->flag] = arguments[++i];
+        } else {
+            throw InvalidParameter("--" + flag,
+                                   "missing value (" + std::string(option->value_name) + ")");
+        }
+    }
+    for (const Option& option : options()) {
+        const std::string flag(option.flag);
+        if (const auto found = given.find(option.flag); found != given.end()) {
+            option.set(command_line.config, "--" + flag, found->second);
+        } else if (const std::string variable = environment_variable_of(flag);
+                   const auto value = environment(variable)) {
+            option.set(command_line.config, variable, *value);
+        }
+    }
+    return command_line;
+}
+
+std::string service_help_text() {
+    const ServiceConfig defaults;
+    std::string text =
+        "Usage: oer-server [--NAME VALUE | --NAME=VALUE]... | --help\n"
+        "\n"
+        "Every option is also the environment variable OER_NAME (upper case, dashes as\n"
+        "underscores); an option on the command line wins over its variable.\n"
+        "\n";
+    for (const Option& option : options()) {
+        const std::string shown = option.show(defaults);
+        text += "  --" + std::string(option.flag) + " " + std::string(option.value_name) +
+                "\n      " + std::string(option.meaning) + " (" +
+                environment_variable_of(std::string(option.flag)) +
+                "; default: " + (shown.empty() ? "none" : shown) + ")\n";
+    }
+    return text;
+}
+
+}  // namespace oer::server
