@@ -115,6 +115,13 @@ std::string element(const char* name, std::size_t i) {
     return text;
 }
 
+// The largest factor by which a transform stretches a length: a mesh-space error times it bounds
+// the world-space error.
+float largest_scale(const glm::mat4& transform) {
+    return std::max({glm::length(glm::vec3(transform[0])), glm::length(glm::vec3(transform[1])),
+                     glm::length(glm::vec3(transform[2]))});
+}
+
 // Surface kinds, the geometry pass's stencil values; each has its own shading program.
 constexpr int kBackgroundSurface = 0;
 constexpr int kObjectSurface = 1;
@@ -483,13 +490,14 @@ Frame FrameRenderer::render(const FrameRequest& request) {
                 glUseProgram(depth.id());
                 glUniformMatrix4fv(depth.uniform("u_view_projection"), 1, GL_FALSE,
                                    glm::value_ptr(light_matrices[i]));
+                // Detail down to half a shadow-map texel.
+                const float texel = 2.0f * scene.radius / float(resolution);
                 for (const SceneObject& object : request.objects) {
                     glUniformMatrix4fv(depth.uniform("u_model"), 1, GL_FALSE,
                                        glm::value_ptr(object.transform));
+                    const float max_error = 0.5f * texel / largest_scale(object.transform);
                     for (const GpuPrimitive& primitive : state.mesh(object.mesh).gpu.primitives) {
-                        glBindVertexArray(primitive.vertex_array.get());
-                        glDrawElements(GL_TRIANGLES, primitive.index_count, GL_UNSIGNED_INT,
-                                       nullptr);
+                        draw_primitive(primitive, max_error);
                     }
                 }
             },
@@ -538,9 +546,18 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     glUseProgram(geometry.id());
     glUniformMatrix4fv(geometry.uniform("u_view_projection"), 1, GL_FALSE,
                        glm::value_ptr(view_projection));
+    glUniform3fv(geometry.uniform("u_eye"), 1, glm::value_ptr(camera.eye));
+    // Detail down to half a sample at the nearest point of a mesh's bounding sphere.
+    const float sample_size_per_distance =
+        2.0f * std::tan(glm::radians(camera.fov_y_degrees) / 2.0f) / float(samples_high);
     const auto draw = [&](const Mesh& mesh, const GpuMesh& gpu, const glm::mat4& model,
                           const std::optional<glm::vec3>& base_override, int surface_kind) {
         glStencilFunc(GL_ALWAYS, surface_kind, 0xff);
+        const float scale = largest_scale(model);
+        const glm::vec3 centre = glm::vec3(model * glm::vec4(mesh.bounds.centre(), 1.0f));
+        const float radius = 0.5f * glm::length(mesh.bounds.max - mesh.bounds.min) * scale;
+        const float distance = std::max(near_plane, glm::length(camera.eye - centre) - radius);
+        const float max_error = 0.5f * sample_size_per_distance * distance / scale;
         glUniformMatrix4fv(geometry.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
         glUniformMatrix3fv(geometry.uniform("u_normal_matrix"), 1, GL_FALSE,
@@ -561,8 +578,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
             const float alpha = std::max(0.02f, material.roughness * material.roughness);
             glUniform1f(geometry.uniform("u_shininess"),
                         std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f));
-            glBindVertexArray(primitive.vertex_array.get());
-            glDrawElements(GL_TRIANGLES, primitive.index_count, GL_UNSIGNED_INT, nullptr);
+            draw_primitive(primitive, max_error);
         }
     };
     for (const SceneObject& object : request.objects) {

@@ -159,13 +159,17 @@ uniform int u_has_texture;
 layout(binding = 0) uniform sampler2D u_base_texture;
 uniform float u_specular_weight;  // 0: Lambertian only
 uniform float u_shininess;
+uniform vec3 u_eye;
 layout(location = 0) out vec4 o_position;  // world position
 layout(location = 1) out vec4 o_normal;    // world normal on the side seen, shininess
 layout(location = 2) out vec4 o_albedo;    // linear albedo, specular weight
 void main() {
     vec3 n = normalize(v_normal);
-    if (!gl_FrontFacing) {
-        n = -n;  // open meshes (the bunny's base) show their inside lit as a surface
+    // Open meshes (the bunny's base) show their inside, lit as a surface: a back face whose
+    // normals also face away. A back face whose normals face the eye is a fold, such as
+    // simplification leaves in slivers, and keeps them.
+    if (!gl_FrontFacing && dot(n, u_eye - v_world_position) < 0.0) {
+        n = -n;
     }
     vec3 albedo = u_base_color.rgb;
     if (u_has_texture != 0) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace oer {
 
@@ -42,6 +43,14 @@ gl::Object upload_texture(const Texture& texture) {
 
 }  // namespace
 
+void draw_primitive(const GpuPrimitive& primitive, float max_error) {
+    const LodLevel& level = choose_lod(primitive.lods, max_error);
+    glBindVertexArray(primitive.vertex_array.get());
+    glDrawElements(
+        GL_TRIANGLES, GLsizei(level.index_count), GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(std::uintptr_t(level.first_index) * sizeof(std::uint32_t)));
+}
+
 GpuMesh upload_mesh(const Mesh& mesh) {
     GpuMesh gpu;
     for (const Primitive& primitive : mesh.primitives) {
@@ -56,9 +65,10 @@ GpuMesh upload_mesh(const Mesh& mesh) {
             out.buffers.push_back(upload_buffer(primitive.texcoords));
             attach(vao, out.buffers.back().get(), 2, 2);
         }
-        out.buffers.push_back(upload_buffer(primitive.indices));
+        LodIndices lods = build_lods(primitive);
+        out.buffers.push_back(upload_buffer(lods.indices));
         glVertexArrayElementBuffer(vao, out.buffers.back().get());
-        out.index_count = GLsizei(primitive.indices.size());
+        out.lods = std::move(lods.levels);
         out.material = primitive.material;
         gpu.primitives.push_back(std::move(out));
     }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "gl_objects.hpp"
+#include "mesh_lod.hpp"
 #include "oer/mesh.hpp"
 
 namespace oer {
@@ -13,9 +14,13 @@ namespace oer {
 struct GpuPrimitive {
     gl::Object vertex_array;
     std::vector<gl::Object> buffers;
-    GLsizei index_count = 0;
+    std::vector<LodLevel> lods;  // finest first; their indices share one element buffer
     int material = 0;
 };
+
+// Draws the coarsest level of the primitive (its vertex array bound) whose error is at most
+// max_error, in the mesh's units.
+void draw_primitive(const GpuPrimitive& primitive, float max_error);
 
 struct GpuMesh {
     std::vector<GpuPrimitive> primitives;
