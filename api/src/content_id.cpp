@@ -38,6 +38,10 @@ std::string sha256_hex(std::string_view text) {
     return digest_hex(text.data(), text.size());
 }
 
+bool is_content_id(std::string_view text) {
+    return text.size() == 64 && text.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
 std::string rig_id(const std::string& source_digest, const RigOptions& options) {
     return sha256_hex("oer-rig-v1\n" + source_digest + "\n" + rig_options_to_json(options).dump());
 }

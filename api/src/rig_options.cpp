@@ -1,53 +1,14 @@
 #include "oer/api/rig_options.hpp"
 
-#include <charconv>
-#include <cmath>
 #include <functional>
 
 #include "oer/api/invalid_parameter.hpp"
+#include "oer/api/parameter_text.hpp"
 #include "oer/enum_names.hpp"
 
 namespace oer::api {
 
 namespace {
-
-long long parse_integer(const std::string& name, const std::string& text, long long low,
-                        long long high) {
-    long long value = 0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size() || text.empty()) {
-        throw InvalidParameter(name, "expected an integer, got '" + text + "'");
-    }
-    if (value < low || value > high) {
-        throw InvalidParameter(name, "must be in " + std::to_string(low) + ".." +
-                                         std::to_string(high) + ", got " + text);
-    }
-    return value;
-}
-
-double parse_number(const std::string& name, const std::string& text, double low, double high) {
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size() || text.empty() ||
-        !std::isfinite(value)) {
-        throw InvalidParameter(name, "expected a finite number, got '" + text + "'");
-    }
-    if (value < low || value > high) {
-        throw InvalidParameter(name, "must be in [" + std::to_string(low) + ", " +
-                                         std::to_string(high) + "], got " + text);
-    }
-    return value;
-}
-
-template <typename Enum>
-Enum parse_enum(const std::string& name, const std::string& text,
-                const std::function<Enum(const std::string&)>& from_string) {
-    try {
-        return from_string(text);
-    } catch (const Error& error) {
-        throw InvalidParameter(name, error.what());
-    }
-}
 
 constexpr EnumNames<WindowChoice, 4> kWindowChoiceNames = {{{WindowChoice::None, "none"},
                                                             {WindowChoice::Hanning, "hanning"},
@@ -95,7 +56,7 @@ const std::map<std::string, Setter>& setters() {
          }},
         {"window",
          [](RigOptions& o, const std::string& n, const std::string& v) {
-             o.window = parse_enum<WindowChoice>(n, v, window_choice_from_string);
+             o.window = parse_enum(n, v, window_choice_from_string);
          }},
         {"window_cutoff",
          [](RigOptions& o, const std::string& n, const std::string& v) {
@@ -103,11 +64,11 @@ const std::map<std::string, Setter>& setters() {
          }},
         {"model",
          [](RigOptions& o, const std::string& n, const std::string& v) {
-             o.model = parse_enum<LightingModel>(n, v, lighting_model_from_string);
+             o.model = parse_enum(n, v, lighting_model_from_string);
          }},
         {"clustering",
          [](RigOptions& o, const std::string& n, const std::string& v) {
-             o.location.clustering = parse_enum<Clustering>(n, v, clustering_from_string);
+             o.location.clustering = parse_enum(n, v, clustering_from_string);
          }},
         {"blur_radius",
          [](RigOptions& o, const std::string& n, const std::string& v) {
@@ -144,6 +105,14 @@ const std::map<std::string, Setter>& setters() {
 
 bool is_rig_option(const std::string& name) {
     return setters().contains(name);
+}
+
+std::vector<std::string> rig_option_names() {
+    std::vector<std::string> names;
+    for (const auto& [name, setter] : setters()) {
+        names.push_back(name);
+    }
+    return names;
 }
 
 RigOptions parse_rig_options(const std::map<std::string, std::string>& parameters) {

@@ -1,5 +1,6 @@
 #include "command_line.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -62,6 +63,12 @@ int parse_int(const std::string& flag, const std::string& text, int low, int hig
                          std::to_string(high) + ", got '" + text + "'");
     }
     return int(value);
+}
+
+UsageError usage_error(const api::InvalidParameter& error) {
+    std::string flag = error.parameter();
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return UsageError("--" + flag + std::string(error.what()).substr(error.parameter().size()));
 }
 
 std::pair<int, int> parse_size(const std::string& flag, const std::string& text, int max) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "oer/api/invalid_parameter.hpp"
+
 namespace oer::cli {
 
 // A usage mistake: the message is printed with the command's usage, exit status 2.
@@ -34,6 +36,10 @@ CommandLine parse_command_line(const std::vector<std::string>& arguments,
 // A finite number, and an integer in [low, high]; throw UsageError naming --flag.
 double parse_double(const std::string& flag, const std::string& text);
 int parse_int(const std::string& flag, const std::string& text, int low, int high);
+
+// A parameter the api's parsers rejected, named as the flag that gave it: "shadow_filter: ..."
+// becomes "--shadow-filter: ..." (flags are the api's names with '-' for '_').
+UsageError usage_error(const api::InvalidParameter& error);
 
 // "640x480" -> {640, 480}; each in 1..max.
 std::pair<int, int> parse_size(const std::string& flag, const std::string& text, int max);

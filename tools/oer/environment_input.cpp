@@ -60,11 +60,6 @@ std::string flag_to_option(std::string flag) {
     return flag;
 }
 
-std::string option_to_flag(std::string option) {
-    std::replace(option.begin(), option.end(), '_', '-');
-    return "--" + option;
-}
-
 }  // namespace
 
 EnvironmentInput read_environment(const std::string& map, const CommandLine& line) {
@@ -120,8 +115,7 @@ RigOptions rig_options_from(const CommandLine& line) {
     try {
         return api::parse_rig_options(parameters);
     } catch (const api::InvalidParameter& error) {
-        throw UsageError(option_to_flag(error.parameter()) +
-                         std::string(error.what()).substr(error.parameter().size()));
+        throw usage_error(error);
     }
 }
 

@@ -10,6 +10,8 @@
 #include "commands.hpp"
 #include "environment_input.hpp"
 #include "oer/api/light_switches.hpp"
+#include "oer/api/parameter_text.hpp"
+#include "oer/api/render_request.hpp"
 #include "oer/default_product.hpp"
 #include "oer/error.hpp"
 #include "oer/frame_renderer.hpp"
@@ -21,57 +23,6 @@
 namespace oer::cli {
 
 namespace {
-
-glm::vec3 parse_vector(const std::string& flag, const std::string& text) {
-    glm::vec3 v{0.0f};
-    std::size_t start = 0;
-    for (int i = 0; i < 3; ++i) {
-        const std::size_t end = i < 2 ? text.find(',', start) : text.size();
-        if (end == std::string::npos) {
-            throw UsageError("--" + flag + " expects X,Y,Z, got '" + text + "'");
-        }
-        try {
-            std::size_t used = 0;
-            const std::string part = text.substr(start, end - start);
-            v[i] = std::stof(part, &used);
-            if (used != part.size() || !std::isfinite(v[i])) {
-                throw std::invalid_argument(part);
-            }
-        } catch (const std::exception&) {
-            throw UsageError("--" + flag + " expects X,Y,Z as finite numbers, got '" + text + "'");
-        }
-        start = end + 1;
-    }
-    return v;
-}
-
-bool parse_on_off(const std::string& flag, const std::string& text) {
-    if (text == "on" || text == "off") {
-        return text == "on";
-    }
-    throw UsageError("--" + flag + " expects on or off, got '" + text + "'");
-}
-
-Background parse_background(const std::string& text) {
-    Background background;
-    if (text == "env") {
-        return background;
-    }
-    if (text == "transparent") {
-        background.kind = BackgroundKind::Transparent;
-        return background;
-    }
-    if (text.size() == 7 && text[0] == '#' &&
-        text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
-        background.kind = BackgroundKind::Colour;
-        for (int i = 0; i < 3; ++i) {
-            background.colour[i] =
-                float(std::stoi(text.substr(1 + 2 * i, 2), nullptr, 16)) / 255.0f;
-        }
-        return background;
-    }
-    throw UsageError("--background expects env, transparent or #rrggbb, got '" + text + "'");
-}
 
 std::string extension_of(const std::string& path) {
     const std::size_t dot = path.rfind('.');
@@ -118,31 +69,41 @@ int render_command(const std::vector<std::string>& arguments) {
     const auto [width, height] = parse_size("size", line.value("size").value_or("512x512"), 16384);
     request.width = width;
     request.height = height;
-    if (line.value("eye") || line.value("target")) {
-        Camera camera;
-        camera.eye = parse_vector("eye", line.value("eye").value_or("0,0,3"));
-        camera.target = parse_vector("target", line.value("target").value_or("0,0,0"));
-        camera.up = parse_vector("up", line.value("up").value_or("0,1,0"));
-        camera.fov_y_degrees = float(parse_double("fov", line.value("fov").value_or("45")));
-        request.camera = camera;
-    }
     const std::vector<double> switches =
         api::parse_light_switches(line.value("lights"), rig->lights.size());
     for (const double on : switches) {
         request.lights.push_back(on > 0.5);
     }
-    request.ground = parse_on_off("ground", line.value("ground").value_or("on"));
-    request.background = parse_background(line.value("background").value_or("env"));
+    // Values in the API's vocabulary go through its parsers, so the CLI and the service accept
+    // the same text.
+    try {
+        if (line.value("eye") || line.value("target")) {
+            const auto vector = [&line](const std::string& flag, const std::string& fallback) {
+                return glm::vec3(api::parse_vector3(flag, line.value(flag).value_or(fallback),
+                                                    -api::kMaxCoordinate, api::kMaxCoordinate));
+            };
+            Camera camera;
+            camera.eye = vector("eye", "0,0,3");
+            camera.target = vector("target", "0,0,0");
+            camera.up = vector("up", "0,1,0");
+            camera.fov_y_degrees = float(parse_double("fov", line.value("fov").value_or("45")));
+            request.camera = camera;
+        }
+        request.ground = api::parse_on_off("ground", line.value("ground").value_or("on"));
+        request.background =
+            api::parse_background("background", line.value("background").value_or("env"));
+        request.shadows.enabled =
+            api::parse_on_off("shadows", line.value("shadows").value_or("on"));
+        request.shadows.filter =
+            api::parse_enum("shadow_filter", line.value("shadow-filter").value_or("pcf"),
+                            api::shadow_filter_from_string);
+    } catch (const api::InvalidParameter& error) {
+        throw usage_error(error);
+    }
     request.tone_mapper = tone_mapper_from_string(line.value("tonemap").value_or("neutral"));
     request.exposure_ev = parse_double("exposure", line.value("exposure").value_or("0"));
-    request.shadows.enabled = parse_on_off("shadows", line.value("shadows").value_or("on"));
     request.shadows.resolution =
         parse_int("shadow-resolution", line.value("shadow-resolution").value_or("2048"), 16, 8192);
-    const std::string filter = line.value("shadow-filter").value_or("pcf");
-    if (filter != "pcf" && filter != "hard") {
-        throw UsageError("--shadow-filter expects pcf or hard, got '" + filter + "'");
-    }
-    request.shadows.filter = filter == "pcf" ? ShadowFilter::Pcf : ShadowFilter::Hard;
     request.samples = parse_int("samples", line.value("samples").value_or("4"), 1, 16);
     request.yaw_degrees = parse_double("yaw", line.value("yaw").value_or("0"));
     request.linear = format == "exr";

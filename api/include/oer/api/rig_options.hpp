@@ -4,6 +4,7 @@
 // light_count). One parser, so both accept and reject exactly the same values.
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +21,9 @@ RigOptions parse_rig_options(const std::map<std::string, std::string>& parameter
 
 // Is name one of the recognised option names?
 bool is_rig_option(const std::string& name);
+
+// Every recognised option name, sorted (for the published API description and its test).
+std::vector<std::string> rig_option_names();
 
 // Every option with defaults filled in, in a canonical form (the rig id hashes it).
 nlohmann::json rig_options_to_json(const RigOptions& options);

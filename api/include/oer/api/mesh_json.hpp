@@ -1,0 +1,24 @@
+#pragma once
+// A stored mesh described as JSON (the answer of POST /v1/meshes and GET /v1/meshes/{id}, the
+// schema `Mesh` of api/openapi.yaml), and the names of the mesh file formats.
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "oer/mesh.hpp"
+#include "oer/mesh_loading.hpp"
+
+namespace oer::api {
+
+std::string to_string(MeshFormat format);                     // "glb", "gltf", "obj"
+MeshFormat mesh_format_from_string(const std::string& name);  // throws oer::Error
+
+// { id, format (when known: the built-in product has none), counts {triangles, vertices,
+// primitives, materials, textures}, bounds {min, max}, materials [{name, base_color (linear
+// RGBA), has_texture, metallic, roughness, specular}], repairs {normals_replaced,
+// normals_renormalised}, warnings [...] }. Floats appear as their shortest decimal form.
+nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
+                            std::optional<MeshFormat> format = std::nullopt);
+
+}  // namespace oer::api

@@ -1,0 +1,144 @@
+#pragma once
+// A render request (DESIGN.md section 7) as the API receives it, ids not yet resolved: the JSON
+// body of POST /v1/render and the query parameters of GET /v1/render both parse into one
+// RenderSpec, so both forms accept the same requests and give the same canonical document and
+// ETag. api/openapi.yaml publishes the same names, enums and ranges.
+//
+// Names: a query parameter has the JSON member's name wherever both exist.
+//
+//   JSON body                                  GET query
+//   environment                                environment
+//   objects[i].mesh                            mesh (repeatable: one object each)
+//   objects[i].transform, objects[i].base_color  (JSON only; GET objects are untransformed)
+//   camera.eye, camera.target, camera.up       eye, target, up        (look-at camera)
+//   camera.orbit.{yaw,pitch,distance,target}   yaw, pitch, distance, target  (orbit camera)
+//   camera.fov_y                               fov_y
+//   lights: [true, false]                      lights=1,0
+//   ground: true | false                       ground=on|off
+//   shadows.enabled: true | false              shadows=on|off
+//   shadows.resolution, shadows.filter         shadow_resolution, shadow_filter
+//   environment_yaw                            environment_yaw
+//   width, height, format, quality, exposure, tonemap, background, samples: the same
+//
+// `yaw` and `pitch` always belong to the orbit camera; the environment's rotation about +Y is
+// `environment_yaw` in both forms. In the GET form, any of yaw, pitch, distance makes an orbit
+// camera (target is then the orbit's), otherwise eye and target make a look-at camera; with
+// neither, the scene is framed automatically.
+//
+// Errors: MalformedRequest when the body is not readable JSON (HTTP 400); oer::Error
+// (LimitExceeded) for a body over RenderLimits::max_body_bytes (413); InvalidParameter for
+// anything else, naming the member by its path ("objects/1/transform", "camera/orbit/pitch",
+// "body" for the document itself) or, in the GET form, the query parameter (422). Unknown
+// members and parameters are errors, so that a typo is never silently ignored.
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include "oer/camera.hpp"
+#include "oer/frame_renderer.hpp"
+
+namespace oer::api {
+
+struct RenderLimits {
+    int max_width = 4096;
+    int max_height = 4096;
+    std::size_t max_objects = 64;
+    std::size_t max_lights = 64;  // switches in one request, far above any rig's light count
+    int max_shadow_resolution = 8192;
+    std::size_t max_body_bytes = 256 << 10;  // 64 transformed objects: about 30 KiB compact
+};
+
+// Positions (eye, target) and transform entries stay within +-kMaxCoordinate: far inside float.
+inline constexpr double kMaxCoordinate = 1e6;
+
+enum class ImageFormat { Jpeg, Png, Exr };
+std::string to_string(ImageFormat format);                      // "jpeg", "png", "exr"
+ImageFormat image_format_from_string(const std::string& name);  // throws oer::Error
+
+std::string to_string(ShadowFilter filter);                       // "pcf", "hard"
+ShadowFilter shadow_filter_from_string(const std::string& name);  // throws oer::Error
+
+// "env", "transparent" or "#rrggbb" (either case); throws InvalidParameter naming `name`.
+Background parse_background(const std::string& name, const std::string& text);
+// The canonical text: "env", "transparent" or "#rrggbb" in lowercase.
+std::string to_string(const Background& background);
+
+struct ObjectSpec {
+    std::string mesh;                      // a content id or kDefaultPresetId
+    glm::dmat4 transform{1.0};             // world from mesh
+    std::optional<glm::dvec3> base_color;  // linear RGB in [0, 1]; empty: the mesh's materials
+};
+
+struct LookAtSpec {
+    glm::dvec3 eye{0.0};
+    glm::dvec3 target{0.0};
+    glm::dvec3 up{0.0, 1.0, 0.0};
+};
+
+// Angles in degrees, as oer::Orbit (whose defaults these are).
+struct OrbitSpec {
+    double yaw = Orbit{}.yaw_degrees;
+    double pitch = Orbit{}.pitch_degrees;
+    double distance = Orbit{}.distance;
+    glm::dvec3 target{0.0};
+};
+
+struct CameraSpec {
+    std::variant<LookAtSpec, OrbitSpec> placement;
+    double fov_y = Camera{}.fov_y_degrees;
+};
+
+struct RenderSpec {
+    std::string environment;  // a rig id or kDefaultPresetId
+    std::vector<ObjectSpec> objects;
+    bool ground = true;
+    std::optional<CameraSpec> camera;  // empty: frame the scene automatically
+    std::vector<bool> lights;          // one per rig light; empty: every light on
+    int width = 512;
+    int height = 512;
+    ImageFormat format = ImageFormat::Jpeg;
+    int quality = 85;       // JPEG quality, 1..100
+    double exposure = 0.0;  // EV
+    ToneMapper tonemap = ToneMapper::Neutral;
+    Background background;
+    ShadowOptions shadows;         // resolution: a power of two from 64 to the limit
+    int samples = 4;               // 1, 2, 4 or 8
+    double environment_yaw = 0.0;  // degrees about +Y, in [-360, 360]
+};
+
+RenderSpec parse_render_json(std::string_view body, const RenderLimits& limits = {});
+RenderSpec parse_render_query(const std::multimap<std::string, std::string>& query,
+                              const RenderLimits& limits = {});
+
+// Every JSON member the parser accepts, as a path ("objects/*/transform", "camera/orbit/yaw";
+// "*" stands for any array index), and every query parameter: the lists the parsers check
+// against, for the API description's test.
+const std::vector<std::string>& render_json_members();
+const std::vector<std::string>& render_query_parameters();
+
+// The request with every default filled in (objects' identity transforms included; the camera
+// and base colours only when given) and numbers as doubles (-0 as 0): equal requests, JSON or
+// GET, give equal documents. It is itself a valid request body.
+nlohmann::json normalised_render_json(const RenderSpec& spec);
+
+// A strong ETag, "\"<64 hex digits>\"": SHA-256 of the canonical document and the service's
+// version (a new version may draw the same request differently).
+std::string render_etag(const RenderSpec& spec);
+
+// The frame the spec asks for, once its ids are resolved: `meshes` holds one mesh per object, in
+// order; `environment` may be null unless the background is the environment. Throws
+// InvalidParameter("lights") when the switches do not match the rig's lights, and oer::Error
+// (Internal) when the resolved assets do not match the spec (a caller's bug).
+FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
+                              std::shared_ptr<const HdrImage> environment,
+                              const std::vector<std::shared_ptr<const Mesh>>& meshes);
+
+}  // namespace oer::api

@@ -1,0 +1,75 @@
+#include "oer/api/mesh_json.hpp"
+
+#include <array>
+#include <charconv>
+
+#include "oer/enum_names.hpp"
+
+namespace oer::api {
+
+namespace {
+
+constexpr EnumNames<MeshFormat, 3> kMeshFormatNames = {
+    {{MeshFormat::Glb, "glb"}, {MeshFormat::Gltf, "gltf"}, {MeshFormat::Obj, "obj"}}};
+
+// A float as the double with its shortest decimal text: 0.8f shows as 0.8, not as
+// 0.800000011920929 (the double nearest the float).
+double shortest(float value) {
+    std::array<char, 32> buffer{};
+    const auto written = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+    double result = value;
+    std::from_chars(buffer.data(), written.ptr, result);
+    return result;
+}
+
+template <typename Vector>
+nlohmann::json floats_json(const Vector& v) {
+    nlohmann::json list = nlohmann::json::array();
+    for (int i = 0; i < Vector::length(); ++i) {
+        list.push_back(shortest(v[i]));
+    }
+    return list;
+}
+
+}  // namespace
+
+std::string to_string(MeshFormat format) {
+    return name_of(format, kMeshFormatNames);
+}
+
+MeshFormat mesh_format_from_string(const std::string& name) {
+    return value_named(name, kMeshFormatNames, "mesh format");
+}
+
+nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
+                            std::optional<MeshFormat> format) {
+    nlohmann::json materials = nlohmann::json::array();
+    for (const Material& material : mesh.materials) {
+        materials.push_back({{"name", material.name},
+                             {"base_color", floats_json(material.base_color)},
+                             {"has_texture", material.base_color_texture >= 0},
+                             {"metallic", shortest(material.metallic)},
+                             {"roughness", shortest(material.roughness)},
+                             {"specular", material.specular}});
+    }
+    nlohmann::json json = {
+        {"id", id},
+        {"counts",
+         {{"triangles", mesh.triangle_count},
+          {"vertices", mesh.vertex_count},
+          {"primitives", mesh.primitives.size()},
+          {"materials", mesh.materials.size()},
+          {"textures", mesh.textures.size()}}},
+        {"bounds", {{"min", floats_json(mesh.bounds.min)}, {"max", floats_json(mesh.bounds.max)}}},
+        {"materials", std::move(materials)},
+        {"repairs",
+         {{"normals_replaced", mesh.repairs.normals_replaced},
+          {"normals_renormalised", mesh.repairs.normals_renormalised}}},
+        {"warnings", mesh.warnings}};
+    if (format) {
+        json["format"] = to_string(*format);
+    }
+    return json;
+}
+
+}  // namespace oer::api
