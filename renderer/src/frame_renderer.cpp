@@ -195,14 +195,22 @@ struct FrameRenderer::State {
     // Bakes the visibility of the frame's light `light` (the index among the lights that are
     // on) over the ground plane at ground_height into map.ground_visibility, from its depth,
     // which the shadow layers hold.
+    //
+    // A filtered shadow has no detail finer than its kernel, so the bake is made with about
+    // two texels per kernel radius (at most the shadow map's resolution): there the fixed
+    // 16-tap disc covers the kernel densely, and the bake costs a few thousand texels for a
+    // soft light instead of millions.
     void bake_ground_visibility(ShadowMap& map, int light, const glm::mat4& inverse_light_matrix,
-                                float ground_height, const std::string& lighting_defines,
+                                float ground_height, int shadow_resolution, float kernel_uv,
+                                bool filtered, const std::string& lighting_defines,
                                 const std::function<void(gl::Program&)>& set_light_uniforms) {
-        const GLint resolution = [&] {
-            GLint width = 0;
-            glGetTextureLevelParameteriv(map.depth.get(), 0, GL_TEXTURE_WIDTH, &width);
-            return width;
-        }();
+        int resolution = shadow_resolution;
+        if (filtered) {
+            resolution = 64;
+            while (resolution < shadow_resolution && float(resolution) * kernel_uv < 4.0f) {
+                resolution *= 2;
+            }
+        }
         map.ground_visibility = gl::create_texture(GL_TEXTURE_2D);
         glTextureStorage2D(map.ground_visibility.get(), 1, GL_R8, resolution, resolution);
         glNamedFramebufferTexture(bake_framebuffer.get(), GL_COLOR_ATTACHMENT0,
@@ -510,7 +518,8 @@ Frame FrameRenderer::render(const FrameRequest& request) {
         }
         if (!map.ground_visibility) {
             state.bake_ground_visibility(map, int(i), glm::inverse(light_matrices[i]),
-                                         scene.box.min.y, lighting_defines, set_light_uniforms);
+                                         scene.box.min.y, resolution, light_kernels[i], pcf,
+                                         lighting_defines, set_light_uniforms);
         }
         state.shadow_layers.hold_ground_visibility(layer, map);
     }

@@ -320,7 +320,8 @@ void main() {
         return;
     }
     vec3 point = mix(from, to, (u_ground_height - from.y) / (to.y - from.y));
-    o_visibility = visibility(u_light, point, vec3(0.0, 1.0, 0.0), disc_rotation(gl_FragCoord.xy));
+    // The disc is not turned: per-texel noise would be magnified over the ground into a pattern.
+    o_visibility = visibility(u_light, point, vec3(0.0, 1.0, 0.0), mat2(1.0));
 }
 )";
 

@@ -44,10 +44,27 @@ void ShadowLayers::hold_depth(int layer, const ShadowMap& map) {
 
 void ShadowLayers::hold_ground_visibility(int layer, const ShadowMap& map) {
     std::uint64_t& held = ground_visibility_serials_.at(std::size_t(layer));
-    if (held != map.serial) {
-        copy_layer(map.ground_visibility, ground_visibility_, layer, resolution_);
-        held = map.serial;
+    if (held == map.serial) {
+        return;
     }
+    GLint baked = 0;
+    glGetTextureLevelParameteriv(map.ground_visibility.get(), 0, GL_TEXTURE_WIDTH, &baked);
+    if (baked == resolution_) {
+        copy_layer(map.ground_visibility, ground_visibility_, layer, resolution_);
+    } else {
+        // A soft light's bake is smaller than the layer: magnified bilinearly.
+        if (!read_framebuffer_) {
+            read_framebuffer_ = gl::create_framebuffer();
+            draw_framebuffer_ = gl::create_framebuffer();
+        }
+        glNamedFramebufferTexture(read_framebuffer_.get(), GL_COLOR_ATTACHMENT0,
+                                  map.ground_visibility.get(), 0);
+        glNamedFramebufferTextureLayer(draw_framebuffer_.get(), GL_COLOR_ATTACHMENT0,
+                                       ground_visibility_.get(), 0, layer);
+        glBlitNamedFramebuffer(read_framebuffer_.get(), draw_framebuffer_.get(), 0, 0, baked, baked,
+                               0, 0, resolution_, resolution_, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    }
+    held = map.serial;
 }
 
 }  // namespace oer

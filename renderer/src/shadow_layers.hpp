@@ -31,6 +31,8 @@ class ShadowLayers {
     int resolution_ = 0;
     std::vector<std::uint64_t> depth_serials_;  // per layer: the ShadowMap it holds, 0 none
     std::vector<std::uint64_t> ground_visibility_serials_;
+    gl::Object read_framebuffer_;  // for magnifying a bake smaller than the layers
+    gl::Object draw_framebuffer_;
 };
 
 }  // namespace oer

@@ -16,7 +16,7 @@ namespace oer {
 
 struct ShadowMap {
     gl::Object depth;              // GL_DEPTH_COMPONENT32F, resolution squared
-    gl::Object ground_visibility;  // GL_R8, resolution squared; empty until baked
+    gl::Object ground_visibility;  // GL_R8, at most the depth's size; empty until baked
     std::uint64_t serial = 0;      // unique over the cache's life: identifies the contents
     std::uint64_t last_used = 0;
 };
