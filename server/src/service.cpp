@@ -256,8 +256,10 @@ void Service::Impl::stop() {
     context.reset();
     router.reset();
     server.reset();
-    frame_service.reset();
+    // The pool first: a frame whose client timed out may still be running, and its job uses
+    // the frame service.
     pool.reset();
+    frame_service.reset();
     ready = false;
     metrics.render_workers_ready.set(0);
 }
