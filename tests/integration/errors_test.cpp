@@ -49,7 +49,7 @@ class Errors : public ::testing::Test {
 
 TEST_F(Errors, MalformedJsonIs400) {
     for (const std::string body : {"{\"environment\": ", "{\"environment\": \"default\",}", "nul",
-                                    "{\"width\": 1e999999}"}) {
+                                   "{\"width\": 1e999999}"}) {
         const auto result = client_->Post("/v1/render", body, "application/json");
         expect_problem("POST", "/v1/render", result, 400);
     }

@@ -111,6 +111,7 @@ class RawSocket {
     RawSocket(const RawSocket&) = delete;
     RawSocket& operator=(const RawSocket&) = delete;
     bool ok() const { return fd_ >= 0; }
+    int fd() const { return fd_; }
     // false once the peer has closed or reset the connection.
     bool send_all(const std::string& bytes);
     // Whatever arrives within the timeout (empty on timeout); nullopt when the peer closed.
