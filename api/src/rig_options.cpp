@@ -151,4 +151,28 @@ nlohmann::json rig_options_to_json(const RigOptions& options) {
     return json;
 }
 
+RigOptions rig_options_from_json(const nlohmann::json& options) {
+    if (!options.is_object()) {
+        throw InvalidParameter("options", "expected an object");
+    }
+    // Each value back to the text a query would carry; number_text keeps every double exact.
+    std::map<std::string, std::string> parameters;
+    for (const auto& [name, value] : options.items()) {
+        if (value.is_string()) {
+            parameters[name] = value.get<std::string>();
+        } else if (value.is_boolean()) {
+            parameters[name] = value.get<bool>() ? "true" : "false";
+        } else if (value.is_number_unsigned()) {
+            parameters[name] = std::to_string(value.get<std::uint64_t>());
+        } else if (value.is_number_integer()) {
+            parameters[name] = std::to_string(value.get<std::int64_t>());
+        } else if (value.is_number_float()) {
+            parameters[name] = number_text(value.get<double>());
+        } else {
+            throw InvalidParameter(name, "expected a number, a boolean or a string");
+        }
+    }
+    return parse_rig_options(parameters);
+}
+
 }  // namespace oer::api

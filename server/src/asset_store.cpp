@@ -30,8 +30,8 @@ std::string_view folder_name(SourceKind kind) {
     return kind == SourceKind::Environment ? "environments" : "meshes";
 }
 
-std::string_view folder_name(DerivedKind) {
-    return "rigs";
+std::string_view folder_name(DerivedKind kind) {
+    return kind == DerivedKind::Rig ? "rigs" : "rig-sources";
 }
 
 std::string_view kind_name(SourceKind kind) {
@@ -206,7 +206,7 @@ AssetStore::AssetStore(fs::path folder, Log log)
     : folder_(std::move(folder)), log_(std::move(log)) {
     for (const std::string_view name :
          {folder_name(SourceKind::Environment), folder_name(SourceKind::Mesh),
-          folder_name(DerivedKind::Rig)}) {
+          folder_name(DerivedKind::Rig), folder_name(DerivedKind::RigSource)}) {
         const fs::path kind_folder = folder_ / name;
         std::error_code error;
         fs::create_directories(kind_folder, error);

@@ -28,4 +28,9 @@ std::vector<std::string> rig_option_names();
 // Every option with defaults filled in, in a canonical form (the rig id hashes it).
 nlohmann::json rig_options_to_json(const RigOptions& options);
 
+// The inverse of rig_options_to_json, through parse_rig_options (so a stored document is held
+// to the same ranges as a query): an object of option names to numbers, booleans or strings.
+// Throws InvalidParameter naming the offending option.
+RigOptions rig_options_from_json(const nlohmann::json& options);
+
 }  // namespace oer::api

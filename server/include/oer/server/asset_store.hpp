@@ -5,7 +5,8 @@
 // (a rig's id hashes its source and its options), sealed with a checksum of their payload.
 //
 // Layout: DIR/environments/<id>.<ext>, DIR/meshes/<id>.<ext> (the upload's bytes as they came,
-// the extension naming their format), DIR/rigs/<id>.sealed (a header line
+// the extension naming their format), DIR/rigs/<id>.sealed and DIR/rig-sources/<id>.sealed
+// (a header line
 // "oer-sealed-v1 <sha256 of payload> <payload length>\n", then the payload).
 //
 // Writes are atomic: a uniquely named temporary file beside the entry is written, flushed to
@@ -31,7 +32,9 @@
 namespace oer::server {
 
 enum class SourceKind { Environment, Mesh };
-enum class DerivedKind { Rig };
+// Rig: a preprocessed rig (its JSON and its light masks). RigSource: which source and options a
+// rig came from, kept apart so that a damaged rig can be recomputed from its source.
+enum class DerivedKind { Rig, RigSource };
 
 struct StoredSource {
     std::string bytes;

@@ -1,58 +1,22 @@
 #pragma once
-// A least-recently-used cache bounded by bytes rather than entries, because what it holds
-// (encoded frames, decoded assets) ranges from kilobytes to hundreds of megabytes. Values are
-// shared and immutable, so a reader keeps its value alive after the cache evicts it.
-#include <cstddef>
-#include <cstdint>
-#include <list>
+// The LRU cache of byte strings (encoded frames, previews): each entry is charged its key's and
+// its value's size.
 #include <memory>
-#include <mutex>
 #include <string>
-#include <unordered_map>
+
+#include "oer/server/shared_lru_cache.hpp"
 
 namespace oer::server {
 
-class ByteLruCache {
+class ByteLruCache : public SharedLruCache<std::string> {
   public:
-    struct Stats {
-        std::uint64_t hits = 0;
-        std::uint64_t misses = 0;
-        std::size_t entries = 0;
-        std::size_t bytes = 0;  // charged bytes: every entry's key size plus value size
-        std::size_t capacity_bytes = 0;
-    };
+    using SharedLruCache<std::string>::SharedLruCache;
 
-    explicit ByteLruCache(std::size_t capacity_bytes);
-
-    // The value and a hit (it becomes the most recently used), or nullptr and a miss.
-    std::shared_ptr<const std::string> get(const std::string& key);
-
-    // Stores or replaces key's value as the most recently used entry, evicting the least
-    // recently used ones until the total fits. An entry charged more than the capacity is not
-    // stored (and any older value under key is dropped, so a get never sees a stale one).
     // A null value throws oer::Error (Internal).
-    void put(const std::string& key, std::shared_ptr<const std::string> value);
-
-    bool erase(const std::string& key);  // true if key was there
-    Stats stats() const;
-
-  private:
-    struct Entry {
-        std::string key;
-        std::shared_ptr<const std::string> value;
-        std::size_t charge;
-    };
-    using Recency = std::list<Entry>;  // front: most recently used
-
-    void drop(Recency::iterator entry);  // with mutex_ held
-
-    mutable std::mutex mutex_;
-    const std::size_t capacity_bytes_;
-    std::size_t bytes_ = 0;
-    std::uint64_t hits_ = 0;
-    std::uint64_t misses_ = 0;
-    Recency recency_;
-    std::unordered_map<std::string, Recency::iterator> index_;
+    void put(const std::string& key, std::shared_ptr<const std::string> value) {
+        const std::size_t size = value ? value->size() : 0;
+        SharedLruCache<std::string>::put(key, std::move(value), size);
+    }
 };
 
 }  // namespace oer::server

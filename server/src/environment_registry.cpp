@@ -1,0 +1,185 @@
+#include "environment_registry.hpp"
+
+#include <chrono>
+#include <span>
+
+#include "oer/api/content_id.hpp"
+#include "oer/api/rig_from_json.hpp"
+#include "oer/api/rig_json.hpp"
+#include "oer/api/rig_options.hpp"
+#include "oer/default_environment.hpp"
+#include "oer/error.hpp"
+
+namespace oer::server {
+
+namespace {
+
+std::span<const std::byte> as_bytes(std::string_view text) {
+    return std::as_bytes(std::span(text.data(), text.size()));
+}
+
+std::size_t charge_of(const Environment& environment) {
+    std::size_t pixels = 0;
+    for (const Light& light : environment.rig->lights) {
+        pixels += light.pixels.size();
+    }
+    return environment.json.dump().size() + pixels * sizeof(std::uint32_t);
+}
+
+std::size_t charge_of(const HdrImage& image) {
+    return image.pixels.size() * sizeof(float);
+}
+
+}  // namespace
+
+EnvironmentRegistry::EnvironmentRegistry(AssetStore& store, ServiceMetrics& metrics, Log log,
+                                         const ImageLimits& limits, std::size_t cache_bytes)
+    : store_(store),
+      metrics_(metrics),
+      log_(std::move(log)),
+      limits_(limits),
+      // The decoded maps are the large objects (12 bytes a pixel); rigs are small.
+      rigs_(cache_bytes / 8),
+      images_(cache_bytes) {
+    auto image = std::make_shared<const HdrImage>(make_default_environment());
+    auto rig = std::make_shared<const Rig>(build_rig(*image, {}, RigOptions{}));
+    const std::string id(api::kDefaultPresetId);
+    preset_ =
+        std::make_shared<const Environment>(Environment{id, rig, api::rig_to_json(*rig, id), ""});
+    preset_image_ = std::move(image);
+}
+
+EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
+                                                        const std::string& extension,
+                                                        const RigOptions& options) {
+    const std::string source_id = api::sha256_hex(bytes);
+    const std::string rig_id = api::rig_id(source_id, options);
+    if (auto known = find(rig_id)) {
+        if (!store_.contains(SourceKind::Environment, source_id)) {
+            store_.put_source(SourceKind::Environment, bytes, extension);
+        }
+        return {std::move(known), true};
+    }
+    // Decoded before it is stored, so that bytes that are not a map never enter the store.
+    const auto start = std::chrono::steady_clock::now();
+    LoadedImage loaded = load_image_memory(as_bytes(bytes), "upload." + extension, limits_);
+    store_.put_source(SourceKind::Environment, bytes, extension);
+    auto environment = compute(loaded.image, loaded.repaired, options, source_id, rig_id);
+    metrics_.preprocess_seconds.observe(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    auto image = std::make_shared<const HdrImage>(std::move(loaded.image));
+    images_.put(source_id, image, charge_of(*image));
+    return {std::move(environment), false};
+}
+
+std::shared_ptr<const Environment> EnvironmentRegistry::find(const std::string& id) {
+    if (id == api::kDefaultPresetId) {
+        return preset_;
+    }
+    if (!api::is_content_id(id)) {
+        return nullptr;
+    }
+    if (auto known = rigs_.get(id)) {
+        metrics_.cache(CacheName::Rig, true);
+        return known;
+    }
+    metrics_.cache(CacheName::Rig, false);
+    return load_stored(id);
+}
+
+std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::string& id) {
+    const auto provenance_text = store_.get_derived(DerivedKind::RigSource, id);
+    if (!provenance_text) {
+        return nullptr;  // never preprocessed here (or its record is gone: so is the way back)
+    }
+    const auto provenance = nlohmann::json::parse(*provenance_text, nullptr, false);
+    if (provenance.is_discarded() || !provenance.contains("source") ||
+        !provenance["source"].is_string() || !provenance.contains("options")) {
+        log_("environments: record of rig " + id + " is unreadable; dropped");
+        store_.remove(DerivedKind::RigSource, id);
+        return nullptr;
+    }
+    const std::string source_id = provenance["source"].get<std::string>();
+    if (const auto stored = store_.get_derived(DerivedKind::Rig, id)) {
+        try {
+            const auto document = nlohmann::json::parse(*stored);
+            auto rig = std::make_shared<const Rig>(
+                api::rig_from_json(document.at("rig"), document.at("masks")));
+            auto environment = std::make_shared<const Environment>(
+                Environment{id, std::move(rig), document.at("rig"), source_id});
+            remember(environment);
+            return environment;
+        } catch (const std::exception& error) {
+            // Sealed yet unreadable: written by another version, or a bug. Recompute below.
+            log_("environments: stored rig " + id + " is unreadable (" + error.what() +
+                 "); dropped");
+            store_.remove(DerivedKind::Rig, id);
+        }
+    }
+    const auto source = api::is_content_id(source_id)
+                            ? store_.get_source(SourceKind::Environment, source_id)
+                            : std::nullopt;
+    if (!source) {
+        log_("environments: rig " + id + " is missing and its source " + source_id +
+             " is gone; cannot recompute");
+        return nullptr;
+    }
+    log_("environments: rig " + id + " is missing or was damaged; recomputing it from source " +
+         source_id);
+    const auto start = std::chrono::steady_clock::now();
+    LoadedImage loaded =
+        load_image_memory(as_bytes(source->bytes), "stored." + source->extension, limits_);
+    auto environment = compute(loaded.image, loaded.repaired,
+                               api::rig_options_from_json(provenance["options"]), source_id, id);
+    metrics_.preprocess_seconds.observe(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return environment;
+}
+
+std::shared_ptr<const Environment> EnvironmentRegistry::compute(const HdrImage& image,
+                                                                const RepairCounts& repaired,
+                                                                const RigOptions& options,
+                                                                const std::string& source_id,
+                                                                const std::string& rig_id) {
+    auto rig = std::make_shared<const Rig>(build_rig(image, repaired, options));
+    metrics_.rigs_computed.increment();
+    nlohmann::json json = api::rig_to_json(*rig, rig_id);
+    // The record of provenance first: a crash between the two writes leaves a rig that can be
+    // recomputed, never a rig whose source is unknown.
+    store_.put_derived(
+        DerivedKind::RigSource, rig_id,
+        nlohmann::json{{"source", source_id}, {"options", api::rig_options_to_json(options)}}
+            .dump());
+    store_.put_derived(
+        DerivedKind::Rig, rig_id,
+        nlohmann::json{{"rig", json}, {"masks", api::light_masks_to_json(*rig)}}.dump());
+    auto environment = std::make_shared<const Environment>(
+        Environment{rig_id, std::move(rig), std::move(json), source_id});
+    remember(environment);
+    return environment;
+}
+
+void EnvironmentRegistry::remember(const std::shared_ptr<const Environment>& environment) {
+    rigs_.put(environment->id, environment, charge_of(*environment));
+}
+
+std::shared_ptr<const HdrImage> EnvironmentRegistry::source_image(const Environment& environment) {
+    if (environment.source_id.empty()) {
+        return preset_image_;
+    }
+    if (auto image = images_.get(environment.source_id)) {
+        metrics_.cache(CacheName::Environment, true);
+        return image;
+    }
+    metrics_.cache(CacheName::Environment, false);
+    const auto source = store_.get_source(SourceKind::Environment, environment.source_id);
+    if (!source) {
+        return nullptr;
+    }
+    auto image = std::make_shared<const HdrImage>(
+        load_image_memory(as_bytes(source->bytes), "stored." + source->extension, limits_).image);
+    images_.put(environment.source_id, image, charge_of(*image));
+    return image;
+}
+
+}  // namespace oer::server

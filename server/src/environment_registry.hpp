@@ -1,0 +1,69 @@
+#pragma once
+// Environments and their rigs: uploads preprocessed once (by content id of bytes and options),
+// rigs kept in memory (LRU by bytes) in front of the asset store, stored rigs read back after a
+// restart without recomputation, a damaged stored rig recomputed from its source, and the
+// decoded maps (for backgrounds and previews) in an LRU of their own. The preset `default` is
+// the built-in studio with its rig at default options, made once at start-up.
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "oer/image_io.hpp"
+#include "oer/rig.hpp"
+#include "oer/server/asset_store.hpp"
+#include "oer/server/shared_lru_cache.hpp"
+#include "service_metrics.hpp"
+
+namespace oer::server {
+
+struct Environment {
+    std::string id;                  // the rig id, or kDefaultPresetId
+    std::shared_ptr<const Rig> rig;  // with its lights' pixel masks
+    nlohmann::json json;             // rig_to_json: the API's answer
+    std::string source_id;           // the map's content id; empty for the preset
+};
+
+class EnvironmentRegistry {
+  public:
+    using Log = std::function<void(std::string_view)>;
+
+    EnvironmentRegistry(AssetStore& store, ServiceMetrics& metrics, Log log,
+                        const ImageLimits& limits, std::size_t cache_bytes);
+
+    struct Upload {
+        std::shared_ptr<const Environment> environment;
+        bool cached = false;  // the rig was there already: nothing was computed
+    };
+    // extension: "hdr" or "exr". Throws oer::Error for a map that does not decode (InvalidInput)
+    // or is over the limits (LimitExceeded).
+    Upload upload(std::string_view bytes, const std::string& extension, const RigOptions& options);
+
+    // nullptr when no rig has that id (and none can be recomputed). id: a content id or the
+    // preset's.
+    std::shared_ptr<const Environment> find(const std::string& id);
+
+    // The map the rig was made from, decoded; nullptr when its source is no longer stored.
+    std::shared_ptr<const HdrImage> source_image(const Environment& environment);
+
+  private:
+    std::shared_ptr<const Environment> load_stored(const std::string& id);
+    std::shared_ptr<const Environment> compute(const HdrImage& image, const RepairCounts& repaired,
+                                               const RigOptions& options,
+                                               const std::string& source_id,
+                                               const std::string& rig_id);
+    void remember(const std::shared_ptr<const Environment>& environment);
+
+    AssetStore& store_;
+    ServiceMetrics& metrics_;
+    const Log log_;
+    const ImageLimits limits_;
+    std::shared_ptr<const Environment> preset_;
+    std::shared_ptr<const HdrImage> preset_image_;
+    SharedLruCache<Environment> rigs_;
+    SharedLruCache<HdrImage> images_;
+};
+
+}  // namespace oer::server

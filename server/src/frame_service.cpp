@@ -1,0 +1,126 @@
+#include "frame_service.hpp"
+
+#include <cstdio>
+
+#include "http_errors.hpp"
+#include "oer/image_encoding.hpp"
+
+namespace oer::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double milliseconds_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::string timing_entry(const std::string& pass, double ms) {
+    char duration[32];
+    std::snprintf(duration, sizeof duration, "%.2f", ms);
+    return pass + ";dur=" + duration;
+}
+
+std::vector<std::uint8_t> encode(const Frame& frame, const api::RenderSpec& spec) {
+    switch (spec.format) {
+        case api::ImageFormat::Jpeg:
+            return encode_jpeg(frame.display, spec.quality);
+        case api::ImageFormat::Png:
+            return encode_png(frame.display);
+        case api::ImageFormat::Exr:
+            return encode_exr(frame.width, frame.height, frame.linear);
+    }
+    throw Error(ErrorKind::Internal, "unknown image format");
+}
+
+}  // namespace
+
+std::string content_type_of(api::ImageFormat format) {
+    switch (format) {
+        case api::ImageFormat::Jpeg:
+            return "image/jpeg";
+        case api::ImageFormat::Png:
+            return "image/png";
+        case api::ImageFormat::Exr:
+            return "image/x-exr";
+    }
+    throw Error(ErrorKind::Internal, "unknown image format");
+}
+
+FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
+                           RenderPool& pool, ByteLruCache& frames, ServiceMetrics& metrics,
+                           std::chrono::seconds deadline)
+    : environments_(environments),
+      meshes_(meshes),
+      pool_(pool),
+      frames_(frames),
+      metrics_(metrics),
+      deadline_(deadline) {}
+
+EncodedFrame FrameService::render(const api::RenderSpec& spec, RequestForm form) {
+    EncodedFrame result;
+    result.etag = api::render_etag(spec);
+    result.content_type = content_type_of(spec.format);
+    if (auto cached = frames_.get(result.etag)) {
+        metrics_.cache(CacheName::Frame, true);
+        result.bytes = std::move(cached);
+        result.cache_hit = true;
+        return result;
+    }
+    metrics_.cache(CacheName::Frame, false);
+
+    const auto environment = environments_.find(spec.environment);
+    if (!environment) {
+        throw not_found("no environment with id '" + spec.environment + "'", "environment");
+    }
+    std::vector<std::shared_ptr<const Mesh>> meshes;
+    for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+        const auto mesh = meshes_.find(spec.objects[i].mesh);
+        if (!mesh) {
+            throw not_found(
+                "no mesh with id '" + spec.objects[i].mesh + "'",
+                form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
+        }
+        meshes.push_back(mesh->mesh);
+    }
+    std::shared_ptr<const HdrImage> map;
+    if (spec.background.kind == BackgroundKind::Environment) {
+        map = environments_.source_image(*environment);
+        if (!map) {
+            throw not_found("the map of environment '" + spec.environment +
+                                "' is no longer stored; upload it again",
+                            "environment");
+        }
+    }
+    auto request = std::make_shared<const FrameRequest>(
+        api::to_frame_request(spec, environment->rig, map, meshes));
+
+    std::future<Frame> pending = pool_.submit([this, request](FrameRenderer& renderer) {
+        const auto start = Clock::now();
+        Frame frame = renderer.render(*request);
+        metrics_.render_seconds.observe(
+            std::chrono::duration<double>(Clock::now() - start).count());
+        return frame;
+    });
+    if (pending.wait_for(deadline_) != std::future_status::ready) {
+        // The worker finishes the frame and drops it; the client may ask again.
+        throw unavailable(
+            "the frame was not rendered within " + std::to_string(deadline_.count()) + " s",
+            kRetryAfterSeconds);
+    }
+    const Frame frame = pending.get();
+    const auto encode_start = Clock::now();
+    const std::vector<std::uint8_t> bytes = encode(frame, spec);
+    const double encode_ms = milliseconds_since(encode_start);
+
+    for (const auto& [pass, ms] : frame.timings_ms) {
+        result.server_timing += (result.server_timing.empty() ? "" : ", ") + timing_entry(pass, ms);
+    }
+    result.server_timing +=
+        (result.server_timing.empty() ? "" : ", ") + timing_entry("encode", encode_ms);
+    result.bytes = std::make_shared<const std::string>(bytes.begin(), bytes.end());
+    frames_.put(result.etag, result.bytes);
+    return result;
+}
+
+}  // namespace oer::server

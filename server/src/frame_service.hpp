@@ -1,0 +1,50 @@
+#pragma once
+// Frames for POST and GET /v1/render: the encoded frame of a render request, from the LRU of
+// encoded frames (keyed by the request's ETag) when it is there, else rendered by a worker of
+// the pool within the request's deadline and encoded on the calling HTTP thread (so the GL
+// worker moves on to the next frame).
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "environment_registry.hpp"
+#include "mesh_registry.hpp"
+#include "oer/api/render_request.hpp"
+#include "oer/server/byte_lru_cache.hpp"
+#include "render_pool.hpp"
+#include "service_metrics.hpp"
+
+namespace oer::server {
+
+struct EncodedFrame {
+    std::shared_ptr<const std::string> bytes;
+    std::string content_type;
+    std::string etag;
+    bool cache_hit = false;
+    std::string server_timing;  // W3C Server-Timing, per pass; empty for a cached frame
+};
+
+// How the request named its members, for the `parameter` of a 404.
+enum class RequestForm { Json, Query };
+
+std::string content_type_of(api::ImageFormat format);
+
+class FrameService {
+  public:
+    FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes, RenderPool& pool,
+                 ByteLruCache& frames, ServiceMetrics& metrics, std::chrono::seconds deadline);
+
+    // Throws HttpError (404 for an unknown id, 503 past the deadline), QueueFull, and what
+    // to_frame_request and the renderer throw.
+    EncodedFrame render(const api::RenderSpec& spec, RequestForm form);
+
+  private:
+    EnvironmentRegistry& environments_;
+    MeshRegistry& meshes_;
+    RenderPool& pool_;
+    ByteLruCache& frames_;
+    ServiceMetrics& metrics_;
+    const std::chrono::seconds deadline_;
+};
+
+}  // namespace oer::server

@@ -1,0 +1,57 @@
+#pragma once
+// Failures as HTTP answers, mapped in one place: the exceptions of the renderer (oer::Error by
+// kind), of the api (MalformedRequest, InvalidParameter), of the render pool (QueueFull) and
+// the answers a route decides itself (HttpError: 401, 404, 405, 413, 415, 503).
+#include <exception>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "oer/error.hpp"
+#include "oer/server/problem_json.hpp"
+
+namespace oer::server {
+
+using HeaderList = std::vector<std::pair<std::string, std::string>>;
+
+// A problem with this status and detail, every other member at its default.
+Problem problem(int status, std::string detail);
+
+// An answer a route decides: the problem and any headers it needs (Retry-After, Allow,
+// WWW-Authenticate).
+class HttpError : public std::runtime_error {
+  public:
+    HttpError(Problem problem, HeaderList headers = {})
+        : std::runtime_error(problem.detail),
+          problem_(std::move(problem)),
+          headers_(std::move(headers)) {}
+    const Problem& problem() const { return problem_; }
+    const HeaderList& headers() const { return headers_; }
+
+  private:
+    Problem problem_;
+    HeaderList headers_;
+};
+
+// 404 naming the member or parameter that held the unknown id (empty: the path's id).
+HttpError not_found(const std::string& detail, const std::string& parameter = "");
+// 503 with Retry-After.
+HttpError unavailable(const std::string& detail, int retry_after_seconds = 1);
+
+// Seconds a client is told to wait after a 503.
+inline constexpr int kRetryAfterSeconds = 1;
+
+int status_of(ErrorKind kind);
+
+struct ErrorAnswer {
+    Problem problem;
+    HeaderList headers;
+    bool internal = false;  // a 500: the server's fault, logged with its cause
+    std::string cause;      // the exception's own message, for the log
+};
+
+// The answer to the exception `error` (which must not be null).
+ErrorAnswer error_answer(std::exception_ptr error);
+
+}  // namespace oer::server

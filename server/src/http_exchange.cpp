@@ -1,0 +1,88 @@
+#include "http_exchange.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+#include "oer/api/invalid_parameter.hpp"
+
+namespace oer::server {
+
+void send_json(httplib::Response& response, int status, const nlohmann::json& body) {
+    response.status = status;
+    response.set_content(body.dump(), "application/json");
+}
+
+void send_problem(httplib::Response& response, const ErrorAnswer& answer) {
+    response.status = answer.problem.status;
+    for (const auto& [name, value] : answer.headers) {
+        response.set_header(name, value);
+    }
+    response.set_content(problem_to_json(answer.problem).dump(), std::string(kProblemContentType));
+}
+
+std::string media_type(const httplib::Request& request) {
+    std::string type = request.get_header_value("Content-Type");
+    type = type.substr(0, type.find(';'));
+    while (!type.empty() && std::isspace(static_cast<unsigned char>(type.back()))) {
+        type.pop_back();
+    }
+    std::transform(type.begin(), type.end(), type.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return type;
+}
+
+std::map<std::string, std::string> single_query(const httplib::Request& request,
+                                                const std::vector<std::string>& allowed) {
+    std::map<std::string, std::string> values;
+    for (const auto& [name, value] : request.params) {
+        if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
+            throw api::InvalidParameter(name, "unknown query parameter");
+        }
+        if (!values.emplace(name, value).second) {
+            throw api::InvalidParameter(name, "given more than once");
+        }
+    }
+    return values;
+}
+
+void require_api_key(const httplib::Request& request, const std::string& key) {
+    const std::string given = request.get_header_value("Authorization");
+    const std::string expected = "Bearer " + key;
+    // Constant time over the expected length: the time does not tell how much of a guess
+    // was right.
+    unsigned char difference = given.size() == expected.size() ? 0 : 1;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        difference |= static_cast<unsigned char>(
+            expected[i] ^ (i < given.size() ? given[i] : static_cast<char>(~expected[i])));
+    }
+    if (difference != 0) {
+        throw HttpError(
+            problem(401, given.empty() ? "this route needs Authorization: Bearer <api key>"
+                                       : "the API key is wrong"),
+            {{"WWW-Authenticate", "Bearer"}});
+    }
+}
+
+bool etag_matches(const httplib::Request& request, const std::string& etag) {
+    const std::string header = request.get_header_value("If-None-Match");
+    std::size_t start = 0;
+    while (start < header.size()) {
+        std::size_t end = header.find(',', start);
+        if (end == std::string::npos) {
+            end = header.size();
+        }
+        std::string tag = header.substr(start, end - start);
+        tag.erase(0, tag.find_first_not_of(" \t"));
+        tag.erase(tag.find_last_not_of(" \t") + 1);
+        if (tag.starts_with("W/")) {
+            tag.erase(0, 2);  // weak comparison, as RFC 9110 asks of If-None-Match
+        }
+        if (tag == etag || tag == "*") {
+            return true;
+        }
+        start = end + 1;
+    }
+    return false;
+}
+
+}  // namespace oer::server

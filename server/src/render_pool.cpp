@@ -1,0 +1,96 @@
+#include "render_pool.hpp"
+
+#include <algorithm>
+
+#include "oer/render_thread.hpp"
+
+namespace oer::server {
+
+struct RenderPool::Worker {
+    RenderThread thread;
+    std::unique_ptr<FrameRenderer> renderer;  // touched only by jobs on `thread`
+    std::atomic<std::size_t> pending{0};
+};
+
+RenderPool::RenderPool(int workers, int max_waiting, const FrameLimits& limits,
+                       DepthObserver observer)
+    : capacity_(std::size_t(std::max(workers, 1)) + std::size_t(std::max(max_waiting, 0))),
+      observer_(std::move(observer)) {
+    for (int i = 0; i < std::max(workers, 1); ++i) {
+        auto worker = std::make_unique<Worker>();
+        Worker* raw = worker.get();
+        raw->thread
+            .submit([raw, limits] { raw->renderer = std::make_unique<FrameRenderer>(limits); })
+            .get();
+        workers_.push_back(std::move(worker));
+    }
+}
+
+RenderPool::~RenderPool() {
+    for (const auto& worker : workers_) {
+        Worker* raw = worker.get();
+        raw->thread.submit([raw] { raw->renderer.reset(); }).wait();
+    }
+}
+
+std::future<Frame> RenderPool::submit(Job job) {
+    if (in_flight_.fetch_add(1) >= capacity_) {
+        in_flight_.fetch_sub(1);
+        throw QueueFull("the render queue is full (" + std::to_string(capacity_) +
+                        " frames in flight)");
+    }
+    Worker& worker = **std::min_element(
+        workers_.begin(), workers_.end(),
+        [](const auto& a, const auto& b) { return a->pending.load() < b->pending.load(); });
+    return enqueue(worker, std::move(job));
+}
+
+void RenderPool::run_on_every_worker(const Job& job) {
+    std::vector<std::future<Frame>> results;
+    for (const auto& worker : workers_) {
+        in_flight_.fetch_add(1);
+        results.push_back(enqueue(*worker, job));
+    }
+    for (auto& result : results) {
+        result.get();
+    }
+}
+
+std::future<Frame> RenderPool::enqueue(Worker& worker, Job job) {
+    worker.pending.fetch_add(1);
+    notify();
+    return worker.thread.submit([this, &worker, job = std::move(job)] {
+        running_.fetch_add(1);
+        notify();
+        // Counted down however the job ends, so that a failing job never leaks capacity.
+        struct Done {
+            RenderPool* pool;
+            Worker* worker;
+            ~Done() {
+                pool->running_.fetch_sub(1);
+                worker->pending.fetch_sub(1);
+                pool->in_flight_.fetch_sub(1);
+                pool->notify();
+            }
+        } done{this, &worker};
+        return job(*worker.renderer);
+    });
+}
+
+void RenderPool::notify() {
+    if (observer_) {
+        observer_(waiting());
+    }
+}
+
+std::size_t RenderPool::waiting() const {
+    const std::size_t in_flight = in_flight_.load();
+    const std::size_t running = running_.load();
+    return in_flight > running ? in_flight - running : 0;
+}
+
+const GlInfo& RenderPool::info() const {
+    return workers_.front()->thread.info();
+}
+
+}  // namespace oer::server

@@ -1,0 +1,107 @@
+#include "router.hpp"
+
+#include <cstdlib>
+
+#include "http_errors.hpp"
+#include "http_exchange.hpp"
+#include "request_state.hpp"
+
+namespace oer::server {
+
+namespace {
+
+HttpError too_large(std::size_t limit) {
+    current_request().close_connection = true;
+    return HttpError(
+        problem(413, "the body is over this route's limit of " + std::to_string(limit) + " bytes"));
+}
+
+}  // namespace
+
+std::string route_regex(const std::string& route) {
+    return std::regex_replace(route, std::regex(R"(\{[a-z_]+\})"), "([^/]+)");
+}
+
+Router::Router(httplib::Server& server, Log log) : server_(server), log_(std::move(log)) {}
+
+void Router::guarded(const std::string& route, const httplib::Request& request,
+                     httplib::Response& response, const std::function<void()>& handler) const {
+    current_request().route = route;
+    try {
+        handler();
+    } catch (...) {
+        const ErrorAnswer answer = error_answer(std::current_exception());
+        if (answer.internal) {
+            log_("error: " + request.method + " " + route + ": " + answer.cause);
+        }
+        send_problem(response, answer);
+    }
+}
+
+void Router::get(const std::string& route, Handler handler) {
+    routes_.push_back({"GET", std::regex(route_regex(route))});
+    server_.Get(route_regex(route), [this, route, handler](const httplib::Request& request,
+                                                           httplib::Response& response) {
+        guarded(route, request, response, [&] { handler(request, response); });
+    });
+}
+
+void Router::post(const std::string& route, std::size_t max_body, Handler before_body,
+                  BodyHandler handler) {
+    routes_.push_back({"POST", std::regex(route_regex(route))});
+    server_.Post(route_regex(route),
+                 [this, route, max_body, before_body, handler](const httplib::Request& request,
+                                                               httplib::Response& response,
+                                                               const httplib::ContentReader& read) {
+                     guarded(route, request, response, [&] {
+                         // Until the body is read whole, an early answer leaves it on the
+                         // connection.
+                         current_request().close_connection = true;
+                         before_body(request, response);
+                         if (request.has_header("Content-Length") &&
+                             std::strtoull(request.get_header_value("Content-Length").c_str(),
+                                           nullptr, 10) > max_body) {
+                             throw too_large(max_body);
+                         }
+                         std::string body;
+                         bool over = false;
+                         const bool complete = read([&](const char* data, std::size_t length) {
+                             if (body.size() + length > max_body) {
+                                 over = true;
+                                 return false;
+                             }
+                             body.append(data, length);
+                             return true;
+                         });
+                         if (over) {
+                             throw too_large(max_body);
+                         }
+                         if (!complete) {
+                             throw HttpError(problem(400, "the body could not be read to its end"));
+                         }
+                         current_request().close_connection = false;
+                         handler(request, response, body);
+                     });
+                 });
+    // A POST without a body (no Content-Length, not chunked) reaches the plain handlers only.
+    server_.Post(route_regex(route),
+                 [this, route, before_body, handler](const httplib::Request& request,
+                                                     httplib::Response& response) {
+                     guarded(route, request, response, [&] {
+                         before_body(request, response);
+                         handler(request, response, request.body);
+                     });
+                 });
+}
+
+std::vector<std::string> Router::methods_for(const std::string& path) const {
+    std::vector<std::string> methods;
+    for (const Route& route : routes_) {
+        if (std::regex_match(path, route.pattern)) {
+            methods.push_back(route.method);
+        }
+    }
+    return methods;
+}
+
+}  // namespace oer::server

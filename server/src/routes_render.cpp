@@ -1,0 +1,60 @@
+// POST /v1/render (JSON body) and GET /v1/render (query parameters)
+#include "http_exchange.hpp"
+#include "oer/api/parameter_text.hpp"
+#include "service_context.hpp"
+
+namespace oer::server {
+
+namespace {
+
+// Frames are addressed by their request (ids are content hashes; the ETag holds the version):
+// caches may keep them a day, then revalidate with the ETag for a cheap 304.
+constexpr const char* kFrameCacheControl = "public, max-age=86400";
+
+void answer_frame(ServiceContext& context, const httplib::Request& request,
+                  httplib::Response& response, const api::RenderSpec& spec, RequestForm form) {
+    const std::string etag = api::render_etag(spec);
+    response.set_header("Cache-Control", kFrameCacheControl);
+    if (etag_matches(request, etag)) {
+        response.status = 304;
+        response.set_header("ETag", etag);
+        return;
+    }
+    const EncodedFrame frame = context.frame_service.render(spec, form);
+    response.status = 200;
+    response.set_header("ETag", frame.etag);
+    response.set_header("X-Oer-Cache", frame.cache_hit ? "hit" : "miss");
+    if (!frame.server_timing.empty()) {
+        response.set_header("Server-Timing", frame.server_timing);
+    }
+    response.set_content(*frame.bytes, frame.content_type);
+}
+
+}  // namespace
+
+void add_render_routes(Router& router, ServiceContext& context) {
+    router.post(
+        "/v1/render", context.render_limits.max_body_bytes,
+        [](const httplib::Request& request, httplib::Response&) {
+            if (const std::string type = media_type(request); type != "application/json") {
+                throw HttpError(problem(
+                    415, "a render request is application/json, not '" + api::excerpt(type) + "'"));
+            }
+        },
+        [&context](const httplib::Request& request, httplib::Response& response,
+                   const std::string& body) {
+            single_query(request, {});
+            answer_frame(context, request, response,
+                         api::parse_render_json(body, context.render_limits), RequestForm::Json);
+        });
+
+    router.get(
+        "/v1/render", [&context](const httplib::Request& request, httplib::Response& response) {
+            const std::multimap<std::string, std::string> query(request.params.begin(),
+                                                                request.params.end());
+            answer_frame(context, request, response,
+                         api::parse_render_query(query, context.render_limits), RequestForm::Query);
+        });
+}
+
+}  // namespace oer::server

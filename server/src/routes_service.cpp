@@ -1,0 +1,73 @@
+// GET /v1/presets, /v1/info, /healthz, /readyz, /metrics
+#include "http_exchange.hpp"
+#include "oer/api/version.hpp"
+#include "service_context.hpp"
+
+namespace oer::server {
+
+void add_service_routes(Router& router, ServiceContext& context) {
+    router.get("/v1/presets", [](const httplib::Request& request, httplib::Response& response) {
+        single_query(request, {});
+        send_json(response, 200,
+                  {{"environments",
+                    {{{"id", "default"},
+                      {"name", "Studio"},
+                      {"description",
+                       "A studio with three soft-boxes (key, fill and rim) of "
+                       "distinct colours and sizes over a dim gradient"}}}},
+                   {"meshes",
+                    {{{"id", "default"},
+                      {"name", "Dress form"},
+                      {"description",
+                       "A mannequin torso on a stand and a round base, feet at "
+                       "y = 0, about 1.6 units tall, facing +Z"}}}}});
+    });
+
+    router.get("/v1/info",
+               [&context](const httplib::Request& request, httplib::Response& response) {
+                   single_query(request, {});
+                   const GlInfo& gl = context.pool.info();
+                   const api::RenderLimits& limits = context.render_limits;
+                   send_json(response, 200,
+                             {{"version", api::kVersion},
+                              {"renderer",
+                               {{"platform", gl.platform},
+                                {"egl_vendor", gl.egl_vendor},
+                                {"egl_version", gl.egl_version},
+                                {"vendor", gl.vendor},
+                                {"renderer", gl.renderer},
+                                {"version", gl.version},
+                                {"max_samples", gl.max_samples},
+                                {"max_texture_size", gl.max_texture_size}}},
+                              {"limits",
+                               {{"max_width", limits.max_width},
+                                {"max_height", limits.max_height},
+                                {"max_objects", limits.max_objects},
+                                {"max_lights", limits.max_lights},
+                                {"max_shadow_resolution", limits.max_shadow_resolution},
+                                {"max_body_bytes", limits.max_body_bytes}}}});
+               });
+
+    // Liveness: no GL, no store, no lock another request may hold.
+    router.get("/healthz", [](const httplib::Request&, httplib::Response& response) {
+        send_json(response, 200, {{"status", "ok"}});
+    });
+
+    router.get("/readyz", [&context](const httplib::Request&, httplib::Response& response) {
+        if (!context.ready.load()) {
+            throw unavailable("the render workers are not ready yet", kRetryAfterSeconds);
+        }
+        if (context.pool.waiting() >= std::size_t(context.config.max_queue_depth)) {
+            throw unavailable("the render queue is full", kRetryAfterSeconds);
+        }
+        send_json(response, 200, {{"status", "ready"}});
+    });
+
+    router.get("/metrics", [&context](const httplib::Request&, httplib::Response& response) {
+        response.status = 200;
+        response.set_content(context.metrics.registry().render_prometheus_text(),
+                             "text/plain; version=0.0.4");
+    });
+}
+
+}  // namespace oer::server

@@ -1,0 +1,67 @@
+#include "service_metrics.hpp"
+
+namespace oer::server {
+
+namespace {
+
+constexpr const char* kRequestsHelp = "HTTP requests answered, by route pattern, method and status";
+constexpr const char* kRequestSecondsHelp = "Time to answer an HTTP request, by route pattern";
+constexpr const char* kHitsHelp = "Cache hits, by cache";
+constexpr const char* kMissesHelp = "Cache misses, by cache";
+
+const char* name_of(CacheName cache) {
+    switch (cache) {
+        case CacheName::Frame:
+            return "frame";
+        case CacheName::Rig:
+            return "rig";
+        case CacheName::Mesh:
+            return "mesh";
+        case CacheName::Environment:
+            return "environment";
+    }
+    return "unknown";
+}
+
+}  // namespace
+
+ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
+    : render_seconds(registry.histogram(
+          "oer_render_seconds", "GL time of one frame on a render worker", kLatencyBucketsSeconds)),
+      preprocess_seconds(registry.histogram("oer_preprocess_seconds",
+                                            "Time to decode an environment and build its rig",
+                                            kLatencyBucketsSeconds)),
+      rigs_computed(registry.counter("oer_rigs_computed_total",
+                                     "Rigs computed (preprocessing runs; cache hits excluded)")),
+      render_queue_depth(
+          registry.gauge("oer_render_queue_depth", "Frames waiting for a render worker")),
+      render_workers_ready(registry.gauge(
+          "oer_render_workers_ready", "Render workers with a GL context and a test frame done")),
+      registry_(registry) {
+    for (const CacheName cache :
+         {CacheName::Frame, CacheName::Rig, CacheName::Mesh, CacheName::Environment}) {
+        registry.counter("oer_cache_hits_total", kHitsHelp, {{"cache", name_of(cache)}});
+        registry.counter("oer_cache_misses_total", kMissesHelp, {{"cache", name_of(cache)}});
+    }
+}
+
+void ServiceMetrics::request(const std::string& route, const std::string& method, int status,
+                             double seconds) {
+    registry_
+        .counter("oer_http_requests_total", kRequestsHelp,
+                 {{"route", route}, {"method", method}, {"status", std::to_string(status)}})
+        .increment();
+    registry_
+        .histogram("oer_http_request_seconds", kRequestSecondsHelp, kLatencyBucketsSeconds,
+                   {{"route", route}})
+        .observe(seconds);
+}
+
+void ServiceMetrics::cache(CacheName cache, bool hit) {
+    registry_
+        .counter(hit ? "oer_cache_hits_total" : "oer_cache_misses_total",
+                 hit ? kHitsHelp : kMissesHelp, {{"cache", name_of(cache)}})
+        .increment();
+}
+
+}  // namespace oer::server

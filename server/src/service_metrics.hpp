@@ -1,0 +1,35 @@
+#pragma once
+// The service's metric families, by their fixed names (the integration tests and dashboards
+// rely on them), registered at start-up so that every one appears in /metrics from the first
+// scrape. No label carries an asset id: series stay few however many assets are uploaded.
+#include <string>
+
+#include "oer/server/metrics.hpp"
+
+namespace oer::server {
+
+// The caches whose hits and misses are counted.
+enum class CacheName { Frame, Rig, Mesh, Environment };
+
+class ServiceMetrics {
+  public:
+    explicit ServiceMetrics(MetricsRegistry& registry);
+
+    MetricsRegistry& registry() { return registry_; }
+
+    // One request answered: route is the route's pattern ("/v1/environments/{id}", or
+    // "unmatched"), status the HTTP status.
+    void request(const std::string& route, const std::string& method, int status, double seconds);
+    void cache(CacheName cache, bool hit);
+
+    Histogram& render_seconds;      // GL time of one frame
+    Histogram& preprocess_seconds;  // decoding a map and building its rig
+    Counter& rigs_computed;         // each rig actually computed, never a cache hit
+    Gauge& render_queue_depth;      // frames waiting for a render worker
+    Gauge& render_workers_ready;    // workers with a GL context that rendered a test frame
+
+  private:
+    MetricsRegistry& registry_;
+};
+
+}  // namespace oer::server
