@@ -155,7 +155,8 @@ Json expect_conforms(const std::string& method, const std::string& route,
     const Json& response = resolve(responses.at(status));
     const std::string where = method + " " + route + " " + status;
 
-    for (const auto& [name, declared] : response.value("headers", Json::object()).items()) {
+    const Json headers = response.value("headers", Json::object());
+    for (const auto& [name, declared] : headers.items()) {
         if (!result->has_header(name)) {
             continue;
         }

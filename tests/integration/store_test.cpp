@@ -93,10 +93,11 @@ TEST(Store, ADamagedRigEntryIsRecomputedFromItsSource) {
         ASSERT_TRUE(uploaded.is_object());
     }
     const std::string id = uploaded.at("id");
-    // The stored rig is the one file under the data folder that names the rig's id.
+    // The stored rig: the file under the data folder's rigs/ named after the rig's id
+    // (server/include/oer/server/asset_store.hpp describes the layout).
     std::vector<std::filesystem::path> entries;
     for (const auto& entry : std::filesystem::recursive_directory_iterator(root.data())) {
-        if (entry.is_regular_file() &&
+        if (entry.is_regular_file() && entry.path().parent_path().filename() == "rigs" &&
             entry.path().filename().string().find(id) != std::string::npos) {
             entries.push_back(entry.path());
         }
