@@ -1,7 +1,7 @@
 #pragma once
 // What the HTTP layer knows about the request being answered on this thread: cpp-httplib
 // answers each connection on one thread, request after request, so thread-local state is the
-// request's own from the pre-routing handler to the logger, which resets it.
+// request's own: BoundedHttpServer resets it before each request.
 #include <chrono>
 #include <string>
 

@@ -8,6 +8,7 @@
 #include <httplib.h>
 
 #include "access_log.hpp"
+#include "bounded_http_server.hpp"
 #include "cors.hpp"
 #include "environment_registry.hpp"
 #include "frame_service.hpp"
@@ -36,6 +37,9 @@ constexpr std::size_t kAssetCacheBytes = 1ull << 30;
 // The test frame every worker renders before the service reports ready: small, so start-up
 // stays quick, yet through every pass (shadows, ground, background).
 constexpr int kTestFrameSize = 64;
+
+// Room for a request's line and headers beside its body.
+constexpr std::size_t kMaxHeaderBytes = 64 << 10;
 
 std::string mebibytes(std::uint64_t bytes) {
     std::ostringstream text;
@@ -122,7 +126,10 @@ void Service::Impl::start() {
     frame_service =
         std::make_unique<FrameService>(environments, meshes, *pool, frames, metrics,
                                        std::chrono::seconds(config.request_timeout_seconds));
-    server = std::make_unique<httplib::Server>();
+    const std::size_t max_body =
+        std::max<std::size_t>(config.max_upload_bytes, render_limits.max_body_bytes);
+    server = std::make_unique<BoundedHttpServer>(ConnectionLimits{
+        max_body + kMaxHeaderBytes, std::chrono::seconds(config.request_timeout_seconds)});
     router = std::make_unique<Router>(*server, log);
     context = std::make_unique<ServiceContext>(ServiceContext{config, render_limits, metrics,
                                                               environments, meshes, frames, *pool,
@@ -233,7 +240,6 @@ void Service::Impl::configure_server() {
             log(access_log_line(request.method, request.target, response.status,
                                 response.body.size(), seconds * 1000.0));
         }
-        state = RequestState{};
     });
 }
 

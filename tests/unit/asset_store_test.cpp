@@ -87,7 +87,8 @@ class AssetStoreTest : public ::testing::Test {
 TEST_F(AssetStoreTest, CreatesTheFolderAndOneSubFolderPerKind) {
     ASSERT_FALSE(fs::exists(folder_));
     const AssetStore store = open();
-    EXPECT_EQ(file_names(folder_), (std::vector<std::string>{"environments", "meshes", "rigs"}));
+    EXPECT_EQ(file_names(folder_),
+              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs"}));
     EXPECT_EQ(store.folder(), folder_);
 }
 
@@ -301,8 +302,9 @@ TEST_F(AssetStoreTest, InvalidIdsAreRejectedBeforeAnyPathIsBuilt) {
         }
     }
     EXPECT_EQ(file_names(folder_.parent_path()), std::vector<std::string>{"data"});
-    EXPECT_EQ(file_names(folder_), (std::vector<std::string>{"environments", "meshes", "rigs"}));
-    for (const char* kind : {"environments", "meshes", "rigs"}) {
+    EXPECT_EQ(file_names(folder_),
+              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs"}));
+    for (const char* kind : {"environments", "meshes", "rig-sources", "rigs"}) {
         EXPECT_TRUE(file_names(folder_ / kind).empty()) << kind;
     }
 }

@@ -28,7 +28,10 @@ struct ServiceConfig {
     int request_timeout_seconds = 30;
     int idle_timeout_seconds = 5;  // keep-alive connections idle longer are closed
     int keep_alive_max_count = 100;
-    int http_threads = 8;
+    // A connection holds a thread for its whole life, idle keep-alive time included: 32 keeps
+    // /healthz and real clients answered while a browser's 6 keep-alive connections per tab,
+    // a load generator's 16 and a slow sender all hold one (8 could not).
+    int http_threads = 32;
     std::uint64_t frame_cache_bytes = 256ull << 20;  // 0: no frame cache
     bool access_log = true;                          // one line per request on stderr
 };

@@ -1,0 +1,207 @@
+#include "bounded_http_server.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+
+#include "request_state.hpp"
+
+namespace oer::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Waits until sock is ready for events, at most timeout; false on timeout or error.
+bool wait_ready(socket_t sock, short events, std::chrono::milliseconds timeout) {
+    pollfd entry{sock, events, 0};
+    int ready = 0;
+    do {
+        ready = ::poll(&entry, 1, int(timeout.count()));
+    } while (ready < 0 && errno == EINTR);
+    return ready > 0;
+}
+
+void address_of(socket_t sock, bool peer, std::string& ip, int& port) {
+    sockaddr_storage address{};
+    socklen_t length = sizeof address;
+    const int result = peer ? ::getpeername(sock, reinterpret_cast<sockaddr*>(&address), &length)
+                            : ::getsockname(sock, reinterpret_cast<sockaddr*>(&address), &length);
+    if (result != 0) {
+        return;
+    }
+    std::array<char, INET6_ADDRSTRLEN> text{};
+    if (address.ss_family == AF_INET) {
+        const auto* v4 = reinterpret_cast<const sockaddr_in*>(&address);
+        ::inet_ntop(AF_INET, &v4->sin_addr, text.data(), text.size());
+        port = ntohs(v4->sin_port);
+    } else if (address.ss_family == AF_INET6) {
+        const auto* v6 = reinterpret_cast<const sockaddr_in6*>(&address);
+        ::inet_ntop(AF_INET6, &v6->sin6_addr, text.data(), text.size());
+        port = ntohs(v6->sin6_port);
+    }
+    ip = text.data();
+}
+
+// The bytes of one connection, read ahead in blocks; outlives the streams of its requests so
+// that a pipelined request's bytes read ahead are not lost.
+class Connection {
+  public:
+    explicit Connection(socket_t sock) : sock_(sock) {}
+    socket_t socket() const { return sock_; }
+    bool buffered() const { return begin_ < end_; }
+
+    // As recv: bytes (> 0), 0 at the end of the stream, -1 on error or timeout.
+    ssize_t read(char* out, std::size_t size, std::chrono::milliseconds timeout) {
+        if (!buffered()) {
+            if (!wait_ready(sock_, POLLIN, timeout)) {
+                return -1;
+            }
+            ssize_t got = 0;
+            do {
+                got = ::recv(sock_, buffer_.data(), buffer_.size(), 0);
+            } while (got < 0 && errno == EINTR);
+            if (got <= 0) {
+                return got;
+            }
+            begin_ = 0;
+            end_ = std::size_t(got);
+        }
+        const std::size_t n = std::min(size, end_ - begin_);
+        std::memcpy(out, buffer_.data() + begin_, n);
+        begin_ += n;
+        return ssize_t(n);
+    }
+
+  private:
+    socket_t sock_;
+    std::array<char, 16 << 10> buffer_{};
+    std::size_t begin_ = 0;
+    std::size_t end_ = 0;
+};
+
+// One request's view of its connection, failing reads past the request's limits.
+class BoundedStream : public httplib::Stream {
+  public:
+    BoundedStream(Connection& connection, const ConnectionLimits& limits,
+                  std::chrono::milliseconds read_timeout, std::chrono::milliseconds write_timeout)
+        : connection_(connection),
+          limits_(limits),
+          read_timeout_(read_timeout),
+          write_timeout_(write_timeout) {}
+
+    bool is_readable() const override {
+        return connection_.buffered() || wait_ready(connection_.socket(), POLLIN, read_timeout_);
+    }
+    bool is_writable() const override {
+        return wait_ready(connection_.socket(), POLLOUT, write_timeout_);
+    }
+
+    ssize_t read(char* out, std::size_t size) override {
+        const auto now = Clock::now();
+        if (read_bytes_ == 0) {
+            deadline_ = now + limits_.read_deadline;
+        }
+        if (now > deadline_ || read_bytes_ >= limits_.request_bytes) {
+            return -1;
+        }
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - now);
+        const ssize_t got =
+            connection_.read(out, std::min(size, limits_.request_bytes - read_bytes_),
+                             std::min(read_timeout_, left + std::chrono::milliseconds(1)));
+        if (got <= 0) {
+            return got;
+        }
+        read_bytes_ += std::size_t(got);
+        // cpp-httplib reads request, header and chunk-size lines a byte at a time: a line is
+        // a run of one-byte reads, bounded here as cpp-httplib does not bound it.
+        if (size == 1) {
+            line_bytes_ = *out == '\n' ? 0 : line_bytes_ + 1;
+            if (line_bytes_ > kMaxLineBytes) {
+                return -1;
+            }
+        } else {
+            line_bytes_ = 0;
+        }
+        return got;
+    }
+
+    ssize_t write(const char* data, std::size_t size) override {
+        if (!is_writable()) {
+            return -1;
+        }
+        ssize_t sent = 0;
+        do {
+            sent = ::send(connection_.socket(), data, size, MSG_NOSIGNAL);
+        } while (sent < 0 && errno == EINTR);
+        return sent;
+    }
+
+    void get_remote_ip_and_port(std::string& ip, int& port) const override {
+        address_of(connection_.socket(), true, ip, port);
+    }
+    void get_local_ip_and_port(std::string& ip, int& port) const override {
+        address_of(connection_.socket(), false, ip, port);
+    }
+    socket_t socket() const override { return connection_.socket(); }
+
+  private:
+    Connection& connection_;
+    const ConnectionLimits& limits_;
+    const std::chrono::milliseconds read_timeout_;
+    const std::chrono::milliseconds write_timeout_;
+    std::size_t read_bytes_ = 0;
+    std::size_t line_bytes_ = 0;
+    Clock::time_point deadline_{};
+};
+
+std::chrono::milliseconds milliseconds(time_t seconds, time_t microseconds) {
+    return std::chrono::milliseconds(seconds * 1000 + microseconds / 1000);
+}
+
+}  // namespace
+
+bool BoundedHttpServer::wait_for_request(socket_t sock, bool buffered) const {
+    if (buffered) {
+        return true;
+    }
+    // In slices, so that stop() does not wait for idle connections to time out.
+    constexpr std::chrono::milliseconds kSlice(100);
+    const auto end = Clock::now() + std::chrono::seconds(keep_alive_timeout_sec_);
+    while (svr_sock_ != INVALID_SOCKET && Clock::now() < end) {
+        if (wait_ready(sock, POLLIN, kSlice)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+bool BoundedHttpServer::process_and_close_socket(socket_t sock) {
+    Connection connection(sock);
+    bool served = false;
+    for (std::size_t left = keep_alive_max_count_; left > 0; --left) {
+        if (!wait_for_request(sock, connection.buffered())) {
+            break;
+        }
+        current_request() = RequestState{};
+        BoundedStream stream(connection, limits_,
+                             milliseconds(read_timeout_sec_, read_timeout_usec_),
+                             milliseconds(write_timeout_sec_, write_timeout_usec_));
+        bool closed = false;
+        served = process_request(stream, left == 1, closed, [](httplib::Request&) {});
+        if (!served || closed || current_request().close_connection) {
+            break;
+        }
+    }
+    ::shutdown(sock, SHUT_RDWR);
+    ::close(sock);
+    return served;
+}
+
+}  // namespace oer::server
