@@ -1,11 +1,10 @@
 // api/openapi.yaml against the parsers and writers it describes: the same member and parameter
 // names, enums, ranges and defaults, and schemas that the documents the api writes satisfy.
 //
-// No YAML library is installed, and the file keeps to a plain subset (block mappings, two-space
-// indentation, one-line flow lists; see its head) that a few lines here can walk: a key's body
-// is the lines indented under it. The schema checks cover the keywords the file uses for
-// documents (type, enum, pattern, minimum, maximum, minItems, maxItems, required, properties,
-// additionalProperties, items, $ref); a full validator checks live answers elsewhere.
+// The spec is read by tests/support/openapi_spec.hpp (a reader of the plain YAML subset the
+// file keeps to), shared with the integration tests. The schema checks cover the keywords the file
+// uses for documents (type, enum, pattern, minimum, maximum, minItems, maxItems, required,
+// properties, additionalProperties, items, $ref); a full validator checks live answers elsewhere.
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
@@ -28,179 +27,30 @@
 #include "oer/api/version.hpp"
 #include "oer/default_environment.hpp"
 #include "oer/default_product.hpp"
+#include "openapi_spec.hpp"
 
 using namespace oer;
 using Json = nlohmann::json;
 
 namespace {
 
-// The source tree's file, found from this source file's own path: the test reads what is
-// published, not a copy in the build tree.
-const std::filesystem::path kSpecPath =
-    std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "api" /
-    "openapi.yaml";
-
-std::string trim(const std::string& text) {
-    const std::size_t first = text.find_first_not_of(' ');
-    return first == std::string::npos ? ""
-                                      : text.substr(first, text.find_last_not_of(' ') + 1 - first);
-}
-
-std::string unquote(const std::string& text) {
-    if (text.size() >= 2 && (text.front() == '\'' || text.front() == '"') &&
-        text.back() == text.front()) {
-        return text.substr(1, text.size() - 2);
-    }
-    return text;
-}
+using oer::testing::scalar_json;
+using oer::testing::Spec;
+using oer::testing::trim;
+using oer::testing::unquote;
 
 // "[a, 'b', 3]" -> {"a", "b", "3"}
 std::vector<std::string> flow_list(const std::string& text) {
-    std::vector<std::string> items;
-    if (text.size() < 2 || text.front() != '[' || text.back() != ']') {
+    const auto items = oer::testing::flow_list(text);
+    if (!items) {
         ADD_FAILURE() << "not a one-line flow list: " << text;
-        return items;
-    }
-    std::stringstream in(text.substr(1, text.size() - 2));
-    for (std::string item; std::getline(in, item, ',');) {
-        if (!trim(item).empty()) {
-            items.push_back(unquote(trim(item)));
-        }
-    }
-    return items;
-}
-
-// A YAML scalar or flow list as JSON ("[0, 1, 0]", "512", "true"), or as a string ("jpeg").
-Json scalar_json(const std::string& text) {
-    const Json parsed = Json::parse(text, nullptr, false);
-    return parsed.is_discarded() ? Json(unquote(text)) : parsed;
-}
-
-class Spec {
-  public:
-    // The body of one key: lines [begin, end). An empty block (found == false) has no keys.
-    struct Block {
-        std::size_t begin = 0;
-        std::size_t end = 0;
-        bool found = false;
-    };
-
-    explicit Spec(const std::filesystem::path& path) {
-        std::ifstream in(path);
-        for (std::string line; std::getline(in, line);) {
-            lines_.push_back(line);
-        }
-    }
-
-    const std::vector<std::string>& lines() const { return lines_; }
-    Block document() const { return {0, lines_.size(), !lines_.empty()}; }
-
-    Block child(const Block& block, const std::string& key) const {
-        const std::size_t top = top_indentation(block);
-        for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-            if (skip(lines_[i]) || indentation(lines_[i]) != top || key_of(lines_[i]) != key) {
-                continue;
-            }
-            std::size_t end = i + 1;
-            while (end < block.end && (skip(lines_[end]) || indentation(lines_[end]) > top)) {
-                ++end;
-            }
-            return {i + 1, end, true};
-        }
         return {};
     }
-
-    Block at(Block block, const std::vector<std::string>& keys) const {
-        for (const std::string& key : keys) {
-            block = child(block, key);
-        }
-        return block;
-    }
-
-    // The inline value of `key` on the block's top level ("type: integer" -> "integer").
-    std::optional<std::string> value(const Block& block, const std::string& key) const {
-        const std::size_t top = top_indentation(block);
-        for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-            if (!skip(lines_[i]) && indentation(lines_[i]) == top && key_of(lines_[i]) == key) {
-                const std::string line = trim(lines_[i]);
-                const std::string rest = trim(line.substr(line.find(':') + 1));
-                return rest.empty() ? std::nullopt : std::optional<std::string>(rest);
-            }
-        }
-        return std::nullopt;
-    }
-
-    std::vector<std::string> keys(const Block& block) const {
-        std::vector<std::string> keys;
-        const std::size_t top = top_indentation(block);
-        for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-            if (!skip(lines_[i]) && indentation(lines_[i]) == top && !key_of(lines_[i]).empty()) {
-                keys.push_back(key_of(lines_[i]));
-            }
-        }
-        return keys;
-    }
-
-    // Where a "#/components/schemas/Name" reference points.
-    Block reference(const std::string& pointer) const {
-        std::vector<std::string> keys;
-        std::stringstream in(unquote(pointer).substr(2));
-        for (std::string key; std::getline(in, key, '/');) {
-            keys.push_back(key);
-        }
-        return at(document(), keys);
-    }
-
-    Block resolved(Block block) const {
-        while (const auto target = value(block, "$ref")) {
-            block = reference(*target);
-            EXPECT_TRUE(block.found) << *target;
-        }
-        return block;
-    }
-
-    // The names of the query parameters declared in a block of parameters.
-    std::set<std::string> query_parameters(const Block& block) const {
-        std::set<std::string> names;
-        for (std::size_t i = block.begin; block.found && i + 1 < block.end; ++i) {
-            const std::string line = trim(lines_[i]);
-            if (line.rfind("- name: ", 0) == 0 && trim(lines_[i + 1]) == "in: query") {
-                names.insert(line.substr(8));
-            }
-        }
-        return names;
-    }
-
-  private:
-    static bool skip(const std::string& line) {
-        const std::string text = trim(line);
-        return text.empty() || text[0] == '#';
-    }
-    static std::size_t indentation(const std::string& line) { return line.find_first_not_of(' '); }
-    static std::string key_of(const std::string& line) {
-        const std::string text = trim(line);
-        const std::size_t colon = text.find(':');
-        if (colon == std::string::npos || text[0] == '-' ||
-            (colon + 1 < text.size() && text[colon + 1] != ' ')) {
-            return "";
-        }
-        return unquote(text.substr(0, colon));
-    }
-    std::size_t top_indentation(const Block& block) const {
-        for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-            if (!skip(lines_[i])) {
-                return indentation(lines_[i]);
-            }
-        }
-        return 0;
-    }
-
-    std::vector<std::string> lines_;
-};
+    return *items;
+}
 
 const Spec& spec() {
-    static const Spec loaded(kSpecPath);
-    return loaded;
+    return oer::testing::openapi_spec();
 }
 
 Spec::Block schema(const std::string& name) {
@@ -391,7 +241,7 @@ std::string query_text(const Json& value) {
 }  // namespace
 
 TEST(OpenApi, IsPlainYamlAndEveryReferenceResolves) {
-    ASSERT_FALSE(spec().lines().empty()) << kSpecPath;
+    ASSERT_FALSE(spec().lines().empty()) << oer::testing::openapi_path();
     EXPECT_EQ(spec().lines()[0], "openapi: 3.1.0");
     EXPECT_EQ(spec().value(spec().child(spec().document(), "info"), "version"), api::kVersion);
     int references = 0;

@@ -1,0 +1,480 @@
+// Every endpoint's happy path on a real server over loopback HTTP, each answer held to
+// api/openapi.yaml (status, Content-Type, body schema, declared headers) and its values checked
+// against the libraries computed independently here (the rig of the same bytes, the mesh of
+// the same file, SH irradiance, decoded image sizes and colours).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
+
+#include <glm/geometric.hpp>
+
+#include "http_support.hpp"
+#include "oer/api/content_id.hpp"
+#include "oer/api/mesh_json.hpp"
+#include "oer/api/rig_json.hpp"
+#include "oer/api/rig_options.hpp"
+#include "oer/api/version.hpp"
+#include "oer/equirect.hpp"
+#include "oer/image_io.hpp"
+#include "oer/irradiance.hpp"
+#include "oer/mesh_loading.hpp"
+#include "oer/rig.hpp"
+
+using namespace oer;
+using namespace oer::itest;
+
+namespace {
+
+// Numbers within rel of each other (relative to the larger magnitude), everything else equal.
+void expect_json_near(const Json& got, const Json& expected, double rel, const std::string& where) {
+    if (got.is_number() && expected.is_number()) {
+        const double a = got.get<double>(), b = expected.get<double>();
+        EXPECT_LE(std::abs(a - b), rel * std::max(std::abs(a), std::abs(b)) + 1e-12)
+            << where << ": " << a << " vs " << b;
+        return;
+    }
+    ASSERT_EQ(got.type(), expected.type())
+        << where << ": " << got.dump() << " vs " << expected.dump();
+    if (got.is_object()) {
+        for (const auto& [key, value] : expected.items()) {
+            ASSERT_TRUE(got.contains(key)) << where << " lacks " << key;
+            expect_json_near(got.at(key), value, rel, where + "/" + key);
+        }
+        for (const auto& [key, value] : got.items()) {
+            EXPECT_TRUE(expected.contains(key)) << where << " has unexpected " << key;
+        }
+    } else if (got.is_array()) {
+        ASSERT_EQ(got.size(), expected.size()) << where;
+        for (std::size_t i = 0; i < got.size(); ++i) {
+            expect_json_near(got[i], expected[i], rel, where + "/" + std::to_string(i));
+        }
+    } else {
+        EXPECT_EQ(got, expected) << where;
+    }
+}
+
+ShRgb sh_of(const Json& coefficients) {
+    const int order = int(std::lround(std::sqrt(double(coefficients.size()))));
+    ShRgb sh(order);
+    for (std::size_t i = 0; i < coefficients.size(); ++i) {
+        sh.coefficients[i] = {coefficients[i][0].get<double>(), coefficients[i][1].get<double>(),
+                              coefficients[i][2].get<double>()};
+    }
+    return sh;
+}
+
+ShWindow window_of(const Json& rig) {
+    const Json& window = rig.at("sh").at("window");
+    ShWindow result;
+    result.kind = window_kind_from_string(window.at("kind").get<std::string>());
+    result.cutoff = window.value("cutoff", 0.0);
+    return result;
+}
+
+class Endpoints : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        root_ = new TempRoot();
+        server::ServiceConfig config = test_config(root_->data());
+        config.max_frame_width = 2000;  // distinguishable from the defaults in /v1/info
+        config.max_frame_height = 1500;
+        server_ = new TestServer(config);
+    }
+    static void TearDownTestSuite() {
+        delete server_;
+        delete root_;
+        server_ = nullptr;
+        root_ = nullptr;
+    }
+    void SetUp() override { client_ = server_->client(); }
+
+    // The three-disc environment, uploaded once for the suite.
+    static const Json& rig() {
+        static const Json uploaded = [] {
+            auto client = server_->client();
+            return upload_environment(*client, exr_bytes(three_disc_environment().image),
+                                      "image/x-exr", "light_count=3&sh_order=3");
+        }();
+        return uploaded;
+    }
+
+    static inline TempRoot* root_ = nullptr;
+    static inline TestServer* server_ = nullptr;
+    std::unique_ptr<httplib::Client> client_;
+};
+
+}  // namespace
+
+TEST_F(Endpoints, HealthAndReadinessAnswerTheirStatus) {
+    const auto health = client_->Get("/healthz");
+    EXPECT_EQ(expect_conforms("GET", "/healthz", health), Json({{"status", "ok"}}));
+    EXPECT_EQ(health->status, 200);
+    const auto ready = client_->Get("/readyz");
+    EXPECT_EQ(expect_conforms("GET", "/readyz", ready), Json({{"status", "ready"}}));
+    EXPECT_EQ(ready->status, 200);
+}
+
+TEST_F(Endpoints, InfoReportsVersionRendererAndTheConfiguredLimits) {
+    const auto result = client_->Get("/v1/info");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200) << result->body;
+    const Json info = expect_conforms("GET", "/v1/info", result);
+    ASSERT_TRUE(info.is_object());
+    EXPECT_EQ(info.at("version"), api::kVersion);
+    EXPECT_FALSE(info.at("renderer").at("renderer").get<std::string>().empty());
+    EXPECT_FALSE(info.at("renderer").at("vendor").get<std::string>().empty());
+    EXPECT_EQ(info.at("limits").at("max_width"), 2000);
+    EXPECT_EQ(info.at("limits").at("max_height"), 1500);
+}
+
+TEST_F(Endpoints, PresetsListTheDefaultEnvironmentAndProduct) {
+    const auto result = client_->Get("/v1/presets");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200) << result->body;
+    const Json presets = expect_conforms("GET", "/v1/presets", result);
+    ASSERT_TRUE(presets.is_object());
+    for (const char* kind : {"environments", "meshes"}) {
+        bool has_default = false;
+        for (const Json& preset : presets.at(kind)) {
+            has_default = has_default || preset.at("id") == "default";
+        }
+        EXPECT_TRUE(has_default) << kind << ": " << presets.dump();
+    }
+}
+
+TEST_F(Endpoints, MetricsAreValidPrometheusTextCountingRequestsAndCaches) {
+    const Metrics before = scrape(*client_);
+    for (int i = 0; i < 3; ++i) {
+        ASSERT_EQ(client_->Get("/healthz")->status, 200);
+    }
+    // A frame no other test asks for: one miss, then one hit of the frame cache.
+    const std::string frame =
+        "/v1/render?environment=default&mesh=default&width=40&height=30"
+        "&yaw=123&samples=1";
+    ASSERT_EQ(client_->Get(frame.c_str())->status, 200);
+    ASSERT_EQ(client_->Get(frame.c_str())->status, 200);
+    const auto result = client_->Get("/metrics");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200);
+    expect_conforms("GET", "/metrics", result);
+    const Metrics after = parse_prometheus(result->body);
+
+    // The healthz series: found by its route label, whatever spelling the route has.
+    std::string health_route;
+    for (const Sample& sample : after.samples) {
+        if (sample.name == "oer_http_requests_total" && sample.labels.count("route") &&
+            sample.labels.at("route").find("healthz") != std::string::npos) {
+            health_route = sample.labels.at("route");
+        }
+    }
+    ASSERT_FALSE(health_route.empty()) << result->body;
+    const std::map<std::string, std::string> health = {
+        {"route", health_route}, {"method", "GET"}, {"status", "200"}};
+    EXPECT_EQ(after.sum("oer_http_requests_total", health) -
+                  before.sum("oer_http_requests_total", health),
+              3.0);
+    EXPECT_EQ(after.sum("oer_cache_misses_total", {{"cache", "frame"}}) -
+                  before.sum("oer_cache_misses_total", {{"cache", "frame"}}),
+              1.0);
+    EXPECT_EQ(after.sum("oer_cache_hits_total", {{"cache", "frame"}}) -
+                  before.sum("oer_cache_hits_total", {{"cache", "frame"}}),
+              1.0);
+    EXPECT_EQ(after.sum("oer_render_seconds_count") - before.sum("oer_render_seconds_count"), 1.0);
+    EXPECT_EQ(after.sum("oer_render_queue_depth"), 0.0);
+    EXPECT_EQ(after.sum("oer_render_workers_ready"), 1.0);
+
+    const std::map<std::string, std::string> families = {
+        {"oer_http_requests_total", "counter"}, {"oer_http_request_seconds", "histogram"},
+        {"oer_render_seconds", "histogram"},    {"oer_preprocess_seconds", "histogram"},
+        {"oer_rigs_computed_total", "counter"}, {"oer_cache_hits_total", "counter"},
+        {"oer_cache_misses_total", "counter"},  {"oer_render_queue_depth", "gauge"},
+        {"oer_render_workers_ready", "gauge"}};
+    for (const auto& [family, type] : families) {
+        EXPECT_EQ(after.types.count(family) ? after.types.at(family) : "<absent>", type) << family;
+    }
+    // Histograms are cumulative and end in +Inf == _count; no per-asset labels anywhere.
+    for (const Sample& sample : after.samples) {
+        if (sample.name.size() > 7 && sample.name.substr(sample.name.size() - 7) == "_bucket" &&
+            sample.labels.at("le") == "+Inf") {
+            std::map<std::string, std::string> labels = sample.labels;
+            labels.erase("le");
+            const std::string family = sample.name.substr(0, sample.name.size() - 7);
+            EXPECT_EQ(sample.value, after.sum(family + "_count", labels)) << family;
+        }
+        for (const auto& [key, value] : sample.labels) {
+            EXPECT_FALSE(std::regex_search(value, std::regex("[0-9a-f]{64}")))
+                << sample.name << " has a per-asset label " << key << "=" << value;
+        }
+    }
+}
+
+TEST_F(Endpoints, EnvironmentUploadGivesTheRigOfTheLibraryAndIsCachedByContent) {
+    const Metrics before = scrape(*client_);
+    const SyntheticEnvironment environment = three_disc_environment(128, 64);
+    const std::string bytes = exr_bytes(environment.image);
+    const std::string query = "light_count=3&sh_order=3&seed=7";
+    const auto result = client_->Post(("/v1/environments?" + query).c_str(), bytes, "image/x-exr");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 201) << result->body;
+    const Json rig = expect_conforms("POST", "/v1/environments", result);
+    ASSERT_TRUE(rig.is_object());
+    EXPECT_EQ(rig.at("cached"), false);
+
+    // The id is the content hash of the bytes and the options; Location names it.
+    const RigOptions options =
+        api::parse_rig_options({{"light_count", "3"}, {"sh_order", "3"}, {"seed", "7"}});
+    const std::string id = api::rig_id(api::sha256_hex(std::string_view(bytes)), options);
+    EXPECT_EQ(rig.at("id"), id);
+    EXPECT_EQ(result->get_header_value("Location"), "/v1/environments/" + id);
+
+    // The rig is the library's rig of the same bytes.
+    const LoadedImage loaded =
+        load_image_memory(std::as_bytes(std::span(bytes.data(), bytes.size())), "upload.exr");
+    Json expected = api::rig_to_json(build_rig(loaded.image, loaded.repaired, options), id);
+    Json comparable = rig;
+    comparable.erase("cached");
+    comparable.erase("timings_ms");
+    expected.erase("timings_ms");
+    expect_json_near(comparable, expected, 1e-9, "rig");
+    // ... whose lights are the three discs.
+    ASSERT_EQ(rig.at("lights").size(), 3u);
+    for (const glm::dvec3& disc : environment.light_directions) {
+        double best = 0.0;
+        for (const Json& light : rig.at("lights")) {
+            const glm::dvec3 d{light.at("direction")[0].get<double>(),
+                               light.at("direction")[1].get<double>(),
+                               light.at("direction")[2].get<double>()};
+            best = std::max(best, glm::dot(d, disc));
+        }
+        EXPECT_GT(best, std::cos(0.05)) << "no light found towards a disc";
+    }
+
+    // The same bytes and options again: 200, cached, the same rig, nothing recomputed.
+    const auto again = client_->Post(("/v1/environments?" + query).c_str(), bytes, "image/x-exr");
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 200) << again->body;
+    Json repeated = expect_conforms("POST", "/v1/environments", again);
+    ASSERT_TRUE(repeated.is_object());
+    EXPECT_EQ(repeated.at("cached"), true);
+    EXPECT_EQ(repeated.at("id"), id);
+    const Metrics after = scrape(*client_);
+    EXPECT_EQ(after.sum("oer_rigs_computed_total") - before.sum("oer_rigs_computed_total"), 1.0);
+
+    // GET gives the stored rig.
+    const auto stored = client_->Get(("/v1/environments/" + id).c_str());
+    ASSERT_TRUE(stored);
+    ASSERT_EQ(stored->status, 200) << stored->body;
+    Json got = expect_conforms("GET", "/v1/environments/{id}", stored);
+    ASSERT_TRUE(got.is_object());
+    got.erase("timings_ms");
+    got.erase("cached");
+    expect_json_near(got, comparable, 1e-12, "stored rig");
+}
+
+TEST_F(Endpoints, RadianceHdrUploadIsReadToo) {
+    const SyntheticEnvironment environment = three_disc_environment(128, 64);
+    const Json rig = upload_environment(*client_, hdr_bytes(environment.image),
+                                        "image/vnd.radiance", "light_count=3");
+    ASSERT_TRUE(rig.is_object());
+    EXPECT_EQ(rig.at("source").at("width"), 128);
+    EXPECT_EQ(rig.at("source").at("height"), 64);
+    EXPECT_EQ(rig.at("lights").size(), 3u);
+    EXPECT_EQ(rig.at("options").at("light_count"), 3);
+}
+
+TEST_F(Endpoints, PreviewIsA512By256JpegShowingTheMap) {
+    ASSERT_TRUE(rig().is_object());
+    const std::string id = rig().at("id");
+    const auto result = client_->Get(("/v1/environments/" + id + "/preview.jpg").c_str());
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200) << result->body;
+    expect_conforms("GET", "/v1/environments/{id}/preview.jpg", result);
+    const Rgba8Image preview = decode_image(result);
+    ASSERT_EQ(preview.width, 512);
+    ASSERT_EQ(preview.height, 256);
+    // Each disc is bright (the brightest pixel within 4 pixels of its centre: the light's
+    // number may be drawn over the centre); the sky far from every disc is dim.
+    const auto luma = [&](glm::dvec3 direction, int reach = 0) {
+        const glm::dvec2 p = equirect::position_of(direction, 512, 256);
+        double brightest = 0.0;
+        for (int dy = -reach; dy <= reach; ++dy) {
+            for (int dx = -reach; dx <= reach; ++dx) {
+                const int x = std::clamp(int(p.x) + dx, 0, 511);
+                const int y = std::clamp(int(p.y) + dy, 0, 255);
+                const std::uint8_t* rgb = &preview.pixels[(std::size_t(y) * 512 + x) * 4];
+                brightest = std::max(brightest, (rgb[0] + rgb[1] + rgb[2]) / 3.0);
+            }
+        }
+        return brightest;
+    };
+    for (const glm::dvec3& disc : three_disc_environment().light_directions) {
+        EXPECT_GT(luma(disc, 4), 240.0);
+    }
+    EXPECT_LT(luma({0.0, -1.0, 0.0}), 120.0);
+    EXPECT_LT(luma({0.0, 0.0, 1.0}), 120.0);
+}
+
+TEST_F(Endpoints, IrradianceExrIsTheRigsShIrradiance) {
+    ASSERT_TRUE(rig().is_object());
+    const std::string id = rig().at("id");
+    const ShWindow window = window_of(rig());
+    const ShRgb all = sh_of(rig().at("sh").at("radiance"));
+    ShRgb without_second = all;
+    without_second -= sh_of(rig().at("sh").at("per_light")[1]);
+    for (const auto& [query, radiance] :
+         {std::pair{std::string("?width=64&height=32"), all},
+          std::pair{std::string("?width=64&height=32&lights=1,0,1"), without_second},
+          std::pair{std::string(""), all}}) {
+        const auto result =
+            client_->Get(("/v1/environments/" + id + "/irradiance.exr" + query).c_str());
+        ASSERT_TRUE(result);
+        ASSERT_EQ(result->status, 200) << query << ": " << result->body;
+        expect_conforms("GET", "/v1/environments/{id}/irradiance.exr", result);
+        const LoadedImage loaded = load_image_memory(
+            std::as_bytes(std::span(result->body.data(), result->body.size())), "irradiance.exr");
+        const int width = query.empty() ? 128 : 64, height = query.empty() ? 64 : 32;
+        ASSERT_EQ(loaded.image.width, width) << query;
+        ASSERT_EQ(loaded.image.height, height) << query;
+        const ShRgb irradiance = irradiance_coefficients(radiance, window);
+        double largest = 0.0;
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                const glm::dvec3 e =
+                    irradiance.evaluate(equirect::pixel_direction(x, y, width, height));
+                largest = std::max({largest, e.r, e.g, e.b});
+            }
+        }
+        int checked = 0;
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                // Negative irradiance (ringing) reads back as 0: the loader repairs it.
+                const glm::dvec3 expected =
+                    glm::max(irradiance.evaluate(equirect::pixel_direction(x, y, width, height)),
+                             glm::dvec3(0.0));
+                const float* got = loaded.image.at(x, y);
+                for (int c = 0; c < 3; ++c) {
+                    ASSERT_NEAR(got[c], expected[c], 0.01 * expected[c] + 1e-4 * largest)
+                        << query << " pixel " << x << "," << y << " channel " << c;
+                }
+                ++checked;
+            }
+        }
+        EXPECT_EQ(checked, width * height);
+    }
+}
+
+TEST_F(Endpoints, MeshUploadsDescribeTheMeshAsTheLibraryLoadsIt) {
+    const std::string obj = box_obj({-0.5, 0.0, -0.25}, {0.5, 0.75, 0.25});
+    const std::string glb = box_glb({-1.0, -2.0, -3.0}, {1.0, 2.0, 3.0});
+    for (const auto& [bytes, content_type, format] :
+         {std::tuple{obj, std::string("model/obj"), MeshFormat::Obj},
+          std::tuple{glb, std::string("model/gltf-binary"), MeshFormat::Glb}}) {
+        const auto result = client_->Post("/v1/meshes", bytes, content_type.c_str());
+        ASSERT_TRUE(result);
+        ASSERT_EQ(result->status, 201) << content_type << ": " << result->body;
+        Json mesh = expect_conforms("POST", "/v1/meshes", result);
+        ASSERT_TRUE(mesh.is_object());
+        const std::string id = api::sha256_hex(std::string_view(bytes));
+        EXPECT_EQ(mesh.at("id"), id);
+        EXPECT_EQ(mesh.at("cached"), false);
+        EXPECT_EQ(result->get_header_value("Location"), "/v1/meshes/" + id);
+        const Json expected =
+            api::mesh_to_json(load_mesh_memory(std::as_bytes(std::span(bytes.data(), bytes.size())),
+                                               "upload", format),
+                              id, format);
+        mesh.erase("cached");
+        expect_json_near(mesh, expected, 1e-12, content_type);
+        EXPECT_EQ(mesh.at("counts").at("triangles"), 12);
+
+        const auto stored = client_->Get(("/v1/meshes/" + id).c_str());
+        ASSERT_TRUE(stored);
+        ASSERT_EQ(stored->status, 200);
+        Json got = expect_conforms("GET", "/v1/meshes/{id}", stored);
+        got.erase("cached");
+        EXPECT_EQ(got, mesh);
+
+        const auto again = client_->Post("/v1/meshes", bytes, content_type.c_str());
+        ASSERT_TRUE(again);
+        EXPECT_EQ(again->status, 200);
+        EXPECT_EQ(expect_conforms("POST", "/v1/meshes", again).value("cached", false), true);
+    }
+    // application/octet-stream with an explicit format.
+    const std::string other = box_obj({0, 0, 0}, {1, 1, 1});
+    const auto result = client_->Post("/v1/meshes?format=obj", other, "application/octet-stream");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 201) << result->body;
+    const Json mesh = expect_conforms("POST", "/v1/meshes", result);
+    EXPECT_EQ(mesh.at("format"), "obj");
+    EXPECT_EQ(mesh.at("bounds").at("max"), Json({1, 1, 1}));
+}
+
+TEST_F(Endpoints, RenderAnswersFramesOfTheRequestedSizeAndFormat) {
+    const auto get =
+        client_->Get("/v1/render?environment=default&mesh=default&width=160&height=96&samples=1");
+    ASSERT_TRUE(get);
+    ASSERT_EQ(get->status, 200) << get->body;
+    expect_conforms("GET", "/v1/render", get);
+    EXPECT_EQ(get->get_header_value("Content-Type"), "image/jpeg");
+    EXPECT_TRUE(std::regex_match(get->get_header_value("ETag"), std::regex("\"[0-9a-f]{64}\"")))
+        << get->get_header_value("ETag");
+    EXPECT_EQ(get->get_header_value("X-Oer-Cache"), "miss");
+    EXPECT_FALSE(get->get_header_value("Server-Timing").empty());
+    const Rgba8Image jpeg = decode_image(get);
+    EXPECT_EQ(jpeg.width, 160);
+    EXPECT_EQ(jpeg.height, 96);
+
+    const auto png = post_json(*client_, "/v1/render",
+                               {{"environment", "default"},
+                                {"objects", {{{"mesh", "default"}}}},
+                                {"width", 64},
+                                {"height", 48},
+                                {"format", "png"},
+                                {"samples", 1}});
+    ASSERT_TRUE(png);
+    ASSERT_EQ(png->status, 200) << png->body;
+    expect_conforms("POST", "/v1/render", png);
+    EXPECT_EQ(png->get_header_value("Content-Type"), "image/png");
+    const Rgba8Image decoded = decode_image(png);
+    EXPECT_EQ(decoded.width, 64);
+    EXPECT_EQ(decoded.height, 48);
+
+    const auto exr = post_json(*client_, "/v1/render",
+                               {{"environment", "default"},
+                                {"objects", {{{"mesh", "default"}}}},
+                                {"width", 32},
+                                {"height", 24},
+                                {"format", "exr"},
+                                {"samples", 1}});
+    ASSERT_TRUE(exr);
+    ASSERT_EQ(exr->status, 200) << exr->body;
+    expect_conforms("POST", "/v1/render", exr);
+    EXPECT_EQ(exr->get_header_value("Content-Type"), "image/x-exr");
+    const LoadedImage linear = load_image_memory(
+        std::as_bytes(std::span(exr->body.data(), exr->body.size())), "frame.exr");
+    EXPECT_EQ(linear.image.width, 32);
+    EXPECT_EQ(linear.image.height, 24);
+    EXPECT_EQ(linear.repaired.nan + linear.repaired.inf + linear.repaired.negative, 0u);
+}
+
+TEST_F(Endpoints, SolidBackgroundFillsAnEmptyFrameWithExactlyThatColour) {
+    const auto result = post_json(*client_, "/v1/render",
+                                  {{"environment", "default"},
+                                   {"ground", false},
+                                   {"background", "#FF8010"},
+                                   {"format", "png"},
+                                   {"width", 33},
+                                   {"height", 17}});
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200) << result->body;
+    expect_conforms("POST", "/v1/render", result);
+    const Rgba8Image image = decode_image(result);
+    ASSERT_EQ(image.width, 33);
+    ASSERT_EQ(image.height, 17);
+    for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+        ASSERT_EQ(image.pixels[i], 255) << i / 4;
+        ASSERT_EQ(image.pixels[i + 1], 128) << i / 4;
+        ASSERT_EQ(image.pixels[i + 2], 16) << i / 4;
+        ASSERT_EQ(image.pixels[i + 3], 255) << i / 4;
+    }
+}

@@ -1,0 +1,608 @@
+#include "http_support.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "json_schema.hpp"
+#include "oer/image_io.hpp"
+#include "openapi_spec.hpp"
+#include "synthetic_maps.hpp"
+
+namespace oer::itest {
+
+namespace {
+
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
+// "text/plain; version=0.0.4; charset=utf-8" -> ("text/plain", {"version=0.0.4", ...})
+std::pair<std::string, std::vector<std::string>> media_type(const std::string& header) {
+    std::vector<std::string> parts;
+    std::stringstream in(header);
+    for (std::string part; std::getline(in, part, ';');) {
+        parts.push_back(lowercase(testing::trim(part)));
+    }
+    if (parts.empty()) {
+        return {"", {}};
+    }
+    return {parts[0], std::vector<std::string>(parts.begin() + 1, parts.end())};
+}
+
+const Json& resolve(const Json& node) {
+    const Json& root = testing::openapi_spec().json();
+    const Json* current = &node;
+    for (int depth = 0; depth < 16 && current->is_object() && current->contains("$ref"); ++depth) {
+        current = &root.at(Json::json_pointer(current->at("$ref").get<std::string>().substr(1)));
+    }
+    return *current;
+}
+
+std::string describe(const httplib::Result& result) {
+    if (!result) {
+        return "no answer (" + httplib::to_string(result.error()) + ")";
+    }
+    std::string body = result->body.substr(0, 400);
+    for (char& c : body) {
+        if (static_cast<unsigned char>(c) < 32 && c != '\n') {
+            c = '.';
+        }
+    }
+    return std::to_string(result->status) + " " + result->get_header_value("Content-Type") + ": " +
+           body;
+}
+
+}  // namespace
+
+TempRoot::TempRoot() {
+    std::random_device random;
+    root_ = std::filesystem::temp_directory_path() /
+            ("oer-itest-" + std::to_string(::getpid()) + "-" + std::to_string(random()));
+    std::filesystem::create_directories(root_ / "data");
+}
+
+TempRoot::~TempRoot() {
+    std::error_code ignored;
+    std::filesystem::remove_all(root_, ignored);
+}
+
+server::ServiceConfig test_config(const std::filesystem::path& data_dir) {
+    server::ServiceConfig config;
+    config.host = "127.0.0.1";
+    config.port = 0;
+    config.data_dir = data_dir;
+    config.render_workers = 1;
+    config.access_log = true;
+    return config;
+}
+
+TestServer::TestServer(server::ServiceConfig config) : config_(std::move(config)) {
+    service_ = std::make_unique<server::Service>(config_, [this](std::string_view line) {
+        std::lock_guard lock(log_mutex_);
+        log_.emplace_back(line);
+    });
+    service_->start();
+}
+
+TestServer::~TestServer() {
+    stop();
+    if (::testing::Test::HasFailure()) {
+        std::lock_guard lock(log_mutex_);
+        std::string tail;
+        for (std::size_t i = log_.size() > 40 ? log_.size() - 40 : 0; i < log_.size(); ++i) {
+            tail += "  " + log_[i] + "\n";
+        }
+        std::cerr << "service log (last lines):\n" << tail;
+    }
+}
+
+void TestServer::stop() {
+    if (service_) {
+        service_->stop();
+        service_.reset();
+    }
+}
+
+int TestServer::port() const {
+    return service_->port();
+}
+
+std::unique_ptr<httplib::Client> TestServer::client(int read_timeout_seconds) const {
+    auto client = std::make_unique<httplib::Client>("127.0.0.1", port());
+    client->set_connection_timeout(5, 0);
+    client->set_read_timeout(read_timeout_seconds, 0);
+    client->set_write_timeout(30, 0);
+    return client;
+}
+
+std::vector<std::string> TestServer::log_lines() const {
+    std::lock_guard lock(log_mutex_);
+    return log_;
+}
+
+Json expect_conforms(const std::string& method, const std::string& route,
+                     const httplib::Result& result) {
+    if (!result) {
+        ADD_FAILURE() << method << " " << route << ": " << describe(result);
+        return nullptr;
+    }
+    const Json& root = testing::openapi_spec().json();
+    const Json& paths = root.at("paths");
+    if (!paths.contains(route) || !paths.at(route).contains(lowercase(method))) {
+        ADD_FAILURE() << method << " " << route << " is not in api/openapi.yaml";
+        return nullptr;
+    }
+    const Json& responses = paths.at(route).at(lowercase(method)).at("responses");
+    const std::string status = std::to_string(result->status);
+    if (!responses.contains(status)) {
+        ADD_FAILURE() << method << " " << route << " answered " << describe(result)
+                      << ", a status api/openapi.yaml does not list for it";
+        return nullptr;
+    }
+    const Json& response = resolve(responses.at(status));
+    const std::string where = method + " " + route + " " + status;
+
+    const Json headers = response.value("headers", Json::object());
+    for (const auto& [name, declared] : headers.items()) {
+        if (!result->has_header(name)) {
+            continue;
+        }
+        const Json& schema = resolve(declared).at("schema");
+        const std::string text = result->get_header_value(name);
+        Json value = text;
+        if (resolve(schema).value("type", "") == "integer") {
+            char* end = nullptr;
+            const long long number = std::strtoll(text.c_str(), &end, 10);
+            value = (end && *end == '\0' && !text.empty()) ? Json(number) : Json(text);
+        }
+        for (const std::string& error : testing::schema_errors(value, schema, root)) {
+            ADD_FAILURE() << where << ": header " << name << ": " << error;
+        }
+    }
+
+    if (!response.contains("content")) {
+        EXPECT_TRUE(result->body.empty())
+            << where << " declares no body, got " << result->body.size() << " bytes";
+        return nullptr;
+    }
+    const auto [actual, actual_parameters] = media_type(result->get_header_value("Content-Type"));
+    for (const auto& [declared_type, content] : response.at("content").items()) {
+        const auto [type, parameters] = media_type(declared_type);
+        if (type != actual) {
+            continue;
+        }
+        for (const std::string& parameter : parameters) {
+            EXPECT_NE(std::find(actual_parameters.begin(), actual_parameters.end(), parameter),
+                      actual_parameters.end())
+                << where << ": Content-Type " << result->get_header_value("Content-Type")
+                << " lacks " << parameter;
+        }
+        if (type.size() >= 4 && type.substr(type.size() - 4) == "json") {
+            const Json body = Json::parse(result->body, nullptr, false);
+            if (body.is_discarded()) {
+                ADD_FAILURE() << where << ": the body is not JSON: " << describe(result);
+                return nullptr;
+            }
+            for (const std::string& error :
+                 testing::schema_errors(body, content.at("schema"), root)) {
+                ADD_FAILURE() << where << ": body" << error << "\n  body: " << body.dump();
+            }
+            return body;
+        }
+        return nullptr;
+    }
+    ADD_FAILURE() << where << ": Content-Type \"" << result->get_header_value("Content-Type")
+                  << "\" is not one of " << response.at("content").dump().substr(0, 300);
+    return nullptr;
+}
+
+void expect_problem(const std::string& method, const std::string& route,
+                    const httplib::Result& result, int status,
+                    const std::optional<std::string>& parameter) {
+    ASSERT_TRUE(result) << method << " " << route << ": " << describe(result);
+    ASSERT_EQ(result->status, status) << method << " " << route << ": " << describe(result);
+    EXPECT_EQ(media_type(result->get_header_value("Content-Type")).first,
+              "application/problem+json")
+        << describe(result);
+    const Json body = expect_conforms(method, route, result);
+    ASSERT_TRUE(body.is_object()) << describe(result);
+    EXPECT_EQ(body.value("status", 0), status) << body.dump();
+    EXPECT_FALSE(body.value("detail", std::string()).empty()) << "no detail: " << body.dump();
+    if (parameter) {
+        EXPECT_EQ(body.value("parameter", std::string("<absent>")), *parameter) << body.dump();
+    }
+}
+
+double Metrics::sum(const std::string& name,
+                    const std::map<std::string, std::string>& labels) const {
+    double total = 0.0;
+    for (const Sample& sample : samples) {
+        if (sample.name != name) {
+            continue;
+        }
+        bool matches = true;
+        for (const auto& [key, value] : labels) {
+            const auto found = sample.labels.find(key);
+            matches = matches && found != sample.labels.end() && found->second == value;
+        }
+        if (matches) {
+            total += sample.value;
+        }
+    }
+    return total;
+}
+
+bool Metrics::has(const std::string& name) const {
+    return std::any_of(samples.begin(), samples.end(),
+                       [&](const Sample& sample) { return sample.name == name; });
+}
+
+Metrics parse_prometheus(const std::string& text) {
+    Metrics metrics;
+    std::stringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty()) {
+            continue;
+        }
+        if (line.rfind("# TYPE ", 0) == 0) {
+            std::stringstream words(line.substr(7));
+            std::string family, type;
+            words >> family >> type;
+            metrics.types[family] = type;
+            continue;
+        }
+        if (line[0] == '#') {
+            continue;
+        }
+        Sample sample;
+        std::size_t i = 0;
+        while (i < line.size() && line[i] != '{' && line[i] != ' ') {
+            ++i;
+        }
+        sample.name = line.substr(0, i);
+        if (i < line.size() && line[i] == '{') {
+            ++i;
+            while (i < line.size() && line[i] != '}') {
+                const std::size_t equals = line.find('=', i);
+                if (equals == std::string::npos || equals + 1 >= line.size() ||
+                    line[equals + 1] != '"') {
+                    ADD_FAILURE() << "malformed labels: " << line;
+                    return metrics;
+                }
+                const std::string key = line.substr(i, equals - i);
+                std::string value;
+                std::size_t j = equals + 2;
+                for (; j < line.size() && line[j] != '"'; ++j) {
+                    if (line[j] == '\\' && j + 1 < line.size()) {
+                        ++j;
+                        value += line[j] == 'n' ? '\n' : line[j];
+                    } else {
+                        value += line[j];
+                    }
+                }
+                sample.labels[key] = value;
+                i = j + 1;
+                if (i < line.size() && line[i] == ',') {
+                    ++i;
+                }
+            }
+            ++i;  // '}'
+        }
+        const std::string rest = testing::trim(line.substr(std::min(i, line.size())));
+        char* end = nullptr;
+        const std::string number = rest.substr(0, rest.find(' '));
+        sample.value = number == "+Inf"   ? HUGE_VAL
+                       : number == "-Inf" ? -HUGE_VAL
+                                          : std::strtod(number.c_str(), &end);
+        if (number.empty() || (end && *end != '\0' && number != "+Inf" && number != "-Inf")) {
+            ADD_FAILURE() << "malformed sample: " << line;
+            return metrics;
+        }
+        metrics.samples.push_back(std::move(sample));
+    }
+    return metrics;
+}
+
+Metrics scrape(httplib::Client& client) {
+    const auto result = client.Get("/metrics");
+    if (!result || result->status != 200) {
+        ADD_FAILURE() << "GET /metrics: " << describe(result);
+        return {};
+    }
+    return parse_prometheus(result->body);
+}
+
+std::vector<std::uint8_t> bytes_of(const httplib::Result& result) {
+    return std::vector<std::uint8_t>(result->body.begin(), result->body.end());
+}
+
+Rgba8Image decode_image(const httplib::Result& result) {
+    return decode_8bit(bytes_of(result));
+}
+
+long resident_kib() {
+    std::ifstream statm("/proc/self/statm");
+    long size = 0, resident = 0;
+    statm >> size >> resident;
+    return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+RawSocket::RawSocket(int port) {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (fd_ < 0) {
+        return;
+    }
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(std::uint16_t(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+        ::close(fd_);
+        fd_ = -1;
+        return;
+    }
+    const int one = 1;
+    ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    timeval timeout{2, 0};  // a send that cannot make progress for 2 s fails
+    ::setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
+}
+
+RawSocket::~RawSocket() {
+    if (fd_ >= 0) {
+        ::close(fd_);
+    }
+}
+
+bool RawSocket::send_all(const std::string& bytes) {
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+        const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+        if (n <= 0) {
+            return false;
+        }
+        sent += std::size_t(n);
+    }
+    return true;
+}
+
+std::optional<std::string> RawSocket::receive(std::chrono::milliseconds timeout) {
+    pollfd poll_fd{fd_, POLLIN, 0};
+    if (::poll(&poll_fd, 1, int(timeout.count())) <= 0) {
+        return std::string();
+    }
+    char buffer[65536];
+    const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
+    if (n <= 0) {
+        return std::nullopt;
+    }
+    return std::string(buffer, std::size_t(n));
+}
+
+std::optional<std::string> RawSocket::receive_response(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    std::string received;
+    while (std::chrono::steady_clock::now() < deadline) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
+        const auto chunk = receive(std::max(left, std::chrono::milliseconds(1)));
+        if (!chunk) {
+            return received.empty() ? std::nullopt : std::optional<std::string>(received);
+        }
+        received += *chunk;
+        const std::size_t end = received.find("\r\n\r\n");
+        if (end != std::string::npos) {
+            const std::string head = lowercase(received.substr(0, end));
+            const std::size_t length = head.find("content-length:");
+            const std::size_t body =
+                length == std::string::npos ? 0 : std::stoul(head.substr(length + 15));
+            if (received.size() >= end + 4 + body) {
+                return received;
+            }
+        }
+    }
+    return received;
+}
+
+bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds deadline) {
+    const auto end = std::chrono::steady_clock::now() + deadline;
+    while (true) {
+        if (condition()) {
+            return true;
+        }
+        if (std::chrono::steady_clock::now() > end) {
+            return false;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+}
+
+SyntheticEnvironment three_disc_environment(int width, int height) {
+    SyntheticEnvironment environment;
+    environment.light_directions = {glm::normalize(glm::dvec3(1.0, 1.2, 0.0)),
+                                    glm::normalize(glm::dvec3(-0.6, 1.2, 0.8)),
+                                    glm::normalize(glm::dvec3(-0.5, 1.0, -0.9))};
+    environment.image =
+        testing::disc_map(width, height, glm::vec3(0.05f),
+                          {{environment.light_directions[0], 0.08, {400, 380, 350}},
+                           {environment.light_directions[1], 0.08, {200, 260, 400}},
+                           {environment.light_directions[2], 0.08, {300, 250, 200}}});
+    return environment;
+}
+
+std::string exr_bytes(const HdrImage& image) {
+    std::vector<float> rgba(image.pixel_count() * 4, 1.0f);
+    for (std::size_t i = 0; i < image.pixel_count(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            rgba[i * 4 + c] = image.pixels[i * 3 + c];
+        }
+    }
+    const std::vector<std::uint8_t> bytes = encode_exr(image.width, image.height, rgba);
+    return std::string(bytes.begin(), bytes.end());
+}
+
+std::string hdr_bytes(const HdrImage& image) {
+    const TempRoot folder;
+    const std::string path = (folder.root() / "map.hdr").string();
+    write_image_file(image, path);
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+namespace {
+
+struct BoxGeometry {
+    std::vector<glm::vec3> positions, normals;
+    std::vector<std::uint32_t> indices;
+};
+
+BoxGeometry box_geometry(glm::dvec3 low_d, glm::dvec3 high_d) {
+    const glm::vec3 low(low_d), high(high_d);
+    BoxGeometry box;
+    const glm::vec3 normals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                  {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    const glm::vec3 centre = (low + high) * 0.5f, half = (high - low) * 0.5f;
+    for (const glm::vec3& n : normals) {
+        const glm::vec3 u = std::abs(n.y) > 0.5f ? glm::vec3(0, 0, n.y) : glm::vec3(0, 1, 0);
+        const glm::vec3 v = glm::cross(n, u);
+        const std::uint32_t base = std::uint32_t(box.positions.size());
+        for (const auto& [a, b] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+            box.positions.push_back(centre + half * (n + float(a) * u + float(b) * v));
+            box.normals.push_back(n);
+        }
+        box.indices.insert(box.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    }
+    return box;
+}
+
+}  // namespace
+
+std::string box_obj(glm::dvec3 low, glm::dvec3 high) {
+    const BoxGeometry box = box_geometry(low, high);
+    std::ostringstream out;
+    out.precision(9);
+    out << "# a box\n";
+    for (const glm::vec3& p : box.positions) {
+        out << "v " << p.x << " " << p.y << " " << p.z << "\n";
+    }
+    for (const glm::vec3& n : box.normals) {
+        out << "vn " << n.x << " " << n.y << " " << n.z << "\n";
+    }
+    for (std::size_t i = 0; i < box.indices.size(); i += 3) {
+        out << "f";
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t index = box.indices[i + k] + 1;
+            out << " " << index << "//" << index;
+        }
+        out << "\n";
+    }
+    return out.str();
+}
+
+std::string box_glb(glm::dvec3 low, glm::dvec3 high) {
+    const BoxGeometry box = box_geometry(low, high);
+    std::string bin;
+    const auto append = [&bin](const void* data, std::size_t size) {
+        bin.append(static_cast<const char*>(data), size);
+    };
+    append(box.positions.data(), box.positions.size() * sizeof(glm::vec3));
+    append(box.normals.data(), box.normals.size() * sizeof(glm::vec3));
+    append(box.indices.data(), box.indices.size() * sizeof(std::uint32_t));
+    const std::size_t vertex_bytes = box.positions.size() * sizeof(glm::vec3);
+    const Json gltf = {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}}}},
+        {"meshes",
+         {{{"primitives",
+            {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"mode", 4}}}}}}},
+        {"buffers", {{{"byteLength", bin.size()}}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", vertex_bytes}, {"target", 34962}},
+          {{"buffer", 0},
+           {"byteOffset", vertex_bytes},
+           {"byteLength", vertex_bytes},
+           {"target", 34962}},
+          {{"buffer", 0},
+           {"byteOffset", 2 * vertex_bytes},
+           {"byteLength", box.indices.size() * 4},
+           {"target", 34963}}}},
+        {"accessors",
+         {{{"bufferView", 0},
+           {"componentType", 5126},
+           {"count", box.positions.size()},
+           {"type", "VEC3"},
+           {"min", {low.x, low.y, low.z}},
+           {"max", {high.x, high.y, high.z}}},
+          {{"bufferView", 1},
+           {"componentType", 5126},
+           {"count", box.normals.size()},
+           {"type", "VEC3"}},
+          {{"bufferView", 2},
+           {"componentType", 5125},
+           {"count", box.indices.size()},
+           {"type", "SCALAR"}}}}};
+    std::string json = gltf.dump();
+    while (json.size() % 4 != 0) {
+        json += ' ';
+    }
+    while (bin.size() % 4 != 0) {
+        bin += '\0';
+    }
+    std::string glb;
+    const auto word = [&glb](std::uint32_t value) {
+        glb.append(reinterpret_cast<const char*>(&value), 4);
+    };
+    word(0x46546C67);  // "glTF"
+    word(2);
+    word(std::uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+    word(std::uint32_t(json.size()));
+    word(0x4E4F534A);  // "JSON"
+    glb += json;
+    word(std::uint32_t(bin.size()));
+    word(0x004E4942);  // "BIN\0"
+    glb += bin;
+    return glb;
+}
+
+Json upload_environment(httplib::Client& client, const std::string& bytes,
+                        const std::string& content_type, const std::string& query) {
+    const auto result =
+        client.Post(("/v1/environments" + (query.empty() ? "" : "?" + query)).c_str(), bytes,
+                    content_type.c_str());
+    if (!result || (result->status != 200 && result->status != 201)) {
+        ADD_FAILURE() << "POST /v1/environments?" << query << ": " << describe(result);
+        return nullptr;
+    }
+    return expect_conforms("POST", "/v1/environments", result);
+}
+
+Json upload_mesh(httplib::Client& client, const std::string& bytes,
+                 const std::string& content_type) {
+    const auto result = client.Post("/v1/meshes", bytes, content_type.c_str());
+    if (!result || (result->status != 200 && result->status != 201)) {
+        ADD_FAILURE() << "POST /v1/meshes: " << describe(result);
+        return nullptr;
+    }
+    return expect_conforms("POST", "/v1/meshes", result);
+}
+
+httplib::Result post_json(httplib::Client& client, const std::string& path, const Json& body,
+                          const httplib::Headers& headers) {
+    return client.Post(path.c_str(), headers, body.dump(), "application/json");
+}
+
+}  // namespace oer::itest

@@ -1,0 +1,151 @@
+#pragma once
+// What the integration tests share: a real Service on a loopback port with its own temporary
+// data folder, HTTP helpers that hold every answer to api/openapi.yaml (status listed for the
+// route, Content-Type, body schema, declared headers), a Prometheus text parser, raw sockets
+// for hostile clients, and the synthetic assets the tests upload.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <httplib.h>
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include "oer/image.hpp"
+#include "oer/image_encoding.hpp"
+#include "oer/server/service.hpp"
+#include "oer/server/service_config.hpp"
+
+namespace oer::itest {
+
+using Json = nlohmann::json;
+
+// A fresh folder under the system's temporary directory (removed with everything in it):
+// root/data is the service's data folder, so that a test can check that nothing appeared
+// beside it.
+class TempRoot {
+  public:
+    TempRoot();
+    ~TempRoot();
+    TempRoot(const TempRoot&) = delete;
+    TempRoot& operator=(const TempRoot&) = delete;
+    const std::filesystem::path& root() const { return root_; }
+    std::filesystem::path data() const { return root_ / "data"; }
+
+  private:
+    std::filesystem::path root_;
+};
+
+// The configuration the tests start from: loopback, port 0, small and fast.
+server::ServiceConfig test_config(const std::filesystem::path& data_dir);
+
+// A started Service; its log lines are kept (and printed when a test fails).
+class TestServer {
+  public:
+    explicit TestServer(server::ServiceConfig config);
+    ~TestServer();
+    void stop();
+    int port() const;
+    const server::ServiceConfig& config() const { return config_; }
+    // A client on the loopback port with generous timeouts (no test may hang forever).
+    std::unique_ptr<httplib::Client> client(int read_timeout_seconds = 120) const;
+    std::vector<std::string> log_lines() const;
+
+  private:
+    server::ServiceConfig config_;
+    std::unique_ptr<server::Service> service_;
+    mutable std::mutex log_mutex_;
+    std::vector<std::string> log_;
+};
+
+// Checks an answer against the spec: the route and method exist, the status is listed for
+// them, the Content-Type is one the response declares, a JSON body matches its schema, and
+// each declared header that is present matches its schema. `route` is the spec's path
+// template ("/v1/environments/{id}"). Returns the parsed JSON body (null for other bodies).
+Json expect_conforms(const std::string& method, const std::string& route,
+                     const httplib::Result& result);
+
+// The answer is problem+json with this status, conforming to the spec, with a non-empty
+// detail; when `parameter` is given, the body's `parameter` equals it.
+void expect_problem(const std::string& method, const std::string& route,
+                    const httplib::Result& result, int status,
+                    const std::optional<std::string>& parameter = std::nullopt);
+
+// Prometheus text: every sample as name{labels} -> value.
+struct Sample {
+    std::string name;
+    std::map<std::string, std::string> labels;
+    double value = 0.0;
+};
+struct Metrics {
+    std::vector<Sample> samples;
+    std::map<std::string, std::string> types;  // family -> counter|gauge|histogram
+    // The sum of the samples of `name` whose labels include every one of `labels`.
+    double sum(const std::string& name,
+               const std::map<std::string, std::string>& labels = {}) const;
+    bool has(const std::string& name) const;
+};
+Metrics parse_prometheus(const std::string& text);  // fails the test on a malformed line
+Metrics scrape(httplib::Client& client);
+
+// The body of an answer as bytes, and images decoded from it.
+std::vector<std::uint8_t> bytes_of(const httplib::Result& result);
+Rgba8Image decode_image(const httplib::Result& result);
+
+// Resident set size of this process (the service runs in it), KiB.
+long resident_kib();
+
+// Raw TCP to the loopback port, for clients that httplib would not let us be.
+class RawSocket {
+  public:
+    explicit RawSocket(int port);
+    ~RawSocket();
+    RawSocket(const RawSocket&) = delete;
+    RawSocket& operator=(const RawSocket&) = delete;
+    bool ok() const { return fd_ >= 0; }
+    int fd() const { return fd_; }
+    // false once the peer has closed or reset the connection.
+    bool send_all(const std::string& bytes);
+    // Whatever arrives within the timeout (empty on timeout); nullopt when the peer closed.
+    std::optional<std::string> receive(std::chrono::milliseconds timeout);
+    // Reads until "\r\n\r\n" and Content-Length bytes of body, or until the deadline.
+    std::optional<std::string> receive_response(std::chrono::milliseconds timeout);
+
+  private:
+    int fd_ = -1;
+};
+
+// Polls `condition` every 10 ms until it holds or the deadline passes; whether it held.
+bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds deadline);
+
+// Assets built in the tests.
+// A dim sky with three small bright discs (the lights), as an RGBA float EXR in memory.
+struct SyntheticEnvironment {
+    HdrImage image;
+    std::vector<glm::dvec3> light_directions;
+};
+SyntheticEnvironment three_disc_environment(int width = 256, int height = 128);
+std::string exr_bytes(const HdrImage& image);
+std::string hdr_bytes(const HdrImage& image);  // Radiance RGBE, through a temporary file
+// An axis-aligned box as OBJ text: positions, flat normals, 12 triangles, no material.
+std::string box_obj(glm::dvec3 low, glm::dvec3 high);
+// The same box as a binary glTF (positions, normals, indices; one primitive, no material).
+std::string box_glb(glm::dvec3 low, glm::dvec3 high);
+
+// Uploads and renders, checked to succeed (fatal failures inside; check HasFatalFailure).
+Json upload_environment(httplib::Client& client, const std::string& bytes,
+                        const std::string& content_type, const std::string& query = "");
+Json upload_mesh(httplib::Client& client, const std::string& bytes,
+                 const std::string& content_type);
+httplib::Result post_json(httplib::Client& client, const std::string& path, const Json& body,
+                          const httplib::Headers& headers = {});
+
+}  // namespace oer::itest

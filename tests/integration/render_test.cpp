@@ -1,0 +1,453 @@
+// Frames over HTTP: what switching a light and shadows do to the pixels (against ray-cast
+// geometry and the rig's SH irradiance), the ETag round trip and the frame cache, concurrent
+// clients, and back-pressure (503 when the render queue is full, never a hang).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <thread>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "http_support.hpp"
+#include "oer/irradiance.hpp"
+
+using namespace oer;
+using namespace oer::itest;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+struct LookAt {
+    glm::dvec3 eye, target, up{0, 1, 0};
+    double fov_y = 50.0;
+};
+
+glm::dvec3 pixel_ray(const LookAt& camera, int width, int height, int x, int y) {
+    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const double t = std::tan(glm::radians(camera.fov_y) / 2.0);
+    const double nx = (2.0 * (x + 0.5) / width - 1.0) * t * width / height;
+    const double ny = (1.0 - 2.0 * (y + 0.5) / height) * t;
+    return glm::normalize(forward + nx * right + ny * up);
+}
+
+bool hits_box(glm::dvec3 origin, glm::dvec3 dir, glm::dvec3 low, glm::dvec3 high) {
+    double near_t = 1e-6, far_t = 1e30;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(dir[a]) < 1e-12) {
+            if (origin[a] < low[a] || origin[a] > high[a]) {
+                return false;
+            }
+            continue;
+        }
+        double t0 = (low[a] - origin[a]) / dir[a], t1 = (high[a] - origin[a]) / dir[a];
+        if (t0 > t1) {
+            std::swap(t0, t1);
+        }
+        near_t = std::max(near_t, t0);
+        far_t = std::min(far_t, t1);
+    }
+    return near_t <= far_t;
+}
+
+ShRgb sh_of(const Json& coefficients) {
+    const int order = int(std::lround(std::sqrt(double(coefficients.size()))));
+    ShRgb sh(order);
+    for (std::size_t i = 0; i < coefficients.size(); ++i) {
+        sh.coefficients[i] = {coefficients[i][0].get<double>(), coefficients[i][1].get<double>(),
+                              coefficients[i][2].get<double>()};
+    }
+    return sh;
+}
+
+double srgb_encode(double linear) {
+    linear = std::clamp(linear, 0.0, 1.0);
+    return 255.0 *
+           (linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055);
+}
+
+glm::dvec3 rgb_at(const Rgba8Image& image, int x, int y) {
+    const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+    return {double(p[0]), double(p[1]), double(p[2])};
+}
+
+double max_abs(glm::dvec3 v) {
+    return std::max({std::abs(v.r), std::abs(v.g), std::abs(v.b)});
+}
+
+}  // namespace
+
+// A box on the ground under three small bright lights, PNG with no tone mapping (a clamp), so
+// that every ground pixel can be predicted: 0.8 / pi times the SH irradiance at +Y of the lights
+// that reach it, times 2^exposure, sRGB-encoded. Switching light k off must leave the ground in
+// k's shadow untouched (k never reached it) and darken the rest by exactly k's part; switching
+// shadows off must change the ground in some light's shadow and nothing else.
+TEST(RenderLighting, SwitchingALightChangesExactlyTheGroundItReaches) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const Json rig = upload_environment(*client, exr_bytes(three_disc_environment().image),
+                                        "image/x-exr", "light_count=3&sh_order=3");
+    ASSERT_TRUE(rig.is_object());
+    ASSERT_EQ(rig.at("lights").size(), 3u);
+    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
+    const Json mesh = upload_mesh(*client, box_obj(low, high), "model/obj");
+    ASSERT_TRUE(mesh.is_object());
+
+    std::vector<glm::dvec3> directions;
+    for (const Json& light : rig.at("lights")) {
+        directions.push_back({light.at("direction")[0].get<double>(),
+                              light.at("direction")[1].get<double>(),
+                              light.at("direction")[2].get<double>()});
+    }
+    ShWindow window;
+    window.kind = window_kind_from_string(rig.at("sh").at("window").at("kind").get<std::string>());
+    window.cutoff = rig.at("sh").at("window").value("cutoff", 0.0);
+    const glm::dvec3 up{0, 1, 0};
+    const glm::dvec3 ground_all =
+        0.8 / kPi *
+        irradiance_coefficients(sh_of(rig.at("sh").at("radiance")), window).evaluate(up);
+    std::vector<glm::dvec3> ground_light;
+    for (int k = 0; k < 3; ++k) {
+        ground_light.push_back(
+            0.8 / kPi *
+            irradiance_coefficients(sh_of(rig.at("sh").at("per_light")[k]), window).evaluate(up));
+    }
+    // Exposure that puts the fully lit ground at about 0.7 of white.
+    const double exposure = std::log2(0.7 / std::max({ground_all.r, ground_all.g, ground_all.b}));
+    const double scale = std::exp2(exposure);
+
+    const LookAt camera{{0.0, 4.0, 3.0}, {0.0, 0.2, 0.0}};
+    const int size = 160;
+    // Ground pixels by the lights whose shadow covers them; only pixels whose neighbours two
+    // pixels away agree (away from every edge), within 1.2 of the box (on the plane for sure).
+    const auto occluders = [&](int x, int y) -> std::optional<int> {
+        const glm::dvec3 ray = pixel_ray(camera, size, size, x, y);
+        if (ray.y >= 0.0 || hits_box(camera.eye, ray, low, high)) {
+            return std::nullopt;
+        }
+        const glm::dvec3 point = camera.eye + (-camera.eye.y / ray.y) * ray;
+        if (glm::length(point) > 1.2) {
+            return std::nullopt;
+        }
+        int mask = 0;
+        for (int k = 0; k < 3; ++k) {
+            mask |= hits_box(point, directions[k], low, high) ? 1 << k : 0;
+        }
+        return mask;
+    };
+    std::vector<int> classes(std::size_t(size * size), -1);
+    for (int y = 2; y < size - 2; ++y) {
+        for (int x = 2; x < size - 2; ++x) {
+            const auto mask = occluders(x, y);
+            bool stable = mask.has_value();
+            for (const auto& [dx, dy] : {std::pair{-2, 0}, {2, 0}, {0, -2}, {0, 2}}) {
+                stable = stable && occluders(x + dx, y + dy) == mask;
+            }
+            classes[std::size_t(y * size + x)] = stable ? *mask : -1;
+        }
+    }
+    const auto render = [&](const std::vector<bool>& lights, bool shadows) {
+        const Json body = {
+            {"environment", rig.at("id")},
+            {"objects", {{{"mesh", mesh.at("id")}}}},
+            {"ground", true},
+            {"camera",
+             {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
+              {"target", {camera.target.x, camera.target.y, camera.target.z}},
+              {"fov_y", camera.fov_y}}},
+            {"lights", lights},
+            {"width", size},
+            {"height", size},
+            {"format", "png"},
+            {"tonemap", "none"},
+            {"exposure", exposure},
+            {"background", "#000000"},
+            {"samples", 1},
+            {"shadows", {{"enabled", shadows}, {"filter", "hard"}, {"resolution", 2048}}}};
+        const auto result = post_json(*client, "/v1/render", body);
+        EXPECT_TRUE(result && result->status == 200) << (result ? result->body : "no answer");
+        return result && result->status == 200 ? decode_image(result) : Rgba8Image{};
+    };
+    // The predicted sRGB value of a ground pixel in the shadow of `mask`, lights `on` on.
+    const auto predicted = [&](int mask, int on) {
+        glm::dvec3 linear = ground_all;
+        for (int k = 0; k < 3; ++k) {
+            if (!(on & (1 << k)) || (mask & (1 << k))) {
+                linear -= ground_light[k];
+            }
+        }
+        return glm::dvec3(srgb_encode(linear.r * scale), srgb_encode(linear.g * scale),
+                          srgb_encode(linear.b * scale));
+    };
+
+    const Rgba8Image all_on = render({true, true, true}, true);
+    ASSERT_EQ(all_on.width, size);
+    int per_class[8] = {};
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const int mask = classes[std::size_t(y * size + x)];
+            if (mask >= 0) {
+                ++per_class[mask];
+                ASSERT_LE(max_abs(rgb_at(all_on, x, y) - predicted(mask, 7)), 2.5)
+                    << "pixel " << x << "," << y << " in the shadow of lights " << mask;
+            }
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        const int bit = 1 << k;
+        int in_shadow = 0;
+        for (int mask = 0; mask < 8; ++mask) {
+            in_shadow += (mask & bit) ? per_class[mask] : 0;
+        }
+        ASSERT_GT(in_shadow, 50) << "light " << k << " casts no checkable shadow";
+        std::vector<bool> lights{true, true, true};
+        lights[std::size_t(k)] = false;
+        const Rgba8Image one_off = render(lights, true);
+        ASSERT_EQ(one_off.width, size);
+        int unchanged = 0, darkened = 0;
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                const int mask = classes[std::size_t(y * size + x)];
+                if (mask < 0) {
+                    continue;
+                }
+                const glm::dvec3 before = rgb_at(all_on, x, y), after = rgb_at(one_off, x, y);
+                if (mask & bit) {
+                    ASSERT_LE(max_abs(after - before), 1.0)
+                        << "pixel " << x << "," << y << " lies in the shadow of light " << k
+                        << " but changed when it was switched off";
+                    ++unchanged;
+                } else {
+                    ASSERT_LE(max_abs(after - predicted(mask, 7 & ~bit)), 2.5)
+                        << "pixel " << x << "," << y << " with light " << k << " off";
+                    ASSERT_GT(glm::dot(before - after, glm::dvec3(1.0)), 3.0)
+                        << "pixel " << x << "," << y << " lit by light " << k
+                        << " did not darken when it was switched off";
+                    ++darkened;
+                }
+            }
+        }
+        EXPECT_GT(unchanged, 50) << k;
+        EXPECT_GT(darkened, 500) << k;
+    }
+    // Shadows off: every light reaches every ground pixel; only shadowed ground changes.
+    const Rgba8Image no_shadows = render({true, true, true}, false);
+    ASSERT_EQ(no_shadows.width, size);
+    int changed = 0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const int mask = classes[std::size_t(y * size + x)];
+            if (mask < 0) {
+                continue;
+            }
+            const double difference = max_abs(rgb_at(no_shadows, x, y) - rgb_at(all_on, x, y));
+            if (mask == 0) {
+                ASSERT_LE(difference, 1.0) << "unshadowed pixel " << x << "," << y << " changed";
+            } else {
+                ASSERT_LE(max_abs(rgb_at(no_shadows, x, y) - predicted(0, 7)), 2.5)
+                    << "pixel " << x << "," << y << " with shadows off";
+                changed += difference > 2.0;
+            }
+        }
+    }
+    EXPECT_GT(changed, 100);
+}
+
+// GET and POST forms of one request share their ETag; If-None-Match gives 304 without a body;
+// the second identical request comes from the frame cache.
+TEST(RenderCaching, EtagRoundTripAndFrameCache) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::string query =
+        "/v1/render?environment=default&mesh=default&yaw=40&pitch=10"
+        "&distance=3&width=96&height=64&samples=1";
+    const auto first = client->Get(query.c_str());
+    ASSERT_TRUE(first);
+    ASSERT_EQ(first->status, 200) << first->body;
+    expect_conforms("GET", "/v1/render", first);
+    const std::string etag = first->get_header_value("ETag");
+    ASSERT_FALSE(etag.empty());
+    EXPECT_EQ(first->get_header_value("X-Oer-Cache"), "miss");
+
+    const auto second = client->Get(query.c_str());
+    ASSERT_TRUE(second);
+    ASSERT_EQ(second->status, 200);
+    EXPECT_EQ(second->get_header_value("X-Oer-Cache"), "hit");
+    EXPECT_EQ(second->get_header_value("ETag"), etag);
+    EXPECT_EQ(second->body, first->body);
+
+    const auto revalidated = client->Get(query.c_str(), {{"If-None-Match", etag}});
+    ASSERT_TRUE(revalidated);
+    EXPECT_EQ(revalidated->status, 304);
+    EXPECT_TRUE(revalidated->body.empty());
+    EXPECT_EQ(revalidated->get_header_value("ETag"), etag);
+    expect_conforms("GET", "/v1/render", revalidated);
+
+    const auto stale =
+        client->Get(query.c_str(), {{"If-None-Match", "\"" + std::string(64, '0') + "\""}});
+    ASSERT_TRUE(stale);
+    EXPECT_EQ(stale->status, 200);
+    EXPECT_EQ(stale->body, first->body);
+
+    const Json body = {{"environment", "default"},
+                       {"objects", {{{"mesh", "default"}}}},
+                       {"camera", {{"orbit", {{"yaw", 40}, {"pitch", 10}, {"distance", 3}}}}},
+                       {"width", 96},
+                       {"height", 64},
+                       {"samples", 1}};
+    const auto posted = post_json(*client, "/v1/render", body);
+    ASSERT_TRUE(posted);
+    ASSERT_EQ(posted->status, 200) << posted->body;
+    EXPECT_EQ(posted->get_header_value("ETag"), etag);
+    EXPECT_EQ(posted->get_header_value("X-Oer-Cache"), "hit");
+    EXPECT_EQ(posted->body, first->body);
+    const auto posted_revalidated =
+        post_json(*client, "/v1/render", body, {{"If-None-Match", etag}});
+    ASSERT_TRUE(posted_revalidated);
+    EXPECT_EQ(posted_revalidated->status, 304);
+    EXPECT_TRUE(posted_revalidated->body.empty());
+
+    // A different request has a different ETag.
+    Json other = body;
+    other["width"] = 97;
+    const auto different = post_json(*client, "/v1/render", other);
+    ASSERT_TRUE(different);
+    ASSERT_EQ(different->status, 200);
+    EXPECT_NE(different->get_header_value("ETag"), etag);
+}
+
+// Eight clients at once, each with its own camera, on a server without a frame cache and with
+// two render workers: every frame is byte for byte the frame of the same request alone.
+TEST(RenderConcurrency, EightClientsAtOnceGetTheFramesTheyWouldGetAlone) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.frame_cache_bytes = 0;
+    config.render_workers = 2;
+    config.http_threads = 12;
+    TestServer server(config);
+    const auto request = [](int i) {
+        return Json{{"environment", "default"},
+                    {"objects", {{{"mesh", "default"}}}},
+                    {"camera", {{"orbit", {{"yaw", -150 + 40 * i}, {"pitch", 5 + 3 * i}}}}},
+                    {"width", 96},
+                    {"height", 96},
+                    {"format", "png"},
+                    {"samples", 1}};
+    };
+    constexpr int kClients = 8;
+    std::vector<std::string> together(kClients);
+    std::vector<int> statuses(kClients, 0);
+    std::atomic<int> waiting{kClients};
+    std::vector<std::thread> threads;
+    for (int i = 0; i < kClients; ++i) {
+        threads.emplace_back([&, i] {
+            auto client = server.client();
+            --waiting;
+            while (waiting.load() > 0) {
+                std::this_thread::yield();
+            }
+            const auto result = post_json(*client, "/v1/render", request(i));
+            if (result) {
+                statuses[std::size_t(i)] = result->status;
+                together[std::size_t(i)] = result->body;
+            }
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    auto client = server.client();
+    for (int i = 0; i < kClients; ++i) {
+        ASSERT_EQ(statuses[std::size_t(i)], 200)
+            << "client " << i << ": " << together[std::size_t(i)];
+        const auto alone = post_json(*client, "/v1/render", request(i));
+        ASSERT_TRUE(alone);
+        ASSERT_EQ(alone->status, 200);
+        EXPECT_EQ(alone->get_header_value("X-Oer-Cache"), "miss");
+        EXPECT_TRUE(alone->body == together[std::size_t(i)])
+            << "client " << i << "'s frame differs";
+        const Rgba8Image image =
+            decode_8bit(std::vector<std::uint8_t>(alone->body.begin(), alone->body.end()));
+        EXPECT_EQ(image.width, 96);
+        for (int j = 0; j < i; ++j) {
+            EXPECT_NE(together[std::size_t(i)], together[std::size_t(j)])
+                << "clients " << i << " and " << j << " got the same frame for different cameras";
+        }
+    }
+}
+
+// One worker and room for one waiting render: of many slow renders sent at once, those over
+// capacity are answered 503 with Retry-After within a second, and every request is answered.
+TEST(RenderBackPressure, RequestsOverCapacityGet503PromptlyAndNoneHang) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.max_queue_depth = 1;
+    config.render_workers = 1;
+    config.frame_cache_bytes = 0;
+    config.http_threads = 12;
+    TestServer server(config);
+    constexpr int kRequests = 8;
+    struct Outcome {
+        int status = 0;
+        double seconds = 0.0;
+        std::string retry_after;
+        std::optional<httplib::Result> result;
+    };
+    std::vector<Outcome> outcomes(kRequests);
+    std::atomic<int> waiting{kRequests};
+    std::vector<std::thread> threads;
+    for (int i = 0; i < kRequests; ++i) {
+        threads.emplace_back([&, i] {
+            auto client = server.client(180);
+            const Json body = {{"environment", "default"},
+                               {"objects", {{{"mesh", "default"}}}},
+                               {"camera", {{"orbit", {{"yaw", 10 * i}}}}},
+                               {"width", 1024},
+                               {"height", 1024},
+                               {"samples", 8},
+                               {"shadows", {{"resolution", 4096}}}};
+            --waiting;
+            while (waiting.load() > 0) {
+                std::this_thread::yield();
+            }
+            const auto start = std::chrono::steady_clock::now();
+            auto result = post_json(*client, "/v1/render", body);
+            Outcome& outcome = outcomes[std::size_t(i)];
+            outcome.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (result) {
+                outcome.status = result->status;
+                outcome.retry_after = result->get_header_value("Retry-After");
+            }
+            outcome.result.emplace(std::move(result));
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    int rendered = 0, refused = 0;
+    for (int i = 0; i < kRequests; ++i) {
+        const Outcome& outcome = outcomes[std::size_t(i)];
+        ASSERT_TRUE(outcome.status == 200 || outcome.status == 503)
+            << "request " << i << " got " << outcome.status << " after " << outcome.seconds << " s";
+        if (outcome.status == 503) {
+            ++refused;
+            EXPECT_LT(outcome.seconds, 1.0) << "request " << i << " waited for its 503";
+            EXPECT_FALSE(outcome.retry_after.empty()) << "503 without Retry-After";
+            expect_problem("POST", "/v1/render", *outcome.result, 503);
+        } else {
+            ++rendered;
+        }
+    }
+    EXPECT_GE(rendered, 1);
+    // At most one rendering and one waiting when the burst arrives.
+    EXPECT_GE(refused, kRequests - 3) << rendered << " rendered";
+}
