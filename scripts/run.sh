@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The main job: install what is missing, build, and preprocess the built-in default
-# environment, printing its light rig (the server takes over this role in a later issue).
+# The main job: install what is missing, build, and run the service (build/bin/oer-server) on
+# its built-in default scene. It prints its URL and serves until Ctrl-C; arguments are passed
+# to oer-server (--port, --data-dir, ...; `--help` lists them).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup-debian.sh"
 "$root/scripts/build.sh" "$root/build"
-exec "$root/build/bin/oer" preprocess default "$@"
+exec "$root/build/bin/oer-server" "$@"
