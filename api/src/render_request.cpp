@@ -158,6 +158,19 @@ double json_number(const Json& value, const std::string& path, Range range) {
     return number;
 }
 
+// Frame sides beyond this are nonsense rather than over a configured limit.
+constexpr long long kLargestSide = 1 << 20;
+
+// A frame side over the configured limit is a size limit (HTTP 413), not a malformed value.
+int within_frame_limit(const std::string& name, long long value, int limit) {
+    if (value > limit) {
+        throw InvalidParameter(
+            name, std::to_string(value) + " is over the limit of " + std::to_string(limit),
+            ErrorKind::LimitExceeded);
+    }
+    return int(value);
+}
+
 long long json_integer(const Json& value, const std::string& path, long long low, long long high) {
     if (!value.is_number()) {
         wrong_type(path, "an integer", value);
@@ -539,10 +552,12 @@ RenderSpec parse_render_json(std::string_view body, const RenderLimits& limits) 
         }
     }
     if (const Json* width = find(json, "width")) {
-        spec.width = int(json_integer(*width, "width", 1, limits.max_width));
+        spec.width = within_frame_limit("width", json_integer(*width, "width", 1, kLargestSide),
+                                        limits.max_width);
     }
     if (const Json* height = find(json, "height")) {
-        spec.height = int(json_integer(*height, "height", 1, limits.max_height));
+        spec.height = within_frame_limit("height", json_integer(*height, "height", 1, kLargestSide),
+                                         limits.max_height);
     }
     if (const Json* format = find(json, "format")) {
         spec.format =
@@ -607,10 +622,12 @@ RenderSpec parse_render_query(const std::multimap<std::string, std::string>& que
         spec.lights = parse_light_list(*lights, limits.max_lights);
     }
     if (const std::string* width = get("width")) {
-        spec.width = int(parse_integer("width", *width, 1, limits.max_width));
+        spec.width = within_frame_limit("width", parse_integer("width", *width, 1, kLargestSide),
+                                        limits.max_width);
     }
     if (const std::string* height = get("height")) {
-        spec.height = int(parse_integer("height", *height, 1, limits.max_height));
+        spec.height = within_frame_limit(
+            "height", parse_integer("height", *height, 1, kLargestSide), limits.max_height);
     }
     if (const std::string* format = get("format")) {
         spec.format = parse_enum("format", *format, image_format_from_string);

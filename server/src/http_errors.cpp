@@ -58,7 +58,7 @@ ErrorAnswer error_answer(std::exception_ptr error) {
     } catch (const api::MalformedRequest& e) {
         return {problem(400, e.what()), {}, false, e.what()};
     } catch (const api::InvalidParameter& e) {
-        Problem answer = problem(422, e.what());
+        Problem answer = problem(e.kind() == ErrorKind::LimitExceeded ? 413 : 422, e.what());
         answer.extensions["parameter"] = e.parameter();
         return {std::move(answer), {}, false, e.what()};
     } catch (const Error& e) {

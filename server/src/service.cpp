@@ -13,6 +13,7 @@
 #include "environment_registry.hpp"
 #include "frame_service.hpp"
 #include "http_exchange.hpp"
+#include "listen_backlog.hpp"
 #include "mesh_registry.hpp"
 #include "oer/api/content_id.hpp"
 #include "oer/api/version.hpp"
@@ -149,6 +150,9 @@ void Service::Impl::start() {
         const std::string where = config.host + ":" + std::to_string(config.port);
         stop();
         throw Error(ErrorKind::Io, "cannot listen on " + where);
+    }
+    if (!widen_listen_backlog(port)) {
+        log("warning: the listen backlog stays at cpp-httplib's 5 (its socket was not found)");
     }
     listener = std::thread([this] { server->listen_after_bind(); });
 }

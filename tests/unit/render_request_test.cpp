@@ -449,6 +449,7 @@ TEST(RenderRequest, LargeInputsStopAtTheLimits) {
         FAIL() << "accepted a width over the limit";
     } catch (const InvalidParameter& error) {
         EXPECT_EQ(error.parameter(), "width");
+        EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded);
     }
     // A body over the byte limit is refused before it is parsed.
     const std::string huge = with("objects", "[" + std::string(300 << 10, ' ') + "]");

@@ -116,7 +116,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.request_timeout_seconds, 30);
     EXPECT_EQ(config.idle_timeout_seconds, 5);
     EXPECT_EQ(config.keep_alive_max_count, 100);
-    EXPECT_EQ(config.http_threads, 32);
+    EXPECT_EQ(config.http_threads, 64);
     EXPECT_EQ(config.frame_cache_bytes, 268'435'456u);
     EXPECT_TRUE(config.access_log);
 }

@@ -9,9 +9,10 @@ namespace oer::api {
 
 class InvalidParameter : public Error {
   public:
-    InvalidParameter(std::string parameter, const std::string& detail)
-        : Error(ErrorKind::InvalidInput, parameter + ": " + detail),
-          parameter_(std::move(parameter)) {}
+    // kind: LimitExceeded for a value past a configured limit (HTTP 413), else InvalidInput.
+    InvalidParameter(std::string parameter, const std::string& detail,
+                     ErrorKind kind = ErrorKind::InvalidInput)
+        : Error(kind, parameter + ": " + detail), parameter_(std::move(parameter)) {}
     const std::string& parameter() const { return parameter_; }
 
   private:
