@@ -155,6 +155,16 @@ void Service::Impl::start() {
         log("warning: the listen backlog stays at cpp-httplib's 5 (its socket was not found)");
     }
     listener = std::thread([this] { server->listen_after_bind(); });
+    // cpp-httplib's stop() does nothing until the listening loop has begun, so a service stopped
+    // right after it started would wait on that loop for ever. Start returns once it runs.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!server->is_running()) {
+        if (std::chrono::steady_clock::now() > deadline) {
+            stop();
+            throw Error(ErrorKind::Internal, "the HTTP listener did not start within 10 s");
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
 }
 
 void Service::Impl::configure_server() {
