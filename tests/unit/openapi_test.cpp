@@ -462,3 +462,30 @@ TEST(OpenApi, SchemasDescribeTheDocumentsTheApiWrites) {
                                            schema("RenderRequest"), "x"),
                             "x/quality");
 }
+
+// The server asks for the API key on the two uploads only (tests/integration/errors_test.cpp,
+// ApiKey): the spec declares the key there and nowhere else, and lists 401 exactly where it
+// declares the key, so that a generated client neither sends the key elsewhere nor expects a 401
+// that cannot come.
+TEST(OpenApi, DeclaresTheApiKeyOnExactlyTheUploads) {
+    const Json& document = spec().json();
+    EXPECT_FALSE(document.contains("security")) << "a top-level security would cover every route";
+    std::set<std::string> keyed;
+    int operations = 0;
+    for (const auto& [path, item] : document.at("paths").items()) {
+        for (const auto& [method, operation] : item.items()) {
+            ++operations;
+            const std::string name = method + " " + path;
+            bool declares_key = false;
+            for (const Json& requirement : operation.value("security", Json::array())) {
+                declares_key = declares_key || requirement.contains("apiKey");
+            }
+            if (declares_key) {
+                keyed.insert(name);
+            }
+            EXPECT_EQ(operation.at("responses").contains("401"), declares_key) << name;
+        }
+    }
+    EXPECT_GT(operations, 10);
+    EXPECT_EQ(keyed, (std::set<std::string>{"post /v1/environments", "post /v1/meshes"}));
+}
