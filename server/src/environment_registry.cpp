@@ -60,6 +60,42 @@ EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
         }
         return {std::move(known), true};
     }
+    std::promise<std::shared_ptr<const Environment>> promise;
+    {
+        std::unique_lock lock(in_flight_mutex_);
+        const auto running = in_flight_.find(rig_id);
+        if (running != in_flight_.end()) {
+            const auto computing = running->second;
+            lock.unlock();
+            return {computing.get(), true};
+        }
+        // Finished between find() above and this lock: remembered before it left in_flight_.
+        if (auto finished = rigs_.get(rig_id)) {
+            return {std::move(finished), true};
+        }
+        in_flight_.emplace(rig_id, promise.get_future().share());
+    }
+    const auto finish = [&] {
+        std::lock_guard lock(in_flight_mutex_);
+        in_flight_.erase(rig_id);
+    };
+    try {
+        auto environment = preprocess(bytes, extension, options, source_id, rig_id);
+        promise.set_value(environment);
+        finish();
+        return {std::move(environment), false};
+    } catch (...) {
+        promise.set_exception(std::current_exception());
+        finish();
+        throw;
+    }
+}
+
+std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_view bytes,
+                                                                   const std::string& extension,
+                                                                   const RigOptions& options,
+                                                                   const std::string& source_id,
+                                                                   const std::string& rig_id) {
     // Decoded before it is stored, so that bytes that are not a map never enter the store.
     const auto start = std::chrono::steady_clock::now();
     LoadedImage loaded = load_image_memory(as_bytes(bytes), "upload." + extension, limits_);
@@ -69,7 +105,7 @@ EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     auto image = std::make_shared<const HdrImage>(std::move(loaded.image));
     images_.put(source_id, image, charge_of(*image));
-    return {std::move(environment), false};
+    return environment;
 }
 
 std::shared_ptr<const Environment> EnvironmentRegistry::find(const std::string& id) {

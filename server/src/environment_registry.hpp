@@ -5,7 +5,10 @@
 // decoded maps (for backgrounds and previews) in an LRU of their own. The preset `default` is
 // the built-in studio with its rig at default options, made once at start-up.
 #include <functional>
+#include <future>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 
@@ -39,6 +42,8 @@ class EnvironmentRegistry {
     };
     // extension: "hdr" or "exr". Throws oer::Error for a map that does not decode (InvalidInput)
     // or is over the limits (LimitExceeded).
+    // Concurrent uploads of the same bytes and options compute the rig once: the later ones
+    // wait for it and answer as cached (or with the same error).
     Upload upload(std::string_view bytes, const std::string& extension, const RigOptions& options);
 
     // nullptr when no rig has that id (and none can be recomputed). id: a content id or the
@@ -55,6 +60,11 @@ class EnvironmentRegistry {
                                                const std::string& source_id,
                                                const std::string& rig_id);
     void remember(const std::shared_ptr<const Environment>& environment);
+    std::shared_ptr<const Environment> preprocess(std::string_view bytes,
+                                                  const std::string& extension,
+                                                  const RigOptions& options,
+                                                  const std::string& source_id,
+                                                  const std::string& rig_id);
 
     AssetStore& store_;
     ServiceMetrics& metrics_;
@@ -64,6 +74,9 @@ class EnvironmentRegistry {
     std::shared_ptr<const HdrImage> preset_image_;
     SharedLruCache<Environment> rigs_;
     SharedLruCache<HdrImage> images_;
+    // Rigs being computed, by rig id.
+    std::mutex in_flight_mutex_;
+    std::map<std::string, std::shared_future<std::shared_ptr<const Environment>>> in_flight_;
 };
 
 }  // namespace oer::server

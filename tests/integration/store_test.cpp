@@ -1,9 +1,11 @@
 // The data folder across restarts: a rig computed before a restart is served after it without
 // recomputation, and a damaged rig entry is detected, recomputed from its source and served
-// correctly.
+// correctly; concurrent uploads of one map compute its rig once.
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <latch>
+#include <thread>
 
 #include "http_support.hpp"
 
@@ -140,4 +142,36 @@ TEST(Store, ADamagedRigEntryIsRecomputedFromItsSource) {
         EXPECT_EQ(comparable(again), comparable(uploaded));
         EXPECT_EQ(scrape(*client).sum("oer_rigs_computed_total"), 1.0);
     }
+}
+
+TEST(Store, ConcurrentUploadsOfOneMapComputeItsRigOnce) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    // Large enough that preprocessing (tens of milliseconds) overlaps every upload.
+    const std::string bytes = exr_bytes(three_disc_environment(1024, 512).image);
+    constexpr int kClients = 4;
+    std::vector<Json> answers(kClients);
+    std::latch ready(kClients);
+    std::vector<std::thread> threads;
+    for (int i = 0; i < kClients; ++i) {
+        threads.emplace_back([&, i] {
+            auto client = server.client();
+            ready.arrive_and_wait();
+            answers[std::size_t(i)] =
+                upload_environment(*client, bytes, "image/x-exr", "light_count=2");
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    int computed_here = 0;
+    for (const Json& answer : answers) {
+        ASSERT_TRUE(answer.is_object());
+        EXPECT_EQ(answer.at("id"), answers[0].at("id"));
+        EXPECT_EQ(comparable(answer), comparable(answers[0]));
+        computed_here += answer.at("cached") == false ? 1 : 0;
+    }
+    EXPECT_EQ(computed_here, 1);
+    auto client = server.client();
+    EXPECT_EQ(scrape(*client).sum("oer_rigs_computed_total"), 1.0);
 }
