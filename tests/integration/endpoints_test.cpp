@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <regex>
 
 #include <glm/geometric.hpp>
@@ -86,21 +87,24 @@ class Endpoints : public ::testing::Test {
         delete root_;
         server_ = nullptr;
         root_ = nullptr;
+        rig_.reset();
     }
     void SetUp() override { client_ = server_->client(); }
 
-    // The three-disc environment, uploaded once for the suite.
+    // The three-disc environment, uploaded once to the suite's server (each --gtest_repeat
+    // round starts a new server, with an empty data folder).
     static const Json& rig() {
-        static const Json uploaded = [] {
+        if (!rig_) {
             auto client = server_->client();
-            return upload_environment(*client, exr_bytes(three_disc_environment().image),
+            rig_ = upload_environment(*client, exr_bytes(three_disc_environment().image),
                                       "image/x-exr", "light_count=3&sh_order=3");
-        }();
-        return uploaded;
+        }
+        return *rig_;
     }
 
     static inline TempRoot* root_ = nullptr;
     static inline TestServer* server_ = nullptr;
+    static inline std::optional<Json> rig_;
     std::unique_ptr<httplib::Client> client_;
 };
 
