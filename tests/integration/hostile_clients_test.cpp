@@ -12,6 +12,7 @@
 #include <sys/socket.h>
 
 #include "http_support.hpp"
+#include "process_memory.hpp"
 
 using namespace oer;
 using namespace oer::itest;
@@ -187,7 +188,7 @@ TEST_F(HostileClients, IdleKeepAliveConnectionsDoNotBlockHealth) {
 TEST_F(HostileClients, LiveHeapStaysBoundedOverRepeatedAttacks) {
     flood_with_endless_chunked_upload(*server_);
     slow_health_probes_with_idle_connections(*server_);
-    const std::size_t before = live_heap_bytes();
+    const std::size_t before = oer::testing::live_heap_bytes();
     std::size_t sent = 0;
     for (int round = 0; round < 64; ++round) {
         const FloodOutcome outcome = flood_with_endless_chunked_upload(*server_);
@@ -195,7 +196,7 @@ TEST_F(HostileClients, LiveHeapStaysBoundedOverRepeatedAttacks) {
         sent += outcome.sent;
         slow_health_probes_with_idle_connections(*server_);
     }
-    const std::size_t after = live_heap_bytes();
+    const std::size_t after = oer::testing::live_heap_bytes();
     const long growth_kib = (long(after) - long(before)) / 1024;
     RecordProperty("live_heap_growth_kib", std::to_string(growth_kib));
     std::printf("64 more rounds sent %zu MiB; the live heap went from %zu to %zu KiB\n", sent >> 20,

@@ -8,17 +8,11 @@
 #include <thread>
 
 #include <arpa/inet.h>
-#include <malloc.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
-
-#if defined(__SANITIZE_ADDRESS__)
-// Declared in <sanitizer/allocator_interface.h>, which GCC 12 does not ship.
-extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
-#endif
 
 #include "json_schema.hpp"
 #include "oer/image_io.hpp"
@@ -337,15 +331,6 @@ std::vector<std::uint8_t> bytes_of(const httplib::Result& result) {
 
 Rgba8Image decode_image(const httplib::Result& result) {
     return decode_8bit(bytes_of(result));
-}
-
-std::size_t live_heap_bytes() {
-#if defined(__SANITIZE_ADDRESS__)
-    return __sanitizer_get_current_allocated_bytes();  // ASan replaces glibc's allocator
-#else
-    const struct mallinfo2 heap = mallinfo2();
-    return heap.uordblks + heap.hblkhd;  // in arenas, plus blocks mmap-ed on their own
-#endif
 }
 
 RawSocket::RawSocket(int port) {

@@ -100,11 +100,6 @@ Metrics scrape(httplib::Client& client);
 std::vector<std::uint8_t> bytes_of(const httplib::Result& result);
 Rgba8Image decode_image(const httplib::Result& result);
 
-// Bytes the heap of this process (the service runs in it) has handed out and not taken back:
-// memory kept, not memory that the allocator caches per thread for reuse, as the resident set
-// would also count (glibc keeps up to 8 arenas per core, each holding freed blocks).
-std::size_t live_heap_bytes();
-
 // Raw TCP to the loopback port, for clients that httplib would not let us be.
 class RawSocket {
   public:
