@@ -5,12 +5,9 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <optional>
 #include <string>
-
-#include <unistd.h>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
