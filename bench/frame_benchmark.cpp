@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "bench_support.hpp"
-#include "oer/frame_renderer.hpp"
-#include "oer/image_encoding.hpp"
-#include "oer/mesh_loading.hpp"
-#include "oer/render_thread.hpp"
-#include "oer/rig.hpp"
+#include "oer/gl/frame_renderer.hpp"
+#include "oer/gl/render_thread.hpp"
+#include "oer/image/image_encoding.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/mesh/mesh_loading.hpp"
 
 namespace {
 
@@ -25,7 +25,7 @@ using oer::bench::ms_since;
 constexpr const char* kBunny = "/usr/share/glmark2/models/bunny.obj";
 constexpr int kRepetitions = 7;
 constexpr double kBudgetMs = 3000.0;
-// DESIGN.md section 8: colour pass + readback, bunny on a ground plane, 2 lights, cached shadows.
+// DESIGN.md section 8: color pass + readback, bunny on a ground plane, 2 lights, cached shadows.
 constexpr double kTargetFps1366 = 30.0;
 constexpr double kTargetMs512 = 15.0;
 
@@ -57,7 +57,7 @@ class Bench {
                 request.camera->eye.x += 0.01f;
             } else {
                 // A yaw never used before in this run: every shadow map is new.
-                request.yaw_degrees = 1e-3 * double(++yaw_step_);
+                request.environment_yaw = 1e-3 * double(++yaw_step_);
             }
             const auto start = Clock::now();
             const double cpu_start = oer::bench::process_cpu_ms();
@@ -98,8 +98,8 @@ oer::FrameRequest bunny_request(std::shared_ptr<const oer::Mesh> bunny,
     request.width = width;
     request.height = height;
     request.ground = true;
-    request.background.kind = oer::BackgroundKind::Colour;
-    request.background.colour = {0.9f, 0.9f, 0.92f};
+    request.background.kind = oer::BackgroundKind::Color;
+    request.background.color = {0.9f, 0.9f, 0.92f};
     request.camera =
         oer::frame_bounds(request.objects[0].mesh->bounds, 45.0f, float(width) / float(height));
     return request;
@@ -110,9 +110,9 @@ double pass(const Measurement& m, const char* name) {
     return found == m.passes.end() ? 0.0 : found->second;
 }
 
-// The colour pass of DESIGN.md section 8 is the geometry and shading passes (with the
+// The color pass of DESIGN.md section 8 is the geometry and shading passes (with the
 // supersample resolve), then readback.
-double colour_and_readback(const Measurement& m) {
+double color_and_readback(const Measurement& m) {
     return pass(m, "geometry_pass") + pass(m, "shading_pass") + pass(m, "readback");
 }
 
@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
                         pass(m, "geometry_pass"), pass(m, "shading_pass"), pass(m, "readback"));
                     if (lights == 2 && cached && samples == 1) {
                         targets[std::to_string(width) + "x" + std::to_string(height)] =
-                            colour_and_readback(m);
+                            color_and_readback(m);
                     }
                 }
             }
@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
     }
 
     std::printf(
-        "\nshadow filter, 2 lights, cached shadow maps, 1 sample per pixel (colour pass ms; CPU ms "
+        "\nshadow filter, 2 lights, cached shadow maps, 1 sample per pixel (color pass ms; CPU ms "
         "of the frame):\n");
     for (const auto& [width, height] : {std::pair{512, 512}, std::pair{1366, 768}}) {
         for (const bool shadows : {false, true}) {
@@ -190,7 +190,7 @@ int main(int argc, char** argv) {
                             !shadows                            ? "no shadows"
                             : filter == oer::ShadowFilter::Hard ? "hard"
                                                                 : "pcf",
-                            colour_and_readback(m) - pass(m, "readback"), m.frame_cpu_ms);
+                            color_and_readback(m) - pass(m, "readback"), m.frame_cpu_ms);
             }
         }
     }
@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
     }
 
     std::printf(
-        "\nDESIGN.md section 8 targets (colour pass + readback, bunny, ground, 2 lights, "
+        "\nDESIGN.md section 8 targets (color pass + readback, bunny, ground, 2 lights, "
         "cached shadow maps, 1 sample per pixel):\n");
     const double ms1366 = targets["1366x768"], ms512 = targets["512x512"];
     std::printf("  1366x768  %6.1f ms = %5.1f fps   target >= %.0f fps   %s\n", ms1366,

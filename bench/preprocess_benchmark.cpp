@@ -23,11 +23,11 @@
 
 #include "bench_support.hpp"
 #include "literal_thesis.hpp"
-#include "oer/equirect.hpp"
-#include "oer/image.hpp"
-#include "oer/image_io.hpp"
-#include "oer/rig.hpp"
-#include "oer/sh_projection.hpp"
+#include "oer/core/image.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/lighting/sh_projection.hpp"
 
 namespace {
 
@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
     std::printf("oer preprocessing benchmark (%u hardware threads)%s\n\n",
                 std::thread::hardware_concurrency(), quick ? ", --quick" : "");
     std::printf(
-        "Synthetic maps: a dim sky gradient plus k bright discs of distinct sizes and colours.\n"
+        "Synthetic maps: a dim sky gradient plus k bright discs of distinct sizes and colors.\n"
         "ours ms     oer::build_rig, light_count = k, sh_order = 3, no window; best of %d\n"
         "auto ms     oer::build_rig with the defaults (auto light count, auto SH order); best "
         "of %d;\n"

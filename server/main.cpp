@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "oer/api/invalid_parameter.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 #include "oer/server/service.hpp"
 #include "oer/server/service_config.hpp"
 

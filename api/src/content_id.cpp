@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "oer/api/rig_options.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace oer::api {
 

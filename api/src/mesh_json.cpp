@@ -3,7 +3,7 @@
 #include <array>
 #include <charconv>
 
-#include "oer/enum_names.hpp"
+#include "oer/core/enum_names.hpp"
 
 namespace oer::api {
 

@@ -15,7 +15,7 @@
 #include "oer/api/malformed_request.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "oer/api/version.hpp"
-#include "oer/enum_names.hpp"
+#include "oer/core/enum_names.hpp"
 
 namespace oer::api {
 
@@ -39,7 +39,7 @@ constexpr Range kAngle{-360.0, 360.0};  // orbit yaw, environment_yaw
 constexpr Range kPitch{-90.0, 90.0};
 constexpr Range kDistance{1e-4, 1e6};
 constexpr Range kExposure{-64.0, 64.0};  // the renderer's limit
-constexpr Range kColour{0.0, 1.0};
+constexpr Range kColor{0.0, 1.0};
 constexpr int kMaxQuality = 100;
 constexpr int kMinShadowResolution = 64;
 constexpr std::array<int, 4> kSampleCounts = {1, 2, 4, 8};
@@ -288,8 +288,8 @@ ObjectSpec json_object_spec(const Json& value, const std::string& path) {
         }
         check_transform(transform_path, object.transform);
     }
-    if (const Json* colour = find(value, "base_color")) {
-        object.base_color = json_vector3(*colour, child(path, "base_color"), kColour);
+    if (const Json* color = find(value, "base_color")) {
+        object.base_color = json_vector3(*color, child(path, "base_color"), kColor);
     }
     return object;
 }
@@ -469,11 +469,11 @@ Background parse_background(const std::string& name, const std::string& text) {
     }
     if (text.size() == 7 && text[0] == '#' &&
         text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
-        background.kind = BackgroundKind::Colour;
+        background.kind = BackgroundKind::Color;
         for (int i = 0; i < 3; ++i) {
             int channel = 0;
             std::from_chars(text.data() + 1 + 2 * i, text.data() + 3 + 2 * i, channel, 16);
-            background.colour[i] = float(channel) / 255.0f;
+            background.color[i] = float(channel) / 255.0f;
         }
         return background;
     }
@@ -487,13 +487,13 @@ std::string to_string(const Background& background) {
             return "env";
         case BackgroundKind::Transparent:
             return "transparent";
-        case BackgroundKind::Colour:
+        case BackgroundKind::Color:
             break;
     }
     static constexpr char hex[] = "0123456789abcdef";
     std::string text = "#";
     for (int i = 0; i < 3; ++i) {
-        const int channel = int(std::lround(std::clamp(background.colour[i], 0.0f, 1.0f) * 255.0f));
+        const int channel = int(std::lround(std::clamp(background.color[i], 0.0f, 1.0f) * 255.0f));
         text += hex[channel >> 4];
         text += hex[channel & 15];
     }
@@ -734,7 +734,7 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
     }
     FrameRequest request;
     request.rig = std::move(rig);
-    request.environment = std::move(environment);
+    request.environment_map = std::move(environment);
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const ObjectSpec& object = spec.objects[i];
         request.objects.push_back({meshes[i], glm::mat4(object.transform),
@@ -757,11 +757,11 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
     request.height = spec.height;
     request.ground = spec.ground;
     request.background = spec.background;
-    request.exposure_ev = spec.exposure;
-    request.tone_mapper = spec.tonemap;
+    request.exposure = spec.exposure;
+    request.tonemap = spec.tonemap;
     request.shadows = spec.shadows;
     request.samples = spec.samples;
-    request.yaw_degrees = spec.environment_yaw;
+    request.environment_yaw = spec.environment_yaw;
     request.linear = spec.format == ImageFormat::Exr;
     return request;
 }

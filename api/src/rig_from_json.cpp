@@ -8,7 +8,7 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/rig_options.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace oer::api {
 

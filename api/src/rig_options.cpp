@@ -4,7 +4,7 @@
 
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/parameter_text.hpp"
-#include "oer/enum_names.hpp"
+#include "oer/core/enum_names.hpp"
 
 namespace oer::api {
 

@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "oer/equirect.hpp"
+#include "oer/lighting/equirect.hpp"
 
 namespace oer::bench {
 

@@ -8,7 +8,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "oer/image.hpp"
+#include "oer/core/image.hpp"
 
 namespace oer::bench {
 
@@ -45,7 +45,7 @@ double best_ms(int max_repetitions, double budget_ms, F&& f) {
     return best;
 }
 
-// The bright discs of the synthetic maps: distinct sizes, colours and radiances, of comparable
+// The bright discs of the synthetic maps: distinct sizes, colors and radiances, of comparable
 // power, away from the seam and the poles (the literal thesis clusters in pixel space).
 struct Disc {
     double azimuth_degrees;    // phi of DESIGN.md section 3

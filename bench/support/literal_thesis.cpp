@@ -8,7 +8,7 @@
 #include <numbers>
 #include <random>
 
-#include "oer/equirect.hpp"
+#include "oer/lighting/equirect.hpp"
 
 namespace oer::bench {
 

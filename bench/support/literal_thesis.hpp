@@ -27,7 +27,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "oer/image.hpp"
+#include "oer/core/image.hpp"
 
 namespace oer::bench {
 

@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "oer/api/content_id.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 #include "quoted_excerpt.hpp"
 
 namespace oer::server {

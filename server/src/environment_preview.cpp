@@ -2,10 +2,10 @@
 
 #include <algorithm>
 
-#include "oer/error.hpp"
-#include "oer/image_encoding.hpp"
-#include "oer/light_overlay.hpp"
-#include "oer/tonemap.hpp"
+#include "oer/core/error.hpp"
+#include "oer/image/image_encoding.hpp"
+#include "oer/lighting/light_overlay.hpp"
+#include "oer/lighting/tonemap.hpp"
 
 namespace oer::server {
 

@@ -5,8 +5,8 @@
 // the outlines stay one preview pixel wide however large the map is.
 #include <string>
 
-#include "oer/image.hpp"
-#include "oer/rig.hpp"
+#include "oer/core/image.hpp"
+#include "oer/lighting/rig.hpp"
 
 namespace oer::server {
 

@@ -7,8 +7,8 @@
 #include "oer/api/rig_from_json.hpp"
 #include "oer/api/rig_json.hpp"
 #include "oer/api/rig_options.hpp"
-#include "oer/default_environment.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
+#include "oer/lighting/default_environment.hpp"
 
 namespace oer::server {
 

@@ -14,8 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "oer/image_io.hpp"
-#include "oer/rig.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/rig.hpp"
 #include "oer/server/asset_store.hpp"
 #include "oer/server/shared_lru_cache.hpp"
 #include "service_metrics.hpp"

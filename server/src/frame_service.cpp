@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "http_errors.hpp"
-#include "oer/image_encoding.hpp"
+#include "oer/image/image_encoding.hpp"
 
 namespace oer::server {
 

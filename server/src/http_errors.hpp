@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 #include "oer/server/problem_json.hpp"
 
 namespace oer::server {

@@ -4,7 +4,7 @@
 
 #include "oer/api/content_id.hpp"
 #include "oer/api/mesh_json.hpp"
-#include "oer/default_product.hpp"
+#include "oer/mesh/default_product.hpp"
 
 namespace oer::server {
 

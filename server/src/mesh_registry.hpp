@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "oer/mesh_loading.hpp"
+#include "oer/mesh/mesh_loading.hpp"
 #include "oer/server/asset_store.hpp"
 #include "oer/server/shared_lru_cache.hpp"
 #include "service_metrics.hpp"

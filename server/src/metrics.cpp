@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace oer::server {
 

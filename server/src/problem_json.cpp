@@ -3,7 +3,7 @@
 #include <array>
 #include <utility>
 
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace oer::server {
 

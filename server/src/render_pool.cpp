@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "oer/render_thread.hpp"
+#include "oer/gl/render_thread.hpp"
 
 namespace oer::server {
 

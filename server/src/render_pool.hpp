@@ -12,8 +12,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "oer/frame_renderer.hpp"
-#include "oer/gl_context.hpp"
+#include "oer/gl/frame_renderer.hpp"
+#include "oer/gl/gl_context.hpp"
 
 namespace oer::server {
 

@@ -4,8 +4,8 @@
 #include "oer/api/light_switches.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "oer/api/rig_options.hpp"
-#include "oer/image_encoding.hpp"
-#include "oer/irradiance_map.hpp"
+#include "oer/image/image_encoding.hpp"
+#include "oer/lighting/irradiance_map.hpp"
 #include "service_context.hpp"
 
 namespace oer::server {

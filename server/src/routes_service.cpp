@@ -14,7 +14,7 @@ void add_service_routes(Router& router, ServiceContext& context) {
                       {"name", "Studio"},
                       {"description",
                        "A studio with three soft-boxes (key, fill and rim) of "
-                       "distinct colours and sizes over a dim gradient"}}}},
+                       "distinct colors and sizes over a dim gradient"}}}},
                    {"meshes",
                     {{{"id", "default"},
                       {"name", "Dress form"},

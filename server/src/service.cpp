@@ -17,7 +17,7 @@
 #include "mesh_registry.hpp"
 #include "oer/api/content_id.hpp"
 #include "oer/api/version.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 #include "oer/server/asset_store.hpp"
 #include "oer/server/byte_lru_cache.hpp"
 #include "oer/server/metrics.hpp"
@@ -100,7 +100,7 @@ Frame Service::Impl::test_frame(FrameRenderer& renderer) {
     const auto environment = environments.find(std::string(api::kDefaultPresetId));
     FrameRequest request;
     request.rig = environment->rig;
-    request.environment = environments.source_image(*environment);
+    request.environment_map = environments.source_image(*environment);
     request.objects.push_back(
         {meshes.find(std::string(api::kDefaultPresetId))->mesh, glm::mat4(1.0f), std::nullopt});
     request.width = kTestFrameSize;

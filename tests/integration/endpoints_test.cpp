@@ -1,7 +1,7 @@
 // Every endpoint's happy path on a real server over loopback HTTP, each answer held to
 // api/openapi.yaml (status, Content-Type, body schema, declared headers) and its values checked
 // against the libraries computed independently here (the rig of the same bytes, the mesh of
-// the same file, SH irradiance, decoded image sizes and colours).
+// the same file, SH irradiance, decoded image sizes and colors).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,11 +16,11 @@
 #include "oer/api/rig_json.hpp"
 #include "oer/api/rig_options.hpp"
 #include "oer/api/version.hpp"
-#include "oer/equirect.hpp"
-#include "oer/image_io.hpp"
-#include "oer/irradiance.hpp"
-#include "oer/mesh_loading.hpp"
-#include "oer/rig.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/irradiance.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/mesh/mesh_loading.hpp"
 
 using namespace oer;
 using namespace oer::itest;
@@ -461,7 +461,7 @@ TEST_F(Endpoints, RenderAnswersFramesOfTheRequestedSizeAndFormat) {
     EXPECT_EQ(linear.repaired.nan + linear.repaired.inf + linear.repaired.negative, 0u);
 }
 
-TEST_F(Endpoints, SolidBackgroundFillsAnEmptyFrameWithExactlyThatColour) {
+TEST_F(Endpoints, SolidBackgroundFillsAnEmptyFrameWithExactlyThatColor) {
     const auto result = post_json(*client_, "/v1/render",
                                   {{"environment", "default"},
                                    {"ground", false},

@@ -189,8 +189,8 @@ TEST_F(Errors, InvalidMembersAre422NamingThem) {
         expect_problem("POST", "/v1/render", post_json(*client_, "/v1/render", body), 422,
                        parameter);
     }
-    expect_problem("GET", "/v1/render", client_->Get("/v1/render?environment=default&colour=red"),
-                   422, "colour");
+    expect_problem("GET", "/v1/render", client_->Get("/v1/render?environment=default&color=red"),
+                   422, "color");
     expect_problem("GET", "/v1/render", client_->Get("/v1/render?environment=default&samples=3"),
                    422, "samples");
     // Light switches must match the rig's lights.
@@ -235,7 +235,7 @@ TEST_F(Errors, InvalidMembersAre422NamingThem) {
                    422);
 }
 
-TEST(ApiKey, UploadsNeedTheKeyAndProbesDoNot) {
+TEST(ErrorsApiKey, UploadsNeedTheKeyAndProbesDoNot) {
     TempRoot root;
     server::ServiceConfig config = test_config(root.data());
     config.api_key = "s3cret-key";
@@ -273,7 +273,7 @@ TEST(ApiKey, UploadsNeedTheKeyAndProbesDoNot) {
 }
 
 // api/openapi.yaml: with an API key, the uploads need it and every other route does not.
-TEST(ApiKey, OnlyUploadsNeedTheKey) {
+TEST(ErrorsApiKey, OnlyUploadsNeedTheKey) {
     TempRoot root;
     server::ServiceConfig config = test_config(root.data());
     config.api_key = "s3cret-key";

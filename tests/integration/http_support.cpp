@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 #include "json_schema.hpp"
-#include "oer/image_io.hpp"
+#include "oer/image/image_io.hpp"
 #include "openapi_spec.hpp"
 #include "synthetic_maps.hpp"
 

@@ -19,8 +19,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
-#include "oer/image.hpp"
-#include "oer/image_encoding.hpp"
+#include "oer/core/image.hpp"
+#include "oer/image/image_encoding.hpp"
 #include "oer/server/service.hpp"
 #include "oer/server/service_config.hpp"
 

@@ -13,7 +13,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "http_support.hpp"
-#include "oer/irradiance.hpp"
+#include "oer/lighting/irradiance.hpp"
 
 using namespace oer;
 using namespace oer::itest;

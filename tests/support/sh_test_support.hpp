@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "oer/equirect.hpp"
-#include "oer/image.hpp"
-#include "oer/sh.hpp"
+#include "oer/core/image.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/sh.hpp"
 
 namespace oer::test {
 

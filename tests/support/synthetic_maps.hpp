@@ -5,8 +5,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "oer/equirect.hpp"
-#include "oer/image.hpp"
+#include "oer/core/image.hpp"
+#include "oer/lighting/equirect.hpp"
 
 namespace oer::testing {
 

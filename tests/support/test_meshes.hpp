@@ -5,7 +5,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "oer/mesh.hpp"
+#include "oer/mesh/mesh.hpp"
 
 namespace oer::testing {
 

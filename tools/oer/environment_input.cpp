@@ -8,9 +8,9 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/rig_options.hpp"
-#include "oer/default_environment.hpp"
-#include "oer/environment_source.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
+#include "oer/lighting/default_environment.hpp"
+#include "oer/lighting/environment_source.hpp"
 
 namespace oer::cli {
 

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "command_line.hpp"
-#include "oer/image_io.hpp"
-#include "oer/rig.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/rig.hpp"
 
 namespace oer::cli {
 

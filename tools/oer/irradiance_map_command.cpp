@@ -3,8 +3,8 @@
 #include "commands.hpp"
 #include "environment_input.hpp"
 #include "oer/api/light_switches.hpp"
-#include "oer/image_io.hpp"
-#include "oer/irradiance_map.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/irradiance_map.hpp"
 
 namespace oer::cli {
 

@@ -7,7 +7,7 @@
 #include "command_line.hpp"
 #include "commands.hpp"
 #include "oer/api/version.hpp"
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace {
 

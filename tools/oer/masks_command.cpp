@@ -1,8 +1,8 @@
 #include "commands.hpp"
 #include "environment_input.hpp"
-#include "oer/image_io.hpp"
-#include "oer/light_overlay.hpp"
-#include "oer/tonemap.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/light_overlay.hpp"
+#include "oer/lighting/tonemap.hpp"
 
 namespace oer::cli {
 

@@ -12,13 +12,13 @@
 #include "oer/api/light_switches.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "oer/api/render_request.hpp"
-#include "oer/default_product.hpp"
-#include "oer/error.hpp"
-#include "oer/frame_renderer.hpp"
-#include "oer/image_encoding.hpp"
-#include "oer/mesh_loading.hpp"
-#include "oer/render_thread.hpp"
-#include "oer/tonemap.hpp"
+#include "oer/core/error.hpp"
+#include "oer/gl/frame_renderer.hpp"
+#include "oer/gl/render_thread.hpp"
+#include "oer/image/image_encoding.hpp"
+#include "oer/lighting/tonemap.hpp"
+#include "oer/mesh/default_product.hpp"
+#include "oer/mesh/mesh_loading.hpp"
 
 namespace oer::cli {
 
@@ -59,7 +59,7 @@ int render_command(const std::vector<std::string>& arguments) {
 
     FrameRequest request;
     request.rig = rig;
-    request.environment = std::make_shared<const HdrImage>(input.loaded.image);
+    request.environment_map = std::make_shared<const HdrImage>(input.loaded.image);
     for (const std::string& path : line.values.at("mesh")) {
         request.objects.push_back(
             {std::make_shared<const Mesh>(path == "default" ? make_default_product()
@@ -86,7 +86,7 @@ int render_command(const std::vector<std::string>& arguments) {
             camera.eye = vector("eye", "0,0,3");
             camera.target = vector("target", "0,0,0");
             camera.up = vector("up", "0,1,0");
-            camera.fov_y_degrees = float(parse_double("fov", line.value("fov").value_or("45")));
+            camera.fov_y = float(parse_double("fov", line.value("fov").value_or("45")));
             request.camera = camera;
         }
         request.ground = api::parse_on_off("ground", line.value("ground").value_or("on"));
@@ -100,12 +100,12 @@ int render_command(const std::vector<std::string>& arguments) {
     } catch (const api::InvalidParameter& error) {
         throw usage_error(error);
     }
-    request.tone_mapper = tone_mapper_from_string(line.value("tonemap").value_or("neutral"));
-    request.exposure_ev = parse_double("exposure", line.value("exposure").value_or("0"));
+    request.tonemap = tone_mapper_from_string(line.value("tonemap").value_or("neutral"));
+    request.exposure = parse_double("exposure", line.value("exposure").value_or("0"));
     request.shadows.resolution =
         parse_int("shadow-resolution", line.value("shadow-resolution").value_or("2048"), 16, 8192);
     request.samples = parse_int("samples", line.value("samples").value_or("4"), 1, 16);
-    request.yaw_degrees = parse_double("yaw", line.value("yaw").value_or("0"));
+    request.environment_yaw = parse_double("yaw", line.value("yaw").value_or("0"));
     request.linear = format == "exr";
     const int quality = parse_int("quality", line.value("quality").value_or("90"), 1, 100);
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "oer/rig.hpp"
+#include "oer/lighting/rig.hpp"
 
 namespace oer::api {
 

@@ -3,7 +3,7 @@
 // member's name so the HTTP layer can answer 422 naming it and the CLI can name the flag.
 #include <string>
 
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace oer::api {
 

@@ -4,7 +4,7 @@
 // InvalidParameter (422). The message says where the reading stopped when the parser knows.
 #include <string>
 
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace oer::api {
 

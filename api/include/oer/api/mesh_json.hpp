@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "oer/mesh.hpp"
-#include "oer/mesh_loading.hpp"
+#include "oer/mesh/mesh.hpp"
+#include "oer/mesh/mesh_loading.hpp"
 
 namespace oer::api {
 

@@ -42,8 +42,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
-#include "oer/camera.hpp"
-#include "oer/frame_renderer.hpp"
+#include "oer/gl/frame_request.hpp"
+#include "oer/mesh/camera.hpp"
 
 namespace oer::api {
 
@@ -85,15 +85,15 @@ struct LookAtSpec {
 
 // Angles in degrees, as oer::Orbit (whose defaults these are).
 struct OrbitSpec {
-    double yaw = Orbit{}.yaw_degrees;
-    double pitch = Orbit{}.pitch_degrees;
+    double yaw = Orbit{}.yaw;
+    double pitch = Orbit{}.pitch;
     double distance = Orbit{}.distance;
     glm::dvec3 target{0.0};
 };
 
 struct CameraSpec {
     std::variant<LookAtSpec, OrbitSpec> placement;
-    double fov_y = Camera{}.fov_y_degrees;
+    double fov_y = Camera{}.fov_y;
 };
 
 struct RenderSpec {
@@ -125,7 +125,7 @@ const std::vector<std::string>& render_json_members();
 const std::vector<std::string>& render_query_parameters();
 
 // The request with every default filled in (objects' identity transforms included; the camera
-// and base colours only when given) and numbers as doubles (-0 as 0): equal requests, JSON or
+// and base colors only when given) and numbers as doubles (-0 as 0): equal requests, JSON or
 // GET, give equal documents. It is itself a valid request body.
 nlohmann::json normalised_render_json(const RenderSpec& spec);
 

@@ -7,7 +7,7 @@
 // rig_from_json restores them from it, checking each count.
 #include <nlohmann/json.hpp>
 
-#include "oer/rig.hpp"
+#include "oer/lighting/rig.hpp"
 
 namespace oer::api {
 

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "oer/rig.hpp"
+#include "oer/lighting/rig.hpp"
 
 namespace oer::api {
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "oer/rig.hpp"
+#include "oer/lighting/rig.hpp"
 
 namespace oer::api {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "oer/error.hpp"
+#include "oer/core/error.hpp"
 
 namespace oer::server {
 

@@ -1,0 +1,32 @@
+#pragma once
+// Phase 3 of OER (DESIGN.md section 2): draws meshes lit by a light rig, with one shadow map
+// per light that is on, the environment (or a color, or nothing) behind them, an optional
+// ground plane that receives shadows, exposure, tone mapping and sRGB output.
+//
+// A FrameRenderer holds GL objects (meshes, environment textures, cached shadow maps): create
+// and use it on one thread with a current GL context (inside RenderThread jobs).
+#include <memory>
+
+#include "oer/gl/frame_request.hpp"
+
+namespace oer {
+
+class FrameRenderer {
+  public:
+    explicit FrameRenderer(const FrameLimits& limits = {});
+    ~FrameRenderer();
+    FrameRenderer(const FrameRenderer&) = delete;
+    FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+    // Throws oer::Error: InvalidInput for a malformed request (naming the member),
+    // LimitExceeded past the limits, Internal on a GL error.
+    Frame render(const FrameRequest& request);
+
+    std::size_t cached_shadow_maps() const;
+
+  private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace oer

@@ -1,0 +1,84 @@
+#pragma once
+// What a frame is made of and what comes back (DESIGN.md section 2, phase 3): plain data, no GL,
+// so that the API (api/) and the command line can build requests without linking EGL or GL.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "oer/core/image.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/lighting/tonemap.hpp"
+#include "oer/mesh/camera.hpp"
+#include "oer/mesh/mesh.hpp"
+
+namespace oer {
+
+struct SceneObject {
+    std::shared_ptr<const Mesh> mesh;
+    glm::mat4 transform{1.0f};
+    std::optional<glm::vec3> base_color;  // linear RGB, replaces every material's base color
+};
+
+enum class BackgroundKind { Environment, Color, Transparent };
+struct Background {
+    BackgroundKind kind = BackgroundKind::Environment;
+    glm::vec3 color{0.0f};  // display-referred sRGB in [0, 1] (as in "#rrggbb")
+};
+
+enum class ShadowFilter {
+    Hard,  // the thesis's test: one depth comparison per light
+    Pcf,   // filtered, kernel sized from the light's angular radius: soft, alias-free edges
+};
+
+struct ShadowOptions {
+    bool enabled = true;  // false: every light reaches every point (no shadow pass)
+    int resolution = 2048;
+    ShadowFilter filter = ShadowFilter::Pcf;
+};
+
+struct FrameRequest {
+    std::shared_ptr<const Rig> rig;
+    // The map the rig was made from, for the background; may be null unless the background is
+    // the environment.
+    std::shared_ptr<const HdrImage> environment_map;
+    std::vector<SceneObject> objects;
+    std::optional<Camera> camera;  // empty: frame the scene's bounds automatically
+    std::vector<bool> lights;      // one per rig light; empty: every light on
+    int width = 512;
+    int height = 512;
+    bool ground = true;
+    Background background;
+    double exposure = 0.0;  // EV
+    ToneMapper tonemap = ToneMapper::Neutral;
+    ShadowOptions shadows;
+    // Anti-aliasing samples per pixel, 1 for none: the frame is shaded at s x s samples per
+    // pixel, s = ceil(sqrt(samples)), and their radiance averaged before tone mapping.
+    int samples = 4;
+    double environment_yaw = 0.0;  // degrees about +Y, lights and SH alike
+    bool linear = false;           // true: keep linear radiance (EXR), no exposure or tone mapping
+};
+
+struct Frame {
+    int width = 0;
+    int height = 0;
+    Rgba8Image display;         // when !linear: tone-mapped sRGB, straight alpha
+    std::vector<float> linear;  // when linear: RGBA radiance, row 0 at the top
+    std::map<std::string, double> timings_ms;
+    int shadow_maps_rendered = 0;  // this frame (the others came from the cache)
+};
+
+struct FrameLimits {
+    int max_width = 4096;
+    int max_height = 4096;
+    int max_shadow_resolution = 8192;
+    // Pixels times samples: the G-buffer costs about 48 bytes per sample.
+    std::int64_t max_samples_total = 4096LL * 4096LL;
+    std::size_t max_cached_shadow_maps = 32;
+};
+
+}  // namespace oer

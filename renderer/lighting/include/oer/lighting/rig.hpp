@@ -1,0 +1,63 @@
+#pragma once
+// A light rig: everything the renderer and clients need from one environment map
+// (DESIGN.md section 7): the lights found in it and the SH radiance of the whole map and of
+// each light's own pixels, with the choices made (light count, SH order, window) and why.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "oer/core/image.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/irradiance.hpp"
+#include "oer/lighting/light_location.hpp"
+#include "oer/lighting/sh_projection.hpp"
+
+namespace oer {
+
+enum class LightingModel {
+    Hdr,     // physically based: linear radiance, diffuse = albedo / pi * E
+    Thesis,  // tone map + normalise before projection, attenuation factors, E * albedo
+};
+std::string to_string(LightingModel model);
+LightingModel lighting_model_from_string(const std::string& name);  // throws oer::Error
+std::string to_string(Clustering clustering);
+Clustering clustering_from_string(const std::string& name);  // throws oer::Error
+
+enum class WindowChoice { None, Hanning, Lanczos, Auto };
+
+struct RigOptions {
+    std::optional<int> light_count;  // empty: auto (visible shadows only, up to max_lights)
+    int max_lights = 4;
+    double shadow_visibility_threshold = 0.05;  // auto: keep a light whose darkening reaches this
+    std::optional<int> sh_order;                // empty: auto (lowest order under sh_tolerance)
+    int max_sh_order = 9;
+    double sh_tolerance = 0.01;  // relative RMS irradiance error against the reference
+    WindowChoice window = WindowChoice::None;
+    double window_cutoff = 0.0;  // for Hanning / Lanczos; 0 means 2 * order
+    LightingModel model = LightingModel::Hdr;
+    LightLocationOptions location;
+};
+
+struct Rig {
+    int source_width = 0;
+    int source_height = 0;
+    RepairCounts repaired;
+    RigOptions options;  // as given
+    LightingModel model = LightingModel::Hdr;
+    std::vector<Light> lights;
+    std::string light_count_reason;
+    int order = 3;
+    std::string order_reason;
+    ShWindow window;
+    std::string window_reason;
+    ShProjection sh;  // unwindowed radiance: whole map and per light (of the tone-mapped map
+                      // in the thesis model)
+    double reference_error =
+        -1.0;  // relative RMS irradiance error of the chosen order, if measured
+    std::map<std::string, double> timings_ms;
+};
+
+Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOptions& options);
+
+}  // namespace oer

@@ -1,0 +1,38 @@
+#pragma once
+// Loading meshes from bytes: glTF 2.0 (.glb, and .gltf whose buffers and images are data:
+// URIs; a URI naming a file is never read) through tinygltf, and OBJ through tinyobjloader.
+// Every failure is an oer::Error naming the asset, the primitive and the reason.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "oer/mesh/mesh.hpp"
+
+namespace oer {
+
+enum class MeshFormat { Glb, Gltf, Obj };
+// From a file name's extension (.glb, .gltf, .obj; case-insensitive); throws oer::Error.
+MeshFormat mesh_format_from_name(const std::string& name);
+
+// Checked before the memory they bound is allocated where the format allows (an OBJ's
+// triangles and 'v' lines are counted before parsing; accessors before reading; images on
+// their headers). Vertices are counted after baking, every node's instance of a mesh apart.
+struct MeshLimits {
+    std::uint64_t max_bytes = 256ull << 20;
+    std::uint64_t max_triangles = 5'000'000;
+    std::uint64_t max_vertices = 5'000'000;
+    std::uint64_t max_primitives = 10'000;
+    std::uint64_t max_texture_pixels = 16ull << 20;        // per image, checked on its header
+    std::uint64_t max_total_texture_pixels = 64ull << 20;  // every decoded texture together
+    int max_node_depth = 64;
+};
+
+// The bytes are checked against limits.max_bytes first; `name` (a file name or an upload's
+// name) starts every error message. Nothing but `bytes` is ever read: a glTF URI that is not
+// a data: URI is an error naming it. Safe to call from several threads at once.
+Mesh load_mesh_memory(std::span<const std::byte> bytes, const std::string& name, MeshFormat format,
+                      const MeshLimits& limits = {});
+Mesh load_mesh_file(const std::string& path, const MeshLimits& limits = {});
+
+}  // namespace oer

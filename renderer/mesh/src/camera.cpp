@@ -1,0 +1,77 @@
+#include "oer/mesh/camera.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "oer/core/error.hpp"
+
+namespace oer {
+
+namespace {
+
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
+
+Camera orbit_camera(const Orbit& orbit, float fov_y) {
+    const float yaw = glm::radians(orbit.yaw);
+    const float pitch = glm::radians(orbit.pitch);
+    const glm::vec3 offset{std::cos(pitch) * std::sin(yaw), std::sin(pitch),
+                           std::cos(pitch) * std::cos(yaw)};
+    Camera camera;
+    camera.target = orbit.target;
+    camera.eye = orbit.target + orbit.distance * offset;
+    camera.fov_y = fov_y;
+    // Straight above or below, +Y is parallel to the view: use the yaw's forward instead.
+    camera.up = std::abs(std::cos(pitch)) < 1e-4f ? glm::vec3(-std::sin(yaw), 0.0f, -std::cos(yaw))
+                                                  : glm::vec3(0.0f, 1.0f, 0.0f);
+    return camera;
+}
+
+Camera frame_bounds(const Bounds& bounds, float fov_y, float aspect) {
+    const float radius = std::max(1e-6f, 0.5f * glm::length(bounds.max - bounds.min));
+    const float half_fov_y = glm::radians(fov_y) * 0.5f;
+    const float half_fov_x = std::atan(std::tan(half_fov_y) * std::max(aspect, 1e-3f));
+    const float half_fov = std::min(half_fov_y, half_fov_x);
+    constexpr float margin = 1.1f;
+    Orbit orbit;
+    orbit.target = bounds.centre();
+    orbit.distance = margin * radius / std::sin(half_fov);
+    return orbit_camera(orbit, fov_y);
+}
+
+void validate_camera(const Camera& camera) {
+    const auto fail = [](const std::string& message) {
+        throw Error(ErrorKind::InvalidInput, "camera: " + message);
+    };
+    if (!finite(camera.eye) || !finite(camera.target) || !finite(camera.up) ||
+        !std::isfinite(camera.fov_y)) {
+        fail("every value must be finite");
+    }
+    if (!(camera.fov_y > 0.0f && camera.fov_y < 180.0f)) {
+        fail("fov_y must be in (0, 180) degrees");
+    }
+    const glm::vec3 forward = camera.target - camera.eye;
+    if (glm::length(forward) <= 1e-6f * std::max(1.0f, glm::length(camera.eye))) {
+        fail("eye and target coincide");
+    }
+    if (glm::length(camera.up) == 0.0f ||
+        glm::length(glm::cross(glm::normalize(forward), glm::normalize(camera.up))) < 1e-4f) {
+        fail("up is zero or parallel to the view direction");
+    }
+}
+
+glm::mat4 view_matrix(const Camera& camera) {
+    return glm::lookAt(camera.eye, camera.target, camera.up);
+}
+
+glm::mat4 projection_matrix(const Camera& camera, float aspect, float near_plane, float far_plane) {
+    return glm::perspective(glm::radians(camera.fov_y), aspect, near_plane, far_plane);
+}
+
+}  // namespace oer

@@ -1,0 +1,40 @@
+#pragma once
+// Private to the glTF loader: tinygltf run on bytes only. Its file-system callbacks refuse
+// (and remember) every URI that is not a data: URI, so that nothing is ever read from disk;
+// its image callback checks each image's bufferView and header against the limits and keeps
+// the encoded bytes, so that only the base-color textures are decoded, later. The JSON is
+// checked first: its nesting, a .glb's container, and the schema (gltf_schema.hpp).
+#include <tiny_gltf.h>
+
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "oer/core/error.hpp"
+#include "oer/mesh/mesh_loading.hpp"
+
+namespace oer::mesh_detail {
+
+// What parsing leaves beside the model.
+struct ParseContext {
+    std::string asset;
+    const MeshLimits* limits = nullptr;
+    const tinygltf::Model* model = nullptr;  // as tinygltf fills it
+    std::vector<std::string> refused_uris;
+    std::optional<Error> image_error;
+    std::map<int, std::vector<std::byte>> encoded_images;  // image index -> PNG or JPEG bytes
+    std::string warnings;                                  // tinygltf's
+};
+
+// The model, or an oer::Error: invalid JSON or glTF, an external file (named), an image over
+// the limits, a glTF version other than 2, a required extension we do not support.
+tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& asset, bool binary,
+                           const MeshLimits& limits, ParseContext& context);
+
+// "asset: image 3 'name'", for messages.
+std::string image_label(const std::string& asset, int index, const std::string& name);
+
+}  // namespace oer::mesh_detail

@@ -1,0 +1,99 @@
+// The description of a stored mesh (GET /v1/meshes/{id}).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "oer/api/mesh_json.hpp"
+#include "oer/core/error.hpp"
+#include "oer/mesh/default_product.hpp"
+
+using namespace oer;
+using Json = nlohmann::json;
+
+namespace {
+
+Mesh two_material_mesh() {
+    Mesh mesh;
+    Primitive first;
+    first.positions = {{-1.0f, 0.0f, -0.5f}, {1.0f, 0.0f, -0.5f}, {0.0f, 2.0f, 0.25f}};
+    first.normals = {{0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f}};
+    first.indices = {0, 1, 2};
+    Primitive second = first;
+    second.material = 1;
+    mesh.primitives = {first, second};
+    Material plain;
+    plain.name = "plain";
+    plain.base_color = {0.8f, 0.8f, 0.8f, 1.0f};
+    plain.specular = false;
+    Material textured;
+    textured.name = "label";
+    textured.base_color = {1.0f, 0.5f, 0.25f, 0.5f};
+    textured.base_color_texture = 0;
+    textured.metallic = 0.0f;
+    textured.roughness = 0.3f;
+    mesh.materials = {plain, textured};
+    mesh.textures = {Texture{1, 1, {255, 0, 0, 255}}};
+    mesh.bounds = {{-1.0f, 0.0f, -0.5f}, {1.0f, 2.0f, 0.25f}};
+    mesh.triangle_count = 2;
+    mesh.vertex_count = 6;
+    mesh.repairs.normals_replaced = 3;
+    mesh.repairs.normals_renormalised = 1;
+    mesh.warnings = {"mtllib ignored"};
+    return mesh;
+}
+
+}  // namespace
+
+TEST(MeshJson, DescribesCountsBoundsMaterialsAndRepairs) {
+    const std::string id(64, 'c');
+    const Json json = api::mesh_to_json(two_material_mesh(), id, MeshFormat::Obj);
+    const Json expected = {
+        {"id", id},
+        {"format", "obj"},
+        {"counts",
+         {{"triangles", 2}, {"vertices", 6}, {"primitives", 2}, {"materials", 2}, {"textures", 1}}},
+        {"bounds", {{"min", {-1.0, 0.0, -0.5}}, {"max", {1.0, 2.0, 0.25}}}},
+        {"materials",
+         {{{"name", "plain"},
+           {"base_color", {0.8, 0.8, 0.8, 1.0}},
+           {"has_texture", false},
+           {"metallic", 1.0},
+           {"roughness", 1.0},
+           {"specular", false}},
+          {{"name", "label"},
+           {"base_color", {1.0, 0.5, 0.25, 0.5}},
+           {"has_texture", true},
+           {"metallic", 0.0},
+           {"roughness", 0.3},
+           {"specular", true}}}},
+        {"repairs", {{"normals_replaced", 3}, {"normals_renormalised", 1}}},
+        {"warnings", {"mtllib ignored"}}};
+    EXPECT_EQ(json, expected) << json.dump(2);
+    // Floats print as their shortest text, not as the double nearest them.
+    EXPECT_NE(json.dump().find("\"roughness\":0.3,"), std::string::npos) << json.dump();
+}
+
+TEST(MeshJson, TheBuiltInProductHasNoFormat) {
+    const Mesh product = make_default_product();
+    const Json json = api::mesh_to_json(product, "default");
+    EXPECT_EQ(json.at("id"), "default");
+    EXPECT_FALSE(json.contains("format"));
+    EXPECT_EQ(json.at("counts").at("triangles"), product.triangle_count);
+    EXPECT_EQ(json.at("counts").at("vertices"), product.vertex_count);
+    EXPECT_EQ(json.at("counts").at("primitives"), product.primitives.size());
+    EXPECT_EQ(json.at("materials").size(), product.materials.size());
+    // The shortest text of a float reads back as that float.
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(float(json.at("bounds").at("min")[i]), product.bounds.min[i]);
+        EXPECT_EQ(float(json.at("bounds").at("max")[i]), product.bounds.max[i]);
+    }
+}
+
+TEST(MeshJson, FormatNamesReadBack) {
+    for (const MeshFormat format : {MeshFormat::Glb, MeshFormat::Gltf, MeshFormat::Obj}) {
+        EXPECT_EQ(api::mesh_format_from_string(api::to_string(format)), format);
+    }
+    EXPECT_EQ(api::to_string(MeshFormat::Gltf), "gltf");
+    EXPECT_THROW(api::mesh_format_from_string("stl"), Error);
+    EXPECT_THROW(api::mesh_format_from_string("GLB"), Error);
+}

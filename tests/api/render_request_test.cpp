@@ -1,0 +1,715 @@
+// The render request of POST and GET /v1/render: parsing, validation, the canonical document,
+// ETags and the conversion to a FrameRequest.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "oer/api/content_id.hpp"
+#include "oer/api/invalid_parameter.hpp"
+#include "oer/api/malformed_request.hpp"
+#include "oer/api/render_request.hpp"
+#include "oer/api/version.hpp"
+
+using namespace oer;
+using api::InvalidParameter;
+using api::MalformedRequest;
+using api::RenderSpec;
+using Json = nlohmann::json;
+using Query = std::multimap<std::string, std::string>;
+
+namespace {
+
+const std::string kRig(64, 'a');
+const std::string kMeshA(64, 'b');
+const std::string kMeshB = "0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
+
+// The member a body is rejected for, or "" when it is accepted.
+std::string rejected_member(const std::string& body) {
+    try {
+        api::parse_render_json(body);
+    } catch (const InvalidParameter& error) {
+        return error.parameter();
+    }
+    return "";
+}
+
+std::string rejected_parameter(const Query& query) {
+    try {
+        api::parse_render_query(query);
+    } catch (const InvalidParameter& error) {
+        return error.parameter();
+    }
+    return "";
+}
+
+// A body with `member` set to `value` on top of a valid minimal request.
+std::string with(const std::string& member, const std::string& value) {
+    return R"({"environment": ")" + kRig + R"(", ")" + member + "\": " + value + "}";
+}
+
+std::string etag_of_json(const Json& body) {
+    return api::render_etag(api::parse_render_json(body.dump()));
+}
+
+}  // namespace
+
+TEST(RenderRequest, TheDesignExampleParsesToItsValues) {
+    const std::string body = R"({ "environment": ")" + kRig + R"(",
+      "objects": [ { "mesh": ")" +
+                             kMeshA + R"(",
+                     "transform": [2, 0, 0, 0,  0, 2, 0, 0,  0, 0, 2, 0,  1, 2, 3, 1],
+                     "base_color": [0.8, 0.1, 0.05] } ],
+      "ground": true,
+      "camera": { "eye": [0, 1.5, 4], "target": [0, 0.75, 0], "up": [0, 1, 0], "fov_y": 45 },
+      "lights": [true, false],
+      "width": 512, "height": 512, "format": "jpeg", "quality": 85,
+      "exposure": 0, "tonemap": "neutral", "background": "env" })";
+    const RenderSpec spec = api::parse_render_json(body);
+    EXPECT_EQ(spec.environment, kRig);
+    ASSERT_EQ(spec.objects.size(), 1u);
+    EXPECT_EQ(spec.objects[0].mesh, kMeshA);
+    // Column-major: the last four numbers are the translation column.
+    EXPECT_EQ(spec.objects[0].transform[3][0], 1.0);
+    EXPECT_EQ(spec.objects[0].transform[3][1], 2.0);
+    EXPECT_EQ(spec.objects[0].transform[3][2], 3.0);
+    EXPECT_EQ(spec.objects[0].transform[1][1], 2.0);
+    EXPECT_EQ(spec.objects[0].transform[0][3], 0.0);
+    ASSERT_TRUE(spec.objects[0].base_color.has_value());
+    EXPECT_EQ(*spec.objects[0].base_color, glm::dvec3(0.8, 0.1, 0.05));
+    EXPECT_TRUE(spec.ground);
+    ASSERT_TRUE(spec.camera.has_value());
+    const auto& look_at = std::get<api::LookAtSpec>(spec.camera->placement);
+    EXPECT_EQ(look_at.eye, glm::dvec3(0.0, 1.5, 4.0));
+    EXPECT_EQ(look_at.target, glm::dvec3(0.0, 0.75, 0.0));
+    EXPECT_EQ(look_at.up, glm::dvec3(0.0, 1.0, 0.0));
+    EXPECT_EQ(spec.camera->fov_y, 45.0);
+    EXPECT_EQ(spec.lights, (std::vector<bool>{true, false}));
+    EXPECT_EQ(spec.width, 512);
+    EXPECT_EQ(spec.height, 512);
+    EXPECT_EQ(spec.format, api::ImageFormat::Jpeg);
+    EXPECT_EQ(spec.quality, 85);
+    EXPECT_EQ(spec.exposure, 0.0);
+    EXPECT_EQ(spec.tonemap, ToneMapper::Neutral);
+    EXPECT_EQ(spec.background.kind, BackgroundKind::Environment);
+
+    const RenderSpec orbit = api::parse_render_json(
+        with("camera", R"({ "orbit": { "yaw": 30, "pitch": 15, "distance": 2.5,
+                                       "target": [0, 0.8, 0] }, "fov_y": 35 })"));
+    const auto& placement = std::get<api::OrbitSpec>(orbit.camera->placement);
+    EXPECT_EQ(placement.yaw, 30.0);
+    EXPECT_EQ(placement.pitch, 15.0);
+    EXPECT_EQ(placement.distance, 2.5);
+    EXPECT_EQ(placement.target, glm::dvec3(0.0, 0.8, 0.0));
+    EXPECT_EQ(orbit.camera->fov_y, 35.0);
+}
+
+TEST(RenderRequest, EveryOtherMemberParses) {
+    const RenderSpec spec = api::parse_render_json(R"({"environment": "default",
+        "objects": [{"mesh": "default"}, {"mesh": ")" +
+                                                   kMeshB + R"("}],
+        "ground": false, "width": 640, "height": 480.0, "format": "exr", "quality": 1,
+        "exposure": -1.5, "tonemap": "aces", "background": "#FF8000",
+        "shadows": {"enabled": false, "resolution": 512, "filter": "hard"},
+        "samples": 8, "environment_yaw": -90})");
+    EXPECT_EQ(spec.environment, "default");
+    ASSERT_EQ(spec.objects.size(), 2u);
+    EXPECT_EQ(spec.objects[0].mesh, "default");
+    EXPECT_EQ(spec.objects[1].mesh, kMeshB);
+    EXPECT_EQ(spec.objects[1].transform, glm::dmat4(1.0));
+    EXPECT_FALSE(spec.objects[1].base_color.has_value());
+    EXPECT_FALSE(spec.ground);
+    EXPECT_EQ(spec.width, 640);
+    EXPECT_EQ(spec.height, 480);
+    EXPECT_EQ(spec.format, api::ImageFormat::Exr);
+    EXPECT_EQ(spec.quality, 1);
+    EXPECT_EQ(spec.exposure, -1.5);
+    EXPECT_EQ(spec.tonemap, ToneMapper::Aces);
+    EXPECT_EQ(spec.background.kind, BackgroundKind::Color);
+    EXPECT_EQ(spec.background.color, glm::vec3(1.0f, 128.0f / 255.0f, 0.0f));
+    EXPECT_FALSE(spec.shadows.enabled);
+    EXPECT_EQ(spec.shadows.resolution, 512);
+    EXPECT_EQ(spec.shadows.filter, ShadowFilter::Hard);
+    EXPECT_EQ(spec.samples, 8);
+    EXPECT_EQ(spec.environment_yaw, -90.0);
+    EXPECT_EQ(api::to_string(spec.background), "#ff8000");
+}
+
+TEST(RenderRequest, DefaultsFillTheCanonicalDocument) {
+    const RenderSpec spec = api::parse_render_json(R"({"environment": "default"})");
+    EXPECT_TRUE(spec.objects.empty());
+    EXPECT_FALSE(spec.camera.has_value());
+    EXPECT_TRUE(spec.lights.empty());
+    const Json expected = {
+        {"environment", "default"},
+        {"objects", Json::array()},
+        {"ground", true},
+        {"lights", Json::array()},
+        {"width", 512},
+        {"height", 512},
+        {"format", "jpeg"},
+        {"quality", 85},
+        {"exposure", 0.0},
+        {"tonemap", "neutral"},
+        {"background", "env"},
+        {"shadows", {{"enabled", true}, {"resolution", 2048}, {"filter", "pcf"}}},
+        {"samples", 4},
+        {"environment_yaw", 0.0}};
+    EXPECT_EQ(api::normalised_render_json(spec), expected);
+    EXPECT_EQ(api::normalised_render_json(spec).dump(), expected.dump());
+
+    // An object's transform is filled in as the identity; an orbit's defaults are oer::Orbit's.
+    const Json filled = api::normalised_render_json(api::parse_render_json(
+        R"({"environment": "default", "objects": [{"mesh": "default"}],
+            "camera": {"orbit": {}}})"));
+    EXPECT_EQ(
+        filled.at("objects")[0],
+        Json({{"mesh", "default"},
+              {"transform",
+               {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0}}}));
+    EXPECT_EQ(
+        filled.at("camera"),
+        Json({{"orbit",
+               {{"yaw", 30.0}, {"pitch", 15.0}, {"distance", 3.0}, {"target", {0.0, 0.0, 0.0}}}},
+              {"fov_y", 45.0}}));
+    const Json look_at = api::normalised_render_json(
+        api::parse_render_json(with("camera", R"({"eye": [-0.0, 1, 2], "target": [0, 0, 0]})")));
+    EXPECT_EQ(look_at.at("camera").dump(),
+              R"({"eye":[0.0,1.0,2.0],"fov_y":45.0,"target":[0.0,0.0,0.0],"up":[0.0,1.0,0.0]})");
+}
+
+TEST(RenderRequest, TheCanonicalDocumentIsAValidBodyOfTheSameRequest) {
+    const std::string body = R"({"environment": ")" + kRig + R"(",
+        "objects": [{"mesh": ")" +
+                             kMeshA + R"(", "base_color": [0.25, 0.5, 1],
+                     "transform": [0, 0, -1, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0.5, 0, -0.5, 1]}],
+        "camera": {"orbit": {"yaw": -45, "pitch": 60, "distance": 7, "target": [1, 2, 3]}},
+        "lights": [false, true, true], "background": "transparent", "format": "png",
+        "shadows": {"resolution": 8192}, "samples": 1, "environment_yaw": 12.5})";
+    const Json canonical = api::normalised_render_json(api::parse_render_json(body));
+    EXPECT_EQ(api::normalised_render_json(api::parse_render_json(canonical.dump())), canonical);
+    EXPECT_EQ(canonical.at("lights"), Json({false, true, true}));
+    EXPECT_EQ(canonical.at("objects")[0].at("base_color"), Json({0.25, 0.5, 1.0}));
+}
+
+TEST(RenderRequest, GetAndPostFormsOfOneRequestShareTheEtag) {
+    const Json look_at_body = {
+        {"environment", kRig},
+        {"objects", {{{"mesh", kMeshA}}, {{"mesh", "default"}}}},
+        {"camera",
+         {{"eye", {0, 1.5, 4}}, {"target", {0, 0.75, 0}}, {"up", {0, 1, 0}}, {"fov_y", 30}}},
+        {"lights", {true, false, true}},
+        {"width", 800},
+        {"height", 600},
+        {"format", "png"},
+        {"quality", 70},
+        {"exposure", 0.5},
+        {"tonemap", "aces"},
+        {"background", "#102030"},
+        {"ground", false},
+        {"shadows", {{"enabled", true}, {"resolution", 1024}, {"filter", "hard"}}},
+        {"samples", 2},
+        {"environment_yaw", 45}};
+    const Query look_at_query = {
+        {"environment", kRig},     {"mesh", kMeshA},       {"mesh", "default"},
+        {"eye", "0,1.5,4"},        {"target", "0,0.75,0"}, {"up", "0,1,0"},
+        {"fov_y", "30"},           {"lights", "1,0,1"},    {"width", "800"},
+        {"height", "600"},         {"format", "png"},      {"quality", "70"},
+        {"exposure", "0.5"},       {"tonemap", "aces"},    {"background", "#102030"},
+        {"ground", "off"},         {"shadows", "on"},      {"shadow_resolution", "1024"},
+        {"shadow_filter", "hard"}, {"samples", "2"},       {"environment_yaw", "45"}};
+    const RenderSpec from_json = api::parse_render_json(look_at_body.dump());
+    const RenderSpec from_query = api::parse_render_query(look_at_query);
+    EXPECT_EQ(api::normalised_render_json(from_query), api::normalised_render_json(from_json));
+    EXPECT_EQ(api::render_etag(from_query), api::render_etag(from_json));
+
+    const Json orbit_body = {
+        {"environment", "default"},
+        {"objects", {{{"mesh", "default"}}}},
+        {"camera",
+         {{"orbit", {{"yaw", 30}, {"pitch", -10}, {"distance", 2.5}, {"target", {0, 0.8, 0}}}}}}};
+    const Query orbit_query = {
+        {"environment", "default"}, {"mesh", "default"}, {"yaw", "30"},
+        {"pitch", "-10"},           {"distance", "2.5"}, {"target", "0,0.8,0"}};
+    EXPECT_EQ(api::render_etag(api::parse_render_query(orbit_query)), etag_of_json(orbit_body));
+    // Integers and their float spellings are one number.
+    EXPECT_EQ(etag_of_json({{"environment", "default"}, {"width", 512.0}}),
+              api::render_etag(api::parse_render_query({{"environment", "default"}})));
+}
+
+TEST(RenderRequest, TheEtagIsAQuotedDigestOfTheCanonicalDocumentAndVersion) {
+    const RenderSpec spec = api::parse_render_json(R"({"environment": "default"})");
+    const std::string etag = api::render_etag(spec);
+    EXPECT_EQ(etag, "\"" +
+                        api::sha256_hex("oer-render/" + std::string(api::kVersion) + "\n" +
+                                        api::normalised_render_json(spec).dump()) +
+                        "\"");
+    ASSERT_EQ(etag.size(), 66u);
+    EXPECT_TRUE(api::is_content_id(etag.substr(1, 64)));
+}
+
+TEST(RenderRequest, ChangingAnyOneMemberChangesTheEtag) {
+    const Json base = {{"environment", kRig},
+                       {"objects", {{{"mesh", kMeshA}}}},
+                       {"camera", {{"eye", {0, 1, 3}}, {"target", {0, 0, 0}}}},
+                       {"lights", {true, true}}};
+    std::vector<Json> variants;
+    const auto vary = [&](const Json::json_pointer& member, const Json& value) {
+        Json changed = base;
+        changed[member] = value;
+        variants.push_back(changed);
+    };
+    vary("/environment"_json_pointer, kMeshB);
+    vary("/objects/0/mesh"_json_pointer, kMeshB);
+    vary("/objects/0/transform"_json_pointer, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0.001, 0, 1});
+    vary("/objects/0/base_color"_json_pointer, {1, 1, 1});
+    vary("/objects/1"_json_pointer, {{"mesh", kMeshA}});
+    vary("/ground"_json_pointer, false);
+    vary("/camera/eye"_json_pointer, {0, 1, 3.0001});
+    vary("/camera/target"_json_pointer, {0, 0.5, 0});
+    vary("/camera/up"_json_pointer, {0.1, 1, 0});
+    vary("/camera/fov_y"_json_pointer, 46);
+    vary("/lights"_json_pointer, {true, false});
+    vary("/width"_json_pointer, 513);
+    vary("/height"_json_pointer, 511);
+    vary("/format"_json_pointer, "png");
+    vary("/quality"_json_pointer, 86);
+    vary("/exposure"_json_pointer, 0.25);
+    vary("/tonemap"_json_pointer, "none");
+    vary("/background"_json_pointer, "transparent");
+    vary("/shadows/enabled"_json_pointer, false);
+    vary("/shadows/resolution"_json_pointer, 4096);
+    vary("/shadows/filter"_json_pointer, "hard");
+    vary("/samples"_json_pointer, 1);
+    vary("/environment_yaw"_json_pointer, 1);
+    Json orbit = base;
+    orbit["camera"] = {{"orbit", {{"yaw", 30}}}};
+    variants.push_back(orbit);
+    Json auto_framed = base;
+    auto_framed.erase("camera");
+    variants.push_back(auto_framed);
+
+    std::map<std::string, std::string> seen = {{etag_of_json(base), base.dump()}};
+    for (const Json& variant : variants) {
+        const std::string etag = etag_of_json(variant);
+        EXPECT_FALSE(seen.contains(etag)) << variant.dump() << "\nhas the ETag of\n" << seen[etag];
+        seen[etag] = variant.dump();
+    }
+    EXPECT_EQ(seen.size(), variants.size() + 1);
+}
+
+TEST(RenderRequest, ErrorsNameTheMembersPath) {
+    const std::string object = R"({"mesh": ")" + kMeshA + R"("})";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"({"width": 10})", "environment"},
+        {R"({"environment": 5})", "environment"},
+        {R"({"environment": "ABCDEF"})", "environment"},
+        {R"({"environment": ")" + std::string(64, 'A') + R"("})", "environment"},
+        {R"({"environment": ")" + std::string(63, 'a') + R"("})", "environment"},
+        {with("objects", "[" + object + ", {}]"), "objects/1/mesh"},
+        {with("objects", R"([{"mesh": ""}])"), "objects/0/mesh"},
+        {with("objects", R"([{"mesh": null}])"), "objects/0/mesh"},
+        {with("objects", "[" + object + R"(, {"mesh": "default", "transform": [1, 2, 3]}])"),
+         "objects/1/transform"},
+        {with("objects", R"([{"mesh": "default", "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0,
+                                                                0,0,0,1, 0]}])"),
+         "objects/0/transform"},
+        {with("objects", R"([{"mesh": "default", "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0,
+                                                                0,0,"1",1]}])"),
+         "objects/0/transform/14"},
+        {with("objects", R"([{"mesh": "default", "transform": [1,0,0,0, 0,1,0,0, 0,0,0,0,
+                                                                0,0,0,1]}])"),
+         "objects/0/transform"},
+        {with("objects", R"([{"mesh": "default", "base_color": [1, 1.5, 0]}])"),
+         "objects/0/base_color/1"},
+        {with("objects", R"([{"mesh": "default", "base_color": [1, 1]}])"), "objects/0/base_color"},
+        {with("objects", R"({"mesh": "default"})"), "objects"},
+        {with("ground", "1"), "ground"},
+        {with("camera", R"({"eye": [0, 0, 3], "target": [0, 0, 0], "fov_y": 180})"),
+         "camera/fov_y"},
+        {with("camera", R"({"eye": [0, 0, 3], "target": [0, 0, 0], "fov_y": "45"})"),
+         "camera/fov_y"},
+        {with("camera", R"({"eye": [0, 0, 3]})"), "camera/target"},
+        {with("camera", R"({"fov_y": 30})"), "camera/eye"},
+        {with("camera", R"({"eye": [0, 0, 3], "target": [0, 0, 3]})"), "camera"},
+        {with("camera", R"({"eye": [0, 3, 0], "target": [0, 0, 0]})"), "camera"},
+        {with("camera", R"({"eye": [0, 0, 3], "target": [0, 0, 0], "up": [0, 1]})"), "camera/up"},
+        {with("camera", R"({"eye": [0, 0, 1e7], "target": [0, 0, 0]})"), "camera/eye/2"},
+        {with("camera", R"({"orbit": {"pitch": 91}})"), "camera/orbit/pitch"},
+        {with("camera", R"({"orbit": {"yaw": 361}})"), "camera/orbit/yaw"},
+        {with("camera", R"({"orbit": {"distance": 0}})"), "camera/orbit/distance"},
+        {with("camera", R"({"orbit": {"target": [0, 0, "x"]}})"), "camera/orbit/target/2"},
+        {with("camera", R"({"orbit": {}, "eye": [0, 0, 3]})"), "camera/eye"},
+        {with("camera", R"({"orbit": 30})"), "camera/orbit"},
+        {with("lights", R"([true, 1])"), "lights/1"},
+        {with("lights", R"("1,0")"), "lights"},
+        {with("width", "0"), "width"},
+        {with("width", "4097"), "width"},
+        {with("width", "512.5"), "width"},
+        {with("width", "\"512\""), "width"},
+        {with("height", "-1"), "height"},
+        {with("height", "1e300"), "height"},
+        {with("format", R"("jpg")"), "format"},
+        {with("quality", "101"), "quality"},
+        {with("quality", "0"), "quality"},
+        {with("exposure", "65"), "exposure"},
+        {with("exposure", "null"), "exposure"},
+        {with("exposure", R"("NaN")"), "exposure"},
+        {with("tonemap", R"("filmic")"), "tonemap"},
+        {with("background", R"("#12345")"), "background"},
+        {with("background", R"("#12345g")"), "background"},
+        {with("background", R"("white")"), "background"},
+        {with("shadows", "true"), "shadows"},
+        {with("shadows", R"({"resolution": 1000})"), "shadows/resolution"},
+        {with("shadows", R"({"resolution": 32})"), "shadows/resolution"},
+        {with("shadows", R"({"resolution": 16384})"), "shadows/resolution"},
+        {with("shadows", R"({"filter": "soft"})"), "shadows/filter"},
+        {with("shadows", R"({"enabled": "yes"})"), "shadows/enabled"},
+        {with("samples", "3"), "samples"},
+        {with("samples", "16"), "samples"},
+        {with("environment_yaw", "400"), "environment_yaw"},
+        {"[]", "body"},
+        {"\"render\"", "body"},
+    };
+    for (const auto& [body, member] : cases) {
+        EXPECT_EQ(rejected_member(body), member) << body;
+    }
+}
+
+TEST(RenderRequest, UnknownMembersAreRejectedAtEveryLevel) {
+    EXPECT_EQ(rejected_member(with("color", "1")), "color");
+    EXPECT_EQ(rejected_member(with("yaw", "10")), "yaw");
+    EXPECT_EQ(rejected_member(with("env_yaw", "10")), "env_yaw");
+    EXPECT_EQ(rejected_member(with("objects", R"([{"mesh": "default", "scale": 2}])")),
+              "objects/0/scale");
+    EXPECT_EQ(rejected_member(with("camera", R"({"eye": [0,0,3], "target": [0,0,0], "fov": 30})")),
+              "camera/fov");
+    EXPECT_EQ(rejected_member(with("camera", R"({"orbit": {"distance": 2, "roll": 5}})")),
+              "camera/orbit/roll");
+    EXPECT_EQ(rejected_member(with("shadows", R"({"enabled": true, "bias": 0.1})")),
+              "shadows/bias");
+    try {
+        api::parse_render_json(with("widht", "10"));
+        FAIL() << "a misspelt member was accepted";
+    } catch (const InvalidParameter& error) {
+        EXPECT_NE(std::string(error.what()).find("width"), std::string::npos) << error.what();
+    }
+}
+
+TEST(RenderRequest, UnreadableBodiesAreMalformed) {
+    const std::vector<std::string> bodies = {
+        "",
+        "{",
+        R"({"environment": })",
+        R"({"environment": "default",})",
+        R"({"environment": "default"} trailing)",
+        R"({"environment": "default", "exposure": NaN})",
+        R"({"environment": "default", "exposure": Infinity})",
+        R"({"environment": "default", "exposure": 1e400})",
+        R"({"environment": "default", "exposure": -1e400})",
+        R"({"environment": 'default'})",
+        "{\"environment\": \"default\" /* comment */}",
+        std::string(100000, '[') + std::string(100000, ']'),
+        R"({"environment": )" + std::string(20, '[') + std::string(20, ']') + "}",
+    };
+    for (const std::string& body : bodies) {
+        EXPECT_THROW(api::parse_render_json(body), MalformedRequest) << body.substr(0, 80);
+    }
+    try {
+        api::parse_render_json("{\n  \"environment\": x}");
+        FAIL() << "accepted";
+    } catch (const MalformedRequest& error) {
+        EXPECT_NE(std::string(error.what()).find("line 2, column"), std::string::npos)
+            << error.what();
+    }
+    // Nesting within the guard's depth is well-formed JSON of the wrong type.
+    EXPECT_EQ(rejected_member(with("environment", "[[[[[[[[1]]]]]]]]")), "environment");
+}
+
+TEST(RenderRequest, LargeInputsStopAtTheLimits) {
+    std::string lights = "[true";
+    for (int i = 0; i < 64; ++i) {
+        lights += ", false";
+    }
+    EXPECT_EQ(rejected_member(with("lights", lights + "]")), "lights");
+    std::string objects = "[{\"mesh\": \"default\"}";
+    for (int i = 0; i < 64; ++i) {
+        objects += ", {\"mesh\": \"default\"}";
+    }
+    EXPECT_EQ(rejected_member(with("objects", objects + "]")), "objects");
+    EXPECT_EQ(
+        api::parse_render_json(with("objects", objects + "]"), {.max_objects = 65}).objects.size(),
+        65u);
+    EXPECT_EQ(rejected_member(with("width", "2049")), "");
+    try {
+        api::parse_render_json(with("width", "2049"), {.max_width = 2048});
+        FAIL() << "accepted a width over the limit";
+    } catch (const InvalidParameter& error) {
+        EXPECT_EQ(error.parameter(), "width");
+        EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded);
+    }
+    // A body over the byte limit is refused before it is parsed.
+    const std::string huge = with("objects", "[" + std::string(300 << 10, ' ') + "]");
+    try {
+        api::parse_render_json(huge);
+        FAIL() << "accepted an oversized body";
+    } catch (const InvalidParameter&) {
+        FAIL() << "an oversized body is a limit, not a parameter";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded);
+    }
+    EXPECT_EQ(rejected_member(huge.substr(0, 1000) + "]}"), "");
+}
+
+TEST(RenderRequest, QueryErrorsNameTheParameter) {
+    const std::vector<std::pair<Query, std::string>> cases = {
+        {{{"mesh", "default"}}, "environment"},
+        {{{"environment", "default"}, {"environment", "default"}}, "environment"},
+        {{{"environment", "default"}, {"color", "red"}}, "color"},
+        {{{"environment", "default"}, {"camera", "x"}}, "camera"},
+        {{{"environment", "default"}, {"env_yaw", "3"}}, "env_yaw"},
+        {{{"environment", "default"}, {"mesh", "default"}, {"mesh", "xyz"}}, "mesh"},
+        {{{"environment", "default"}, {"eye", "0,0"}, {"target", "0,0,0"}}, "eye"},
+        {{{"environment", "default"}, {"eye", "0,0,3,4"}, {"target", "0,0,0"}}, "eye"},
+        {{{"environment", "default"}, {"eye", "0,0,nan"}, {"target", "0,0,0"}}, "eye"},
+        {{{"environment", "default"}, {"eye", "0,0,inf"}, {"target", "0,0,0"}}, "eye"},
+        {{{"environment", "default"}, {"eye", "0,0,3"}}, "target"},
+        {{{"environment", "default"}, {"target", "0,0,3"}}, "eye"},
+        {{{"environment", "default"}, {"eye", "0,0,3"}, {"target", "0,0,3"}}, "eye"},
+        {{{"environment", "default"}, {"eye", "0,0,3"}, {"yaw", "10"}}, "eye"},
+        {{{"environment", "default"}, {"up", "0,1,0"}, {"distance", "2"}}, "up"},
+        {{{"environment", "default"}, {"fov_y", "40"}}, "fov_y"},
+        {{{"environment", "default"}, {"yaw", "10"}, {"fov_y", "0"}}, "fov_y"},
+        {{{"environment", "default"}, {"pitch", "-90.5"}}, "pitch"},
+        {{{"environment", "default"}, {"distance", "-1"}}, "distance"},
+        {{{"environment", "default"}, {"lights", "1,2"}}, "lights"},
+        {{{"environment", "default"}, {"lights", ""}}, "lights"},
+        {{{"environment", "default"}, {"width", "0x10"}}, "width"},
+        {{{"environment", "default"}, {"width", "512.0"}}, "width"},
+        {{{"environment", "default"}, {"height", ""}}, "height"},
+        {{{"environment", "default"}, {"format", "JPEG"}}, "format"},
+        {{{"environment", "default"}, {"quality", "100 "}}, "quality"},
+        {{{"environment", "default"}, {"exposure", "1e400"}}, "exposure"},
+        {{{"environment", "default"}, {"tonemap", "reinhard"}}, "tonemap"},
+        {{{"environment", "default"}, {"background", "#abc"}}, "background"},
+        {{{"environment", "default"}, {"ground", "true"}}, "ground"},
+        {{{"environment", "default"}, {"shadows", "1"}}, "shadows"},
+        {{{"environment", "default"}, {"shadow_resolution", "2047"}}, "shadow_resolution"},
+        {{{"environment", "default"}, {"shadow_filter", "PCF"}}, "shadow_filter"},
+        {{{"environment", "default"}, {"samples", "6"}}, "samples"},
+        {{{"environment", "default"}, {"environment_yaw", "-360.01"}}, "environment_yaw"},
+    };
+    for (const auto& [query, parameter] : cases) {
+        std::string text;
+        for (const auto& [name, value] : query) {
+            text += name + "=" + value + "&";
+        }
+        EXPECT_EQ(rejected_parameter(query), parameter) << text;
+    }
+    Query many = {{"environment", "default"}};
+    for (int i = 0; i < 65; ++i) {
+        many.insert({"mesh", "default"});
+    }
+    EXPECT_EQ(rejected_parameter(many), "mesh");
+    EXPECT_EQ(rejected_parameter({{"environment", "default"}, {"lights", std::string(200, '1')}}),
+              "lights");
+}
+
+TEST(RenderRequest, QueryFormReadsEveryParameter) {
+    const RenderSpec spec = api::parse_render_query({{"environment", kRig},
+                                                     {"mesh", kMeshA},
+                                                     {"mesh", kMeshB},
+                                                     {"target", "1,2,3"},
+                                                     {"distance", "4"},
+                                                     {"lights", "0,1"},
+                                                     {"background", "transparent"},
+                                                     {"shadows", "off"},
+                                                     {"samples", "1"}});
+    ASSERT_EQ(spec.objects.size(), 2u);
+    EXPECT_EQ(spec.objects[0].mesh, kMeshA);
+    EXPECT_EQ(spec.objects[1].mesh, kMeshB);
+    const auto& orbit = std::get<api::OrbitSpec>(spec.camera->placement);
+    EXPECT_EQ(orbit.yaw, 30.0);
+    EXPECT_EQ(orbit.pitch, 15.0);
+    EXPECT_EQ(orbit.distance, 4.0);
+    EXPECT_EQ(orbit.target, glm::dvec3(1.0, 2.0, 3.0));
+    EXPECT_EQ(spec.lights, (std::vector<bool>{false, true}));
+    EXPECT_EQ(spec.background.kind, BackgroundKind::Transparent);
+    EXPECT_FALSE(spec.shadows.enabled);
+    EXPECT_EQ(spec.samples, 1);
+    EXPECT_FALSE(api::parse_render_query({{"environment", "default"}}).camera.has_value());
+}
+
+TEST(RenderRequest, TheMemberListsMatchTheParsers) {
+    const std::vector<std::string>& members = api::render_json_members();
+    for (const char* path : {"environment", "objects/*/transform", "camera/fov_y",
+                             "camera/orbit/distance", "shadows/filter", "environment_yaw"}) {
+        EXPECT_NE(std::find(members.begin(), members.end(), path), members.end()) << path;
+    }
+    EXPECT_EQ(members.size(), 15u + 3u + 5u + 4u + 3u);
+    // Every query parameter is accepted with a valid value (and the ones it needs).
+    const std::map<std::string, Query> valid = {
+        {"environment", {}},
+        {"mesh", {{"mesh", "default"}}},
+        {"eye", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
+        {"target", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
+        {"up", {{"eye", "0,0,3"}, {"target", "0,0,0"}, {"up", "1,0,0"}}},
+        {"fov_y", {{"distance", "2"}, {"fov_y", "50"}}},
+        {"yaw", {{"yaw", "0"}}},
+        {"pitch", {{"pitch", "0"}}},
+        {"distance", {{"distance", "2"}}},
+        {"lights", {{"lights", "1"}}},
+        {"width", {{"width", "64"}}},
+        {"height", {{"height", "64"}}},
+        {"format", {{"format", "png"}}},
+        {"quality", {{"quality", "50"}}},
+        {"exposure", {{"exposure", "1"}}},
+        {"tonemap", {{"tonemap", "none"}}},
+        {"background", {{"background", "env"}}},
+        {"ground", {{"ground", "off"}}},
+        {"shadows", {{"shadows", "off"}}},
+        {"shadow_resolution", {{"shadow_resolution", "64"}}},
+        {"shadow_filter", {{"shadow_filter", "hard"}}},
+        {"samples", {{"samples", "2"}}},
+        {"environment_yaw", {{"environment_yaw", "5"}}}};
+    for (const std::string& parameter : api::render_query_parameters()) {
+        ASSERT_TRUE(valid.contains(parameter)) << parameter;
+        Query query = valid.at(parameter);
+        query.insert({"environment", "default"});
+        EXPECT_EQ(rejected_parameter(query), "") << parameter;
+    }
+    EXPECT_EQ(api::render_query_parameters().size(), 23u);
+}
+
+TEST(RenderRequest, BackgroundsReadAndPrintCanonically) {
+    EXPECT_EQ(api::to_string(api::parse_background("background", "env")), "env");
+    EXPECT_EQ(api::to_string(api::parse_background("background", "transparent")), "transparent");
+    const Background color = api::parse_background("background", "#0A80fF");
+    EXPECT_EQ(color.kind, BackgroundKind::Color);
+    EXPECT_EQ(color.color, glm::vec3(10.0f / 255.0f, 128.0f / 255.0f, 1.0f));
+    EXPECT_EQ(api::to_string(color), "#0a80ff");
+    try {
+        api::parse_background("bg", "#0A80f");
+        FAIL() << "accepted";
+    } catch (const InvalidParameter& error) {
+        EXPECT_EQ(error.parameter(), "bg");
+    }
+}
+
+namespace {
+
+std::shared_ptr<const Rig> rig_with_lights(std::size_t count) {
+    auto rig = std::make_shared<Rig>();
+    rig->lights.resize(count);
+    return rig;
+}
+
+std::vector<std::shared_ptr<const Mesh>> meshes(std::size_t count) {
+    std::vector<std::shared_ptr<const Mesh>> list;
+    for (std::size_t i = 0; i < count; ++i) {
+        list.push_back(std::make_shared<const Mesh>());
+    }
+    return list;
+}
+
+}  // namespace
+
+TEST(RenderRequest, ToFrameRequestConvertsALookAtCamera) {
+    const RenderSpec spec = api::parse_render_json(R"({"environment": "default",
+        "objects": [{"mesh": "default", "base_color": [0.5, 0.25, 1],
+                     "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 2,3,4,1]}, {"mesh": "default"}],
+        "camera": {"eye": [1, 2, 3], "target": [0, 1, 0], "up": [0, 0, 1], "fov_y": 60},
+        "lights": [false, true], "width": 320, "height": 200, "ground": false,
+        "background": "#ff0080", "exposure": 1.5, "tonemap": "none",
+        "shadows": {"enabled": false, "resolution": 256, "filter": "hard"}, "samples": 2,
+        "environment_yaw": 90})");
+    const auto rig = rig_with_lights(2);
+    const auto environment = std::make_shared<const HdrImage>();
+    const auto resolved = meshes(2);
+    const FrameRequest request = api::to_frame_request(spec, rig, environment, resolved);
+    EXPECT_EQ(request.rig, rig);
+    EXPECT_EQ(request.environment_map, environment);
+    ASSERT_EQ(request.objects.size(), 2u);
+    EXPECT_EQ(request.objects[0].mesh, resolved[0]);
+    EXPECT_EQ(request.objects[1].mesh, resolved[1]);
+    EXPECT_EQ(request.objects[0].transform[3], glm::vec4(2.0f, 3.0f, 4.0f, 1.0f));
+    EXPECT_EQ(request.objects[1].transform, glm::mat4(1.0f));
+    EXPECT_EQ(request.objects[0].base_color, glm::vec3(0.5f, 0.25f, 1.0f));
+    EXPECT_FALSE(request.objects[1].base_color.has_value());
+    ASSERT_TRUE(request.camera.has_value());
+    EXPECT_EQ(request.camera->eye, glm::vec3(1.0f, 2.0f, 3.0f));
+    EXPECT_EQ(request.camera->target, glm::vec3(0.0f, 1.0f, 0.0f));
+    EXPECT_EQ(request.camera->up, glm::vec3(0.0f, 0.0f, 1.0f));
+    EXPECT_EQ(request.camera->fov_y, 60.0f);
+    EXPECT_EQ(request.lights, (std::vector<bool>{false, true}));
+    EXPECT_EQ(request.width, 320);
+    EXPECT_EQ(request.height, 200);
+    EXPECT_FALSE(request.ground);
+    EXPECT_EQ(request.background.kind, BackgroundKind::Color);
+    EXPECT_EQ(request.background.color, glm::vec3(1.0f, 0.0f, 128.0f / 255.0f));
+    EXPECT_EQ(request.exposure, 1.5);
+    EXPECT_EQ(request.tonemap, ToneMapper::None);
+    EXPECT_FALSE(request.shadows.enabled);
+    EXPECT_EQ(request.shadows.resolution, 256);
+    EXPECT_EQ(request.shadows.filter, ShadowFilter::Hard);
+    EXPECT_EQ(request.samples, 2);
+    EXPECT_EQ(request.environment_yaw, 90.0);
+    EXPECT_FALSE(request.linear);
+}
+
+TEST(RenderRequest, ToFrameRequestConvertsAnOrbitAndTheExrFormat) {
+    const RenderSpec spec = api::parse_render_query({{"environment", "default"},
+                                                     {"mesh", "default"},
+                                                     {"yaw", "90"},
+                                                     {"pitch", "0"},
+                                                     {"distance", "2"},
+                                                     {"target", "1,0.5,0"},
+                                                     {"fov_y", "30"},
+                                                     {"format", "exr"}});
+    const FrameRequest request =
+        api::to_frame_request(spec, rig_with_lights(3), nullptr, meshes(1));
+    ASSERT_TRUE(request.camera.has_value());
+    // Yaw 90 turns the eye from +Z to +X (camera.hpp).
+    EXPECT_NEAR(glm::length(request.camera->eye - glm::vec3(3.0f, 0.5f, 0.0f)), 0.0f, 1e-5f);
+    EXPECT_EQ(request.camera->target, glm::vec3(1.0f, 0.5f, 0.0f));
+    EXPECT_EQ(request.camera->fov_y, 30.0f);
+    const Camera expected = orbit_camera({90.0f, 0.0f, 2.0f, {1.0f, 0.5f, 0.0f}}, 30.0f);
+    EXPECT_EQ(request.camera->eye, expected.eye);
+    EXPECT_EQ(request.camera->up, expected.up);
+    EXPECT_TRUE(request.linear);
+    EXPECT_TRUE(request.lights.empty());
+    // No camera: the renderer frames the scene.
+    EXPECT_FALSE(api::to_frame_request(api::parse_render_query({{"environment", "default"}}),
+                                       rig_with_lights(0), nullptr, {})
+                     .camera.has_value());
+}
+
+TEST(RenderRequest, ToFrameRequestChecksTheLightsAndTheResolvedAssets) {
+    const RenderSpec spec = api::parse_render_json(
+        R"({"environment": "default", "objects": [{"mesh": "default"}], "lights": [true, false]})");
+    try {
+        api::to_frame_request(spec, rig_with_lights(3), nullptr, meshes(1));
+        FAIL() << "accepted 2 switches for 3 lights";
+    } catch (const InvalidParameter& error) {
+        EXPECT_EQ(error.parameter(), "lights");
+    }
+    EXPECT_NO_THROW(api::to_frame_request(spec, rig_with_lights(2), nullptr, meshes(1)));
+    for (const auto& resolved :
+         {meshes(0), meshes(2), std::vector<std::shared_ptr<const Mesh>>{nullptr}}) {
+        try {
+            api::to_frame_request(spec, rig_with_lights(2), nullptr, resolved);
+            FAIL() << "accepted " << resolved.size() << " meshes for 1 object";
+        } catch (const Error& error) {
+            EXPECT_EQ(error.kind(), ErrorKind::Internal);
+        }
+    }
+    try {
+        api::to_frame_request(spec, nullptr, nullptr, meshes(1));
+        FAIL() << "accepted no rig";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::Internal);
+    }
+}

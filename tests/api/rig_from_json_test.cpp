@@ -1,0 +1,160 @@
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "oer/api/content_id.hpp"
+#include "oer/api/rig_from_json.hpp"
+#include "oer/api/rig_json.hpp"
+#include "oer/api/rig_options.hpp"
+#include "oer/core/error.hpp"
+#include "oer/lighting/default_environment.hpp"
+#include "oer/lighting/rig.hpp"
+
+using namespace oer;
+using nlohmann::json;
+
+namespace {
+
+const std::string kId(64, 'a');
+
+bool same_bits(double a, double b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+void expect_same_rig(const Rig& a, const Rig& b) {
+    EXPECT_EQ(a.source_width, b.source_width);
+    EXPECT_EQ(a.source_height, b.source_height);
+    EXPECT_EQ(a.model, b.model);
+    EXPECT_EQ(a.order, b.order);
+    EXPECT_EQ(a.window.kind, b.window.kind);
+    ASSERT_EQ(a.lights.size(), b.lights.size());
+    for (std::size_t k = 0; k < a.lights.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_TRUE(same_bits(a.lights[k].direction[c], b.lights[k].direction[c]));
+            EXPECT_TRUE(same_bits(a.lights[k].intensity[c], b.lights[k].intensity[c]));
+        }
+        EXPECT_TRUE(same_bits(a.lights[k].angular_radius, b.lights[k].angular_radius));
+        EXPECT_EQ(a.lights[k].pixels, b.lights[k].pixels);
+    }
+    ASSERT_EQ(a.sh.all.coefficients.size(), b.sh.all.coefficients.size());
+    for (std::size_t i = 0; i < a.sh.all.coefficients.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_TRUE(same_bits(a.sh.all.coefficients[i][c], b.sh.all.coefficients[i][c]));
+        }
+    }
+    ASSERT_EQ(a.sh.per_light.size(), b.sh.per_light.size());
+    for (std::size_t k = 0; k < a.sh.per_light.size(); ++k) {
+        EXPECT_EQ(a.sh.per_light[k].coefficients, b.sh.per_light[k].coefficients);
+    }
+}
+
+// Real rigs of the default studio: every light, a window, the thesis model.
+std::vector<Rig> real_rigs() {
+    const HdrImage map = make_default_environment(256, 128);
+    RigOptions windowed;
+    windowed.window = WindowChoice::Auto;
+    windowed.sh_order = 5;
+    RigOptions thesis;
+    thesis.model = LightingModel::Thesis;
+    thesis.light_count = 2;
+    return {build_rig(map, {}, RigOptions{}), build_rig(map, {}, windowed),
+            build_rig(map, {}, thesis)};
+}
+
+// The stored pair for a rig, and a way to damage it.
+struct Stored {
+    json rig;
+    json masks;
+};
+
+Stored stored(const Rig& rig) {
+    return {api::rig_to_json(rig, kId), api::light_masks_to_json(rig)};
+}
+
+void expect_rejected(const Stored& document, const std::string& member) {
+    try {
+        api::rig_from_json(document.rig, document.masks);
+        ADD_FAILURE() << "accepted a document with a damaged " << member;
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
+        EXPECT_NE(std::string(error.what()).find(member), std::string::npos) << error.what();
+    }
+}
+
+}  // namespace
+
+TEST(RigFromJson, RoundTripsRealRigsExactly) {
+    for (const Rig& rig : real_rigs()) {
+        const Stored document = stored(rig);
+        // Through text, as the store keeps it.
+        const Rig back = api::rig_from_json(json::parse(document.rig.dump()),
+                                            json::parse(document.masks.dump()));
+        expect_same_rig(rig, back);
+        EXPECT_EQ(api::rig_to_json(back, kId), document.rig);
+        EXPECT_EQ(api::rig_options_to_json(back.options), api::rig_options_to_json(rig.options));
+    }
+}
+
+TEST(RigFromJson, MasksAreRunsOfConsecutivePixels) {
+    Rig rig;
+    rig.source_width = 10;
+    rig.source_height = 5;
+    Light light;
+    light.pixels = {3, 4, 5, 9, 20, 21};
+    rig.lights.push_back(light);
+    EXPECT_EQ(api::light_masks_to_json(rig), json::parse("[[3, 3, 9, 1, 20, 2]]"));
+}
+
+TEST(RigFromJson, RejectsDamagedDocuments) {
+    const Rig rig = real_rigs().front();
+    ASSERT_FALSE(rig.lights.empty());
+    const Stored good = stored(rig);
+
+    Stored document = good;
+    document.rig.erase("sh");
+    expect_rejected(document, "sh");
+
+    document = good;
+    document.rig["sh"]["radiance"].erase(0);
+    expect_rejected(document, "sh/radiance");
+
+    document = good;
+    document.rig["lights"][0]["direction"] = json::array({1, "x", 0});
+    expect_rejected(document, "lights/0/direction/1");
+
+    document = good;
+    document.rig["lights"][0]["luminance_share"] = 2.0;
+    expect_rejected(document, "lights/0/luminance_share");
+
+    document = good;
+    document.rig["lighting_model"] = "photon";
+    expect_rejected(document, "lighting_model");
+
+    document = good;
+    document.rig["options"]["sh_order"] = 99;
+    expect_rejected(document, "options/sh_order");
+
+    document = good;
+    document.rig["light_count"]["chosen"] = 7;
+    expect_rejected(document, "light_count/chosen");
+
+    document = good;
+    document.rig["id"] = "not-an-id";
+    expect_rejected(document, "id");
+
+    document = good;
+    document.masks[0].push_back(0);  // odd length
+    expect_rejected(document, "masks/0");
+
+    document = good;
+    document.masks.erase(0);
+    expect_rejected(document, "masks");
+
+    document = good;
+    document.rig["lights"][0]["pixels"] = document.rig["lights"][0]["pixels"].get<int>() + 1;
+    expect_rejected(document, "masks/0");
+
+    document = good;
+    document.rig = json::array();
+    expect_rejected(document, "document");
+}

@@ -1,0 +1,670 @@
+// The GL renderer on this machine's EGL (llvmpipe here and in CI), checked against numbers
+// computed independently of it: analytic sphere normals, ray-cast shadow geometry, and the
+// rig's SH irradiance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <optional>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "oer/core/error.hpp"
+#include "oer/gl/frame_renderer.hpp"
+#include "oer/gl/render_thread.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/irradiance.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/mesh/mesh_loading.hpp"
+#include "process_memory.hpp"
+#include "synthetic_maps.hpp"
+#include "test_meshes.hpp"
+
+using namespace oer;
+using oer::testing::DiscLight;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+std::shared_ptr<const Rig> make_rig(const HdrImage& map, std::optional<int> lights, int order) {
+    RigOptions options;
+    options.light_count = lights;
+    options.sh_order = order;
+    return std::make_shared<const Rig>(build_rig(map, {}, options));
+}
+
+// Three lights from distinct directions over a dim sky.
+HdrImage three_light_map() {
+    return oer::testing::disc_map(512, 256, glm::vec3(0.3f),
+                                  {{{1.0, 1.2, 0.0}, 0.05, {400.0f, 380.0f, 350.0f}},
+                                   {{-0.6, 1.2, 0.8}, 0.05, {200.0f, 260.0f, 400.0f}},
+                                   {{-0.5, 1.0, -0.9}, 0.05, {300.0f, 250.0f, 200.0f}}});
+}
+
+// The camera ray through the centre of pixel (x, y), row 0 at the top.
+glm::dvec3 pixel_ray(const Camera& camera, int width, int height, int x, int y) {
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(camera.target - camera.eye));
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(camera.up)));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const double t = std::tan(glm::radians(double(camera.fov_y)) / 2.0);
+    const double nx = (2.0 * (x + 0.5) / width - 1.0) * t * width / height;
+    const double ny = (1.0 - 2.0 * (y + 0.5) / height) * t;
+    return glm::normalize(forward + nx * right + ny * up);
+}
+
+std::optional<double> hit_sphere(glm::dvec3 origin, glm::dvec3 ray, glm::dvec3 centre, double r) {
+    const glm::dvec3 oc = origin - centre;
+    const double b = glm::dot(oc, ray), c = glm::dot(oc, oc) - r * r;
+    const double disc = b * b - c;
+    if (disc < 0.0) {
+        return std::nullopt;
+    }
+    return -b - std::sqrt(disc);
+}
+
+// Slab test: does the ray from origin along dir (t > 1e-6) hit the box?
+bool hits_box(glm::dvec3 origin, glm::dvec3 dir, glm::dvec3 low, glm::dvec3 high) {
+    double near_t = 1e-6, far_t = 1e30;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(dir[a]) < 1e-12) {
+            if (origin[a] < low[a] || origin[a] > high[a]) {
+                return false;
+            }
+            continue;
+        }
+        double t0 = (low[a] - origin[a]) / dir[a], t1 = (high[a] - origin[a]) / dir[a];
+        if (t0 > t1) {
+            std::swap(t0, t1);
+        }
+        near_t = std::max(near_t, t0);
+        far_t = std::min(far_t, t1);
+    }
+    return near_t <= far_t;
+}
+
+// The unit sphere's normal seen through pixel (x, y), or nothing for pixels that miss it or
+// graze its silhouette (within about a pixel of the edge).
+std::optional<glm::dvec3> sphere_normal(const Camera& camera, int width, int height, int x, int y) {
+    const glm::dvec3 eye(camera.eye);
+    const glm::dvec3 ray = pixel_ray(camera, width, height, x, y);
+    const auto t = hit_sphere(eye, ray, {0, 0, 0}, 1.0);
+    if (!t || glm::length(glm::cross(ray, eye)) > 0.97) {
+        return std::nullopt;
+    }
+    return glm::normalize(eye + *t * ray);
+}
+
+glm::dvec3 linear_rgb(const Frame& frame, int x, int y) {
+    const float* p = &frame.linear[(std::size_t(y) * frame.width + x) * 4];
+    return {p[0], p[1], p[2]};
+}
+float linear_alpha(const Frame& frame, int x, int y) {
+    return frame.linear[(std::size_t(y) * frame.width + x) * 4 + 3];
+}
+
+class FrameRendererTest : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        thread_ = new RenderThread();
+        renderer_ = thread_->submit([] { return std::make_shared<FrameRenderer>(); }).get();
+    }
+    static void TearDownTestSuite() {
+        thread_->submit([] { renderer_.reset(); }).get();
+        delete thread_;
+        thread_ = nullptr;
+    }
+    static Frame render(const FrameRequest& request) {
+        return thread_->submit([&request] { return renderer_->render(request); }).get();
+    }
+    static std::size_t cached_shadow_maps() {
+        return thread_->submit([] { return renderer_->cached_shadow_maps(); }).get();
+    }
+
+    static FrameRequest sphere_request(std::shared_ptr<const Rig> rig, const Camera& camera) {
+        FrameRequest request;
+        request.rig = std::move(rig);
+        request.objects.push_back({std::make_shared<const Mesh>(oer::testing::uv_sphere(
+                                       {0, 0, 0}, 1.0f, 256, 128, glm::vec3(1.0f))),
+                                   glm::mat4(1.0f), std::nullopt});
+        request.camera = camera;
+        request.width = 128;
+        request.height = 128;
+        request.ground = false;
+        request.background.kind = BackgroundKind::Transparent;
+        request.samples = 1;
+        request.linear = true;
+        return request;
+    }
+
+    static inline RenderThread* thread_ = nullptr;
+    static inline std::shared_ptr<FrameRenderer> renderer_;
+};
+
+// A grey box standing on the ground, hard shadows from a fine shadow map, linear output: the
+// set-up of the tests that compare shadows with ray-cast geometry.
+FrameRequest box_on_ground_request(std::shared_ptr<const Rig> rig, glm::dvec3 low, glm::dvec3 high,
+                                   const Camera& camera, int size) {
+    FrameRequest request;
+    request.rig = std::move(rig);
+    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
+                                   glm::vec3(low), glm::vec3(high), glm::vec3(0.5f))),
+                               glm::mat4(1.0f), std::nullopt});
+    request.camera = camera;
+    request.width = request.height = size;
+    request.ground = true;
+    request.background.kind = BackgroundKind::Transparent;
+    request.samples = 1;
+    request.linear = true;
+    request.shadows.filter = ShadowFilter::Hard;
+    request.shadows.resolution = 4096;
+    return request;
+}
+
+Camera front_camera() {
+    Camera camera;
+    camera.eye = {0.0f, 0.0f, 3.5f};
+    camera.fov_y = 40.0f;
+    return camera;
+}
+
+}  // namespace
+
+TEST_F(FrameRendererTest, WhiteSphereUnderAConstantEnvironmentHasItsRadiance) {
+    const glm::vec3 radiance{0.5f, 1.0f, 2.0f};
+    const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);
+    const Frame frame = render(sphere_request(rig, front_camera()));
+    int checked = 0;
+    for (int y = 1; y < frame.height - 1; ++y) {
+        for (int x = 1; x < frame.width - 1; ++x) {
+            bool interior = true;  // away from the silhouette: every neighbour covered
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    interior = interior && linear_alpha(frame, x + dx, y + dy) == 1.0f;
+                }
+            }
+            if (!interior) {
+                continue;
+            }
+            const glm::dvec3 got = linear_rgb(frame, x, y);
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_NEAR(got[c], radiance[c], 0.01 * radiance[c]) << x << "," << y;
+            }
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 3000);
+}
+
+TEST_F(FrameRendererTest, SpherePixelsMatchTheRigsShIrradianceAtTheirNormals) {
+    const auto rig = make_rig(three_light_map(), 3, 5);
+    for (const double yaw : {0.0, 90.0}) {
+        FrameRequest request = sphere_request(rig, front_camera());
+        request.shadows.enabled = false;
+        request.environment_yaw = yaw;
+        const Frame frame = render(request);
+        const ShRgb irradiance = irradiance_coefficients(rig->sh.all, rig->window);
+        double largest = 0.0;
+        for (int y = 0; y < 128; ++y) {
+            for (int x = 0; x < 128; ++x) {
+                const auto n = equirect::pixel_direction(x, y, 128, 64);
+                largest = std::max(largest, irradiance.evaluate(n).g / kPi);
+            }
+        }
+        int checked = 0;
+        for (int y = 0; y < frame.height; ++y) {
+            for (int x = 0; x < frame.width; ++x) {
+                const auto normal = sphere_normal(*request.camera, frame.width, frame.height, x, y);
+                if (!normal) {
+                    continue;
+                }
+                // The environment turned by yaw lights n as the unturned one lights n turned back.
+                const glm::dvec3 expected =
+                    irradiance.evaluate(equirect::rotate_yaw(*normal, -yaw)) / kPi;
+                const glm::dvec3 got = linear_rgb(frame, x, y);
+                for (int c = 0; c < 3; ++c) {
+                    ASSERT_NEAR(got[c], expected[c], 0.01 * std::abs(expected[c]) + 0.002 * largest)
+                        << "pixel " << x << "," << y << " yaw " << yaw;
+                }
+                ++checked;
+            }
+        }
+        EXPECT_GT(checked, 3000);
+    }
+}
+
+TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    ASSERT_EQ(rig->lights.size(), 3u);
+    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
+    Camera camera;
+    camera.eye = {0.0f, 4.0f, 3.0f};
+    camera.fov_y = 50.0f;
+    FrameRequest request = box_on_ground_request(rig, low, high, camera, 160);
+
+    // Classify ground pixels by the lights whose shadow covers them, keeping only pixels whose
+    // neighbours two pixels away agree (away from every edge).
+    const auto occluders = [&](int x, int y) -> std::optional<int> {
+        const glm::dvec3 ray = pixel_ray(camera, request.width, request.height, x, y);
+        const glm::dvec3 eye(camera.eye);
+        if (ray.y >= 0.0 || hits_box(eye, ray, low, high)) {
+            return std::nullopt;
+        }
+        const glm::dvec3 ground = eye + (-eye.y / ray.y) * ray;
+        int mask = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (hits_box(ground, rig->lights[k].direction, low, high)) {
+                mask |= 1 << k;
+            }
+        }
+        return mask;
+    };
+    std::vector<int> classes(std::size_t(request.width * request.height), -1);
+    for (int y = 2; y < request.height - 2; ++y) {
+        for (int x = 2; x < request.width - 2; ++x) {
+            const auto mask = occluders(x, y);
+            bool stable = mask.has_value();
+            for (const auto& [dx, dy] : {std::pair{-2, 0}, {2, 0}, {0, -2}, {0, 2}}) {
+                stable = stable && occluders(x + dx, y + dy) == mask;
+            }
+            if (stable) {
+                classes[std::size_t(y * request.width + x)] = *mask;
+            }
+        }
+    }
+    std::vector<glm::dvec3> ground_irradiance;  // E_k(+Y) of each light
+    for (int k = 0; k < 3; ++k) {
+        ground_irradiance.push_back(
+            irradiance_coefficients(rig->sh.per_light[k], rig->window).evaluate({0, 1, 0}));
+    }
+    int shadowed_pixels[3] = {0, 0, 0};
+    for (int subset = 0; subset < 8; ++subset) {
+        request.lights = {bool(subset & 1), bool(subset & 2), bool(subset & 4)};
+        request.shadows.enabled = true;
+        const Frame shadowed = render(request);
+        request.shadows.enabled = false;
+        const Frame unshadowed = render(request);
+        for (int y = 0; y < request.height; ++y) {
+            for (int x = 0; x < request.width; ++x) {
+                const int mask = classes[std::size_t(y * request.width + x)];
+                if (mask < 0) {
+                    continue;
+                }
+                glm::dvec3 expected_difference{0.0};
+                for (int k = 0; k < 3; ++k) {
+                    if ((mask & subset) & (1 << k)) {
+                        expected_difference -= 0.8 / kPi * ground_irradiance[k];
+                        ++shadowed_pixels[k];
+                    }
+                }
+                const glm::dvec3 difference =
+                    linear_rgb(shadowed, x, y) - linear_rgb(unshadowed, x, y);
+                const double scale = glm::length(linear_rgb(unshadowed, x, y));
+                ASSERT_NEAR(glm::length(difference - expected_difference), 0.0, 1e-4 * scale + 1e-6)
+                    << "pixel " << x << "," << y << " in the shadow of lights " << mask
+                    << ", lights on " << subset;
+            }
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GT(shadowed_pixels[k], 100) << "light " << k << " cast no checked shadow";
+    }
+}
+
+TEST_F(FrameRendererTest, ShadowEdgeLiesWhereGeometryPutsIt) {
+    const auto rig = make_rig(oer::testing::disc_map(1024, 512, glm::vec3(0.05f),
+                                                     {{{0.5, 1.0, 0.3}, 0.01, {5e4f, 5e4f, 5e4f}}}),
+                              1, 3);
+    ASSERT_EQ(rig->lights.size(), 1u);
+    const glm::dvec3 low{-0.4, 0.0, -0.25}, high{0.4, 0.5, 0.25};
+    Camera camera;
+    camera.eye = {0.0f, 6.0f, 0.0f};
+    camera.up = {0.0f, 0.0f, -1.0f};
+    camera.fov_y = 30.0f;
+    FrameRequest request = box_on_ground_request(rig, low, high, camera, 256);
+    const Frame shadowed = render(request);
+    request.shadows.enabled = false;
+    const Frame unshadowed = render(request);
+    const glm::dvec3 light_contribution =
+        0.8 / kPi * irradiance_coefficients(rig->sh.per_light[0], rig->window).evaluate({0, 1, 0});
+
+    std::vector<int> predicted(256 * 256, -1), measured(256 * 256, -1);
+    for (int y = 0; y < 256; ++y) {
+        for (int x = 0; x < 256; ++x) {
+            const glm::dvec3 ray = pixel_ray(camera, 256, 256, x, y);
+            const glm::dvec3 eye(camera.eye);
+            if (hits_box(eye, ray, low, high)) {
+                continue;
+            }
+            const glm::dvec3 ground = eye + (-eye.y / ray.y) * ray;
+            predicted[y * 256 + x] = hits_box(ground, rig->lights[0].direction, low, high);
+            const double drop = (linear_rgb(unshadowed, x, y) - linear_rgb(shadowed, x, y)).g;
+            measured[y * 256 + x] = drop > 0.5 * light_contribution.g;
+        }
+    }
+    int shadow_pixels = 0, misplaced = 0;
+    for (int y = 0; y < 256; ++y) {
+        for (int x = 0; x < 256; ++x) {
+            const int p = predicted[y * 256 + x];
+            shadow_pixels += p == 1;
+            if (p < 0 || p == measured[y * 256 + x]) {
+                continue;
+            }
+            // A disagreement is allowed only within two pixels of a predicted edge.
+            bool near_edge = false;
+            for (int dy = -2; dy <= 2 && !near_edge; ++dy) {
+                for (int dx = -2; dx <= 2 && !near_edge; ++dx) {
+                    const int nx = x + dx, ny = y + dy;
+                    near_edge = nx >= 0 && ny >= 0 && nx < 256 && ny < 256 &&
+                                predicted[ny * 256 + nx] == 1 - p;
+                }
+            }
+            misplaced += !near_edge;
+        }
+    }
+    EXPECT_GT(shadow_pixels, 1000);
+    EXPECT_EQ(misplaced, 0);
+}
+
+TEST_F(FrameRendererTest, EnvironmentBackgroundShowsTheMapInEachDirection) {
+    // A smooth map, so that bilinear sampling equals the function to well under 1 %.
+    HdrImage map(512, 256);
+    const equirect::Grid grid(512, 256);
+    const auto f = [](glm::dvec3 d) { return glm::dvec3(1.0 + d.x, 1.0 + d.y, 1.0 + d.z); };
+    for (std::size_t i = 0; i < map.pixel_count(); ++i) {
+        map.set(i, glm::vec3(f(grid.direction(i))));
+    }
+    const auto rig = make_rig(map, 0, 3);
+    for (const double yaw : {0.0, 60.0}) {
+        FrameRequest request = sphere_request(rig, front_camera());
+        request.objects.clear();
+        request.environment_map = std::make_shared<const HdrImage>(map);
+        request.background.kind = BackgroundKind::Environment;
+        request.environment_yaw = yaw;
+        const Frame frame = render(request);
+        for (int y = 3; y < frame.height; y += 11) {
+            for (int x = 5; x < frame.width; x += 13) {
+                const glm::dvec3 ray = pixel_ray(*request.camera, frame.width, frame.height, x, y);
+                const glm::dvec3 expected = f(equirect::rotate_yaw(ray, -yaw));
+                const glm::dvec3 got = linear_rgb(frame, x, y);
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(got[c], expected[c], 0.01 * expected[c] + 0.005) << x << "," << y;
+                }
+            }
+        }
+    }
+}
+
+TEST_F(FrameRendererTest, ThesisModelScalesByTheAttenuationFactor) {
+    RigOptions options;
+    options.light_count = 3;
+    options.sh_order = 3;
+    options.model = LightingModel::Thesis;
+    const auto rig = std::make_shared<const Rig>(build_rig(three_light_map(), {}, options));
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.shadows.enabled = false;
+    request.lights = {true, false, true};
+    const Frame frame = render(request);
+    const bool on[3] = {true, false, true};
+    const ShRgb irradiance = irradiance_coefficients(subset_coefficients(rig->sh, on), rig->window);
+    const double attenuation = 1.0 - rig->lights[1].luminance_share;
+    int checked = 0;
+    for (int y = 0; y < frame.height; y += 3) {
+        for (int x = 0; x < frame.width; x += 3) {
+            const auto normal = sphere_normal(*request.camera, frame.width, frame.height, x, y);
+            if (!normal) {
+                continue;
+            }
+            const glm::dvec3 expected = irradiance.evaluate(*normal) * attenuation;  // albedo 1
+            const glm::dvec3 got = linear_rgb(frame, x, y);
+            EXPECT_NEAR(got.g, expected.g, 0.01 * std::abs(expected.g) + 1e-3) << x << "," << y;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 300);
+}
+
+TEST_F(FrameRendererTest, TransparentBackgroundGivesAlphaAndDisplayOutput) {
+    const auto rig = make_rig(oer::testing::constant_map(64, 32, glm::vec3(0.18f)), 0, 3);
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.linear = false;
+    request.samples = 4;
+    const Frame frame = render(request);
+    ASSERT_EQ(frame.display.pixels.size(), std::size_t(128 * 128 * 4));
+    EXPECT_EQ(frame.display.pixels[3], 0);  // a corner: background
+    const std::size_t centre = (64 * 128 + 64) * 4;
+    EXPECT_EQ(frame.display.pixels[centre + 3], 255);
+    // Radiance 0.18 through the GPU tone mapper and sRGB equals the CPU implementation.
+    const glm::vec3 mapped = tone_map(glm::vec3(0.18f), ToneMapper::Neutral);
+    EXPECT_NEAR(frame.display.pixels[centre + 1], std::lround(255.0f * srgb_encode(mapped.g)), 1);
+    // A solid color background composites exactly.
+    request.background = {BackgroundKind::Color, {1.0f, 0.5f, 0.0f}};
+    const Frame colored = render(request);
+    EXPECT_EQ(colored.display.pixels[0], 255);
+    EXPECT_NEAR(colored.display.pixels[1], 128, 1);
+    EXPECT_EQ(colored.display.pixels[2], 0);
+    EXPECT_EQ(colored.display.pixels[3], 255);
+}
+
+TEST_F(FrameRendererTest, AntiAliasingAveragesSupersamplesBeforeToneMapping) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.ground = true;
+    request.shadows.resolution = 1024;
+    request.samples = 4;
+    const Frame antialiased = render(request);
+    // The same samples: a frame twice as wide and high, one sample per pixel.
+    request.samples = 1;
+    request.width = request.height = 256;
+    const Frame fine = render(request);
+    double largest_difference = 0.0;
+    int partly_covered = 0;
+    for (int y = 0; y < 128; ++y) {
+        for (int x = 0; x < 128; ++x) {
+            for (int c = 0; c < 4; ++c) {
+                double mean = 0.0;
+                for (int s = 0; s < 4; ++s) {
+                    const int fx = 2 * x + (s & 1), fy = 2 * y + (s >> 1);
+                    mean += 0.25 * fine.linear[(std::size_t(fy) * 256 + fx) * 4 + c];
+                }
+                const double value = antialiased.linear[(std::size_t(y) * 128 + x) * 4 + c];
+                largest_difference =
+                    std::max(largest_difference, std::abs(value - mean) / (std::abs(mean) + 1e-3));
+            }
+            const float alpha = linear_alpha(antialiased, x, y);
+            partly_covered += alpha > 0.1f && alpha < 0.9f ? 1 : 0;
+        }
+    }
+    EXPECT_LT(largest_difference, 1e-5);
+    // The sphere's silhouette over the transparent background: coverage between 0 and 1.
+    EXPECT_GT(partly_covered, 100);
+}
+
+TEST_F(FrameRendererTest, SixteenShadowingLightsEachCastTheirShadow) {
+    // 16 lights need 16 shadow maps: more than one texture unit each would exceed what GPUs
+    // and llvmpipe offer.
+    std::vector<oer::testing::DiscLight> discs;
+    for (int i = 0; i < 16; ++i) {
+        const double angle = 2.0 * kPi * i / 16.0;
+        discs.push_back({{std::cos(angle), 0.9, std::sin(angle)}, 0.06, {100.0f, 100.0f, 100.0f}});
+    }
+    RigOptions options;
+    options.light_count = 16;
+    options.sh_order = 3;
+    options.location.cluster_count = 16;
+    const auto rig = std::make_shared<const Rig>(
+        build_rig(oer::testing::disc_map(1024, 512, glm::vec3(0.1f), discs), {}, options));
+    ASSERT_EQ(rig->lights.size(), 16u);
+    // A long, low box (a sphere would cast the same shadow map from every direction, so a
+    // light reading another's map would go unnoticed), seen from above.
+    const glm::dvec3 low{-1.2, 0.0, -0.3}, high{0.6, 0.5, 0.3};
+    Camera above;
+    above.eye = {0.0f, 6.0f, 0.01f};
+    above.fov_y = 50.0f;
+    FrameRequest request = box_on_ground_request(rig, low, high, above, 96);
+    request.shadows.filter = ShadowFilter::Pcf;
+    request.shadows.resolution = 1024;
+    const Frame all_on = render(request);
+    EXPECT_EQ(all_on.shadow_maps_rendered, 16);
+    for (int k = 0; k < 16; k += 5) {
+        request.lights.assign(16, true);
+        request.lights[std::size_t(k)] = false;
+        const Frame one_off = render(request);
+        EXPECT_EQ(one_off.shadow_maps_rendered, 0) << "light " << k;
+        // Over the ground, light k's part of the frame is zero in the box's shadow along light
+        // k's direction (ray cast against a box shrunk or grown by a margin for the filter) and
+        // whole elsewhere.
+        const glm::dvec3 towards_light = rig->lights[std::size_t(k)].direction;
+        const glm::dvec3 margin{0.05};
+        double lit_part = 0.0;
+        int shadowed = 0, lit = 0;
+        std::vector<std::pair<double, bool>> ground;  // part, in shadow
+        for (int y = 0; y < 96; ++y) {
+            for (int x = 0; x < 96; ++x) {
+                const glm::dvec3 eye(above.eye), ray = pixel_ray(above, 96, 96, x, y);
+                if (hits_box(eye, ray, low - margin, high + margin) || ray.y >= 0.0) {
+                    continue;
+                }
+                const glm::dvec3 point = eye + (-eye.y / ray.y) * ray;
+                const double part = linear_rgb(all_on, x, y).g - linear_rgb(one_off, x, y).g;
+                if (hits_box(point, towards_light, low + margin, high - margin)) {
+                    ground.push_back({part, true});
+                    ++shadowed;
+                } else if (!hits_box(point, towards_light, low - margin, high + margin)) {
+                    ground.push_back({part, false});
+                    lit_part = std::max(lit_part, part);
+                    ++lit;
+                }
+            }
+        }
+        ASSERT_GT(shadowed, 20) << "light " << k;
+        ASSERT_GT(lit, 1000) << "light " << k;
+        for (const auto& [part, in_shadow] : ground) {
+            if (in_shadow) {
+                EXPECT_LT(part, 0.02 * lit_part) << "light " << k;
+            } else {
+                EXPECT_GT(part, 0.98 * lit_part) << "light " << k;
+            }
+        }
+    }
+}
+
+TEST_F(FrameRendererTest, ShadowMapsAreCachedAcrossCameraMoves) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.ground = true;
+    request.width = request.height = 64;
+    request.shadows.resolution = 512;
+    const Frame first = render(request);
+    EXPECT_EQ(first.shadow_maps_rendered, 3);
+    request.camera->eye = {2.0f, 1.0f, 3.0f};
+    EXPECT_EQ(render(request).shadow_maps_rendered, 0);
+    request.lights = {true, false, true};
+    EXPECT_EQ(render(request).shadow_maps_rendered, 0);
+    request.environment_yaw = 45.0;  // the lights move
+    EXPECT_EQ(render(request).shadow_maps_rendered, 2);
+    EXPECT_GE(cached_shadow_maps(), 5u);
+}
+
+TEST_F(FrameRendererTest, MalformedRequestsAreRejectedNamingTheMember) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    const auto expect_error = [&](FrameRequest request, ErrorKind kind, const std::string& member) {
+        try {
+            render(request);
+            ADD_FAILURE() << "accepted a request with a bad " << member;
+        } catch (const Error& error) {
+            EXPECT_EQ(error.kind(), kind) << error.what();
+            EXPECT_NE(std::string(error.what()).find(member), std::string::npos) << error.what();
+        }
+    };
+    FrameRequest good = sphere_request(rig, front_camera());
+    FrameRequest request = good;
+    request.lights = {true};
+    expect_error(request, ErrorKind::InvalidInput, "lights");
+    request = good;
+    request.width = 0;
+    expect_error(request, ErrorKind::InvalidInput, "width");
+    request = good;
+    request.width = 100000;
+    expect_error(request, ErrorKind::LimitExceeded, "width");
+    request = good;
+    request.camera->target = request.camera->eye;
+    expect_error(request, ErrorKind::InvalidInput, "camera");
+    request = good;
+    request.objects[0].transform = glm::mat4(0.0f);
+    expect_error(request, ErrorKind::InvalidInput, "objects[0].transform");
+    request = good;
+    request.background.kind = BackgroundKind::Environment;
+    expect_error(request, ErrorKind::InvalidInput, "background");
+    request = good;
+    request.width = request.height = 4096;
+    request.samples = 16;
+    expect_error(request, ErrorKind::LimitExceeded, "samples");
+    // The renderer is still fine afterwards.
+    EXPECT_EQ(render(good).width, 128);
+}
+
+TEST_F(FrameRendererTest, MemoryIsBoundedOverManyFrames) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.ground = true;
+    request.width = request.height = 96;
+    request.shadows.resolution = 512;
+    request.linear = false;
+    for (int i = 0; i < 10; ++i) {
+        request.camera->eye.x = 0.01f * float(i);
+        render(request);
+    }
+    const std::size_t heap_after_ten = oer::testing::live_heap_bytes();
+    const long resident_after_ten = oer::testing::resident_kib();
+    for (int i = 10; i < 200; ++i) {
+        request.camera->eye.x = 0.01f * float(i);
+        render(request);
+    }
+    const long heap_growth_kib =
+        (long(oer::testing::live_heap_bytes()) - long(heap_after_ten)) / 1024;
+    const long resident_growth_kib = oer::testing::resident_kib() - resident_after_ten;
+    std::printf(
+        "over 190 frames after the first 10: live heap grew %ld KiB, resident memory %ld "
+        "KiB\n",
+        heap_growth_kib, resident_growth_kib);
+    EXPECT_LT(heap_growth_kib, 16 * 1024);
+#ifndef __SANITIZE_ADDRESS__
+    // The resident set also sees memory outside the heap (JIT code, mappings); under ASan it
+    // would measure the quarantine of freed blocks instead.
+    EXPECT_LT(resident_growth_kib, 16 * 1024);
+#endif
+}
+
+TEST_F(FrameRendererTest, BrokenAssetsAreRejectedAndLeaveTheRendererClean) {
+    const std::string root = "/usr/share/assimp/models/glTF2/";
+    if (!std::filesystem::exists(root)) {
+        GTEST_SKIP() << "assimp-testmodels is not installed: " << root << " is missing";
+    }
+    int rejected = 0;
+    for (const char* sample :
+         {"IndexOutOfRange/IndexOutOfRange.gltf",
+          "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "MissingBin/BoxTextured.gltf",
+          "RecursiveNodes/RecursiveNodes.gltf"}) {
+        if (!std::filesystem::exists(root + std::string(sample))) {
+            continue;
+        }
+        try {
+            load_mesh_file(root + std::string(sample));
+            ADD_FAILURE() << sample << " was accepted";
+        } catch (const Error& error) {
+            EXPECT_FALSE(std::string(error.what()).empty());
+            ++rejected;
+        }
+    }
+    EXPECT_EQ(rejected, 4);
+    // A frame after the rejections: render() ends with check_gl_errors, which throws on any
+    // GL error or debug-output error left behind.
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    FrameRequest request = sphere_request(rig, front_camera());
+    request.ground = true;
+    EXPECT_NO_THROW(render(request));
+}

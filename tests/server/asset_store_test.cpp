@@ -1,0 +1,362 @@
+// The asset store: content ids, round trips, restarts, atomic writes (no partial entries, no
+// confusion from leftover temporary files), corruption detected and dropped, ids and
+// extensions validated before any path is built, and concurrent use.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "oer/api/content_id.hpp"
+#include "oer/core/error.hpp"
+#include "oer/server/asset_store.hpp"
+
+using namespace oer;
+using namespace oer::server;
+namespace fs = std::filesystem;
+
+namespace {
+
+// SHA-256 of "abc" (FIPS 180-2, appendix B.1).
+const std::string kAbcId = "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad";
+const std::string kRigId(64, 'e');
+
+std::string read_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_bytes(const fs::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+std::vector<std::string> file_names(const fs::path& folder) {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(folder)) {
+        names.push_back(entry.path().filename().string());
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+ErrorKind kind_of_failure(const std::function<void()>& operation) {
+    try {
+        operation();
+    } catch (const Error& error) {
+        return error.kind();
+    }
+    ADD_FAILURE() << "no oer::Error thrown";
+    return ErrorKind::Internal;
+}
+
+class AssetStoreTest : public ::testing::Test {
+  protected:
+    AssetStoreTest()
+        : folder_(fs::temp_directory_path() /
+                  ("oer-asset-store-test-" + std::to_string(::getpid()) + "-" +
+                   ::testing::UnitTest::GetInstance()->current_test_info()->name()) /
+                  "data") {}
+    ~AssetStoreTest() override { fs::remove_all(folder_.parent_path()); }
+
+    AssetStore open() {
+        return AssetStore(folder_, [this](std::string_view line) {
+            const std::lock_guard lock(log_mutex_);
+            log_.emplace_back(line);
+        });
+    }
+
+    std::vector<std::string> log() {
+        const std::lock_guard lock(log_mutex_);
+        return log_;
+    }
+
+    const fs::path folder_;
+
+  private:
+    std::mutex log_mutex_;
+    std::vector<std::string> log_;
+};
+
+}  // namespace
+
+TEST_F(AssetStoreTest, CreatesTheFolderAndOneSubFolderPerKind) {
+    ASSERT_FALSE(fs::exists(folder_));
+    const AssetStore store = open();
+    EXPECT_EQ(file_names(folder_),
+              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs"}));
+    EXPECT_EQ(store.folder(), folder_);
+}
+
+TEST_F(AssetStoreTest, SourceIdIsTheSha256OfItsBytesAndTheFileKeepsItsExtension) {
+    AssetStore store = open();
+    EXPECT_EQ(store.put_source(SourceKind::Mesh, "abc", "glb"), kAbcId);
+    EXPECT_EQ(read_bytes(folder_ / "meshes" / (kAbcId + ".glb")), "abc");
+    const auto stored = store.get_source(SourceKind::Mesh, kAbcId);
+    ASSERT_TRUE(stored.has_value());
+    EXPECT_EQ(stored->bytes, "abc");
+    EXPECT_EQ(stored->extension, "glb");
+    EXPECT_TRUE(store.contains(SourceKind::Mesh, kAbcId));
+    EXPECT_FALSE(store.contains(SourceKind::Environment, kAbcId));
+    EXPECT_FALSE(store.get_source(SourceKind::Environment, kAbcId).has_value());
+    EXPECT_TRUE(log().empty());
+}
+
+TEST_F(AssetStoreTest, PuttingTheSameBytesAgainKeepsOneEntry) {
+    AssetStore store = open();
+    EXPECT_EQ(store.put_source(SourceKind::Environment, "abc", "exr"), kAbcId);
+    EXPECT_EQ(store.put_source(SourceKind::Environment, "abc", "exr"), kAbcId);
+    EXPECT_EQ(file_names(folder_ / "environments"), std::vector<std::string>{kAbcId + ".exr"});
+}
+
+TEST_F(AssetStoreTest, SameBytesUnderAnotherExtensionAreRejected) {
+    AssetStore store = open();
+    store.put_source(SourceKind::Mesh, "abc", "obj");
+    EXPECT_EQ(kind_of_failure([&] { store.put_source(SourceKind::Mesh, "abc", "gltf"); }),
+              ErrorKind::InvalidInput);
+    EXPECT_EQ(file_names(folder_ / "meshes"), std::vector<std::string>{kAbcId + ".obj"});
+    EXPECT_EQ(store.get_source(SourceKind::Mesh, kAbcId)->extension, "obj");
+}
+
+TEST_F(AssetStoreTest, DerivedEntryRoundTripsInsideASealedFile) {
+    AssetStore store = open();
+    const std::string rig = R"({"id":"x","lights":[]})";
+    store.put_derived(DerivedKind::Rig, kRigId, rig);
+    EXPECT_EQ(store.get_derived(DerivedKind::Rig, kRigId), rig);
+    EXPECT_TRUE(store.contains(DerivedKind::Rig, kRigId));
+    EXPECT_EQ(read_bytes(folder_ / "rigs" / (kRigId + ".sealed")),
+              "oer-sealed-v1 " + api::sha256_hex(rig) + " 22\n" + rig);
+}
+
+TEST_F(AssetStoreTest, EmptyPayloadsRoundTrip) {
+    AssetStore store = open();
+    const std::string id = store.put_source(SourceKind::Mesh, "", "obj");
+    EXPECT_EQ(id, "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    EXPECT_EQ(store.get_source(SourceKind::Mesh, id)->bytes, "");
+    store.put_derived(DerivedKind::Rig, kRigId, "");
+    EXPECT_EQ(store.get_derived(DerivedKind::Rig, kRigId), "");
+}
+
+TEST_F(AssetStoreTest, ASecondStoreOnTheSameFolderSeesTheFirstOnesEntries) {
+    {
+        AssetStore first = open();
+        first.put_source(SourceKind::Environment, "abc", "hdr");
+        first.put_derived(DerivedKind::Rig, kRigId, "rig text");
+    }
+    AssetStore second = open();
+    const auto source = second.get_source(SourceKind::Environment, kAbcId);
+    ASSERT_TRUE(source.has_value());
+    EXPECT_EQ(source->bytes, "abc");
+    EXPECT_EQ(source->extension, "hdr");
+    EXPECT_EQ(second.get_derived(DerivedKind::Rig, kRigId), "rig text");
+    EXPECT_TRUE(log().empty());
+}
+
+TEST_F(AssetStoreTest, AbsentEntriesAreNulloptWithoutALogLine) {
+    AssetStore store = open();
+    EXPECT_FALSE(store.get_source(SourceKind::Mesh, kAbcId).has_value());
+    EXPECT_FALSE(store.get_derived(DerivedKind::Rig, kRigId).has_value());
+    EXPECT_FALSE(store.contains(SourceKind::Mesh, kAbcId));
+    EXPECT_FALSE(store.contains(DerivedKind::Rig, kRigId));
+    EXPECT_TRUE(log().empty());
+}
+
+TEST_F(AssetStoreTest, RemoveDeletesTheEntryOnce) {
+    AssetStore store = open();
+    store.put_source(SourceKind::Mesh, "abc", "glb");
+    store.put_derived(DerivedKind::Rig, kRigId, "rig");
+    EXPECT_TRUE(store.remove(SourceKind::Mesh, kAbcId));
+    EXPECT_FALSE(store.remove(SourceKind::Mesh, kAbcId));
+    EXPECT_TRUE(store.remove(DerivedKind::Rig, kRigId));
+    EXPECT_FALSE(store.remove(DerivedKind::Rig, kRigId));
+    EXPECT_FALSE(store.get_source(SourceKind::Mesh, kAbcId).has_value());
+    EXPECT_FALSE(store.get_derived(DerivedKind::Rig, kRigId).has_value());
+    EXPECT_TRUE(file_names(folder_ / "meshes").empty());
+    EXPECT_TRUE(file_names(folder_ / "rigs").empty());
+}
+
+TEST_F(AssetStoreTest, SourceWithAFlippedByteIsDetectedDroppedAndLogged) {
+    AssetStore store = open();
+    const std::string bytes = "a mesh of a few bytes";
+    const std::string id = store.put_source(SourceKind::Mesh, bytes, "obj");
+    const fs::path path = folder_ / "meshes" / (id + ".obj");
+    std::string damaged = bytes;
+    damaged[5] ^= 0x01;
+    write_bytes(path, damaged);
+
+    EXPECT_FALSE(store.get_source(SourceKind::Mesh, id).has_value());
+    EXPECT_FALSE(fs::exists(path));
+    EXPECT_FALSE(store.contains(SourceKind::Mesh, id));
+    ASSERT_EQ(log().size(), 1u);
+    EXPECT_EQ(log()[0], "asset store: removed corrupt " + path.string() +
+                            ": its bytes no longer hash to its id");
+}
+
+TEST_F(AssetStoreTest, TruncatedSourceIsDetectedAndDropped) {
+    AssetStore store = open();
+    const std::string id = store.put_source(SourceKind::Environment, "abcdef", "exr");
+    const fs::path path = folder_ / "environments" / (id + ".exr");
+    fs::resize_file(path, 3);
+    EXPECT_FALSE(store.get_source(SourceKind::Environment, id).has_value());
+    EXPECT_FALSE(fs::exists(path));
+    EXPECT_EQ(log().size(), 1u);
+}
+
+TEST_F(AssetStoreTest, SealedEntryWithAFlippedPayloadByteIsDetectedDroppedAndLogged) {
+    AssetStore store = open();
+    store.put_derived(DerivedKind::Rig, kRigId, "the rig's json");
+    const fs::path path = folder_ / "rigs" / (kRigId + ".sealed");
+    std::string entry = read_bytes(path);
+    entry[entry.size() - 2] ^= 0x20;
+    write_bytes(path, entry);
+
+    EXPECT_FALSE(store.get_derived(DerivedKind::Rig, kRigId).has_value());
+    EXPECT_FALSE(fs::exists(path));
+    ASSERT_EQ(log().size(), 1u);
+    EXPECT_EQ(log()[0], "asset store: removed corrupt " + path.string() +
+                            ": its payload does not match its SHA-256");
+}
+
+TEST_F(AssetStoreTest, TruncatedSealedEntryIsDetectedAndDropped) {
+    AssetStore store = open();
+    store.put_derived(DerivedKind::Rig, kRigId, "0123456789");
+    const fs::path path = folder_ / "rigs" / (kRigId + ".sealed");
+    fs::resize_file(path, fs::file_size(path) - 4);
+
+    EXPECT_FALSE(store.get_derived(DerivedKind::Rig, kRigId).has_value());
+    EXPECT_FALSE(fs::exists(path));
+    ASSERT_EQ(log().size(), 1u);
+    EXPECT_EQ(log()[0], "asset store: removed corrupt " + path.string() +
+                            ": its payload is 6 bytes, its header says 10");
+}
+
+TEST_F(AssetStoreTest, SealedEntryWithADamagedHeaderIsDetectedAndDropped) {
+    AssetStore store = open();
+    const fs::path path = folder_ / "rigs" / (kRigId + ".sealed");
+    const std::string valid = "oer-sealed-v1 " + api::sha256_hex("x") + " 1\nx";
+    for (const std::string& damaged :
+         {std::string(), std::string("x"), "oer-sealed-v1 " + api::sha256_hex("x") + " 1x\nx",
+          "oer-sealed-v2 " + api::sha256_hex("x") + " 1\nx",
+          "oer-sealed-v1 " + api::sha256_hex("x") + "\nx", valid.substr(0, 40)}) {
+        write_bytes(path, damaged);
+        EXPECT_FALSE(store.get_derived(DerivedKind::Rig, kRigId).has_value()) << damaged;
+        EXPECT_FALSE(fs::exists(path)) << damaged;
+    }
+    EXPECT_EQ(log().size(), 6u);
+    write_bytes(path, valid);
+    EXPECT_EQ(store.get_derived(DerivedKind::Rig, kRigId), "x");
+}
+
+TEST_F(AssetStoreTest, ALeftoverTemporaryFileConfusesNothingAndGoesAtTheNextStart) {
+    const fs::path leftover = folder_ / "meshes" / (".tmp-" + kAbcId + ".glb-Ab12Cd");
+    {
+        AssetStore store = open();
+        write_bytes(leftover, "ab");  // an interrupted write of "abc"
+        EXPECT_FALSE(store.contains(SourceKind::Mesh, kAbcId));
+        EXPECT_FALSE(store.get_source(SourceKind::Mesh, kAbcId).has_value());
+        EXPECT_EQ(store.put_source(SourceKind::Mesh, "abc", "glb"), kAbcId);
+        EXPECT_EQ(store.get_source(SourceKind::Mesh, kAbcId)->bytes, "abc");
+        EXPECT_TRUE(log().empty());
+    }
+    AssetStore reopened = open();
+    EXPECT_FALSE(fs::exists(leftover));
+    EXPECT_EQ(file_names(folder_ / "meshes"), std::vector<std::string>{kAbcId + ".glb"});
+    ASSERT_EQ(log().size(), 1u);
+    EXPECT_EQ(log()[0],
+              "asset store: removed " + leftover.string() + ", left by an interrupted write");
+    EXPECT_EQ(reopened.get_source(SourceKind::Mesh, kAbcId)->bytes, "abc");
+}
+
+TEST_F(AssetStoreTest, InvalidIdsAreRejectedBeforeAnyPathIsBuilt) {
+    AssetStore store = open();
+    const std::string valid(64, 'a');
+    const std::vector<std::string> invalid{
+        "",
+        "../etc/passwd",
+        "../" + valid.substr(3),
+        std::string(63, 'a'),
+        std::string(65, 'a'),
+        std::string(64, 'A'),
+        valid.substr(0, 63) + 'g',
+        valid.substr(0, 32) + std::string(1, '\0') + valid.substr(33),
+        valid.substr(0, 63) + '/',
+    };
+    EXPECT_TRUE(is_asset_id(valid));
+    for (const std::string& id : invalid) {
+        EXPECT_FALSE(is_asset_id(id));
+        const std::vector<std::function<void()>> operations{
+            [&] { store.get_source(SourceKind::Mesh, id); },
+            [&] { store.get_derived(DerivedKind::Rig, id); },
+            [&] { store.put_derived(DerivedKind::Rig, id, "x"); },
+            [&] { store.contains(SourceKind::Environment, id); },
+            [&] { store.contains(DerivedKind::Rig, id); },
+            [&] { store.remove(SourceKind::Mesh, id); },
+            [&] { store.remove(DerivedKind::Rig, id); },
+        };
+        for (const auto& operation : operations) {
+            EXPECT_EQ(kind_of_failure(operation), ErrorKind::InvalidInput);
+        }
+    }
+    EXPECT_EQ(file_names(folder_.parent_path()), std::vector<std::string>{"data"});
+    EXPECT_EQ(file_names(folder_),
+              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs"}));
+    for (const char* kind : {"environments", "meshes", "rig-sources", "rigs"}) {
+        EXPECT_TRUE(file_names(folder_ / kind).empty()) << kind;
+    }
+}
+
+TEST_F(AssetStoreTest, ExtensionsComeFromAFixedListPerKind) {
+    AssetStore store = open();
+    for (const char* extension : {"", "GLB", ".glb", "exe", "glb/../x", "exr"}) {
+        EXPECT_EQ(kind_of_failure([&] { store.put_source(SourceKind::Mesh, "abc", extension); }),
+                  ErrorKind::Unsupported)
+            << extension;
+    }
+    EXPECT_EQ(kind_of_failure([&] { store.put_source(SourceKind::Environment, "abc", "obj"); }),
+              ErrorKind::Unsupported);
+    EXPECT_TRUE(file_names(folder_ / "meshes").empty());
+    EXPECT_TRUE(file_names(folder_ / "environments").empty());
+    const auto meshes = allowed_extensions(SourceKind::Mesh);
+    EXPECT_EQ(std::vector<std::string_view>(meshes.begin(), meshes.end()),
+              (std::vector<std::string_view>{"glb", "gltf", "obj"}));
+    const auto environments = allowed_extensions(SourceKind::Environment);
+    EXPECT_EQ(std::vector<std::string_view>(environments.begin(), environments.end()),
+              (std::vector<std::string_view>{"exr", "hdr", "png", "jpg", "jpeg", "tif", "tiff"}));
+}
+
+TEST_F(AssetStoreTest, ConcurrentPutsAndGetsOfSharedAndOwnEntries) {
+    AssetStore store = open();
+    const std::string shared(100'000, 's');
+    const std::string shared_id = api::sha256_hex(shared);
+    constexpr int kThreads = 8, kRounds = 25;
+    std::vector<int> failures(kThreads, 0);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t) {
+        threads.emplace_back([&, t] {
+            for (int round = 0; round < kRounds; ++round) {
+                const std::string own =
+                    "thread " + std::to_string(t) + " round " + std::to_string(round);
+                const std::string own_id = store.put_source(SourceKind::Mesh, own, "obj");
+                failures[t] += store.put_source(SourceKind::Mesh, shared, "glb") != shared_id;
+                store.put_derived(DerivedKind::Rig, shared_id, shared);
+                const auto own_back = store.get_source(SourceKind::Mesh, own_id);
+                const auto shared_back = store.get_source(SourceKind::Mesh, shared_id);
+                const auto rig_back = store.get_derived(DerivedKind::Rig, shared_id);
+                failures[t] += !own_back || own_back->bytes != own;
+                failures[t] += !shared_back || shared_back->bytes != shared;
+                failures[t] += rig_back != shared;
+            }
+        });
+    }
+    for (auto& thread : threads) {
+        thread.join();
+    }
+    EXPECT_EQ(std::count(failures.begin(), failures.end(), 0), kThreads);
+    EXPECT_TRUE(log().empty());
+    EXPECT_EQ(file_names(folder_ / "meshes").size(), std::size_t(kThreads * kRounds + 1));
+    EXPECT_EQ(file_names(folder_ / "rigs"), std::vector<std::string>{shared_id + ".sealed"});
+}

@@ -1,0 +1,90 @@
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <set>
+#include <thread>
+
+#include "oer/core/error.hpp"
+#include "render_pool.hpp"
+
+using namespace oer;
+using oer::server::QueueFull;
+using oer::server::RenderPool;
+
+namespace {
+
+// A job that holds its worker until `release` is set.
+RenderPool::Job blocking_job(std::shared_future<void> release, std::atomic<int>& started) {
+    return [release, &started](FrameRenderer&) {
+        ++started;
+        release.wait();
+        return Frame{};
+    };
+}
+
+bool eventually(const std::function<bool()>& condition) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!condition()) {
+        if (std::chrono::steady_clock::now() > end) {
+            return false;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST(RenderPool, RefusesJobsBeyondTheWorkersAndTheQueueAtOnce) {
+    std::atomic<std::size_t> observed{0};
+    RenderPool pool(1, 2, FrameLimits{}, [&observed](std::size_t waiting) { observed = waiting; });
+    std::promise<void> gate;
+    const std::shared_future<void> release = gate.get_future().share();
+    std::atomic<int> started{0};
+
+    std::vector<std::future<Frame>> accepted;
+    for (int i = 0; i < 3; ++i) {  // one running, two waiting
+        accepted.push_back(pool.submit(blocking_job(release, started)));
+    }
+    ASSERT_TRUE(eventually([&] { return started == 1; }));
+    EXPECT_EQ(pool.waiting(), 2u);
+    EXPECT_EQ(observed.load(), 2u);
+
+    const auto before = std::chrono::steady_clock::now();
+    EXPECT_THROW(pool.submit(blocking_job(release, started)), QueueFull);
+    EXPECT_LT(std::chrono::steady_clock::now() - before, std::chrono::milliseconds(100));
+
+    gate.set_value();
+    for (auto& frame : accepted) {
+        frame.get();
+    }
+    EXPECT_EQ(started, 3);
+    ASSERT_TRUE(eventually([&] { return pool.waiting() == 0 && observed.load() == 0; }));
+    // Room again once the jobs are done.
+    EXPECT_NO_THROW(pool.submit(blocking_job(release, started)).get());
+}
+
+TEST(RenderPool, AFailingJobFreesItsPlace) {
+    RenderPool pool(1, 0, FrameLimits{});
+    for (int i = 0; i < 3; ++i) {
+        auto failing = pool.submit(
+            [](FrameRenderer&) -> Frame { throw Error(ErrorKind::InvalidInput, "bad frame"); });
+        EXPECT_THROW(failing.get(), Error);
+    }
+    EXPECT_EQ(pool.waiting(), 0u);
+}
+
+TEST(RenderPool, RunsAJobOnEveryWorker) {
+    RenderPool pool(2, 0, FrameLimits{});
+    std::mutex mutex;
+    std::set<std::thread::id> threads;
+    pool.run_on_every_worker([&](FrameRenderer&) {
+        const std::lock_guard lock(mutex);
+        threads.insert(std::this_thread::get_id());
+        return Frame{};
+    });
+    EXPECT_EQ(threads.size(), 2u);
+    EXPECT_FALSE(pool.info().renderer.empty());
+}
