@@ -1,4 +1,4 @@
-// Levels of detail (renderer/src/mesh_lod, private, included by relative path): each level
+// Levels of detail (renderer/mesh, oer/mesh/mesh_lod.hpp): each level
 // is a real simplification whose stated error bounds its distance from the surface.
 #include <gtest/gtest.h>
 

@@ -13,7 +13,7 @@ constexpr double kLeastReduction = 0.8;
 constexpr float kLargestRelativeError = 0.05f;
 // meshoptimizer's error is the distance to the planes of the triangles a vertex gathered, not
 // to the surface: on a finely tessellated sphere the true deviation measured up to 4.2 times
-// more (tests/unit/mesh_lod_test.cpp), so levels claim five times it.
+// more (tests/mesh/mesh_lod_test.cpp), so levels claim five times it.
 constexpr float kErrorSafetyFactor = 5.0f;
 }  // namespace
 
