@@ -33,8 +33,8 @@ std::string_view included_name(std::string_view line) {
     return line.substr(open + 1, close - open - 1);
 }
 
-// Appends the lines of `name` from line first_line on (its text starting there) as source
-// string `number`, splicing in its includes.
+// Appends the lines of `name`, the last of source.files (so its source-string number is its
+// index there), from line first_line on (`text` starts there), splicing in its includes.
 void append_file(ShaderSource& source, std::span<const ShaderFile> files, const std::string& name,
                  std::string_view text, int first_line) {
     const std::size_t number = source.files.size() - 1;
