@@ -14,7 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "frame_shaders.hpp"
+#include "frame_programs.hpp"
 #include "gl_program.hpp"
 #include "gpu_mesh.hpp"
 #include "oer/core/error.hpp"
@@ -23,6 +23,7 @@
 #include "oer/lighting/irradiance.hpp"
 #include "render_targets.hpp"
 #include "sh_shader_constants.hpp"
+#include "shader_sources.hpp"
 #include "shadow_layers.hpp"
 #include "shadow_map_cache.hpp"
 
@@ -178,15 +179,17 @@ struct FrameRenderer::State {
     gl::Object irradiance_buffer;
     int max_texture_size = 0;
 
-    gl::Program& program(const char* vertex, const char* fragment, const std::string& defines,
-                         const std::string& name) {
+    // The program `name` of renderer/gl/src/frame_programs.cpp specialised by `defines`.
+    gl::Program& program(const std::string& name, const std::string& defines) {
         const std::string key = name + "\n" + defines;
         auto found = programs.find(key);
         if (found == programs.end()) {
+            const shaders::FrameProgram& stages = shaders::frame_program(name);
+            shaders::check_defines(stages, defines);
             found = programs
-                        .emplace(key, std::make_unique<gl::Program>(shaders::compose(vertex),
-                                                                    shaders::compose(fragment),
-                                                                    defines, name))
+                        .emplace(key, std::make_unique<gl::Program>(
+                                          shaders::program_source(stages.vertex, defines),
+                                          shaders::program_source(stages.fragment, defines), name))
                         .first;
         }
         return *found->second;
@@ -219,8 +222,7 @@ struct FrameRenderer::State {
         glViewport(0, 0, resolution, resolution);
         glDisable(GL_DEPTH_TEST);
         glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        gl::Program& bake = program(shaders::kFullscreenVertex, shaders::kGroundVisibilityFragment,
-                                    lighting_defines, "ground visibility");
+        gl::Program& bake = program("ground visibility", lighting_defines);
         glUseProgram(bake.id());
         set_light_uniforms(bake);
         glUniformMatrix4fv(bake.uniform("u_inverse_light_matrix"), 1, GL_FALSE,
@@ -482,7 +484,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
         glBindTextureUnit(4, state.shadow_layers.depth());
         glBindSampler(4, pcf ? state.compare_linear.get() : state.compare_nearest.get());
     }
-    gl::Program& depth = state.program(shaders::kMeshVertex, shaders::kDepthFragment, "", "depth");
+    gl::Program& depth = state.program("depth", "");
     for (std::size_t i = 0; shadows && i < lit.size(); ++i) {
         std::string key = scene_key;
         key.append(reinterpret_cast<const char*>(glm::value_ptr(light_directions[i])),
@@ -549,8 +551,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     glDepthFunc(GL_LESS);
     glEnable(GL_STENCIL_TEST);
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    gl::Program& geometry =
-        state.program(shaders::kMeshVertex, shaders::kGeometryFragment, "", "geometry");
+    gl::Program& geometry = state.program("geometry", "");
     glUseProgram(geometry.id());
     glUniformMatrix4fv(geometry.uniform("u_view_projection"), 1, GL_FALSE,
                        glm::value_ptr(view_projection));
@@ -642,8 +643,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
             continue;
         }
         gl::Program& shade = state.program(
-            shaders::kFullscreenVertex, shaders::kShadeFragment,
-            shading_defines + "#define SURFACE " + std::to_string(surface) + "\n", "shade");
+            "shade", shading_defines + "#define SURFACE " + std::to_string(surface) + "\n");
         glUseProgram(shade.id());
         set_light_uniforms(shade);
         glUniformMatrix4fv(shade.uniform("u_inverse_view_projection"), 1, GL_FALSE,
@@ -681,8 +681,7 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     // Resolve: the mean of each pixel's supersamples, then the display transform.
     if (scale > 1) {
         gl::Program& resolve = state.program(
-            shaders::kFullscreenVertex, shaders::kResolveFragment,
-            "#define DISPLAY_OUTPUT " + std::to_string(request.linear ? 0 : 1) + "\n", "resolve");
+            "resolve", "#define DISPLAY_OUTPUT " + std::to_string(request.linear ? 0 : 1) + "\n");
         glUseProgram(resolve.id());
         glUniform1i(resolve.uniform("u_scale"), scale);
         if (!request.linear) {

@@ -24,20 +24,15 @@ std::string info_log(GLuint object, bool is_program) {
     return log.data();
 }
 
-GLuint compile(GLenum stage, std::string_view source, const std::string& defines,
-               const std::string& name) {
-    // The #version line must come first; the defines follow it.
-    const std::size_t end_of_version = source.find('\n') + 1;
-    const std::string full = std::string(source.substr(0, end_of_version)) + defines +
-                             std::string(source.substr(end_of_version));
+GLuint compile(GLenum stage, const shaders::ShaderSource& source, const std::string& name) {
     const GLuint shader = glCreateShader(stage);
-    const char* text = full.c_str();
+    const char* text = source.text.c_str();
     glShaderSource(shader, 1, &text, nullptr);
     glCompileShader(shader);
     GLint ok = GL_FALSE;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (ok != GL_TRUE) {
-        const std::string log = info_log(shader, false);
+        const std::string log = shaders::name_files(info_log(shader, false), source.files);
         glDeleteShader(shader);
         throw Error(ErrorKind::Internal, "shader '" + name + "' (" +
                                              (stage == GL_VERTEX_SHADER ? "vertex" : "fragment") +
@@ -48,13 +43,13 @@ GLuint compile(GLenum stage, std::string_view source, const std::string& defines
 
 }  // namespace
 
-Program::Program(std::string_view vertex_source, std::string_view fragment_source,
-                 const std::string& defines, const std::string& name)
+Program::Program(const shaders::ShaderSource& vertex_source,
+                 const shaders::ShaderSource& fragment_source, const std::string& name)
     : name_(name) {
-    const GLuint vertex = compile(GL_VERTEX_SHADER, vertex_source, defines, name);
+    const GLuint vertex = compile(GL_VERTEX_SHADER, vertex_source, name);
     GLuint fragment = 0;
     try {
-        fragment = compile(GL_FRAGMENT_SHADER, fragment_source, defines, name);
+        fragment = compile(GL_FRAGMENT_SHADER, fragment_source, name);
     } catch (...) {
         glDeleteShader(vertex);
         throw;

@@ -3,16 +3,18 @@
 #include <GL/glcorearb.h>
 
 #include <string>
-#include <string_view>
 #include <unordered_map>
+
+#include "shader_sources.hpp"
 
 namespace oer::gl {
 
 class Program {
   public:
-    // defines: lines inserted after the #version line ("#define SH_ORDER 3\n...").
-    Program(std::string_view vertex_source, std::string_view fragment_source,
-            const std::string& defines, const std::string& name);
+    // Throws oer::Error (Internal) with the compiler's log, positions named by file, if a stage
+    // does not compile or the program does not link.
+    Program(const shaders::ShaderSource& vertex, const shaders::ShaderSource& fragment,
+            const std::string& name);
     ~Program();
     Program(const Program&) = delete;
     Program& operator=(const Program&) = delete;

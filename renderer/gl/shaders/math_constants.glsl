@@ -1,0 +1,2 @@
+// Constants shared by the shading parts.
+const float PI = 3.14159265358979;

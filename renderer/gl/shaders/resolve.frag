@@ -1,0 +1,18 @@
+#version 450 core
+#extension GL_GOOGLE_include_directive : require
+// Anti-aliasing: the mean of each pixel's u_scale x u_scale supersamples, then the output
+// transform. Radiance is averaged before tone mapping, as a multisample resolve would.
+layout(binding = 0) uniform sampler2D u_radiance;  // premultiplied by coverage alpha
+uniform int u_scale;
+out vec4 o_color;
+#include "display.glsl"
+void main() {
+    ivec2 base = ivec2(gl_FragCoord.xy) * u_scale;
+    vec4 sum = vec4(0.0);
+    for (int y = 0; y < u_scale; ++y) {
+        for (int x = 0; x < u_scale; ++x) {
+            sum += texelFetch(u_radiance, base + ivec2(x, y), 0);
+        }
+    }
+    o_color = output_color(sum / float(u_scale * u_scale));
+}
