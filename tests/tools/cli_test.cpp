@@ -1,6 +1,5 @@
 // The `oer` command line, run as a real process.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_process.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/default_environment.hpp"
 #include "oer/lighting/equirect.hpp"
@@ -18,45 +18,7 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-
-struct ProcessResult {
-    int status = -1;
-    std::string out;
-    std::string err;
-};
-
-class Cli : public ::testing::Test {
-  protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("oer-cli-test-" + std::to_string(::getpid()) + "-" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    ProcessResult run(const std::string& arguments) {
-        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-        const std::string command = std::string(OER_CLI_PATH) + " " + arguments + " >" +
-                                    out.string() + " 2>" + err.string() + " </dev/null";
-        const int raw = std::system(command.c_str());
-        ProcessResult result;
-        result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-        result.out = slurp(out);
-        result.err = slurp(err);
-        return result;
-    }
-
-    static std::string slurp(const fs::path& path) {
-        std::ifstream in(path, std::ios::binary);
-        return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    }
-
-    fs::path dir_;
-};
-
-}  // namespace
+class Cli : public OerProcessTest {};
 
 TEST_F(Cli, PreprocessDefaultPrintsTheRig) {
     const ProcessResult result = run("preprocess default");
