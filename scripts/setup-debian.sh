@@ -10,7 +10,7 @@ build_packages=(
     libmeshoptimizer-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev
     libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
-    libssl-dev
+    libssl-dev libcli11-dev
     libgtest-dev libgmock-dev
     glslang-tools
 )

@@ -4,8 +4,10 @@
 #include <cctype>
 #include <charconv>
 #include <cstdlib>
-#include <map>
+#include <memory>
 #include <string_view>
+
+#include <CLI/CLI.hpp>
 
 #include "oer/api/invalid_parameter.hpp"
 #include "quoted_excerpt.hpp"
@@ -174,6 +176,70 @@ const Option* find_option(std::string_view flag) {
     return found == table.end() ? nullptr : &*found;
 }
 
+// The --help text of the table: usage, then per option its flag and value, and on the next line
+// its meaning, variable and default.
+class HelpFormatter : public CLI::Formatter {
+  public:
+    std::string make_help(const CLI::App* app, std::string, CLI::AppFormatMode) const override {
+        std::string text =
+            "Usage: oer-server [--NAME VALUE | --NAME=VALUE]... | --help\n"
+            "\n"
+            "Every option is also the environment variable OER_NAME (upper case, dashes as\n"
+            "underscores); an option on the command line wins over its variable.\n"
+            "\n";
+        for (const CLI::Option* option : app->get_options()) {
+            if (option == app->get_help_ptr()) {
+                continue;
+            }
+            const std::string& shown = option->get_default_str();
+            text += "  " + option->get_name() + " " + option->get_type_name() + "\n      " +
+                    option->get_description() + " (" +
+                    environment_variable_of(option->get_name().substr(2)) +
+                    "; default: " + (shown.empty() ? "none" : shown) + ")\n";
+        }
+        return text;
+    }
+};
+
+// The table as a CLI11 app. Each option takes one value, kept as text so that the table's own
+// parsers check it and name the flag or the variable that gave it. Variables are read after
+// parsing through the caller's EnvironmentLookup, not through CLI11's envname: that calls getenv
+// itself (bypassing the lookup) and drops a variable set to "", which must be an error for
+// OER_ACCESS_LOG and a value (no key) for OER_API_KEY.
+std::unique_ptr<CLI::App> service_app() {
+    auto app = std::make_unique<CLI::App>("oer-server", "oer-server");
+    app->allow_extras();
+    app->formatter(std::make_shared<HelpFormatter>());
+    const ServiceConfig defaults;
+    for (const Option& option : options()) {
+        const std::string flag(option.flag);
+        app->add_option("--" + flag)
+            ->description(std::string(option.meaning))
+            ->type_name(std::string(option.value_name))
+            ->default_str(option.show(defaults))
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    }
+    return app;
+}
+
+// CLI11 reads "--name=" as "--name" and would take the next argument as its value; an empty
+// inline value is passed on as an argument of its own instead, so that it is checked as "".
+std::vector<std::string> with_empty_values_apart(const std::vector<std::string>& arguments) {
+    std::vector<std::string> split;
+    bool is_value = false;  // the previous argument was a flag waiting for its value
+    for (const std::string& argument : arguments) {
+        if (!is_value && argument.starts_with("--") && argument.find('=') == argument.size() - 1) {
+            split.push_back(argument.substr(0, argument.size() - 1));
+            split.emplace_back();
+            continue;
+        }
+        is_value = !is_value && argument.starts_with("--") &&
+                   argument.find('=') == std::string::npos && find_option(argument.substr(2));
+        split.push_back(argument);
+    }
+    return split;
+}
+
 }  // namespace
 
 std::optional<std::string> process_environment(const std::string& name) {
@@ -192,37 +258,34 @@ std::string environment_variable_of(const std::string& flag) {
 ServiceCommandLine parse_service_command_line(const std::vector<std::string>& arguments,
                                               const EnvironmentLookup& environment) {
     ServiceCommandLine command_line;
-    std::map<std::string_view, std::string> given;  // flag -> text of its last occurrence
-    for (std::size_t i = 0; i < arguments.size(); ++i) {
-        const std::string& argument = arguments[i];
-        if (argument == "--help" || argument == "-h") {
-            command_line.help = true;
-            return command_line;
+    const std::unique_ptr<CLI::App> app = service_app();
+    std::vector<std::string> reversed = with_empty_values_apart(arguments);
+    std::reverse(reversed.begin(), reversed.end());  // CLI11 takes them last first
+    try {
+        app->parse(reversed);
+    } catch (const CLI::CallForHelp&) {
+        command_line.help = true;
+        return command_line;
+    } catch (const CLI::ArgumentMismatch&) {
+        // Every option takes one value and CLI11 takes any next argument as it, so only the last
+        // argument can be a flag without its value.
+        const std::string& flag = arguments.back();
+        throw InvalidParameter(
+            flag, "missing value (" + std::string(find_option(flag.substr(2))->value_name) + ")");
+    }
+    if (const std::vector<std::string> extras = app->remaining(); !extras.empty()) {
+        const std::string& first = extras.front();
+        if (first.starts_with("--")) {
+            throw InvalidParameter(first.substr(0, first.find('=')),
+                                   "unknown option (oer-server --help lists them)");
         }
-        if (!argument.starts_with("--")) {
-            throw InvalidParameter(argument, "unexpected argument; options are --name VALUE");
-        }
-        const auto equals = argument.find('=');
-        const std::string flag =
-            argument.substr(2, equals == std::string::npos ? equals : equals - 2);
-        const Option* option = find_option(flag);
-        if (option == nullptr) {
-            throw InvalidParameter("--" + flag, "unknown option (oer-server --help lists them)");
-        }
-        if (equals != std::string::npos) {
-            given[option->flag] = argument.substr(equals + 1);
-        } else if (i + 1 < arguments.size()) {
-            given[option->flag] = arguments[++i];
-        } else {
-            throw InvalidParameter("--" + flag,
-                                   "missing value (" + std::string(option->value_name) + ")");
-        }
+        throw InvalidParameter(first, "unexpected argument; options are --name VALUE");
     }
     for (const Option& option : options()) {
-        const std::string flag(option.flag);
-        if (const auto found = given.find(option.flag); found != given.end()) {
-            option.set(command_line.config, "--" + flag, found->second);
-        } else if (const std::string variable = environment_variable_of(flag);
+        const CLI::Option* parsed = app->get_option("--" + std::string(option.flag));
+        if (parsed->count() > 0) {
+            option.set(command_line.config, parsed->get_name(), parsed->results().back());
+        } else if (const std::string variable = environment_variable_of(std::string(option.flag));
                    const auto value = environment(variable)) {
             option.set(command_line.config, variable, *value);
         }
@@ -231,21 +294,7 @@ ServiceCommandLine parse_service_command_line(const std::vector<std::string>& ar
 }
 
 std::string service_help_text() {
-    const ServiceConfig defaults;
-    std::string text =
-        "Usage: oer-server [--NAME VALUE | --NAME=VALUE]... | --help\n"
-        "\n"
-        "Every option is also the environment variable OER_NAME (upper case, dashes as\n"
-        "underscores); an option on the command line wins over its variable.\n"
-        "\n";
-    for (const Option& option : options()) {
-        const std::string shown = option.show(defaults);
-        text += "  --" + std::string(option.flag) + " " + std::string(option.value_name) +
-                "\n      " + std::string(option.meaning) + " (" +
-                environment_variable_of(std::string(option.flag)) +
-                "; default: " + (shown.empty() ? "none" : shown) + ")\n";
-    }
-    return text;
+    return service_app()->help();
 }
 
 }  // namespace oer::server

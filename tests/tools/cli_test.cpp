@@ -1,7 +1,8 @@
 // The `oer` command line, run as a real process.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_process.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/default_environment.hpp"
 #include "oer/lighting/equirect.hpp"
@@ -16,45 +18,7 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-
-struct ProcessResult {
-    int status = -1;
-    std::string out;
-    std::string err;
-};
-
-class Cli : public ::testing::Test {
-  protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("oer-cli-test-" + std::to_string(::getpid()) + "-" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    ProcessResult run(const std::string& arguments) {
-        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-        const std::string command = std::string(OER_CLI_PATH) + " " + arguments + " >" +
-                                    out.string() + " 2>" + err.string() + " </dev/null";
-        const int raw = std::system(command.c_str());
-        ProcessResult result;
-        result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-        result.out = slurp(out);
-        result.err = slurp(err);
-        return result;
-    }
-
-    static std::string slurp(const fs::path& path) {
-        std::ifstream in(path, std::ios::binary);
-        return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    }
-
-    fs::path dir_;
-};
-
-}  // namespace
+class Cli : public OerProcessTest {};
 
 TEST_F(Cli, PreprocessDefaultPrintsTheRig) {
     const ProcessResult result = run("preprocess default");
@@ -165,15 +129,52 @@ TEST_F(Cli, MasksOutlinesEveryLight) {
     const oer::HdrImage studio = oer::make_default_environment();
     EXPECT_EQ(picture.width, studio.width);
     EXPECT_EQ(picture.height, studio.height);
-    // The outline colors of lights 1..3 (pure-ish red, green, blue) appear in the picture.
-    int red = 0, green = 0, blue = 0;
-    for (std::size_t i = 0; i < picture.pixel_count(); ++i) {
-        const glm::vec3 c = picture.rgb(i);
-        red += c.r > 0.9f && c.g < 0.1f && c.b < 0.1f;
-        green += c.g > 0.9f && c.r < 0.1f && c.b < 0.1f;
-        blue += c.b > 0.9f && c.r < 0.15f && c.g < 0.25f;
+    // The lights the rig reports for the same options, and the outline colors of lights 1..3
+    // (pure-ish red, green, blue once the PNG's sRGB is decoded to linear).
+    const nlohmann::json rig = nlohmann::json::parse(run("preprocess default").out);
+    ASSERT_GE(rig.at("lights").size(), 3u);
+    std::vector<glm::dvec3> directions;
+    std::vector<double> radii;
+    for (const auto& light : rig.at("lights")) {
+        const auto d = light.at("direction");
+        directions.emplace_back(double(d[0]), double(d[1]), double(d[2]));
+        radii.push_back(double(light.at("angular_radius")));
     }
-    EXPECT_GT(red, 20);
-    EXPECT_GT(green, 20);
-    EXPECT_GT(blue, 20);
+    const auto outline_of = [](const glm::vec3& c) {
+        return c.r > 0.9f && c.g < 0.1f && c.b < 0.1f     ? 0
+               : c.g > 0.9f && c.r < 0.1f && c.b < 0.1f   ? 1
+               : c.b > 0.9f && c.r < 0.15f && c.g < 0.25f ? 2
+                                                          : -1;
+    };
+    // Each light's outline and number lie within its mask's extent plus the label beside it
+    // (draw_light_overlay: offset radius + 2 scale, digits 3 scale wide and 5 high, scale =
+    // height / 128): a light's color near its direction, and no outline color far from every
+    // light.
+    const double pixel_angle = std::acos(-1.0) / picture.height;
+    const double label_angle = (14.0 * std::max(1, picture.height / 128) + 4.0) * pixel_angle;
+    std::vector<int> near_own(3, 0);
+    int far = 0;
+    for (int y = 0; y < picture.height; ++y) {
+        for (int x = 0; x < picture.width; ++x) {
+            const int outline = outline_of(picture.rgb(std::size_t(y) * picture.width + x));
+            if (outline < 0) {
+                continue;
+            }
+            const glm::dvec3 direction =
+                oer::equirect::pixel_direction(x, y, picture.width, picture.height);
+            const auto angle_to = [&](std::size_t k) {
+                return std::acos(std::clamp(glm::dot(direction, directions[k]), -1.0, 1.0));
+            };
+            near_own[outline] += angle_to(outline) < 2.0 * radii[outline] + 3.0 * pixel_angle;
+            bool near_any = false;
+            for (std::size_t k = 0; k < directions.size(); ++k) {
+                near_any = near_any || angle_to(k) < 2.0 * radii[k] + label_angle;
+            }
+            far += !near_any;
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GT(near_own[k], 20) << "light " << k + 1;
+    }
+    EXPECT_EQ(far, 0);
 }

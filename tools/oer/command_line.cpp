@@ -3,45 +3,30 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <iostream>
+
+#include "oer/core/error.hpp"
 
 namespace oer::cli {
 
-std::optional<std::string> CommandLine::value(const std::string& flag) const {
-    const auto found = values.find(flag);
-    if (found == values.end() || found->second.empty()) {
-        return std::nullopt;
+bool parse_flags(CLI::App& app, const std::vector<std::string>& arguments) {
+    std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());  // CLI11's order
+    try {
+        app.parse(reversed);
+    } catch (const CLI::CallForHelp&) {
+        std::cout << app.help();
+        return false;
+    } catch (const CLI::ParseError& error) {
+        throw UsageError(error.what());
     }
-    return found->second.back();
+    return true;
 }
 
-CommandLine parse_command_line(const std::vector<std::string>& arguments,
-                               const std::set<std::string>& valued,
-                               const std::set<std::string>& switches) {
-    CommandLine line;
-    for (std::size_t i = 0; i < arguments.size(); ++i) {
-        const std::string& argument = arguments[i];
-        if (argument.size() < 2 || argument[0] != '-') {
-            line.positional.push_back(argument);
-            continue;
-        }
-        std::string flag = argument.substr(argument.rfind('-', 1) + 1);
-        std::optional<std::string> inline_value;
-        if (const auto equals = flag.find('='); equals != std::string::npos) {
-            inline_value = flag.substr(equals + 1);
-            flag.resize(equals);
-        }
-        if (switches.contains(flag) && !inline_value) {
-            line.switches.insert(flag);
-        } else if (valued.contains(flag)) {
-            if (!inline_value && i + 1 >= arguments.size()) {
-                throw UsageError(argument + " needs a value");
-            }
-            line.values[flag].push_back(inline_value ? *inline_value : arguments[++i]);
-        } else {
-            throw UsageError("unknown option " + argument);
-        }
-    }
-    return line;
+void add_value_flag(CLI::App& app, const std::string& flag, const std::string& value_name,
+                    std::function<void(const std::string&)> store) {
+    app.add_option_function<std::string>("--" + flag, std::move(store))
+        ->type_name(value_name)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 
 double parse_double(const std::string& flag, const std::string& text) {
@@ -56,19 +41,10 @@ double parse_double(const std::string& flag, const std::string& text) {
     throw UsageError("--" + flag + " expects a number, got '" + text + "'");
 }
 
-int parse_int(const std::string& flag, const std::string& text, int low, int high) {
-    const double value = parse_double(flag, text);
-    if (value != std::floor(value) || value < low || value > high) {
-        throw UsageError("--" + flag + " expects an integer in " + std::to_string(low) + ".." +
-                         std::to_string(high) + ", got '" + text + "'");
-    }
-    return int(value);
-}
-
-UsageError usage_error(const api::InvalidParameter& error) {
-    std::string flag = error.parameter();
-    std::replace(flag.begin(), flag.end(), '_', '-');
-    return UsageError("--" + flag + std::string(error.what()).substr(error.parameter().size()));
+UsageError usage_error(const api::InvalidParameter& error, const std::string& flag) {
+    std::string name = flag.empty() ? error.parameter() : flag;
+    std::replace(name.begin(), name.end(), '_', '-');
+    return UsageError("--" + name + std::string(error.what()).substr(error.parameter().size()));
 }
 
 std::pair<int, int> parse_size(const std::string& flag, const std::string& text, int max) {
@@ -84,6 +60,22 @@ std::pair<int, int> parse_size(const std::string& flag, const std::string& text,
                          std::to_string(max) + ", got '" + text + "'");
     }
     return {width, height};
+}
+
+int run_command(const std::string& name, Command command,
+                const std::vector<std::string>& arguments) {
+    try {
+        return command(arguments);
+    } catch (const UsageError& error) {
+        std::cerr << "oer " << name << ": " << error.what() << "\n";
+        return 2;
+    } catch (const Error& error) {
+        std::cerr << "oer " << name << ": " << error.what() << "\n";
+        return 1;
+    } catch (const std::exception& error) {
+        std::cerr << "oer " << name << ": unexpected error: " << error.what() << "\n";
+        return 1;
+    }
 }
 
 }  // namespace oer::cli

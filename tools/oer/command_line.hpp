@@ -1,12 +1,14 @@
 #pragma once
-// Parsing of `oer COMMAND ARG... --flag value...`: positional arguments and named values, each
-// command declaring which flags take a value and which stand alone.
-#include <map>
-#include <optional>
-#include <set>
+// The flags of every `oer` command, parsed by CLI11: each command declares its flags on a
+// CLI::App and parse_flags reads the arguments into it; run_command reports errors the same way
+// for `oer` and `oer-render`.
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "oer/api/invalid_parameter.hpp"
 
@@ -18,30 +20,29 @@ class UsageError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-struct CommandLine {
-    std::vector<std::string> positional;
-    std::map<std::string, std::vector<std::string>>
-        values;                      // flag (without --) -> values, in order
-    std::set<std::string> switches;  // flags without a value that were given
+// Reads `arguments` (those after the command's name) into `app`; CLI11's errors (an unknown
+// flag, a missing value) throw UsageError. Returns false when --help was asked for and printed.
+bool parse_flags(CLI::App& app, const std::vector<std::string>& arguments);
 
-    std::optional<std::string> value(const std::string& flag) const;  // the last one given
-    bool has(const std::string& flag) const { return switches.contains(flag); }
-};
+// Declares --FLAG taking one value (the last one given counts), stored through `store`.
+void add_value_flag(CLI::App& app, const std::string& flag, const std::string& value_name,
+                    std::function<void(const std::string&)> store);
 
-// valued: flags that take a value (-o is spelled "o"); switches: flags that take none.
-CommandLine parse_command_line(const std::vector<std::string>& arguments,
-                               const std::set<std::string>& valued,
-                               const std::set<std::string>& switches);
-
-// A finite number, and an integer in [low, high]; throw UsageError naming --flag.
+// A finite number; throws UsageError naming --flag.
 double parse_double(const std::string& flag, const std::string& text);
-int parse_int(const std::string& flag, const std::string& text, int low, int high);
 
 // A parameter the api's parsers rejected, named as the flag that gave it: "shadow_filter: ..."
-// becomes "--shadow-filter: ..." (flags are the api's names with '-' for '_').
-UsageError usage_error(const api::InvalidParameter& error);
+// becomes "--shadow-filter: ..." (flags are the api's names with '-' for '_', unless `flag`
+// names it).
+UsageError usage_error(const api::InvalidParameter& error, const std::string& flag = {});
 
 // "640x480" -> {640, 480}; each in 1..max.
 std::pair<int, int> parse_size(const std::string& flag, const std::string& text, int max);
+
+// Runs `command` with the arguments after its name, reporting its errors on one line as
+// "oer NAME: message": exit status 2 for a usage mistake, 1 for any other error.
+using Command = int (*)(const std::vector<std::string>& arguments);
+int run_command(const std::string& name, Command command,
+                const std::vector<std::string>& arguments);
 
 }  // namespace oer::cli

@@ -55,21 +55,33 @@ std::vector<std::string> split(const std::string& text, char separator) {
     }
 }
 
-std::string flag_to_option(std::string flag) {
-    std::replace(flag.begin(), flag.end(), '-', '_');
-    return flag;
+std::string option_to_flag(std::string option) {
+    std::replace(option.begin(), option.end(), '_', '-');
+    return option;
 }
 
 }  // namespace
 
-EnvironmentInput read_environment(const std::string& map, const CommandLine& line) {
+void add_environment_flags(CLI::App& app, EnvironmentFlags& flags) {
+    add_value_flag(app, "layout", "equirect|cross|mirror-ball|cube-faces",
+                   [&flags](const std::string& text) { flags.layout = text; });
+    add_value_flag(app, "max-pixels", "WxH",
+                   [&flags](const std::string& text) { flags.max_pixels = text; });
+    for (const std::string& option : api::rig_option_names()) {
+        add_value_flag(
+            app, option_to_flag(option), "VALUE",
+            [&flags, option](const std::string& text) { flags.rig_options[option] = text; });
+    }
+}
+
+EnvironmentInput read_environment(const std::string& map, const EnvironmentFlags& flags) {
     ImageLimits limits;
-    if (const auto max_pixels = line.value("max-pixels")) {
+    if (const auto& max_pixels = flags.max_pixels) {
         const auto [width, height] = parse_size("max-pixels", *max_pixels, 1 << 20);
         limits.max_pixels = std::uint64_t(width) * std::uint64_t(height);
     }
     const EnvironmentLayout layout =
-        environment_layout_from_string(line.value("layout").value_or("equirect"));
+        environment_layout_from_string(flags.layout.value_or("equirect"));
     EnvironmentInput input;
     if (map == "default") {
         if (layout != EnvironmentLayout::Equirect) {
@@ -96,24 +108,9 @@ EnvironmentInput read_environment(const std::string& map, const CommandLine& lin
     return input;
 }
 
-const std::set<std::string>& rig_option_flags() {
-    static const std::set<std::string> flags = {
-        "light-count",    "max-lights",       "shadow-threshold", "sh-order", "max-sh-order",
-        "sh-tolerance",   "window",           "window-cutoff",    "model",    "clustering",
-        "blur-radius",    "light-percentile", "halo-percentile",  "clusters", "seed",
-        "grow-connected", "layout",           "max-pixels"};
-    return flags;
-}
-
-RigOptions rig_options_from(const CommandLine& line) {
-    std::map<std::string, std::string> parameters;
-    for (const auto& [flag, values] : line.values) {
-        if (api::is_rig_option(flag_to_option(flag))) {
-            parameters[flag_to_option(flag)] = values.back();
-        }
-    }
+RigOptions rig_options_from(const EnvironmentFlags& flags) {
     try {
-        return api::parse_rig_options(parameters);
+        return api::parse_rig_options(flags.rig_options);
     } catch (const api::InvalidParameter& error) {
         throw usage_error(error);
     }

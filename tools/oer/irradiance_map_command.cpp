@@ -15,19 +15,35 @@ constexpr std::size_t kDefaultReferenceSamples = 65536;
 }  // namespace
 
 int irradiance_map_command(const std::vector<std::string>& arguments) {
-    std::set<std::string> valued = rig_option_flags();
-    valued.insert({"o", "size", "lights", "reference-samples"});
-    const CommandLine line = parse_command_line(arguments, valued, {"exact"});
-    if (line.positional.size() != 1 || !line.value("o")) {
+    CLI::App app("Writes the irradiance of MAP's rig (or, with --exact, of MAP itself).",
+                 "oer irradiance-map");
+    std::vector<std::string> maps;
+    app.add_option("MAP", maps, "an .hdr or .exr file, or 'default'");
+    std::string output, size = "400x200";
+    std::optional<std::string> lights, reference_samples;
+    bool exact = false;
+    app.add_option("-o", output, "the map, OUT.(exr|hdr)");
+    add_value_flag(app, "size", "WxH", [&size](const std::string& text) { size = text; });
+    add_value_flag(app, "lights", "1,0,...", [&lights](const std::string& text) { lights = text; });
+    add_value_flag(app, "reference-samples", "N",
+                   [&reference_samples](const std::string& text) { reference_samples = text; });
+    app.add_flag("--exact", exact, "sum over the map's pixels instead of the rig's SH");
+    EnvironmentFlags environment;
+    add_environment_flags(app, environment);
+    if (!parse_flags(app, arguments)) {
+        return 0;
+    }
+    if (maps.size() != 1 || output.empty()) {
         throw UsageError("irradiance-map takes one MAP and -o OUT.(exr|hdr)");
     }
-    const auto [width, height] = parse_size("size", line.value("size").value_or("400x200"), 16384);
-    const EnvironmentInput input = read_environment(line.positional[0], line);
+    const auto [width, height] = parse_size("size", size, 16384);
+    const EnvironmentInput input = read_environment(maps[0], environment);
     HdrImage map;
-    if (line.has("exact")) {
+    if (exact) {
         std::size_t samples = kDefaultReferenceSamples;
-        if (const auto text = line.value("reference-samples")) {
-            const auto [count, one] = parse_size("reference-samples", *text + "x1", 1 << 30);
+        if (reference_samples) {
+            const auto [count, one] =
+                parse_size("reference-samples", *reference_samples + "x1", 1 << 30);
             samples = std::size_t(count) * std::size_t(one);
         }
         map = irradiance_map_exact(input.loaded.image, width, height, samples);
@@ -36,14 +52,13 @@ int irradiance_map_command(const std::vector<std::string>& arguments) {
                   << " samples at most\n";
     } else {
         const Rig rig =
-            build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(line));
-        const std::vector<double> visibility =
-            api::parse_light_switches(line.value("lights"), rig.lights.size());
+            build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(environment));
+        const std::vector<double> visibility = api::parse_light_switches(lights, rig.lights.size());
         map = irradiance_map_from_sh(
             irradiance_coefficients(visibility_coefficients(rig.sh, visibility), rig.window), width,
             height);
     }
-    write_image_file(map, *line.value("o"));
+    write_image_file(map, output);
     return 0;
 }
 

@@ -1,4 +1,10 @@
-// `oer`: the command line over the renderer library (DESIGN.md section 7).
+// `oer`: the command line over the renderer library (DESIGN.md section 7). It links no GL:
+// `oer render` runs `oer-render`, the executable beside it that does.
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <string>
@@ -7,7 +13,6 @@
 #include "command_line.hpp"
 #include "commands.hpp"
 #include "oer/api/version.hpp"
-#include "oer/core/error.hpp"
 
 namespace {
 
@@ -32,6 +37,27 @@ Preprocessing options (every command): --max-lights N --shadow-threshold F --max
 --clusters N --seed N --grow-connected true|false
 )";
 
+// Replaces this process with `oer-render` from this executable's folder, with the arguments
+// after "render"; returns only when that fails.
+int run_render(char** argv) {
+    std::error_code error;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+    if (error) {
+        std::cerr << "oer render: cannot find this executable (/proc/self/exe): " << error.message()
+                  << "\n";
+        return 1;
+    }
+    const std::string render = (self.parent_path() / "oer-render").string();
+    std::vector<char*> render_argv{const_cast<char*>(render.c_str())};
+    for (char** argument = argv + 2; *argument != nullptr; ++argument) {
+        render_argv.push_back(*argument);
+    }
+    render_argv.push_back(nullptr);
+    ::execv(render.c_str(), render_argv.data());
+    std::cerr << "oer render: cannot run " << render << ": " << std::strerror(errno) << "\n";
+    return 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,27 +70,19 @@ int main(int argc, char** argv) {
         std::cout << "oer " << oer::api::kVersion << "\n";
         return 0;
     }
-    const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
+    if (arguments[0] == "render") {
+        return run_render(argv);
+    }
+    const std::map<std::string, oer::cli::Command> commands = {
         {"preprocess", oer::cli::preprocess_command},
         {"irradiance-map", oer::cli::irradiance_map_command},
         {"masks", oer::cli::masks_command},
-        {"render", oer::cli::render_command},
     };
     const auto command = commands.find(arguments[0]);
     if (command == commands.end()) {
         std::cerr << "oer: unknown command '" << arguments[0] << "'\n" << kUsage;
         return 2;
     }
-    try {
-        return command->second({arguments.begin() + 1, arguments.end()});
-    } catch (const oer::cli::UsageError& error) {
-        std::cerr << "oer " << arguments[0] << ": " << error.what() << "\n";
-        return 2;
-    } catch (const oer::Error& error) {
-        std::cerr << "oer " << arguments[0] << ": " << error.what() << "\n";
-        return 1;
-    } catch (const std::exception& error) {
-        std::cerr << "oer " << arguments[0] << ": unexpected error: " << error.what() << "\n";
-        return 1;
-    }
+    return oer::cli::run_command(arguments[0], command->second,
+                                 {arguments.begin() + 1, arguments.end()});
 }

@@ -7,18 +7,30 @@
 namespace oer::cli {
 
 int masks_command(const std::vector<std::string>& arguments) {
-    std::set<std::string> valued = rig_option_flags();
-    valued.insert({"o", "exposure", "tonemap"});
-    const CommandLine line = parse_command_line(arguments, valued, {});
-    if (line.positional.size() != 1 || !line.value("o")) {
+    CLI::App app("Writes MAP with every light's outline drawn on it.", "oer masks");
+    std::vector<std::string> maps;
+    app.add_option("MAP", maps, "an .hdr or .exr file, or 'default'");
+    std::string output, exposure = "0", tonemap = "neutral";
+    add_value_flag(app, "exposure", "EV",
+                   [&exposure](const std::string& text) { exposure = text; });
+    add_value_flag(app, "tonemap", "neutral|aces|none",
+                   [&tonemap](const std::string& text) { tonemap = text; });
+    app.add_option("-o", output, "the picture, OUT.png");
+    EnvironmentFlags environment;
+    add_environment_flags(app, environment);
+    if (!parse_flags(app, arguments)) {
+        return 0;
+    }
+    if (maps.size() != 1 || output.empty()) {
         throw UsageError("masks takes one MAP and -o OUT.png");
     }
-    const double exposure = parse_double("exposure", line.value("exposure").value_or("0"));
-    const ToneMapper mapper = tone_mapper_from_string(line.value("tonemap").value_or("neutral"));
-    const EnvironmentInput input = read_environment(line.positional[0], line);
-    const Rig rig = build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(line));
-    const HdrImage display = to_display(input.loaded.image, exposure, mapper);
-    write_image_file(draw_light_overlay(display, rig.lights), *line.value("o"));
+    const double exposure_ev = parse_double("exposure", exposure);
+    const ToneMapper mapper = tone_mapper_from_string(tonemap);
+    const EnvironmentInput input = read_environment(maps[0], environment);
+    const Rig rig =
+        build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(environment));
+    const HdrImage display = to_display(input.loaded.image, exposure_ev, mapper);
+    write_image_file(draw_light_overlay(display, rig.lights), output);
     return 0;
 }
 

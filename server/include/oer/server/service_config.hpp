@@ -2,7 +2,8 @@
 // The service's configuration from command-line flags and environment variables. Every flag
 // --name is also the variable OER_NAME (upper case, dashes as underscores), so a container
 // can be configured without a command line; a flag wins over its variable. One table of
-// options in service_config.cpp drives parsing, the defaults and the --help text.
+// options in service_config.cpp drives parsing (CLI11 reads the command line, the table's own
+// parsers check each value), the defaults and the --help text (a CLI11 formatter).
 #include <cstdint>
 #include <filesystem>
 #include <functional>

@@ -1,0 +1,30 @@
+# Which executables need EGL or GL, read from their dynamic sections (readelf -d, NEEDED): none
+# of GL_FREE may, every one of GL_LINKED must.
+# Run as: cmake -DREADELF=<readelf> -DGL_FREE="a;b" -DGL_LINKED="c" -P gl_linkage.cmake
+function(needs_gl executable result)
+    execute_process(COMMAND ${READELF} -d ${executable} OUTPUT_VARIABLE section
+        RESULT_VARIABLE status)
+    if(NOT status EQUAL 0)
+        message(FATAL_ERROR "${READELF} -d ${executable} failed (${status})")
+    endif()
+    string(REGEX MATCHALL "\\(NEEDED\\)[^\n]*\\[lib(EGL|OpenGL|GL|GLX)\\.so[^]]*\\]" gl "${section}")
+    set(${result} "${gl}" PARENT_SCOPE)
+endfunction()
+
+set(failures "")
+foreach(executable ${GL_FREE})
+    needs_gl(${executable} gl)
+    if(gl)
+        list(APPEND failures "${executable} must not link GL, but needs: ${gl}")
+    endif()
+endforeach()
+foreach(executable ${GL_LINKED})
+    needs_gl(${executable} gl)
+    if(NOT gl)
+        list(APPEND failures "${executable} should need libEGL or libOpenGL, and needs neither")
+    endif()
+endforeach()
+if(failures)
+    list(JOIN failures "\n" message)
+    message(FATAL_ERROR "${message}")
+endif()

@@ -1,0 +1,136 @@
+// `oer render` reads its flags with the service's parser: one table of values, good and bad, run
+// through `oer render` as a process and through api::parse_render_query, must be accepted or
+// rejected alike, and rejected with the same message (the flag's name for the parameter's).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli_process.hpp"
+#include "oer/api/invalid_parameter.hpp"
+#include "oer/api/render_request.hpp"
+#include "oer/lighting/default_environment.hpp"
+
+namespace {
+
+class RenderFlags : public OerProcessTest {};
+
+struct Case {
+    std::string flags;                              // added to `oer render`'s command line
+    std::multimap<std::string, std::string> query;  // the same values as GET parameters
+    std::string flag;                               // the flag an error must name
+};
+
+// The parser's verdict: empty when it accepts, else its message with the parameter's name
+// replaced by the flag's.
+std::string parser_verdict(const Case& row) {
+    std::multimap<std::string, std::string> query = row.query;
+    query.emplace("environment", "default");
+    query.emplace("mesh", "default");
+    query.emplace("format", "png");
+    try {
+        oer::api::parse_render_query(query);
+    } catch (const oer::api::InvalidParameter& error) {
+        return "--" + row.flag + std::string(error.what()).substr(error.parameter().size());
+    }
+    return {};
+}
+
+std::vector<Case> cases() {
+    const std::string every_light_on = [count = oer::default_environment_lights().size()] {
+        std::string text = "1";
+        for (std::size_t i = 1; i < count; ++i) {
+            text += ",1";
+        }
+        return text;
+    }();
+    return {
+        {"--samples 3", {{"samples", "3"}}, "samples"},
+        {"--samples 8", {{"samples", "8"}}, "samples"},
+        {"--samples 16", {{"samples", "16"}}, "samples"},
+        {"--samples 0", {{"samples", "0"}}, "samples"},
+        {"--samples many", {{"samples", "many"}}, "samples"},
+        {"--shadow-resolution 64", {{"shadow_resolution", "64"}}, "shadow-resolution"},
+        {"--shadow-resolution 100", {{"shadow_resolution", "100"}}, "shadow-resolution"},
+        {"--shadow-resolution 32", {{"shadow_resolution", "32"}}, "shadow-resolution"},
+        {"--shadow-resolution 16384", {{"shadow_resolution", "16384"}}, "shadow-resolution"},
+        {"--size 5000x10", {{"width", "5000"}, {"height", "10"}}, "size"},
+        {"--size 10x5000", {{"width", "10"}, {"height", "5000"}}, "size"},
+        {"--size 0x10", {{"width", "0"}, {"height", "10"}}, "size"},
+        {"--size 24x-1", {{"width", "24"}, {"height", "-1"}}, "size"},
+        {"--size 32x24", {{"width", "32"}, {"height", "24"}}, "size"},
+        {"--quality 0", {{"quality", "0"}}, "quality"},
+        {"--quality 101", {{"quality", "101"}}, "quality"},
+        {"--quality 1", {{"quality", "1"}}, "quality"},
+        {"--tonemap bogus", {{"tonemap", "bogus"}}, "tonemap"},
+        {"--tonemap aces", {{"tonemap", "aces"}}, "tonemap"},
+        {"--lights 1,x", {{"lights", "1,x"}}, "lights"},
+        {"--lights " + every_light_on, {{"lights", every_light_on}}, "lights"},
+        {"--exposure 1e9", {{"exposure", "1e9"}}, "exposure"},
+        {"--exposure -1.5", {{"exposure", "-1.5"}}, "exposure"},
+        {"--yaw 361", {{"environment_yaw", "361"}}, "yaw"},
+        {"--yaw -90", {{"environment_yaw", "-90"}}, "yaw"},
+        {"--ground maybe", {{"ground", "maybe"}}, "ground"},
+        {"--shadows yes", {{"shadows", "yes"}}, "shadows"},
+        {"--shadow-filter soft", {{"shadow_filter", "soft"}}, "shadow-filter"},
+        {"--shadow-filter hard", {{"shadow_filter", "hard"}}, "shadow-filter"},
+        {"--background '#12345'", {{"background", "#12345"}}, "background"},
+        {"--background transparent", {{"background", "transparent"}}, "background"},
+        {"--eye 0,1,3 --target 0,0,0 --fov 0",
+         {{"eye", "0,1,3"}, {"target", "0,0,0"}, {"fov_y", "0"}},
+         "fov"},
+        {"--eye 0,1,x --target 0,0,0", {{"eye", "0,1,x"}, {"target", "0,0,0"}}, "eye"},
+        {"--eye 0,0,0 --target 0,0,0", {{"eye", "0,0,0"}, {"target", "0,0,0"}}, "eye"},
+        {"--eye 0,1,3 --target 0,0.5,0 --up 0,0,1 --fov 30",
+         {{"eye", "0,1,3"}, {"target", "0,0.5,0"}, {"up", "0,0,1"}, {"fov_y", "30"}},
+         "eye"},
+    };
+}
+
+}  // namespace
+
+TEST_F(RenderFlags, TheCliAndTheQueryParserAgreeOnEveryValue) {
+    int accepted = 0, rejected = 0;
+    for (const Case& row : cases()) {
+        const std::string expected = parser_verdict(row);
+        const std::filesystem::path frame = dir_ / "frame.png";
+        std::filesystem::remove(frame);
+        // Small and unshadowed, so that the accepted cases render quickly; the row's own flags
+        // come last and win.
+        const ProcessResult result =
+            run("render --env default --mesh default --size 16x16 "
+                "--shadows off -o " +
+                frame.string() + " " + row.flags);
+        if (expected.empty()) {
+            ++accepted;
+            EXPECT_EQ(result.status, 0) << row.flags << ": " << result.err;
+            EXPECT_TRUE(std::filesystem::exists(frame)) << row.flags;
+        } else {
+            ++rejected;
+            EXPECT_EQ(result.status, 2) << row.flags;
+            EXPECT_EQ(result.err, "oer render: " + expected + "\n") << row.flags;
+        }
+    }
+    // The table holds both kinds, so that neither half of the comparison is vacuous.
+    EXPECT_GE(accepted, 10);
+    EXPECT_GE(rejected, 20);
+}
+
+TEST_F(RenderFlags, DefaultsAreTheServicesJpegQualityAndSamples) {
+    const auto frame = [this](const std::string& flags) {
+        const std::filesystem::path path = dir_ / "frame.jpg";
+        const ProcessResult result =
+            run("render --env default --mesh default --size 48x32 "
+                "--shadows off -o " +
+                path.string() + " " + flags);
+        EXPECT_EQ(result.status, 0) << flags << ": " << result.err;
+        return slurp(path);
+    };
+    const std::string by_default = frame("");
+    EXPECT_FALSE(by_default.empty());
+    EXPECT_EQ(by_default, frame("--quality 85 --samples 4"));
+    EXPECT_NE(by_default, frame("--quality 90"));
+    EXPECT_NE(by_default, frame("--samples 1"));
+}
