@@ -108,26 +108,6 @@ struct BandIrradiance {
 
 }  // namespace
 
-double lambertian_band_factor(int l) {
-    if (l < 0) {
-        throw Error(ErrorKind::InvalidInput,
-                    "lambertian_band_factor: band " + std::to_string(l) + " is negative");
-    }
-    if (l == 1) {
-        return 2.0 * pi / 3.0;
-    }
-    if (l % 2 == 1) {
-        return 0.0;
-    }
-    // l! / (2^l ((l/2)!)^2) = prod over i = 1 .. l/2 of (2i - 1) / (2i)
-    double central = 1.0;
-    for (int i = 1; i <= l / 2; ++i) {
-        central *= (2.0 * i - 1.0) / (2.0 * i);
-    }
-    const double sign = (l / 2) % 2 == 1 ? 1.0 : -1.0;  // (-1)^(l/2 - 1)
-    return 2.0 * pi * sign / ((l + 2.0) * (l - 1.0)) * central;
-}
-
 double ShWindow::factor(int l) const {
     if (kind == WindowKind::None) {
         return 1.0;

@@ -1,7 +1,8 @@
 #pragma once
 // Irradiance from radiance SH (Ramamoorthi and Hanrahan 2001, "An Efficient Representation
 // for Irradiance Environment Maps"): E(n) = sum A_l w_l L_lm Y_lm(n), with the clamped-cosine
-// band factors A_l of DESIGN.md section 3 and an optional per-band window w_l against ringing.
+// band factors A_l of sh.hpp (lambertian_band_factor) and an optional per-band window w_l against
+// ringing.
 #include <array>
 #include <span>
 #include <string>
@@ -12,10 +13,6 @@
 #include "oer/lighting/sh_projection.hpp"
 
 namespace oer {
-
-// A_0 = pi, A_1 = 2 pi / 3, A_l = 0 for odd l > 1,
-// A_l = 2 pi (-1)^(l/2 - 1) / ((l + 2)(l - 1)) * l! / (2^l ((l/2)!)^2) for even l.
-double lambertian_band_factor(int l);
 
 enum class WindowKind { None, Hanning, Lanczos };
 
