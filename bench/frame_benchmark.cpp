@@ -15,6 +15,7 @@
 #include "oer/image/image_encoding.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/mesh/mesh_loading.hpp"
+#include "targets.hpp"
 
 namespace {
 
@@ -25,9 +26,7 @@ using oer::bench::ms_since;
 constexpr const char* kBunny = "/usr/share/glmark2/models/bunny.obj";
 constexpr int kRepetitions = 7;
 constexpr double kBudgetMs = 3000.0;
-// DESIGN.md section 8: color pass + readback, bunny on a ground plane, 2 lights, cached shadows.
-constexpr double kTargetFps1366 = 30.0;
-constexpr double kTargetMs512 = 15.0;
+namespace targets = oer::bench::targets;
 
 struct Measurement {
     double frame_ms = 0.0;                 // best wall time of one render call
@@ -225,10 +224,10 @@ int main(int argc, char** argv) {
         "cached shadow maps, 1 sample per pixel):\n");
     const double ms1366 = targets["1366x768"], ms512 = targets["512x512"];
     std::printf("  1366x768  %6.1f ms = %5.1f fps   target >= %.0f fps   %s\n", ms1366,
-                1000.0 / ms1366, kTargetFps1366,
-                1000.0 / ms1366 >= kTargetFps1366 ? "met" : "NOT met");
-    std::printf("  512x512   %6.1f ms              target <= %.0f ms    %s\n", ms512, kTargetMs512,
-                ms512 <= kTargetMs512 ? "met" : "NOT met");
+                1000.0 / ms1366, targets::kFps1366,
+                1000.0 / ms1366 >= targets::kFps1366 ? "met" : "NOT met");
+    std::printf("  512x512   %6.1f ms              target <= %.0f ms    %s\n", ms512,
+                targets::kFrameMs512, ms512 <= targets::kFrameMs512 ? "met" : "NOT met");
     std::printf("\nbenchmark took %.1f s\n", ms_since(start) / 1000.0);
     return 0;
 }
