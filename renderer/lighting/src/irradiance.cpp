@@ -168,7 +168,9 @@ std::array<glm::dmat4, 3> irradiance_matrices(const ShRgb& radiance) {
         throw Error(ErrorKind::InvalidInput, "irradiance_matrices: needs SH order >= 3, got " +
                                                  std::to_string(radiance.order));
     }
-    // Ramamoorthi and Hanrahan 2001, eq. 12 (their basis ordering is ours).
+    // The matrix form of Ramamoorthi and Hanrahan, "An Efficient Representation for Irradiance
+    // Environment Maps", SIGGRAPH 2001, eq. 12: c1 = A_2 times Y_22's constant 0.546274
+    // = 0.429043, ..., c5 = A_2 times Y_20's 0.315392 = 0.247708 (their basis ordering is ours).
     constexpr double c1 = 0.429043, c2 = 0.511664, c3 = 0.743125, c4 = 0.886227, c5 = 0.247708;
     std::array<glm::dmat4, 3> result;
     for (int c = 0; c < 3; ++c) {
