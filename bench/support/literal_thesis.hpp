@@ -1,15 +1,16 @@
 #pragma once
-// A literal implementation of the OER thesis's preprocessing (DESIGN.md section 2, without our
-// improvements): the baseline that bench/preprocess_benchmark.cpp measures oer::build_rig
-// against. Written straightforwardly, the way the thesis describes it, neither optimised nor
-// deliberately slowed down:
+// A literal implementation of the OER thesis's preprocessing (A. Ambrosj, "Occluded Environment
+// Maps Rendering", master's thesis, Politecnico di Milano, 2016, sections 4.1-4.2; DESIGN.md
+// section 2, without our improvements): the baseline that bench/preprocess_benchmark.cpp measures
+// oer::build_rig against. Written straightforwardly, the way the thesis describes it, neither
+// optimised nor deliberately slowed down:
 //   - gaussian blur of the RGB map (separable, sigma = radius / 2, half-width radius, clamped
 //     at every border: no wrap across the seam), then luminance
 //     l = 179 (0.265 R + 0.670 G + 0.065 B) per pixel;
 //   - light and halo thresholds at the 99th and 96th percentiles, both read from one full
 //     std::sort of a copy of every luminance value;
 //   - k-means in 2-D pixel coordinates over the bright pixels (l >= light threshold), random
-//     initial centres drawn from them (std::mt19937, fixed seed), Lloyd iterations until the
+//     initial centres drawn from them (std::mt19937, fixed seed), Lloyd (1982) iterations until the
 //     assignment is stable or max_iterations; the cluster of greatest mean luminance becomes a
 //     light, made of the halo pixels (l >= halo threshold) within 3 max(sigma_x, sigma_y) of
 //     its centre, which are removed; repeat with one cluster fewer until n lights;

@@ -11,6 +11,29 @@
 
 using namespace oer::detail;
 
+namespace {
+
+// Brute force: the index of the centre at the least squared distance, ties to the lowest.
+std::uint32_t nearest_by_brute_force(const double* point, const std::vector<double>& centres,
+                                     int dimension) {
+    std::uint32_t best = 0;
+    double best_distance = INFINITY;
+    for (std::size_t c = 0; c * std::size_t(dimension) < centres.size(); ++c) {
+        double distance = 0.0;
+        for (int d = 0; d < dimension; ++d) {
+            const double difference = point[d] - centres[c * std::size_t(dimension) + d];
+            distance += difference * difference;
+        }
+        if (distance < best_distance) {
+            best_distance = distance;
+            best = std::uint32_t(c);
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
 TEST(KMeans, UniformFromRawBitsIsDeterministicAndInRange) {
     std::mt19937_64 a(42), b(42), reference(42);
     for (int i = 0; i < 1000; ++i) {
@@ -66,6 +89,7 @@ TEST(KMeans, MatchesPlainLloydOnOverlappingData) {
     std::vector<double> sums(std::size_t(r.k) * 2, 0.0);
     std::vector<int> counts(std::size_t(r.k), 0);
     for (std::size_t i = 0; i < points.size() / 2; ++i) {
+        EXPECT_EQ(nearest_by_brute_force(&points[i * 2], r.centres, 2), r.assignment[i]);
         EXPECT_EQ(nearest_centre(&points[i * 2], r.centres, 2), r.assignment[i]);
         sums[r.assignment[i] * 2] += points[i * 2];
         sums[r.assignment[i] * 2 + 1] += points[i * 2 + 1];
@@ -92,6 +116,37 @@ TEST(KMeans, UnitCentresOnTheSphere) {
         EXPECT_NEAR(v[0] * v[0] + v[1] * v[1] + v[2] * v[2], 1.0, 1e-12);
     }
     EXPECT_NE(r.assignment[0], r.assignment[1]);
+    // Each arc is one cluster, whose unit mean is the normalised sum of its points: by hand,
+    // sum over i of (cos 0.01 i, sin 0.01 i) points at angle 0.245 (the arc's middle), so the
+    // centres are (cos 0.245, sin 0.245, 0) and (0, cos 0.245, sin 0.245).
+    const double middle = 0.01 * 49 / 2.0;
+    const double* first = &r.centres[r.assignment[0] * 3];
+    const double* second = &r.centres[r.assignment[1] * 3];
+    EXPECT_NEAR(first[0], std::cos(middle), 1e-12);
+    EXPECT_NEAR(first[1], std::sin(middle), 1e-12);
+    EXPECT_NEAR(first[2], 0.0, 1e-12);
+    EXPECT_NEAR(second[0], 0.0, 1e-12);
+    EXPECT_NEAR(second[1], std::cos(middle), 1e-12);
+    EXPECT_NEAR(second[2], std::sin(middle), 1e-12);
+    for (int i = 0; i < 50; ++i) {
+        EXPECT_EQ(r.assignment[2 * i], r.assignment[0]) << i;
+        EXPECT_EQ(r.assignment[2 * i + 1], r.assignment[1]) << i;
+    }
+}
+
+TEST(KMeans, HandComputedOneDimensionalPairs) {
+    // Two pairs far apart, (0, 0) (1, 0) and (10, 0) (12, 0): whatever the seeding, Lloyd ends
+    // with the centres at the pairs' means, (0.5, 0) and (11, 0).
+    const std::vector<double> points = {0.0, 0.0, 1.0, 0.0, 10.0, 0.0, 12.0, 0.0};
+    const KMeansResult r = kmeans(points, 2, 2, CentreKind::Mean, 17);
+    ASSERT_EQ(r.k, 2);
+    ASSERT_TRUE(r.converged);
+    EXPECT_EQ(r.assignment[0], r.assignment[1]);
+    EXPECT_EQ(r.assignment[2], r.assignment[3]);
+    EXPECT_NE(r.assignment[0], r.assignment[2]);
+    EXPECT_DOUBLE_EQ(r.centres[r.assignment[0] * 2], 0.5);
+    EXPECT_DOUBLE_EQ(r.centres[r.assignment[2] * 2], 11.0);
+    EXPECT_DOUBLE_EQ(r.centres[r.assignment[0] * 2 + 1], 0.0);
 }
 
 TEST(KMeans, KIsClampedToPointsAndDistinctValues) {

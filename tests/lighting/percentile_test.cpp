@@ -13,17 +13,22 @@ using namespace oer::detail;
 
 namespace {
 
-// Reference: the value at a rank by a full sort.
-float sorted_at(std::vector<float> values, std::size_t rank) {
+// Reference: the lower p-quantile by a full sort, its rank floor(p (n - 1)) computed here (not
+// by quantile_rank, which the test RankIsTheLowerQuantile checks by hand).
+float sorted_quantile(std::vector<float> values, double p) {
     std::sort(values.begin(), values.end());
-    return values[rank];
+    return values[std::size_t(std::floor(p * double(values.size() - 1)))];
 }
 
 void expect_exact_percentiles(const std::vector<float>& values, double high_p, double low_p) {
     const PercentilePair got = select_percentiles(values.data(), values.size(), high_p, low_p);
-    EXPECT_EQ(got.high, sorted_at(values, quantile_rank(values.size(), high_p)));
-    EXPECT_EQ(got.low, sorted_at(values, quantile_rank(values.size(), low_p)));
-    EXPECT_EQ(got.minimum, *std::min_element(values.begin(), values.end()));
+    EXPECT_EQ(got.high, sorted_quantile(values, high_p));
+    EXPECT_EQ(got.low, sorted_quantile(values, low_p));
+    float minimum = values[0];
+    for (const float value : values) {
+        minimum = value < minimum ? value : minimum;
+    }
+    EXPECT_EQ(got.minimum, minimum);
 }
 
 }  // namespace
@@ -34,6 +39,29 @@ TEST(Percentile, RankIsTheLowerQuantile) {
     EXPECT_EQ(quantile_rank(101, 0.99), 99u);
     EXPECT_EQ(quantile_rank(101, 1.0), 100u);
     EXPECT_EQ(quantile_rank(101, 0.0), 0u);
+}
+
+TEST(Percentile, HandComputedCase) {
+    // 0..99 shuffled: floor(0.99 * 99) = 98 and floor(0.96 * 99) = 95 are the ranks, and the
+    // values at them in sorted order are 98 and 95.
+    std::vector<float> values(100);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        values[i] = float((i * 37) % 100);  // 37 is prime to 100: a permutation
+    }
+    const PercentilePair got = select_percentiles(values.data(), values.size(), 0.99, 0.96);
+    EXPECT_EQ(got.high, 98.0f);
+    EXPECT_EQ(got.low, 95.0f);
+    EXPECT_EQ(got.minimum, 0.0f);
+    // The same on 300000 values, which take the sampled path: 0 .. 299999 permuted (7919 is
+    // prime to 300000); floor(0.99 * 299999) = 296999, floor(0.96 * 299999) = 287999.
+    std::vector<float> large(300000);
+    for (std::size_t i = 0; i < large.size(); ++i) {
+        large[i] = float((i * 7919) % large.size());
+    }
+    const PercentilePair large_got = select_percentiles(large.data(), large.size(), 0.99, 0.96);
+    EXPECT_EQ(large_got.high, 296999.0f);
+    EXPECT_EQ(large_got.low, 287999.0f);
+    EXPECT_EQ(large_got.minimum, 0.0f);
 }
 
 TEST(Percentile, SelectionMatchesAFullSort) {

@@ -108,26 +108,6 @@ struct BandIrradiance {
 
 }  // namespace
 
-double lambertian_band_factor(int l) {
-    if (l < 0) {
-        throw Error(ErrorKind::InvalidInput,
-                    "lambertian_band_factor: band " + std::to_string(l) + " is negative");
-    }
-    if (l == 1) {
-        return 2.0 * pi / 3.0;
-    }
-    if (l % 2 == 1) {
-        return 0.0;
-    }
-    // l! / (2^l ((l/2)!)^2) = prod over i = 1 .. l/2 of (2i - 1) / (2i)
-    double central = 1.0;
-    for (int i = 1; i <= l / 2; ++i) {
-        central *= (2.0 * i - 1.0) / (2.0 * i);
-    }
-    const double sign = (l / 2) % 2 == 1 ? 1.0 : -1.0;  // (-1)^(l/2 - 1)
-    return 2.0 * pi * sign / ((l + 2.0) * (l - 1.0)) * central;
-}
-
 double ShWindow::factor(int l) const {
     if (kind == WindowKind::None) {
         return 1.0;
@@ -188,7 +168,9 @@ std::array<glm::dmat4, 3> irradiance_matrices(const ShRgb& radiance) {
         throw Error(ErrorKind::InvalidInput, "irradiance_matrices: needs SH order >= 3, got " +
                                                  std::to_string(radiance.order));
     }
-    // Ramamoorthi and Hanrahan 2001, eq. 12 (their basis ordering is ours).
+    // The matrix form of Ramamoorthi and Hanrahan, "An Efficient Representation for Irradiance
+    // Environment Maps", SIGGRAPH 2001, eq. 12: c1 = A_2 times Y_22's constant 0.546274
+    // = 0.429043, ..., c5 = A_2 times Y_20's 0.315392 = 0.247708 (their basis ordering is ours).
     constexpr double c1 = 0.429043, c2 = 0.511664, c3 = 0.743125, c4 = 0.886227, c5 = 0.247708;
     std::array<glm::dmat4, 3> result;
     for (int c = 0; c < 3; ++c) {

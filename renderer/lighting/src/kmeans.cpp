@@ -35,8 +35,8 @@ std::uint32_t nearest(const double* point, const double* centres, int k) {
     return best;
 }
 
-// k-means++: the first centre uniformly, each next one with probability proportional to the
-// squared distance to the nearest centre chosen so far.
+// k-means++ (Arthur and Vassilvitskii 2007): the first centre uniformly, each next one with
+// probability proportional to the squared distance to the nearest centre chosen so far.
 template <int D>
 std::vector<double> seed_centres(const std::vector<double>& points, std::size_t n, int k,
                                  std::mt19937_64& rng) {
@@ -79,7 +79,8 @@ std::vector<double> seed_centres(const std::vector<double>& points, std::size_t 
     return centres;
 }
 
-// Lloyd's algorithm with Hamerly's bounds (G. Hamerly, "Making k-means even faster", SDM
+// Lloyd's algorithm (Lloyd 1982: assign each point to its nearest centre, move each centre to
+// its points' mean, repeat) with Hamerly's bounds (G. Hamerly, "Making k-means even faster", SDM
 // 2010): per point an upper bound on the distance to its centre and a lower bound on the
 // distance to every other centre, kept valid as the centres move, so that most points skip the
 // scan over all centres once the clustering settles. Same assignments as plain Lloyd (up to

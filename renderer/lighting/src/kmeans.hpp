@@ -1,6 +1,8 @@
 #pragma once
-// Private: k-means (k-means++ seeding from a fixed seed, then Lloyd iterations) over points of
-// dimension 2 (pixel coordinates) or 3 (unit direction vectors), Euclidean distance.
+// Private: k-means over points of dimension 2 (pixel coordinates) or 3 (unit direction vectors),
+// Euclidean distance: k-means++ seeding from a fixed seed (D. Arthur and S. Vassilvitskii,
+// "k-means++: The Advantages of Careful Seeding", SODA 2007), then Lloyd's iterations (S. P.
+// Lloyd, "Least Squares Quantization in PCM", IEEE Transactions on Information Theory, 1982).
 #include <cstdint>
 #include <random>
 #include <vector>

@@ -18,7 +18,8 @@ namespace {
 using std::numbers::pi;
 
 // n-point (n >= 1) Gauss-Legendre rule on [-1, 1] (exact for polynomials of degree 2n - 1), by
-// Newton's method on P_n from the usual initial guesses.
+// Newton's method on P_n from the initial guesses of Numerical Recipes' gauleg (Press et al.,
+// "Numerical Recipes", 3rd ed., 2007, section 4.6).
 void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
     nodes.assign(n, 0.0);
     weights.assign(n, 0.0);

@@ -9,7 +9,6 @@
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "sh_axis_swap.hpp"
-#include "sh_legendre.hpp"
 #include "sh_row_harmonics.hpp"
 
 namespace oer {

@@ -1,5 +1,7 @@
 #pragma once
-// The inner loop of the separable SH projection: per image row, the azimuthal Fourier sums
+// Internal to the SH projection (sh_projection.cpp), its only user; the basis itself is
+// oer/lighting/sh.hpp. The inner loop of the separable SH projection: per image row, the azimuthal
+// Fourier sums
 //   sum over x of L(x, y) cos(m phi_x)   and   sum over x of L(x, y) sin(m phi_x)
 // for m = 0 .. order - 1 and each RGB channel, in double, from a per-column table.
 #include <cstddef>

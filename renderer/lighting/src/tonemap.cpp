@@ -24,7 +24,9 @@ ToneMapper tone_mapper_from_string(const std::string& name) {
 
 namespace {
 
-// Khronos PBR Neutral tone mapper, reference implementation of the Khronos specification.
+// Khronos PBR Neutral tone mapper (Khronos Group, "PBR Neutral Tone Mapper", 2024; E. Lalish),
+// its reference GLSL: a toe offset below 0.08, then highlight compression above 0.76 towards a
+// peak of 1, desaturated by 0.15.
 glm::vec3 neutral(glm::vec3 color) {
     constexpr float start_compression = 0.8f - 0.04f;
     constexpr float desaturation = 0.15f;
@@ -42,7 +44,10 @@ glm::vec3 neutral(glm::vec3 color) {
     return color * (1.0f - g) + glm::vec3(new_peak) * g;
 }
 
-// ACES fitted by Stephen Hill (sRGB -> ACEScg-ish input matrix, RRT+ODT fit, output matrix).
+// The ACES reference rendering and output transforms (RRT + ODT, sRGB display) as fitted by
+// Stephen Hill (BakingLab, ACES.hlsl, 2016): sRGB to the RRT's input space by a matrix, the
+// rational fit (x (x + 0.0245786) - 0.000090537) / (x (0.983729 x + 0.432951) + 0.238081) per
+// channel, and back by the output matrix. (Not Narkowicz's 2015 single-curve fit.)
 glm::vec3 aces(glm::vec3 c) {
     const glm::vec3 v{0.59719f * c.r + 0.35458f * c.g + 0.04823f * c.b,
                       0.07600f * c.r + 0.90834f * c.g + 0.01566f * c.b,
@@ -92,8 +97,11 @@ HdrImage to_display(const HdrImage& linear, double exposure, ToneMapper mapper) 
 }
 
 HdrImage thesis_tone_map(const HdrImage& linear) {
-    // Reinhard, Stark, Shirley, Ferwerda 2002, eq. 1-3: key a = 0.18 over the log-average
-    // luminance (delta avoids log 0 on black pixels).
+    // E. Reinhard, M. Stark, P. Shirley, J. Ferwerda, "Photographic Tone Reproduction for
+    // Digital Images", SIGGRAPH 2002, eq. 1-3: key a = 0.18 over the log-average luminance
+    // exp(mean log(delta + L_w)) (delta avoids log 0 on black pixels), then L / (1 + L). L_w
+    // is the thesis's luminance (eq. 3.1) divided by its 179 lm/W: in the pixels' own units,
+    // since the scale key / log-average multiplies the pixel values.
     constexpr double key = 0.18;
     constexpr double delta = 1e-6;
     double log_sum = 0.0;

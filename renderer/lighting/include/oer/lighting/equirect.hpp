@@ -3,8 +3,12 @@
 //   theta = pi (y + 0.5) / H   (polar angle from +Y)
 //   phi   = 2 pi (x + 0.5) / W - pi
 //   dir   = (sin theta cos phi, cos theta, sin theta sin phi)
-// and the exact solid angle of a pixel in row y:
+// and the exact solid angle of a pixel in row y (DESIGN.md section 3), the integral of
+// sin(theta) dtheta dphi over the pixel, phi across 2 pi / W and theta from pi y / H to
+// pi (y + 1) / H:
 //   dOmega(y) = (2 pi / W) (cos(pi y / H) - cos(pi (y + 1) / H))
+// The rows telescope to 2 pi (cos 0 - cos pi) / W per column, so a map sums to exactly 4 pi;
+// the midpoint form sin(theta_y) (pi / H) (2 pi / W) does not.
 #include <cstddef>
 #include <vector>
 

@@ -1,7 +1,8 @@
 #pragma once
 // Irradiance from radiance SH (Ramamoorthi and Hanrahan 2001, "An Efficient Representation
 // for Irradiance Environment Maps"): E(n) = sum A_l w_l L_lm Y_lm(n), with the clamped-cosine
-// band factors A_l of DESIGN.md section 3 and an optional per-band window w_l against ringing.
+// band factors A_l of sh.hpp (lambertian_band_factor) and an optional per-band window w_l against
+// ringing.
 #include <array>
 #include <span>
 #include <string>
@@ -13,14 +14,13 @@
 
 namespace oer {
 
-// A_0 = pi, A_1 = 2 pi / 3, A_l = 0 for odd l > 1,
-// A_l = 2 pi (-1)^(l/2 - 1) / ((l + 2)(l - 1)) * l! / (2^l ((l/2)!)^2) for even l.
-double lambertian_band_factor(int l);
-
 enum class WindowKind { None, Hanning, Lanczos };
 
-// Per-band window. Hanning: w_l = (1 + cos(pi l / cutoff)) / 2 for l < cutoff, else 0.
-// Lanczos: w_l = sinc(pi l / cutoff) for l < cutoff, else 0 (sinc(x) = sin x / x).
+// Per-band window, as applied to SH in P.-P. Sloan, "Deringing Spherical Harmonics", SIGGRAPH
+// Asia 2017 Technical Briefs. Hanning (the Hann window; R. B. Blackman and J. W. Tukey, "The
+// Measurement of Power Spectra", 1958): w_l = (1 + cos(pi l / cutoff)) / 2 for l < cutoff,
+// else 0. Lanczos (the sigma factors of C. Lanczos, "Applied Analysis", 1956):
+// w_l = sinc(pi l / cutoff) for l < cutoff, else 0 (sinc(x) = sin x / x).
 // A larger cutoff is a weaker window; None is w_l = 1. factor() throws oer::Error
 // (InvalidInput) for a Hanning or Lanczos window whose cutoff is not a positive number.
 struct ShWindow {
@@ -34,7 +34,7 @@ WindowKind window_kind_from_string(const std::string& name);  // throws oer::Err
 // Irradiance coefficients A_l w_l L_lm of radiance coefficients L_lm.
 ShRgb irradiance_coefficients(const ShRgb& radiance, const ShWindow& window = {});
 
-// For order >= 3: per channel, the 4x4 matrix M of Ramamoorthi and Hanrahan such that
+// For order >= 3: per channel, the 4x4 matrix M of Ramamoorthi and Hanrahan 2001 such that
 // E(n) = n^T M n with n = (x, y, z, 1), built from the first 9 radiance coefficients.
 std::array<glm::dmat4, 3> irradiance_matrices(const ShRgb& radiance);
 

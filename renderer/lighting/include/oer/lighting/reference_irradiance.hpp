@@ -1,6 +1,7 @@
 #pragma once
-// The brute-force ground truth for every accuracy figure: the exact irradiance of thesis
-// eq. 2.1, E(n) = sum over pixels L(pixel) max(0, n . dir) dOmega, summed in double.
+// The brute-force ground truth for every accuracy figure: the exact irradiance of the thesis's
+// eq. 2.1 (Ambrosj, "Occluded Environment Maps Rendering", 2016) with each pixel weighted by
+// its exact solid angle, E(n) = sum over pixels L(pixel) max(0, n . dir) dOmega, in double.
 #include <span>
 #include <vector>
 
@@ -10,8 +11,10 @@
 
 namespace oer {
 
-// n points spread evenly over the unit sphere (spherical Fibonacci lattice: y = 1 - (2i + 1)/n,
-// azimuth i times the golden angle). n = 0 gives none; n < 0 throws oer::Error.
+// n points spread evenly over the unit sphere (the spherical Fibonacci lattice of A. Gonzalez,
+// "Measurement of Areas on a Sphere Using Fibonacci and Latitude-Longitude Lattices",
+// Mathematical Geosciences, 2010: y = 1 - (2i + 1)/n, azimuth i times the golden angle). n = 0
+// gives none; n < 0 throws oer::Error.
 std::vector<glm::dvec3> fibonacci_sphere(int n);
 
 class ReferenceIrradiance {

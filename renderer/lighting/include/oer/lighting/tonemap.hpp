@@ -11,8 +11,8 @@
 namespace oer {
 
 enum class ToneMapper {
-    Neutral,  // Khronos PBR Neutral (2024), the product-viewer standard
-    Aces,     // ACES RRT + ODT, Stephen Hill's fitted matrices
+    Neutral,  // Khronos PBR Neutral Tone Mapper (Khronos Group, 2024), the product-viewer standard
+    Aces,     // ACES RRT + ODT, Stephen Hill's fit (BakingLab ACES.hlsl, 2016)
     None,     // clamp only
 };
 std::string to_string(ToneMapper mapper);
@@ -28,8 +28,9 @@ float srgb_decode(float encoded);
 // tone map, encode.
 HdrImage to_display(const HdrImage& linear, double exposure, ToneMapper mapper);
 
-// The thesis model's tone map (DESIGN.md section 2, lighting model "thesis"): Reinhard et al.
-// 2002's global operator (key 0.18 over the log-average luminance, L / (1 + L) per channel),
+// The thesis model's tone map (DESIGN.md section 2, lighting model "thesis"): the global operator
+// of Reinhard, Stark, Shirley and Ferwerda, "Photographic Tone Reproduction for Digital
+// Images", 2002 (key 0.18 over the log-average luminance, L / (1 + L) per channel),
 // then normalised so that the largest value is 1. Our reading of "tone map and normalise to
 // [0, 1] before projection"; a black map stays black.
 HdrImage thesis_tone_map(const HdrImage& linear);

@@ -1,0 +1,30 @@
+#pragma once
+// The speed targets of DESIGN.md section 8 (2-core CPU machine, llvmpipe), in one place: every
+// benchmark prints its figures beside these. When the table in DESIGN.md changes, change it here.
+
+namespace oer::bench::targets {
+
+// Preprocessing a 2048x1024 map, 4 lights, SH order 3 (preprocess_benchmark).
+inline constexpr int kPreprocessWidth = 2048;
+inline constexpr int kPreprocessHeight = 1024;
+inline constexpr int kPreprocessLights = 4;
+inline constexpr int kPreprocessOrder = 3;
+inline constexpr double kPreprocessMs = 20.0;  // at most
+// At least this many times faster than a literal implementation of the thesis's algorithm
+// measured in the same run (bench/support/literal_thesis.hpp).
+inline constexpr double kSpeedupOverLiteral = 50.0;
+
+// SH projection, order 3, whole map plus every light mask, on 2 cores (preprocess_benchmark).
+inline constexpr double kProjectionGpixelsPerSecond = 2.0;  // at least
+
+// Color pass + readback, bunny on a ground plane, 2 lights, shadow maps cached
+// (frame_benchmark).
+inline constexpr double kFrameMs512 = 10.0;  // at most, at 512x512
+inline constexpr double kFps1366 = 30.0;     // at least, at 1366x768
+
+// Over HTTP (http_benchmark), medians.
+inline constexpr double kPreviewP50Ms = 15.0;   // preview frame while dragging
+inline constexpr double kWarmJpegP50Ms = 40.0;  // warm 512x512 JPEG, default request
+inline constexpr double kCachedFrameMs = 1.0;   // a frame already in the cache (ETag or LRU)
+
+}  // namespace oer::bench::targets
