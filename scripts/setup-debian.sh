@@ -12,6 +12,7 @@ build_packages=(
     libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
     libssl-dev
     libgtest-dev libgmock-dev
+    libyaml-cpp-dev
 )
 # Real-world data for tests (DESIGN.md section 5); the service itself never needs them.
 test_packages=(blender-data glmark2-data assimp-testmodels)
