@@ -54,7 +54,7 @@ EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
                                                         const RigOptions& options) {
     const std::string source_id = api::sha256_hex(bytes);
     const std::string rig_id = api::rig_id(source_id, options);
-    const auto upload = rigs_.upload(
+    return rigs_.upload(
         rig_id,
         [&] {
             auto known = find(rig_id);
@@ -64,7 +64,6 @@ EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
             return known;
         },
         [&] { return preprocess(bytes, extension, options, source_id, rig_id); });
-    return {upload.asset, upload.cached};
 }
 
 std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_view bytes,

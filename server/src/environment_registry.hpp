@@ -34,10 +34,8 @@ class EnvironmentRegistry {
     EnvironmentRegistry(AssetStore& store, ServiceMetrics& metrics, Log log,
                         const ImageLimits& limits, std::size_t cache_bytes);
 
-    struct Upload {
-        std::shared_ptr<const Environment> environment;
-        bool cached = false;  // the rig was there already: nothing was computed
-    };
+    // The environment, and whether its rig was there already (nothing was computed).
+    using Upload = AssetRegistry<Environment>::Upload;
     // extension: "hdr" or "exr". Throws oer::Error for a map that does not decode (InvalidInput)
     // or is over the limits (LimitExceeded).
     // Concurrent uploads of the same bytes and options compute the rig once (AssetRegistry):

@@ -44,7 +44,7 @@ MeshRegistry::MeshRegistry(AssetStore& store, ServiceMetrics& metrics, const Mes
 
 MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat format) {
     const std::string id = api::sha256_hex(bytes);
-    const auto upload = meshes_.upload(
+    return meshes_.upload(
         id,
         [&]() -> std::shared_ptr<const StoredMesh> {
             return store_.contains(SourceKind::Mesh, id) ? find(id) : nullptr;
@@ -56,7 +56,6 @@ MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat for
             store_.put_source(SourceKind::Mesh, bytes, api::to_string(format));
             return remember(id, std::move(mesh), format);
         });
-    return {upload.asset, upload.cached};
 }
 
 std::shared_ptr<const StoredMesh> MeshRegistry::find(const std::string& id) {

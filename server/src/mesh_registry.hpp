@@ -26,10 +26,8 @@ class MeshRegistry {
     MeshRegistry(AssetStore& store, ServiceMetrics& metrics, const MeshLimits& limits,
                  std::size_t cache_bytes);
 
-    struct Upload {
-        std::shared_ptr<const StoredMesh> mesh;
-        bool cached = false;  // these bytes were stored already
-    };
+    // The mesh, and whether these bytes were there already (nothing was loaded).
+    using Upload = AssetRegistry<StoredMesh>::Upload;
     // Throws oer::Error for bytes that do not load (InvalidInput) or are over the limits.
     // Concurrent uploads of the same bytes load and store them once (AssetRegistry): the later
     // ones wait for the first and answer as cached (or with the same error).
