@@ -158,9 +158,8 @@ void check_look_at(const std::string& name, const LookAtSpec& look_at, double fo
 double json_number(const Json& value, const std::string& path, Range range) {
     const double number = read.number(value, path);
     if (!(number >= range.low && number <= range.high)) {
-        throw InvalidParameter(path, "must be in [" + number_text(range.low) + ", " +
-                                         number_text(range.high) + "], got " +
-                                         excerpt(value.dump()));
+        read.fail(path, "must be in [" + number_text(range.low) + ", " + number_text(range.high) +
+                            "], got " + excerpt(value.dump()));
     }
     return number;
 }
@@ -181,11 +180,11 @@ int within_frame_limit(const std::string& name, long long value, int limit) {
 long long json_integer(const Json& value, const std::string& path, long long low, long long high) {
     const double number = read.expect(value, value.is_number(), path, "an integer").get<double>();
     if (number != std::floor(number)) {
-        throw InvalidParameter(path, "expected an integer, got " + excerpt(value.dump()));
+        read.fail(path, "expected an integer, got " + excerpt(value.dump()));
     }
     if (!(number >= double(low) && number <= double(high))) {
-        throw InvalidParameter(path, "must be in " + std::to_string(low) + ".." +
-                                         std::to_string(high) + ", got " + excerpt(value.dump()));
+        read.fail(path, "must be in " + std::to_string(low) + ".." + std::to_string(high) +
+                            ", got " + excerpt(value.dump()));
     }
     return static_cast<long long>(number);
 }
@@ -201,14 +200,14 @@ const std::string& json_string(const Json& value, const std::string& path) {
 void require_array(const Json& value, const std::string& path, std::size_t max_size) {
     read.array(value, path);
     if (value.size() > max_size) {
-        throw InvalidParameter(path, "at most " + std::to_string(max_size) + " entries, got " +
-                                         std::to_string(value.size()));
+        read.fail(path, "at most " + std::to_string(max_size) + " entries, got " +
+                            std::to_string(value.size()));
     }
 }
 
 glm::dvec3 json_vector3(const Json& value, const std::string& path, Range range) {
     if (!value.is_array() || value.size() != 3) {
-        throw InvalidParameter(path, "expected an array of 3 numbers");
+        read.fail(path, "expected an array of 3 numbers");
     }
     glm::dvec3 v{0.0};
     for (std::size_t i = 0; i < 3; ++i) {
@@ -266,8 +265,8 @@ ObjectSpec json_object_spec(const Json& value, const std::string& path) {
     if (const Json* transform = find(value, "transform")) {
         const std::string transform_path = child(path, "transform");
         if (!transform->is_array() || transform->size() != 16) {
-            throw InvalidParameter(transform_path,
-                                   "expected an array of 16 numbers (a column-major 4x4 matrix)");
+            read.fail(transform_path,
+                      "expected an array of 16 numbers (a column-major 4x4 matrix)");
         }
         for (std::size_t i = 0; i < 16; ++i) {
             object.transform[int(i / 4)][int(i % 4)] =
@@ -290,8 +289,7 @@ CameraSpec json_camera(const Json& value, const std::string& path) {
     if (const Json* orbit_json = find(value, "orbit")) {
         for (const std::string_view name : {"eye", "target", "up"}) {
             if (find(value, name)) {
-                throw InvalidParameter(child(path, name),
-                                       "a camera has eye and target, or orbit, not both");
+                read.fail(child(path, name), "a camera has eye and target, or orbit, not both");
             }
         }
         const std::string orbit_path = child(path, "orbit");
@@ -315,8 +313,8 @@ CameraSpec json_camera(const Json& value, const std::string& path) {
     const Json* eye = find(value, "eye");
     const Json* target = find(value, "target");
     if (!eye || !target) {
-        throw InvalidParameter(child(path, eye ? "target" : "eye"),
-                               "required: a camera has eye and target, or orbit");
+        read.fail(child(path, eye ? "target" : "eye"),
+                  "required: a camera has eye and target, or orbit");
     }
     LookAtSpec look_at;
     look_at.eye = json_vector3(*eye, child(path, "eye"), kCoordinate);
