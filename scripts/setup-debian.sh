@@ -12,7 +12,8 @@ build_packages=(
     libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
     libssl-dev libcli11-dev
     libgtest-dev libgmock-dev
-    glslang-tools
+    libyaml-cpp-dev
+    glslang-tools binutils
 )
 # Real-world data for tests (DESIGN.md section 5); the service itself never needs them.
 test_packages=(blender-data glmark2-data assimp-testmodels)

@@ -15,6 +15,7 @@
 #include "oer/api/malformed_request.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "oer/api/version.hpp"
+#include "oer/core/checked_json.hpp"
 #include "oer/core/enum_names.hpp"
 
 namespace oer::api {
@@ -87,12 +88,26 @@ bool contains(Names names, std::string_view name) {
     return std::find(names.begin(), names.end(), name) != names.end();
 }
 
+// The request's wording: an InvalidParameter naming the member's path ("objects/0/mesh"),
+// "expected <kind>, got <JSON type>".
+struct RequestWording {
+    [[noreturn]] void fail(const std::string& path, const std::string& message) const {
+        throw InvalidParameter(path, message);
+    }
+    std::string wrong_type(const std::string& expected, const Json& value) const {
+        return "expected " + expected + ", got " + (value.is_null() ? "null" : value.type_name());
+    }
+    std::string missing() const { return "required"; }
+};
+
+const checked_json::Reader<RequestWording> read(RequestWording{}, checked_json::PathStyle::Slash);
+
 std::string child(const std::string& path, std::string_view name) {
-    return path.empty() ? std::string(name) : path + "/" + std::string(name);
+    return read.child(path, name);
 }
 
 std::string child(const std::string& path, std::size_t index) {
-    return child(path, std::to_string(index));
+    return read.child(path, index);
 }
 
 // Checks shared by both forms, each naming the member or parameter it is given.
@@ -140,20 +155,11 @@ void check_look_at(const std::string& name, const LookAtSpec& look_at, double fo
 
 // The JSON form: each reader checks the type first, then the value, naming the member's path.
 
-[[noreturn]] void wrong_type(const std::string& path, const char* expected, const Json& value) {
-    throw InvalidParameter(path, std::string("expected ") + expected + ", got " +
-                                     (value.is_null() ? "null" : value.type_name()));
-}
-
 double json_number(const Json& value, const std::string& path, Range range) {
-    if (!value.is_number()) {
-        wrong_type(path, "a number", value);
-    }
-    const double number = value.get<double>();
+    const double number = read.number(value, path);
     if (!(number >= range.low && number <= range.high)) {
-        throw InvalidParameter(path, "must be in [" + number_text(range.low) + ", " +
-                                         number_text(range.high) + "], got " +
-                                         excerpt(value.dump()));
+        read.fail(path, "must be in [" + number_text(range.low) + ", " + number_text(range.high) +
+                            "], got " + excerpt(value.dump()));
     }
     return number;
 }
@@ -172,47 +178,36 @@ int within_frame_limit(const std::string& name, long long value, int limit) {
 }
 
 long long json_integer(const Json& value, const std::string& path, long long low, long long high) {
-    if (!value.is_number()) {
-        wrong_type(path, "an integer", value);
-    }
-    const double number = value.get<double>();
+    const double number = read.expect(value, value.is_number(), path, "an integer").get<double>();
     if (number != std::floor(number)) {
-        throw InvalidParameter(path, "expected an integer, got " + excerpt(value.dump()));
+        read.fail(path, "expected an integer, got " + excerpt(value.dump()));
     }
     if (!(number >= double(low) && number <= double(high))) {
-        throw InvalidParameter(path, "must be in " + std::to_string(low) + ".." +
-                                         std::to_string(high) + ", got " + excerpt(value.dump()));
+        read.fail(path, "must be in " + std::to_string(low) + ".." + std::to_string(high) +
+                            ", got " + excerpt(value.dump()));
     }
     return static_cast<long long>(number);
 }
 
 bool json_bool(const Json& value, const std::string& path) {
-    if (!value.is_boolean()) {
-        wrong_type(path, "true or false", value);
-    }
-    return value.get<bool>();
+    return read.boolean(value, path, "true or false");
 }
 
 const std::string& json_string(const Json& value, const std::string& path) {
-    if (!value.is_string()) {
-        wrong_type(path, "a string", value);
-    }
-    return value.get_ref<const std::string&>();
+    return read.string(value, path);
 }
 
 void require_array(const Json& value, const std::string& path, std::size_t max_size) {
-    if (!value.is_array()) {
-        wrong_type(path, "an array", value);
-    }
+    read.array(value, path);
     if (value.size() > max_size) {
-        throw InvalidParameter(path, "at most " + std::to_string(max_size) + " entries, got " +
-                                         std::to_string(value.size()));
+        read.fail(path, "at most " + std::to_string(max_size) + " entries, got " +
+                            std::to_string(value.size()));
     }
 }
 
 glm::dvec3 json_vector3(const Json& value, const std::string& path, Range range) {
     if (!value.is_array() || value.size() != 3) {
-        throw InvalidParameter(path, "expected an array of 3 numbers");
+        read.fail(path, "expected an array of 3 numbers");
     }
     glm::dvec3 v{0.0};
     for (std::size_t i = 0; i < 3; ++i) {
@@ -223,24 +218,18 @@ glm::dvec3 json_vector3(const Json& value, const std::string& path, Range range)
 
 // An object whose members are all among `names`; path "" is the body itself.
 void require_object(const Json& value, const std::string& path, Names names) {
-    if (!value.is_object()) {
-        wrong_type(path.empty() ? "body" : path, "an object", value);
-    }
-    for (const auto& [key, member] : value.items()) {
-        if (!contains(names, key)) {
-            std::string known;
-            for (const std::string_view name : names) {
-                known += (known.empty() ? "" : ", ") + std::string(name);
-            }
-            throw InvalidParameter(child(path, excerpt(key)),
-                                   "unknown member; expected one of " + known);
+    read.object(value, path.empty() ? "body" : path);
+    if (const std::string* unknown = read.unknown_member(value, names)) {
+        std::string known;
+        for (const std::string_view name : names) {
+            known += (known.empty() ? "" : ", ") + std::string(name);
         }
+        read.fail(child(path, excerpt(*unknown)), "unknown member; expected one of " + known);
     }
 }
 
 const Json* find(const Json& object, std::string_view name) {
-    const auto found = object.find(name);
-    return found == object.end() ? nullptr : &*found;
+    return checked_json::find(object, name);
 }
 
 Json read_body(std::string_view body, const RenderLimits& limits) {
@@ -271,16 +260,13 @@ Json read_body(std::string_view body, const RenderLimits& limits) {
 ObjectSpec json_object_spec(const Json& value, const std::string& path) {
     require_object(value, path, kObjectMembers);
     ObjectSpec object;
-    const Json* mesh = find(value, "mesh");
-    if (!mesh) {
-        throw InvalidParameter(child(path, "mesh"), "required");
-    }
-    object.mesh = checked_id(child(path, "mesh"), json_string(*mesh, child(path, "mesh")));
+    const Json& mesh = read.member(value, path, "mesh");
+    object.mesh = checked_id(child(path, "mesh"), json_string(mesh, child(path, "mesh")));
     if (const Json* transform = find(value, "transform")) {
         const std::string transform_path = child(path, "transform");
         if (!transform->is_array() || transform->size() != 16) {
-            throw InvalidParameter(transform_path,
-                                   "expected an array of 16 numbers (a column-major 4x4 matrix)");
+            read.fail(transform_path,
+                      "expected an array of 16 numbers (a column-major 4x4 matrix)");
         }
         for (std::size_t i = 0; i < 16; ++i) {
             object.transform[int(i / 4)][int(i % 4)] =
@@ -303,8 +289,7 @@ CameraSpec json_camera(const Json& value, const std::string& path) {
     if (const Json* orbit_json = find(value, "orbit")) {
         for (const std::string_view name : {"eye", "target", "up"}) {
             if (find(value, name)) {
-                throw InvalidParameter(child(path, name),
-                                       "a camera has eye and target, or orbit, not both");
+                read.fail(child(path, name), "a camera has eye and target, or orbit, not both");
             }
         }
         const std::string orbit_path = child(path, "orbit");
@@ -328,8 +313,8 @@ CameraSpec json_camera(const Json& value, const std::string& path) {
     const Json* eye = find(value, "eye");
     const Json* target = find(value, "target");
     if (!eye || !target) {
-        throw InvalidParameter(child(path, eye ? "target" : "eye"),
-                               "required: a camera has eye and target, or orbit");
+        read.fail(child(path, eye ? "target" : "eye"),
+                  "required: a camera has eye and target, or orbit");
     }
     LookAtSpec look_at;
     look_at.eye = json_vector3(*eye, child(path, "eye"), kCoordinate);
@@ -528,11 +513,8 @@ RenderSpec parse_render_json(std::string_view body, const RenderLimits& limits) 
     const Json json = read_body(body, limits);
     require_object(json, "", kBodyMembers);
     RenderSpec spec;
-    const Json* environment = find(json, "environment");
-    if (!environment) {
-        throw InvalidParameter("environment", "required");
-    }
-    spec.environment = checked_id("environment", json_string(*environment, "environment"));
+    spec.environment =
+        checked_id("environment", json_string(read.member(json, "", "environment"), "environment"));
     if (const Json* objects = find(json, "objects")) {
         require_array(*objects, "objects", limits.max_objects);
         for (std::size_t i = 0; i < objects->size(); ++i) {

@@ -8,6 +8,7 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/rig_options.hpp"
+#include "oer/core/checked_json.hpp"
 #include "oer/core/error.hpp"
 
 namespace oer::api {
@@ -16,60 +17,54 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void damaged(const std::string& path, const std::string& problem) {
-    throw Error(ErrorKind::InvalidInput, "rig document: " + path + ": " + problem);
-}
+// A stored rig's wording: "rig document: <path>: <problem>", an InvalidInput error.
+struct RigWording {
+    [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+        throw Error(ErrorKind::InvalidInput,
+                    "rig document: " + (path.empty() ? "document" : path) + ": " + problem);
+    }
+    std::string wrong_type(const std::string& expected, const json&) const {
+        return "expected " + expected;
+    }
+    std::string missing() const { return "missing"; }
+};
+
+const checked_json::Reader<RigWording> read(RigWording{}, checked_json::PathStyle::Slash);
 
 const json& member(const json& object, const std::string& path, const std::string& name) {
-    if (!object.is_object()) {
-        damaged(path.empty() ? "document" : path, "expected an object");
-    }
-    const auto found = object.find(name);
-    if (found == object.end()) {
-        damaged(path.empty() ? name : path + "/" + name, "missing");
-    }
-    return *found;
-}
-
-std::string join(const std::string& path, const std::string& name) {
-    return path.empty() ? name : path + "/" + name;
+    return read.member(object, path, name);
 }
 
 double number(const json& value, const std::string& path, double low, double high) {
-    if (!value.is_number()) {
-        damaged(path, "expected a number");
-    }
-    const double x = value.get<double>();
+    const double x = read.number(value, path);
     if (!std::isfinite(x) || x < low || x > high) {
-        damaged(path, "out of range");
+        read.fail(path, "out of range");
     }
     return x;
 }
 
 std::uint64_t count(const json& value, const std::string& path, std::uint64_t high) {
-    if (!value.is_number_unsigned() &&
-        !(value.is_number_integer() && value.get<long long>() >= 0)) {
-        damaged(path, "expected a non-negative integer");
-    }
+    // Written by rig_to_json as integers: a float here is a damaged document.
+    read.expect(
+        value,
+        value.is_number_unsigned() || (value.is_number_integer() && value.get<long long>() >= 0),
+        path, "a non-negative integer");
     const std::uint64_t n = value.get<std::uint64_t>();
     if (n > high) {
-        damaged(path, "out of range");
+        read.fail(path, "out of range");
     }
     return n;
 }
 
 std::string text(const json& value, const std::string& path) {
-    if (!value.is_string()) {
-        damaged(path, "expected a string");
-    }
-    return value.get<std::string>();
+    return read.string(value, path);
 }
 
 constexpr double kHuge = std::numeric_limits<double>::max();
 
 glm::dvec3 vector3(const json& value, const std::string& path) {
     if (!value.is_array() || value.size() != 3) {
-        damaged(path, "expected 3 numbers");
+        read.fail(path, "expected 3 numbers");
     }
     return {number(value[0], path + "/0", -kHuge, kHuge),
             number(value[1], path + "/1", -kHuge, kHuge),
@@ -78,7 +73,7 @@ glm::dvec3 vector3(const json& value, const std::string& path) {
 
 ShRgb coefficients(const json& value, const std::string& path, int order) {
     if (!value.is_array() || value.size() != std::size_t(sh_count(order))) {
-        damaged(path, "expected " + std::to_string(sh_count(order)) + " RGB coefficients");
+        read.fail(path, "expected " + std::to_string(sh_count(order)) + " RGB coefficients");
     }
     ShRgb sh(order);
     for (std::size_t i = 0; i < value.size(); ++i) {
@@ -92,14 +87,14 @@ auto enum_value(const json& value, const std::string& path, FromString from_stri
     try {
         return from_string(text(value, path));
     } catch (const Error& error) {
-        damaged(path, error.what());
+        read.fail(path, error.what());
     }
 }
 
 std::vector<std::uint32_t> mask(const json& runs, const std::string& path, std::uint64_t pixels,
                                 std::uint64_t map_pixels) {
     if (!runs.is_array() || runs.size() % 2 != 0) {
-        damaged(path, "expected pairs of first index and length");
+        read.fail(path, "expected pairs of first index and length");
     }
     std::vector<std::uint32_t> indices;
     std::uint64_t next = 0;  // runs are sorted and disjoint
@@ -109,7 +104,7 @@ std::vector<std::uint32_t> mask(const json& runs, const std::string& path, std::
             count(runs[i + 1], path + "/" + std::to_string(i + 1), map_pixels);
         if (first < next || length == 0 || first + length > map_pixels ||
             indices.size() + length > pixels) {
-            damaged(path + "/" + std::to_string(i), "runs out of order, empty or out of the map");
+            read.fail(path + "/" + std::to_string(i), "runs out of order, empty or out of the map");
         }
         for (std::uint64_t k = first; k < first + length; ++k) {
             indices.push_back(std::uint32_t(k));
@@ -117,8 +112,8 @@ std::vector<std::uint32_t> mask(const json& runs, const std::string& path, std::
         next = first + length;
     }
     if (indices.size() != pixels) {
-        damaged(path, "holds " + std::to_string(indices.size()) + " pixels, the light " +
-                          std::to_string(pixels));
+        read.fail(path, "holds " + std::to_string(indices.size()) + " pixels, the light " +
+                            std::to_string(pixels));
     }
     return indices;
 }
@@ -146,13 +141,13 @@ json light_masks_to_json(const Rig& rig) {
 Rig rig_from_json(const json& document, const json& masks) {
     Rig rig;
     if (!is_content_id(text(member(document, "", "id"), "id"))) {
-        damaged("id", "not a content id");
+        read.fail("id", "not a content id");
     }
     const json& source = member(document, "", "source");
     rig.source_width = int(count(member(source, "source", "width"), "source/width", 1 << 20));
     rig.source_height = int(count(member(source, "source", "height"), "source/height", 1 << 20));
     if (rig.source_width < 1 || rig.source_height < 1) {
-        damaged("source", "empty map");
+        read.fail("source", "empty map");
     }
     const std::uint64_t map_pixels = std::uint64_t(rig.source_width) * rig.source_height;
     const json& repaired = member(source, "source", "repaired");
@@ -165,39 +160,39 @@ Rig rig_from_json(const json& document, const json& masks) {
     try {
         rig.options = rig_options_from_json(member(document, "", "options"));
     } catch (const InvalidParameter& error) {
-        damaged("options/" + error.parameter(), error.what());
+        read.fail("options/" + error.parameter(), error.what());
     }
     rig.model = enum_value(member(document, "", "lighting_model"), "lighting_model",
                            lighting_model_from_string);
 
     const json& lights = member(document, "", "lights");
     if (!lights.is_array() || lights.size() > 64) {
-        damaged("lights", "expected an array of at most 64 lights");
+        read.fail("lights", "expected an array of at most 64 lights");
     }
     if (!masks.is_array() || masks.size() != lights.size()) {
-        damaged("masks", "expected one mask per light");
+        read.fail("masks", "expected one mask per light");
     }
     for (std::size_t k = 0; k < lights.size(); ++k) {
         const std::string path = "lights/" + std::to_string(k);
         const json& entry = lights[k];
         Light light;
-        light.direction = vector3(member(entry, path, "direction"), join(path, "direction"));
-        light.intensity = vector3(member(entry, path, "intensity"), join(path, "intensity"));
-        light.solid_angle = number(member(entry, path, "solid_angle"), join(path, "solid_angle"),
-                                   0.0, 4.0 * std::numbers::pi);
+        light.direction = vector3(member(entry, path, "direction"), read.child(path, "direction"));
+        light.intensity = vector3(member(entry, path, "intensity"), read.child(path, "intensity"));
+        light.solid_angle = number(member(entry, path, "solid_angle"),
+                                   read.child(path, "solid_angle"), 0.0, 4.0 * std::numbers::pi);
         light.angular_radius = number(member(entry, path, "angular_radius"),
-                                      join(path, "angular_radius"), 0.0, std::numbers::pi);
-        light.luminance_share =
-            number(member(entry, path, "luminance_share"), join(path, "luminance_share"), 0.0, 1.0);
+                                      read.child(path, "angular_radius"), 0.0, std::numbers::pi);
+        light.luminance_share = number(member(entry, path, "luminance_share"),
+                                       read.child(path, "luminance_share"), 0.0, 1.0);
         const std::uint64_t pixels =
-            count(member(entry, path, "pixels"), join(path, "pixels"), map_pixels);
+            count(member(entry, path, "pixels"), read.child(path, "pixels"), map_pixels);
         light.pixels = mask(masks[k], "masks/" + std::to_string(k), pixels, map_pixels);
         rig.lights.push_back(std::move(light));
     }
     const json& light_count = member(document, "", "light_count");
     if (count(member(light_count, "light_count", "chosen"), "light_count/chosen", 64) !=
         rig.lights.size()) {
-        damaged("light_count/chosen", "does not match the lights");
+        read.fail("light_count/chosen", "does not match the lights");
     }
     rig.light_count_reason =
         text(member(light_count, "light_count", "reason"), "light_count/reason");
@@ -205,7 +200,7 @@ Rig rig_from_json(const json& document, const json& masks) {
     const json& sh = member(document, "", "sh");
     rig.order = int(count(member(sh, "sh", "order"), "sh/order", kMaxShOrder));
     if (rig.order < 1) {
-        damaged("sh/order", "out of range");
+        read.fail("sh/order", "out of range");
     }
     rig.order_reason = text(member(sh, "sh", "order_reason"), "sh/order_reason");
     const json& window = member(sh, "sh", "window");
@@ -219,7 +214,7 @@ Rig rig_from_json(const json& document, const json& masks) {
     rig.sh.all = coefficients(member(sh, "sh", "radiance"), "sh/radiance", rig.order);
     const json& per_light = member(sh, "sh", "per_light");
     if (!per_light.is_array() || per_light.size() != rig.lights.size()) {
-        damaged("sh/per_light", "expected one coefficient list per light");
+        read.fail("sh/per_light", "expected one coefficient list per light");
     }
     for (std::size_t k = 0; k < per_light.size(); ++k) {
         rig.sh.per_light.push_back(
@@ -228,10 +223,7 @@ Rig rig_from_json(const json& document, const json& masks) {
     if (const auto error = sh.find("irradiance_error"); error != sh.end()) {
         rig.reference_error = number(*error, "sh/irradiance_error", 0.0, kHuge);
     }
-    const json& timings = member(document, "", "timings_ms");
-    if (!timings.is_object()) {
-        damaged("timings_ms", "expected an object");
-    }
+    const json& timings = read.object(member(document, "", "timings_ms"), "timings_ms");
     for (const auto& [step, ms] : timings.items()) {
         rig.timings_ms[step] = number(ms, "timings_ms/" + step, 0.0, kHuge);
     }

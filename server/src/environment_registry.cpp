@@ -39,13 +39,13 @@ EnvironmentRegistry::EnvironmentRegistry(AssetStore& store, ServiceMetrics& metr
       log_(std::move(log)),
       limits_(limits),
       // The decoded maps are the large objects (12 bytes a pixel); rigs are small.
-      rigs_(cache_bytes / 8),
+      rigs_(metrics, CacheName::Rig, cache_bytes / 8),
       images_(cache_bytes) {
     auto image = std::make_shared<const HdrImage>(make_default_environment());
     auto rig = std::make_shared<const Rig>(build_rig(*image, {}, RigOptions{}));
     const std::string id(api::kDefaultPresetId);
-    preset_ =
-        std::make_shared<const Environment>(Environment{id, rig, api::rig_to_json(*rig, id), ""});
+    rigs_.set_preset(
+        std::make_shared<const Environment>(Environment{id, rig, api::rig_to_json(*rig, id), ""}));
     preset_image_ = std::move(image);
 }
 
@@ -54,41 +54,16 @@ EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
                                                         const RigOptions& options) {
     const std::string source_id = api::sha256_hex(bytes);
     const std::string rig_id = api::rig_id(source_id, options);
-    if (auto known = find(rig_id)) {
-        if (!store_.contains(SourceKind::Environment, source_id)) {
-            store_.put_source(SourceKind::Environment, bytes, extension);
-        }
-        return {std::move(known), true};
-    }
-    std::promise<std::shared_ptr<const Environment>> promise;
-    {
-        std::unique_lock lock(in_flight_mutex_);
-        const auto running = in_flight_.find(rig_id);
-        if (running != in_flight_.end()) {
-            const auto computing = running->second;
-            lock.unlock();
-            return {computing.get(), true};
-        }
-        // Finished between find() above and this lock: remembered before it left in_flight_.
-        if (auto finished = rigs_.get(rig_id)) {
-            return {std::move(finished), true};
-        }
-        in_flight_.emplace(rig_id, promise.get_future().share());
-    }
-    const auto finish = [&] {
-        std::lock_guard lock(in_flight_mutex_);
-        in_flight_.erase(rig_id);
-    };
-    try {
-        auto environment = preprocess(bytes, extension, options, source_id, rig_id);
-        promise.set_value(environment);
-        finish();
-        return {std::move(environment), false};
-    } catch (...) {
-        promise.set_exception(std::current_exception());
-        finish();
-        throw;
-    }
+    return rigs_.upload(
+        rig_id,
+        [&] {
+            auto known = find(rig_id);
+            if (known && !store_.contains(SourceKind::Environment, source_id)) {
+                store_.put_source(SourceKind::Environment, bytes, extension);
+            }
+            return known;
+        },
+        [&] { return preprocess(bytes, extension, options, source_id, rig_id); });
 }
 
 std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_view bytes,
@@ -109,18 +84,7 @@ std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_v
 }
 
 std::shared_ptr<const Environment> EnvironmentRegistry::find(const std::string& id) {
-    if (id == api::kDefaultPresetId) {
-        return preset_;
-    }
-    if (!api::is_content_id(id)) {
-        return nullptr;
-    }
-    if (auto known = rigs_.get(id)) {
-        metrics_.cache(CacheName::Rig, true);
-        return known;
-    }
-    metrics_.cache(CacheName::Rig, false);
-    return load_stored(id);
+    return rigs_.find(id, [&] { return load_stored(id); });
 }
 
 std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::string& id) {
@@ -196,7 +160,7 @@ std::shared_ptr<const Environment> EnvironmentRegistry::compute(const HdrImage& 
 }
 
 void EnvironmentRegistry::remember(const std::shared_ptr<const Environment>& environment) {
-    rigs_.put(environment->id, environment, charge_of(*environment));
+    rigs_.remember(environment->id, environment, charge_of(*environment));
 }
 
 std::shared_ptr<const HdrImage> EnvironmentRegistry::source_image(const Environment& environment) {

@@ -5,15 +5,13 @@
 // decoded maps (for backgrounds and previews) in an LRU of their own. The preset `default` is
 // the built-in studio with its rig at default options, made once at start-up.
 #include <functional>
-#include <future>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
+#include "asset_registry.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/server/asset_store.hpp"
@@ -36,14 +34,12 @@ class EnvironmentRegistry {
     EnvironmentRegistry(AssetStore& store, ServiceMetrics& metrics, Log log,
                         const ImageLimits& limits, std::size_t cache_bytes);
 
-    struct Upload {
-        std::shared_ptr<const Environment> environment;
-        bool cached = false;  // the rig was there already: nothing was computed
-    };
+    // The environment, and whether its rig was there already (nothing was computed).
+    using Upload = AssetRegistry<Environment>::Upload;
     // extension: "hdr" or "exr". Throws oer::Error for a map that does not decode (InvalidInput)
     // or is over the limits (LimitExceeded).
-    // Concurrent uploads of the same bytes and options compute the rig once: the later ones
-    // wait for it and answer as cached (or with the same error).
+    // Concurrent uploads of the same bytes and options compute the rig once (AssetRegistry):
+    // the later ones wait for it and answer as cached (or with the same error).
     Upload upload(std::string_view bytes, const std::string& extension, const RigOptions& options);
 
     // nullptr when no rig has that id (and none can be recomputed). id: a content id or the
@@ -70,13 +66,9 @@ class EnvironmentRegistry {
     ServiceMetrics& metrics_;
     const Log log_;
     const ImageLimits limits_;
-    std::shared_ptr<const Environment> preset_;
     std::shared_ptr<const HdrImage> preset_image_;
-    SharedLruCache<Environment> rigs_;
+    AssetRegistry<Environment> rigs_;
     SharedLruCache<HdrImage> images_;
-    // Rigs being computed, by rig id.
-    std::mutex in_flight_mutex_;
-    std::map<std::string, std::shared_future<std::shared_ptr<const Environment>>> in_flight_;
 };
 
 }  // namespace oer::server

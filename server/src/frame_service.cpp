@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "http_errors.hpp"
-#include "oer/image/image_encoding.hpp"
+#include "oer/api/frame_encoding.hpp"
 
 namespace oer::server {
 
@@ -21,31 +21,7 @@ std::string timing_entry(const std::string& pass, double ms) {
     return pass + ";dur=" + duration;
 }
 
-std::vector<std::uint8_t> encode(const Frame& frame, const api::RenderSpec& spec) {
-    switch (spec.format) {
-        case api::ImageFormat::Jpeg:
-            return encode_jpeg(frame.display, spec.quality);
-        case api::ImageFormat::Png:
-            return encode_png(frame.display);
-        case api::ImageFormat::Exr:
-            return encode_exr(frame.width, frame.height, frame.linear);
-    }
-    throw Error(ErrorKind::Internal, "unknown image format");
-}
-
 }  // namespace
-
-std::string content_type_of(api::ImageFormat format) {
-    switch (format) {
-        case api::ImageFormat::Jpeg:
-            return "image/jpeg";
-        case api::ImageFormat::Png:
-            return "image/png";
-        case api::ImageFormat::Exr:
-            return "image/x-exr";
-    }
-    throw Error(ErrorKind::Internal, "unknown image format");
-}
 
 FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
                            RenderPool& pool, ByteLruCache& frames, ServiceMetrics& metrics,
@@ -57,10 +33,11 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
       metrics_(metrics),
       deadline_(deadline) {}
 
-EncodedFrame FrameService::render(const api::RenderSpec& spec, RequestForm form) {
+EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
+                                  RequestForm form) {
     EncodedFrame result;
-    result.etag = api::render_etag(spec);
-    result.content_type = content_type_of(spec.format);
+    result.etag = etag;
+    result.content_type = api::content_type_of(spec.format);
     if (auto cached = frames_.get(result.etag)) {
         metrics_.cache(CacheName::Frame, true);
         result.bytes = std::move(cached);
@@ -110,7 +87,7 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, RequestForm form)
     }
     const Frame frame = pending.get();
     const auto encode_start = Clock::now();
-    const std::vector<std::uint8_t> bytes = encode(frame, spec);
+    const std::vector<std::uint8_t> bytes = api::encode(frame, spec.format, spec.quality);
     const double encode_ms = milliseconds_since(encode_start);
 
     for (const auto& [pass, ms] : frame.timings_ms) {

@@ -27,16 +27,15 @@ struct EncodedFrame {
 // How the request named its members, for the `parameter` of a 404.
 enum class RequestForm { Json, Query };
 
-std::string content_type_of(api::ImageFormat format);
-
 class FrameService {
   public:
     FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes, RenderPool& pool,
                  ByteLruCache& frames, ServiceMetrics& metrics, std::chrono::seconds deadline);
 
+    // etag: api::render_etag(spec), computed once by the caller (which answers 304 with it).
     // Throws HttpError (404 for an unknown id, 503 past the deadline), QueueFull, and what
     // to_frame_request and the renderer throw.
-    EncodedFrame render(const api::RenderSpec& spec, RequestForm form);
+    EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form);
 
   private:
     EnvironmentRegistry& environments_;

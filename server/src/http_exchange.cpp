@@ -12,6 +12,15 @@ void send_json(httplib::Response& response, int status, const nlohmann::json& bo
     response.set_content(body.dump(), "application/json");
 }
 
+void send_upload(httplib::Response& response, nlohmann::json asset, bool cached,
+                 const std::string& location) {
+    asset["cached"] = cached;
+    if (!cached) {
+        response.set_header("Location", location);
+    }
+    send_json(response, cached ? 200 : 201, asset);
+}
+
 void send_problem(httplib::Response& response, const ErrorAnswer& answer) {
     response.status = answer.problem.status;
     for (const auto& [name, value] : answer.headers) {

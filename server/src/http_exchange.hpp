@@ -13,6 +13,10 @@ namespace oer::server {
 
 void send_json(httplib::Response& response, int status, const nlohmann::json& body);
 void send_problem(httplib::Response& response, const ErrorAnswer& answer);
+// The answer to an upload (environments, meshes): the asset's JSON with `cached`, and 201 with
+// Location when it is new, 200 when these bytes (and options) were there already.
+void send_upload(httplib::Response& response, nlohmann::json asset, bool cached,
+                 const std::string& location);
 
 // The Content-Type's media type, lowercase, without parameters ("" when absent).
 std::string media_type(const httplib::Request& request);

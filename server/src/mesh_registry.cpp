@@ -32,48 +32,49 @@ std::size_t charge_of(const Mesh& mesh) {
 
 MeshRegistry::MeshRegistry(AssetStore& store, ServiceMetrics& metrics, const MeshLimits& limits,
                            std::size_t cache_bytes)
-    : store_(store), metrics_(metrics), limits_(limits), meshes_(cache_bytes) {
+    : store_(store),
+      metrics_(metrics),
+      limits_(limits),
+      meshes_(metrics, CacheName::Mesh, cache_bytes) {
     auto mesh = std::make_shared<const Mesh>(make_default_product());
     const std::string id(api::kDefaultPresetId);
-    preset_ =
-        std::make_shared<const StoredMesh>(StoredMesh{id, mesh, api::mesh_to_json(*mesh, id)});
+    meshes_.set_preset(
+        std::make_shared<const StoredMesh>(StoredMesh{id, mesh, api::mesh_to_json(*mesh, id)}));
 }
 
 MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat format) {
     const std::string id = api::sha256_hex(bytes);
-    if (store_.contains(SourceKind::Mesh, id)) {
-        if (auto known = find(id)) {
-            return {std::move(known), true};
-        }
-    }
-    // Loaded before it is stored, so that bytes that are not a mesh never enter the store.
-    Mesh mesh =
-        load_mesh_memory(as_bytes(bytes), "upload." + api::to_string(format), format, limits_);
-    store_.put_source(SourceKind::Mesh, bytes, api::to_string(format));
-    return {remember(id, std::move(mesh), format), false};
+    return meshes_.upload(
+        id,
+        [&]() -> std::shared_ptr<const StoredMesh> {
+            return store_.contains(SourceKind::Mesh, id) ? find(id) : nullptr;
+        },
+        [&] {
+            // Loaded before it is stored, so that bytes that are not a mesh never enter the
+            // store.
+            Mesh mesh = load(bytes, "upload." + api::to_string(format), format);
+            store_.put_source(SourceKind::Mesh, bytes, api::to_string(format));
+            return remember(id, std::move(mesh), format);
+        });
 }
 
 std::shared_ptr<const StoredMesh> MeshRegistry::find(const std::string& id) {
-    if (id == api::kDefaultPresetId) {
-        return preset_;
-    }
-    if (!api::is_content_id(id)) {
-        return nullptr;
-    }
-    if (auto known = meshes_.get(id)) {
-        metrics_.cache(CacheName::Mesh, true);
-        return known;
-    }
-    metrics_.cache(CacheName::Mesh, false);
+    return meshes_.find(id, [&] { return read_stored(id); });
+}
+
+std::shared_ptr<const StoredMesh> MeshRegistry::read_stored(const std::string& id) {
     const auto source = store_.get_source(SourceKind::Mesh, id);
     if (!source) {
         return nullptr;
     }
     const MeshFormat format = api::mesh_format_from_string(source->extension);
-    return remember(
-        id,
-        load_mesh_memory(as_bytes(source->bytes), "stored." + source->extension, format, limits_),
-        format);
+    return remember(id, load(source->bytes, "stored." + source->extension, format), format);
+}
+
+Mesh MeshRegistry::load(std::string_view bytes, const std::string& name, MeshFormat format) {
+    Mesh mesh = load_mesh_memory(as_bytes(bytes), name, format, limits_);
+    metrics_.meshes_loaded.increment();
+    return mesh;
 }
 
 std::shared_ptr<const StoredMesh> MeshRegistry::remember(const std::string& id, Mesh mesh,
@@ -81,7 +82,7 @@ std::shared_ptr<const StoredMesh> MeshRegistry::remember(const std::string& id, 
     auto shared = std::make_shared<const Mesh>(std::move(mesh));
     auto stored = std::make_shared<const StoredMesh>(
         StoredMesh{id, shared, api::mesh_to_json(*shared, id, format)});
-    meshes_.put(id, stored, charge_of(*shared));
+    meshes_.remember(id, stored, charge_of(*shared));
     return stored;
 }
 

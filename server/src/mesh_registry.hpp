@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "asset_registry.hpp"
 #include "oer/mesh/mesh_loading.hpp"
 #include "oer/server/asset_store.hpp"
-#include "oer/server/shared_lru_cache.hpp"
 #include "service_metrics.hpp"
 
 namespace oer::server {
@@ -26,24 +26,26 @@ class MeshRegistry {
     MeshRegistry(AssetStore& store, ServiceMetrics& metrics, const MeshLimits& limits,
                  std::size_t cache_bytes);
 
-    struct Upload {
-        std::shared_ptr<const StoredMesh> mesh;
-        bool cached = false;  // these bytes were stored already
-    };
+    // The mesh, and whether these bytes were there already (nothing was loaded).
+    using Upload = AssetRegistry<StoredMesh>::Upload;
     // Throws oer::Error for bytes that do not load (InvalidInput) or are over the limits.
+    // Concurrent uploads of the same bytes load and store them once (AssetRegistry): the later
+    // ones wait for the first and answer as cached (or with the same error).
     Upload upload(std::string_view bytes, MeshFormat format);
 
     // nullptr when no mesh has that id.
     std::shared_ptr<const StoredMesh> find(const std::string& id);
 
   private:
+    std::shared_ptr<const StoredMesh> read_stored(const std::string& id);
+    // Counted in oer_meshes_loaded_total.
+    Mesh load(std::string_view bytes, const std::string& name, MeshFormat format);
     std::shared_ptr<const StoredMesh> remember(const std::string& id, Mesh mesh, MeshFormat format);
 
     AssetStore& store_;
     ServiceMetrics& metrics_;
     const MeshLimits limits_;
-    std::shared_ptr<const StoredMesh> preset_;
-    SharedLruCache<StoredMesh> meshes_;
+    AssetRegistry<StoredMesh> meshes_;
 };
 
 }  // namespace oer::server

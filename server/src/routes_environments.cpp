@@ -66,12 +66,8 @@ void add_environment_routes(Router& router, ServiceContext& context) {
             }
             const auto upload = context.environments.upload(
                 body, extension_of_media_type(media_type(request)), options);
-            nlohmann::json answer = upload.environment->json;
-            answer["cached"] = upload.cached;
-            if (!upload.cached) {
-                response.set_header("Location", "/v1/environments/" + upload.environment->id);
-            }
-            send_json(response, upload.cached ? 200 : 201, answer);
+            send_upload(response, upload.asset->json, upload.cached,
+                        "/v1/environments/" + upload.asset->id);
         });
 
     router.get("/v1/environments/{id}",

@@ -50,12 +50,8 @@ void add_mesh_routes(Router& router, ServiceContext& context) {
                 throw api::InvalidParameter("body", "the body must be the mesh file's bytes");
             }
             const auto upload = context.meshes.upload(body, format_of(request));
-            nlohmann::json answer = upload.mesh->json;
-            answer["cached"] = upload.cached;
-            if (!upload.cached) {
-                response.set_header("Location", "/v1/meshes/" + upload.mesh->id);
-            }
-            send_json(response, upload.cached ? 200 : 201, answer);
+            send_upload(response, upload.asset->json, upload.cached,
+                        "/v1/meshes/" + upload.asset->id);
         });
 
     router.get("/v1/meshes/{id}",

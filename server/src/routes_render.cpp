@@ -20,7 +20,7 @@ void answer_frame(ServiceContext& context, const httplib::Request& request,
         response.set_header("ETag", etag);
         return;
     }
-    const EncodedFrame frame = context.frame_service.render(spec, form);
+    const EncodedFrame frame = context.frame_service.render(spec, etag, form);
     response.status = 200;
     response.set_header("ETag", frame.etag);
     response.set_header("X-Oer-Cache", frame.cache_hit ? "hit" : "miss");

@@ -33,6 +33,9 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
                                             kLatencyBucketsSeconds)),
       rigs_computed(registry.counter("oer_rigs_computed_total",
                                      "Rigs computed (preprocessing runs; cache hits excluded)")),
+      meshes_loaded(
+          registry.counter("oer_meshes_loaded_total",
+                           "Meshes decoded from uploads or from the store (cache hits excluded)")),
       render_queue_depth(
           registry.gauge("oer_render_queue_depth", "Frames waiting for a render worker")),
       render_workers_ready(registry.gauge(

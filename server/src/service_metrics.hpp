@@ -25,6 +25,7 @@ class ServiceMetrics {
     Histogram& render_seconds;      // GL time of one frame
     Histogram& preprocess_seconds;  // decoding a map and building its rig
     Counter& rigs_computed;         // each rig actually computed, never a cache hit
+    Counter& meshes_loaded;         // each mesh actually decoded (upload or store), never a hit
     Gauge& render_queue_depth;      // frames waiting for a render worker
     Gauge& render_workers_ready;    // workers with a GL context that rendered a test frame
 

@@ -147,3 +147,21 @@ TEST(JsonSchema, EachKindOfViolationIsCaughtAndNamed) {
     EXPECT_FALSE(oer::testing::schema_errors(3, {{"type", {"string", "null"}}}, root).empty());
     EXPECT_FALSE(oer::testing::schema_errors(3, {{"multipleOf", 2}}, root).empty());
 }
+
+TEST(JsonSchema, ABrokenSchemaThrowsNamingItsKeyword) {
+    // A bound written as a string, a pattern as a number: the spec is broken, which is not a
+    // violation by the value.
+    for (const auto& [schema, keyword] : {std::pair{Json{{"minLength", "3"}}, "minLength"},
+                                          {Json{{"pattern", 7}}, "pattern"},
+                                          {Json{{"required", "id"}}, "required"}}) {
+        SCOPED_TRACE(schema.dump());
+        try {
+            oer::testing::schema_errors(Json::object(), schema, schema);
+            oer::testing::schema_errors("text", schema, schema);
+            ADD_FAILURE() << "no exception";
+        } catch (const std::runtime_error& error) {
+            EXPECT_EQ(std::string(error.what()).find(std::string("schema keyword ") + keyword), 0u)
+                << error.what();
+        }
+    }
+}

@@ -78,16 +78,9 @@ Spec::Block environment_upload_parameters() {
 
 // The schema of the query parameter `name` in a block of parameters.
 Spec::Block parameter_schema(const Spec::Block& parameters, const std::string& name) {
-    const auto& lines = spec().lines();
-    for (std::size_t i = parameters.begin; i < parameters.end; ++i) {
-        if (trim(lines[i]) == "- name: " + name) {
-            // The parameter ends where the next item of the same list starts.
-            const std::string next_item = lines[i].substr(0, lines[i].find('-')) + "- ";
-            std::size_t end = i + 1;
-            while (end < parameters.end && lines[end].rfind(next_item, 0) != 0) {
-                ++end;
-            }
-            return spec().child({i + 1, end, true}, "schema");
+    for (const Spec::Block& parameter : spec().items(parameters)) {
+        if (spec().value(parameter, "name") == name) {
+            return spec().child(parameter, "schema");
         }
     }
     return {};

@@ -2,6 +2,7 @@
 // with the right status, a detail, and (422, 404) the member or parameter at fault.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <set>
 
 #include "http_support.hpp"
@@ -27,21 +28,26 @@ class Errors : public ::testing::Test {
     static void TearDownTestSuite() {
         delete server_;
         delete root_;
+        server_ = nullptr;
+        root_ = nullptr;
+        rig_.reset();
     }
     void SetUp() override { client_ = server_->client(); }
 
-    // A rig of three lights, uploaded once.
+    // A rig of three lights, uploaded once to the suite's server (each --gtest_repeat round
+    // starts a new server, with an empty data folder).
     static const Json& rig() {
-        static const Json uploaded = [] {
+        if (!rig_) {
             auto client = server_->client();
-            return upload_environment(*client, exr_bytes(three_disc_environment(128, 64).image),
+            rig_ = upload_environment(*client, exr_bytes(three_disc_environment(128, 64).image),
                                       "image/x-exr", "light_count=3");
-        }();
-        return uploaded;
+        }
+        return *rig_;
     }
 
     static inline TempRoot* root_ = nullptr;
     static inline TestServer* server_ = nullptr;
+    static inline std::optional<Json> rig_;
     std::unique_ptr<httplib::Client> client_;
 };
 

@@ -157,10 +157,15 @@ Json expect_conforms(const std::string& method, const std::string& route,
 
     const Json headers = response.value("headers", Json::object());
     for (const auto& [name, declared] : headers.items()) {
+        const Json& header = resolve(declared);
         if (!result->has_header(name)) {
+            // OpenAPI 3.1, Header Object: `required` defaults to false.
+            if (header.value("required", false)) {
+                ADD_FAILURE() << where << ": the required header " << name << " is missing";
+            }
             continue;
         }
-        const Json& schema = resolve(declared).at("schema");
+        const Json& schema = header.at("schema");
         const std::string text = result->get_header_value(name);
         Json value = text;
         if (resolve(schema).value("type", "") == "integer") {

@@ -282,6 +282,8 @@ TEST(RenderCaching, EtagRoundTripAndFrameCache) {
     ASSERT_EQ(second->status, 200);
     EXPECT_EQ(second->get_header_value("X-Oer-Cache"), "hit");
     EXPECT_EQ(second->get_header_value("ETag"), etag);
+    // A cached frame has no Server-Timing, which the spec therefore does not require.
+    expect_conforms("GET", "/v1/render", second);
     EXPECT_EQ(second->body, first->body);
 
     const auto revalidated = client->Get(query.c_str(), {{"If-None-Match", etag}});

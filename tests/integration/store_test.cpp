@@ -1,6 +1,6 @@
 // The data folder across restarts: a rig computed before a restart is served after it without
 // recomputation, and a damaged rig entry is detected, recomputed from its source and served
-// correctly; concurrent uploads of one map compute its rig once.
+// correctly; concurrent uploads of one map compute its rig once, and of one mesh load it once.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -174,4 +174,60 @@ TEST(Store, ConcurrentUploadsOfOneMapComputeItsRigOnce) {
     EXPECT_EQ(computed_here, 1);
     auto client = server.client();
     EXPECT_EQ(scrape(*client).sum("oer_rigs_computed_total"), 1.0);
+}
+
+namespace {
+
+// An OBJ of a square grid of n x n quads on y = 0 (2 n^2 triangles): large enough (n = 300,
+// 4 MB) that loading it overlaps every concurrent upload.
+std::string grid_obj(int n) {
+    std::string text;
+    text.reserve(std::size_t(n + 1) * std::size_t(n + 1) * 24 +
+                 std::size_t(n) * std::size_t(n) * 60);
+    for (int z = 0; z <= n; ++z) {
+        for (int x = 0; x <= n; ++x) {
+            text += "v " + std::to_string(x) + " 0 " + std::to_string(z) + "\n";
+        }
+    }
+    const auto vertex = [n](int x, int z) { return std::to_string(z * (n + 1) + x + 1); };
+    for (int z = 0; z < n; ++z) {
+        for (int x = 0; x < n; ++x) {
+            text += "f " + vertex(x, z) + " " + vertex(x, z + 1) + " " + vertex(x + 1, z + 1) +
+                    "\nf " + vertex(x, z) + " " + vertex(x + 1, z + 1) + " " + vertex(x + 1, z) +
+                    "\n";
+        }
+    }
+    return text;
+}
+
+}  // namespace
+
+TEST(Store, ConcurrentUploadsOfOneMeshLoadItOnce) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    const std::string bytes = grid_obj(300);
+    constexpr int kClients = 4;
+    std::vector<Json> answers(kClients);
+    std::latch ready(kClients);
+    std::vector<std::thread> threads;
+    for (int i = 0; i < kClients; ++i) {
+        threads.emplace_back([&, i] {
+            auto client = server.client();
+            ready.arrive_and_wait();
+            answers[std::size_t(i)] = upload_mesh(*client, bytes, "model/obj");
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    int loaded_here = 0;
+    for (const Json& answer : answers) {
+        ASSERT_TRUE(answer.is_object());
+        EXPECT_EQ(answer.at("id"), answers[0].at("id"));
+        EXPECT_EQ(answer.at("counts").at("triangles"), 2 * 300 * 300);
+        loaded_here += answer.at("cached") == false ? 1 : 0;
+    }
+    EXPECT_EQ(loaded_here, 1);
+    auto client = server.client();
+    EXPECT_EQ(scrape(*client).sum("oer_meshes_loaded_total"), 1.0);
 }

@@ -1042,6 +1042,26 @@ TEST(MeshLoadingAssimpSamples, IncorrectVertexArraysIsRejected) {
         {"mesh 'TruncatedCube' primitive 0: vertex count 35 is not a multiple of 3"});
 }
 
+// Required glTF properties that are absent, or of the wrong shape without a wrong type, are
+// named with their path (the samples above cover wrong types).
+TEST(MeshLoadingGltf, MissingOrMisshapenPropertiesAreNamed) {
+    const std::string asset = R"("asset": {"version": "2.0"})";
+    const std::map<std::string, std::string> expected{
+        {R"("materials": [{"normalTexture": {"scale": 1}}])",
+         "invalid glTF: materials[0].normalTexture.index is required"},
+        {R"("meshes": [{}])", "invalid glTF: meshes[0].primitives must be a non-empty array"},
+        {R"("meshes": [{"primitives": [{}]}])",
+         "invalid glTF: meshes[0].primitives[0].attributes must be an object"},
+        {R"("nodes": [{"matrix": [1, 0, 0, 1]}])",
+         "invalid glTF: nodes[0].matrix must be an array of 16 numbers"},
+    };
+    for (const auto& [members, message] : expected) {
+        SCOPED_TRACE(members);
+        expect_error([&] { load_gltf_text("{" + asset + ", " + members + "}"); },
+                     ErrorKind::InvalidInput, {"test.gltf: " + message});
+    }
+}
+
 TEST(MeshLoadingAssimpSamples, SchemaFailuresAreRejected) {
     REQUIRE_ASSIMP_SAMPLES();
     // tinygltf alone would take scene 0 instead; the schema check names the property (before

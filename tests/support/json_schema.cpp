@@ -1,10 +1,12 @@
 #include "json_schema.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <regex>
 #include <set>
 #include <stdexcept>
 
+#include "oer/core/checked_json.hpp"
 #include "openapi_spec.hpp"
 
 namespace oer::testing {
@@ -16,6 +18,20 @@ namespace {
 const std::set<std::string> kAnnotations = {
     "description", "default", "format",  "contentMediaType", "contentEncoding", "title",
     "examples",    "example", "summary", "deprecated",       "readOnly",        "writeOnly"};
+
+// A schema whose keyword has an argument of the wrong type is a broken spec, not a violation
+// by the value: it throws, naming the keyword.
+struct SchemaWording {
+    [[noreturn]] void fail(const std::string& keyword, const std::string& message) const {
+        throw std::runtime_error("schema keyword " + keyword + ": " + message);
+    }
+    std::string wrong_type(const std::string& expected, const Json& value) const {
+        return "expected " + expected + ", got " + value.dump();
+    }
+    std::string missing() const { return "missing"; }
+};
+
+const checked_json::Reader<SchemaWording> read(SchemaWording{}, checked_json::PathStyle::Slash);
 
 const Json& resolve_pointer(const Json& root, const std::string& reference) {
     if (reference.rfind("#", 0) != 0) {
@@ -80,16 +96,16 @@ void validate(const Json& value, const Json& schema, const Json& root, const std
             continue;
         }
         if (keyword == "$ref") {
-            validate(value, resolve_pointer(root, argument.get<std::string>()), root, where, errors,
-                     depth + 1);
+            validate(value, resolve_pointer(root, read.string(argument, keyword)), root, where,
+                     errors, depth + 1);
         } else if (keyword == "type") {
             bool matches = false;
             if (argument.is_array()) {
                 for (const Json& name : argument) {
-                    matches = matches || has_type(value, name.get<std::string>());
+                    matches = matches || has_type(value, read.string(name, keyword));
                 }
             } else {
-                matches = has_type(value, argument.get<std::string>());
+                matches = has_type(value, read.string(argument, keyword));
             }
             if (!matches) {
                 fail(value.dump() + " is not of type " + argument.dump());
@@ -97,7 +113,7 @@ void validate(const Json& value, const Json& schema, const Json& root, const std
             }
         } else if (keyword == "enum") {
             bool listed = false;
-            for (const Json& option : argument) {
+            for (const Json& option : read.array(argument, keyword)) {
                 listed = listed || same(option, value);
             }
             if (!listed) {
@@ -112,7 +128,7 @@ void validate(const Json& value, const Json& schema, const Json& root, const std
             if (!value.is_number()) {
                 continue;
             }
-            const double v = value.get<double>(), bound = argument.get<double>();
+            const double v = value.get<double>(), bound = read.number(argument, keyword);
             const bool ok = keyword == "minimum"            ? v >= bound
                             : keyword == "maximum"          ? v <= bound
                             : keyword == "exclusiveMinimum" ? v > bound
@@ -125,20 +141,21 @@ void validate(const Json& value, const Json& schema, const Json& root, const std
                 continue;
             }
             const std::size_t length = value.get<std::string>().size();
-            const std::size_t bound = argument.get<std::size_t>();
+            const std::uint64_t bound = read.index(argument, keyword);
             if (keyword == "minLength" ? length < bound : length > bound) {
                 fail("length " + std::to_string(length) + " violates " + keyword);
             }
         } else if (keyword == "pattern") {
-            if (value.is_string() && !std::regex_search(value.get<std::string>(),
-                                                        std::regex(argument.get<std::string>()))) {
+            if (value.is_string() &&
+                !std::regex_search(value.get<std::string>(),
+                                   std::regex(read.string(argument, keyword)))) {
                 fail(value.dump() + " does not match " + argument.dump());
             }
         } else if (keyword == "minItems" || keyword == "maxItems") {
             if (!value.is_array()) {
                 continue;
             }
-            const std::size_t bound = argument.get<std::size_t>();
+            const std::uint64_t bound = read.index(argument, keyword);
             if (keyword == "minItems" ? value.size() < bound : value.size() > bound) {
                 fail(std::to_string(value.size()) + " items violate " + keyword + " " +
                      argument.dump());
@@ -155,8 +172,8 @@ void validate(const Json& value, const Json& schema, const Json& root, const std
             if (!value.is_object()) {
                 continue;
             }
-            for (const Json& name : argument) {
-                if (!value.contains(name.get<std::string>())) {
+            for (const Json& name : read.array(argument, keyword)) {
+                if (!value.contains(read.string(name, keyword))) {
                     fail("lacks required member " + name.dump());
                 }
             }
@@ -186,13 +203,13 @@ void validate(const Json& value, const Json& schema, const Json& root, const std
                 }
             }
         } else if (keyword == "allOf") {
-            for (const Json& part : argument) {
+            for (const Json& part : read.array(argument, keyword)) {
                 validate(value, part, root, where, errors, depth + 1);
             }
         } else if (keyword == "anyOf" || keyword == "oneOf") {
             int matched = 0;
             std::vector<std::string> reasons;
-            for (const Json& part : argument) {
+            for (const Json& part : read.array(argument, keyword)) {
                 std::vector<std::string> part_errors;
                 validate(value, part, root, where, part_errors, depth + 1);
                 matched += part_errors.empty();
@@ -234,7 +251,7 @@ const Json& openapi_node(const std::string& pointer) {
     const Json& root = openapi_spec().json();
     const Json* node = &resolve_pointer(root, pointer);
     for (int depth = 0; depth < 64 && node->is_object() && node->contains("$ref"); ++depth) {
-        node = &resolve_pointer(root, node->at("$ref").get<std::string>());
+        node = &resolve_pointer(root, read.string(node->at("$ref"), "$ref"));
     }
     return *node;
 }

@@ -2,7 +2,6 @@
 
 #include <fstream>
 #include <sstream>
-#include <stdexcept>
 
 namespace oer::testing {
 
@@ -59,26 +58,60 @@ Json scalar_json(const std::string& text) {
     return Json(unquote(text));
 }
 
+namespace {
+
+// yaml-cpp tags a plain (unquoted) scalar "?", a quoted or block one "!".
+bool plain(const YAML::Node& node) {
+    return node.Tag() == "?";
+}
+
+// A scalar as written: quoted ones keep their quotes, so that callers tell '85' from 85.
+std::string scalar_text(const YAML::Node& node) {
+    return plain(node) ? node.Scalar() : "'" + node.Scalar() + "'";
+}
+
+Json node_json(const YAML::Node& node) {
+    switch (node.Type()) {
+        case YAML::NodeType::Map: {
+            Json object = Json::object();
+            for (const auto& entry : node) {
+                object[entry.first.Scalar()] = node_json(entry.second);
+            }
+            return object;
+        }
+        case YAML::NodeType::Sequence: {
+            Json list = Json::array();
+            for (const auto& item : node) {
+                list.push_back(node_json(item));
+            }
+            return list;
+        }
+        case YAML::NodeType::Scalar:
+            return plain(node) ? scalar_json(node.Scalar()) : Json(node.Scalar());
+        case YAML::NodeType::Null:
+        case YAML::NodeType::Undefined:
+            return nullptr;
+    }
+    return nullptr;
+}
+
+}  // namespace
+
 Spec::Spec(const std::filesystem::path& path) {
     std::ifstream in(path);
     for (std::string line; std::getline(in, line);) {
         lines_.push_back(line);
     }
+    root_ = YAML::LoadFile(path.string());
 }
 
 Spec::Block Spec::child(const Block& block, const std::string& key) const {
-    const std::size_t top = top_indentation(block);
-    for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-        if (skip(lines_[i]) || indentation(lines_[i]) != top || key_of(lines_[i]) != key) {
-            continue;
-        }
-        std::size_t end = i + 1;
-        while (end < block.end && (skip(lines_[end]) || indentation(lines_[end]) > top)) {
-            ++end;
-        }
-        return {i + 1, end, true};
+    if (!block.found || !block.node->IsMap()) {
+        return {};
     }
-    return {};
+    const YAML::Node& map = *block.node;
+    const YAML::Node found = map[key];
+    return found.IsDefined() ? Block{std::make_shared<const YAML::Node>(found), true} : Block{};
 }
 
 Spec::Block Spec::at(Block block, const std::vector<std::string>& keys) const {
@@ -89,26 +122,45 @@ Spec::Block Spec::at(Block block, const std::vector<std::string>& keys) const {
 }
 
 std::optional<std::string> Spec::value(const Block& block, const std::string& key) const {
-    const std::size_t top = top_indentation(block);
-    for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-        if (!skip(lines_[i]) && indentation(lines_[i]) == top && key_of(lines_[i]) == key) {
-            const std::string line = trim(lines_[i]);
-            const std::string rest = trim(line.substr(line.find(':') + 1));
-            return rest.empty() ? std::nullopt : std::optional<std::string>(rest);
+    const Block found = child(block, key);
+    if (!found.found) {
+        return std::nullopt;
+    }
+    const YAML::Node& node = *found.node;
+    if (node.IsScalar()) {
+        return scalar_text(node);
+    }
+    if (node.IsSequence() && node.Style() == YAML::EmitterStyle::Flow) {
+        std::string list;
+        for (const auto& item : node) {
+            list += (list.empty() ? "" : ", ") + scalar_text(item);
         }
+        return "[" + list + "]";
+    }
+    if (node.IsMap() && node.Style() == YAML::EmitterStyle::Flow && node.size() == 0) {
+        return "{}";
     }
     return std::nullopt;
 }
 
 std::vector<std::string> Spec::keys(const Block& block) const {
     std::vector<std::string> keys;
-    const std::size_t top = top_indentation(block);
-    for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-        if (!skip(lines_[i]) && indentation(lines_[i]) == top && !key_of(lines_[i]).empty()) {
-            keys.push_back(key_of(lines_[i]));
+    if (block.found && block.node->IsMap()) {
+        for (const auto& entry : *block.node) {
+            keys.push_back(entry.first.Scalar());
         }
     }
     return keys;
+}
+
+std::vector<Spec::Block> Spec::items(const Block& block) const {
+    std::vector<Block> items;
+    if (block.found && block.node->IsSequence()) {
+        for (const auto& item : *block.node) {
+            items.push_back({std::make_shared<const YAML::Node>(item), true});
+        }
+    }
+    return items;
 }
 
 Spec::Block Spec::reference(const std::string& pointer) const {
@@ -136,144 +188,18 @@ Spec::Block Spec::resolved(Block block) const {
 
 std::set<std::string> Spec::query_parameters(const Block& block) const {
     std::set<std::string> names;
-    for (std::size_t i = block.begin; block.found && i + 1 < block.end; ++i) {
-        const std::string line = trim(lines_[i]);
-        if (line.rfind("- name: ", 0) == 0 && trim(lines_[i + 1]) == "in: query") {
-            names.insert(line.substr(8));
+    for (const Block& parameter : items(block)) {
+        if (value(parameter, "in") == "query") {
+            if (const auto name = value(parameter, "name")) {
+                names.insert(unquote(*name));
+            }
         }
     }
     return names;
 }
 
-bool Spec::skip(const std::string& line) {
-    const std::string text = trim(line);
-    return text.empty() || text[0] == '#';
-}
-
-std::size_t Spec::indentation(const std::string& line) {
-    return line.find_first_not_of(' ');
-}
-
-std::string Spec::key_of(const std::string& line) {
-    const std::string text = trim(line);
-    const std::size_t colon = text.find(':');
-    if (colon == std::string::npos || text[0] == '-' ||
-        (colon + 1 < text.size() && text[colon + 1] != ' ')) {
-        return "";
-    }
-    return unquote(text.substr(0, colon));
-}
-
-std::size_t Spec::top_indentation(const Block& block) const {
-    for (std::size_t i = block.begin; block.found && i < block.end; ++i) {
-        if (!skip(lines_[i])) {
-            return indentation(lines_[i]);
-        }
-    }
-    return 0;
-}
-
-namespace {
-
-bool blank_or_comment(const std::string& line) {
-    const std::string text = trim(line);
-    return text.empty() || text[0] == '#';
-}
-
-std::size_t indent_of(const std::string& line) {
-    return line.find_first_not_of(' ');
-}
-
-// Lines (a copy, so that list items can be re-indented) as JSON.
-Json lines_to_json(const std::vector<std::string>& lines) {
-    std::size_t first = 0;
-    while (first < lines.size() && blank_or_comment(lines[first])) {
-        ++first;
-    }
-    if (first == lines.size()) {
-        return nullptr;
-    }
-    const std::size_t top = indent_of(lines[first]);
-    // The body of the item or key on line i: the lines after it indented deeper.
-    const auto body_end = [&](std::size_t i) {
-        std::size_t end = i + 1;
-        while (end < lines.size() &&
-               (blank_or_comment(lines[end]) || indent_of(lines[end]) > top)) {
-            ++end;
-        }
-        return end;
-    };
-    const bool list = trim(lines[first]) == "-" || trim(lines[first]).rfind("- ", 0) == 0;
-    Json result = list ? Json::array() : Json::object();
-    for (std::size_t i = first; i < lines.size();) {
-        if (blank_or_comment(lines[i])) {
-            ++i;
-            continue;
-        }
-        if (indent_of(lines[i]) != top) {
-            throw std::runtime_error("openapi.yaml: unexpected indentation: " + lines[i]);
-        }
-        const std::string text = trim(lines[i]);
-        const std::size_t end = body_end(i);
-        const std::vector<std::string> body(lines.begin() + std::ptrdiff_t(i + 1),
-                                            lines.begin() + std::ptrdiff_t(end));
-        if (list) {
-            if (text.rfind("- ", 0) != 0) {
-                throw std::runtime_error("openapi.yaml: not a list item: " + lines[i]);
-            }
-            const std::string item = trim(text.substr(2));
-            const std::size_t colon = item.find(':');
-            const bool mapping = colon != std::string::npos && item[0] != '[' && item[0] != '{' &&
-                                 item[0] != '\'' && item[0] != '"' &&
-                                 (colon + 1 == item.size() || item[colon + 1] == ' ');
-            if (mapping) {
-                std::vector<std::string> nested{std::string(top + 2, ' ') + item};
-                nested.insert(nested.end(), body.begin(), body.end());
-                result.push_back(lines_to_json(nested));
-            } else if (item == "{}") {
-                result.push_back(Json::object());
-            } else {
-                result.push_back(scalar_json(item));
-            }
-        } else {
-            const std::size_t colon = text.find(':');
-            if (colon == std::string::npos || text[0] == '-') {
-                throw std::runtime_error("openapi.yaml: not a mapping entry: " + lines[i]);
-            }
-            const std::string key = unquote(text.substr(0, colon));
-            const std::string rest = trim(text.substr(colon + 1));
-            if (rest == "|") {
-                std::string joined;
-                std::size_t body_indent = std::string::npos;
-                for (const std::string& line : body) {
-                    if (!trim(line).empty()) {
-                        body_indent = std::min(body_indent, indent_of(line));
-                    }
-                }
-                for (const std::string& line : body) {
-                    joined += (trim(line).empty() ? "" : line.substr(body_indent)) + "\n";
-                }
-                result[key] = joined;
-            } else if (rest.empty()) {
-                result[key] = lines_to_json(body);
-            } else {
-                result[key] = scalar_json(rest);
-            }
-        }
-        i = end;
-    }
-    return result;
-}
-
-}  // namespace
-
-Json Spec::node(std::size_t begin, std::size_t end) const {
-    return lines_to_json(std::vector<std::string>(lines_.begin() + std::ptrdiff_t(begin),
-                                                  lines_.begin() + std::ptrdiff_t(end)));
-}
-
 Json Spec::to_json(const Block& block) const {
-    return block.found ? node(block.begin, block.end) : Json();
+    return block.found ? node_json(*block.node) : Json();
 }
 
 const Json& Spec::json() const {

@@ -2,17 +2,18 @@
 // A reader for api/openapi.yaml, shared by the unit test that holds the parsers to the spec and
 // the integration tests that hold the live server to it.
 //
-// No YAML library is installed, and the file keeps to a plain subset (block mappings, two-space
-// indentation, one-line flow lists, `|` block scalars; see its head) that a few lines here can
-// walk: a key's body is the lines indented under it. Spec::to_json converts any block (or the
-// whole document) into JSON, so that a JSON-Schema validator (json_schema.hpp) can work on it.
+// The file is parsed with yaml-cpp; a Block is one of its nodes. Spec::to_json converts any
+// block (or the whole document) into JSON, so that a JSON-Schema validator (json_schema.hpp)
+// can work on it.
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
 #include <nlohmann/json.hpp>
 
 namespace oer::testing {
@@ -29,23 +30,29 @@ nlohmann::json scalar_json(const std::string& text);
 
 class Spec {
   public:
-    // The body of one key: lines [begin, end). An empty block (found == false) has no keys.
+    // One node of the document. An empty block (found == false) has no keys. The node is held
+    // by pointer because assigning a YAML::Node rebinds the node it refers to inside the
+    // document (yaml-cpp's reference semantics): Blocks must stay assignable views.
     struct Block {
-        std::size_t begin = 0;
-        std::size_t end = 0;
+        std::shared_ptr<const YAML::Node> node;
         bool found = false;
     };
 
     explicit Spec(const std::filesystem::path& path);
 
+    // The file's lines, as written (for checks on its text, such as every $ref).
     const std::vector<std::string>& lines() const { return lines_; }
-    Block document() const { return {0, lines_.size(), !lines_.empty()}; }
+    Block document() const { return {std::make_shared<const YAML::Node>(root_), true}; }
 
     Block child(const Block& block, const std::string& key) const;
     Block at(Block block, const std::vector<std::string>& keys) const;
-    // The inline value of `key` on the block's top level ("type: integer" -> "integer").
+    // The inline value of `key` in a mapping, as written: a scalar ("type: integer" ->
+    // "integer", quoted ones with their quotes) or a flow list ("[a, b]"); nullopt for a
+    // nested block or a missing key.
     std::optional<std::string> value(const Block& block, const std::string& key) const;
     std::vector<std::string> keys(const Block& block) const;
+    // The items of a list.
+    std::vector<Block> items(const Block& block) const;
     // Where a "#/components/schemas/Name" reference points.
     Block reference(const std::string& pointer) const;
     // Follows $ref until a block without one.
@@ -53,21 +60,15 @@ class Spec {
     // The names of the query parameters declared in a block of parameters.
     std::set<std::string> query_parameters(const Block& block) const;
 
-    // The block as JSON: mappings become objects, "- " lists arrays, scalars scalar_json,
-    // `|` block scalars strings. Throws std::runtime_error on a line outside the subset.
+    // The block as JSON: mappings become objects, lists arrays, plain scalars scalar_json,
+    // quoted and block scalars strings.
     nlohmann::json to_json(const Block& block) const;
     // The whole document as JSON, converted once.
     const nlohmann::json& json() const;
 
   private:
-    static bool skip(const std::string& line);
-    static std::size_t indentation(const std::string& line);
-    static std::string key_of(const std::string& line);
-    std::size_t top_indentation(const Block& block) const;
-    // Lines [begin, end) at indentation `indent` (and deeper) as JSON.
-    nlohmann::json node(std::size_t begin, std::size_t end) const;
-
     std::vector<std::string> lines_;
+    YAML::Node root_;
     mutable std::optional<nlohmann::json> json_;
 };
 
