@@ -11,12 +11,12 @@
 #include "commands.hpp"
 #include "environment_input.hpp"
 #include "oer/api/content_id.hpp"
+#include "oer/api/frame_encoding.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/render_request.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
-#include "oer/image/image_encoding.hpp"
 #include "oer/mesh/default_product.hpp"
 #include "oer/mesh/mesh_loading.hpp"
 
@@ -167,10 +167,7 @@ int render_command(const std::vector<std::string>& arguments) {
                             })
                             .get();
     const auto encode_start = std::chrono::steady_clock::now();
-    const std::vector<std::uint8_t> bytes =
-        spec.format == api::ImageFormat::Exr   ? encode_exr(frame.width, frame.height, frame.linear)
-        : spec.format == api::ImageFormat::Png ? encode_png(frame.display)
-                                               : encode_jpeg(frame.display, spec.quality);
+    const std::vector<std::uint8_t> bytes = api::encode(frame, spec.format, spec.quality);
     const double encode_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - encode_start)
             .count();
