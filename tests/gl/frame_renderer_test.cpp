@@ -3,10 +3,18 @@
 // rig's SH irradiance.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
+#include <stdexcept>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -15,6 +23,7 @@
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
+#include "oer/image/image_encoding.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/rig.hpp"
@@ -162,6 +171,42 @@ FrameRequest box_on_ground_request(std::shared_ptr<const Rig> rig, glm::dvec3 lo
     request.shadows.filter = ShadowFilter::Hard;
     request.shadows.resolution = 4096;
     return request;
+}
+
+std::string base64(const std::vector<std::uint8_t>& bytes) {
+    static constexpr char kDigits[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string text;
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+        const std::size_t left = bytes.size() - i;
+        const std::uint32_t group = std::uint32_t(bytes[i]) << 16 |
+                                    (left > 1 ? std::uint32_t(bytes[i + 1]) << 8 : 0) |
+                                    (left > 2 ? std::uint32_t(bytes[i + 2]) : 0);
+        text += kDigits[(group >> 18) & 63];
+        text += kDigits[(group >> 12) & 63];
+        text += left > 1 ? kDigits[(group >> 6) & 63] : '=';
+        text += left > 2 ? kDigits[group & 63] : '=';
+    }
+    return text;
+}
+
+// glTF-Sample-Models' BoxTextured with its base-color image replaced by a grey width x height
+// PNG, loaded as an upload would be.
+Mesh box_textured_with(const std::string& root, int width, int height) {
+    std::ifstream file(root + "BoxTextured-glTF-Embedded/BoxTextured.gltf");
+    std::string gltf{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+    const std::string marker = "data:image/png;base64,";
+    const std::size_t start = gltf.find(marker);
+    if (start == std::string::npos) {
+        throw std::runtime_error("BoxTextured.gltf has no embedded PNG");
+    }
+    const std::size_t end = gltf.find('"', start);
+    Rgba8Image image;
+    image.width = width;
+    image.height = height;
+    image.pixels.assign(std::size_t(width) * std::size_t(height) * 4, 128);
+    gltf.replace(start, end - start, marker + base64(encode_png(image)));
+    return load_mesh_memory(std::as_bytes(std::span(gltf)), "BoxTextured.gltf", MeshFormat::Gltf);
 }
 
 Camera front_camera() {
@@ -483,6 +528,59 @@ TEST_F(FrameRendererTest, AntiAliasingAveragesSupersamplesBeforeToneMapping) {
     EXPECT_GT(partly_covered, 100);
 }
 
+TEST_F(FrameRendererTest, ValidationKeepsTheRenderersOwnRules) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    FrameRequest good = sphere_request(rig, front_camera());
+    good.width = good.height = 32;
+    const auto expect_error = [&](const FrameRequest& request, ErrorKind kind,
+                                  const std::string& member) {
+        try {
+            render(request);
+            ADD_FAILURE() << "accepted a request with a bad " << member;
+        } catch (const Error& error) {
+            EXPECT_EQ(error.kind(), kind) << error.what();
+            EXPECT_NE(std::string(error.what()).find(member), std::string::npos) << error.what();
+        }
+    };
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    FrameRequest request = good;
+    request.samples = 0;
+    expect_error(request, ErrorKind::InvalidInput, "samples");
+    request = good;
+    request.shadows.resolution = 0;
+    expect_error(request, ErrorKind::LimitExceeded, "shadow_resolution");
+    request = good;
+    request.shadows.resolution = 1 << 20;
+    expect_error(request, ErrorKind::LimitExceeded, "shadow_resolution");
+    request = good;
+    request.exposure = nan;
+    expect_error(request, ErrorKind::InvalidInput, "exposure");
+    request = good;
+    request.background = {BackgroundKind::Color, {nan, 0.0f, 0.0f}};
+    expect_error(request, ErrorKind::InvalidInput, "background");
+    request = good;
+    request.objects[0].base_color = glm::vec3(-0.1f);
+    expect_error(request, ErrorKind::InvalidInput, "objects[0].base_color");
+    request = good;
+    request.objects[0].mesh = nullptr;
+    expect_error(request, ErrorKind::InvalidInput, "objects[0].mesh");
+
+    // What only the API rules out, the renderer draws: 3 samples (the API offers 1, 2, 4 and
+    // 8), an 8-texel shadow map (the API asks for a power of two of at least 64), and a
+    // background color outside [0, 1], which the 8-bit output clamps.
+    request = good;
+    request.samples = 3;
+    request.shadows.resolution = 8;
+    request.linear = false;
+    request.background = {BackgroundKind::Color, {1.5f, 0.5f, -0.25f}};
+    const Frame frame = render(request);
+    ASSERT_EQ(frame.display.pixels.size(), std::size_t(32 * 32 * 4));
+    EXPECT_EQ(frame.display.pixels[0], 255);  // a corner: the background
+    EXPECT_NEAR(frame.display.pixels[1], 128, 1);
+    EXPECT_EQ(frame.display.pixels[2], 0);
+    EXPECT_EQ(frame.display.pixels[3], 255);
+}
+
 TEST_F(FrameRendererTest, SixteenShadowingLightsEachCastTheirShadow) {
     // 16 lights need 16 shadow maps: more than one texture unit each would exceed what GPUs
     // and llvmpipe offer.
@@ -661,10 +759,51 @@ TEST_F(FrameRendererTest, BrokenAssetsAreRejectedAndLeaveTheRendererClean) {
         }
     }
     EXPECT_EQ(rejected, 4);
-    // A frame after the rejections: render() ends with check_gl_errors, which throws on any
-    // GL error or debug-output error left behind.
+
     const auto rig = make_rig(three_light_map(), 3, 3);
-    FrameRequest request = sphere_request(rig, front_camera());
-    request.ground = true;
-    EXPECT_NO_THROW(render(request));
+    FrameRequest good = sphere_request(rig, front_camera());
+    good.ground = true;
+    const Frame before = render(good);
+
+    // Assets that load but are degenerate, each beside the sphere, through every pass: normals
+    // the loader repaired, zero-area and collinear triangles (flat bounds), extents of 1e30 and
+    // 1e-30, and a texture as wide as GL allows. One more texel of width passes the loaders,
+    // which bound pixels, not sides, and GL would refuse its storage: the renderer refuses it
+    // first.
+    const int widest = thread_->info().max_texture_size;
+    std::vector<std::pair<std::string, Mesh>> degenerate;
+    degenerate.emplace_back("BoxBadNormals",
+                            load_mesh_file(root + "BoxBadNormals-glTF-Binary/BoxBadNormals.glb"));
+    for (const std::string obj :
+         {"v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n",
+          "v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nf 1 2 3\n",
+          "v 0 0 0\nv 1e-30 0 0\nv 0 1e-30 0\nf 1 2 3\n"}) {
+        degenerate.emplace_back(obj, load_mesh_memory(std::as_bytes(std::span(obj)),
+                                                      "degenerate.obj", MeshFormat::Obj));
+    }
+    for (const int width : {widest, widest + 1}) {
+        degenerate.emplace_back("a " + std::to_string(width) + "x1 texture",
+                                box_textured_with(root, width, 1));
+    }
+    std::vector<std::string> refused;
+    for (const auto& [name, mesh] : degenerate) {
+        FrameRequest request = good;
+        request.objects.push_back(
+            {std::make_shared<const Mesh>(mesh), glm::mat4(1.0f), std::nullopt});
+        try {
+            const Frame frame = render(request);
+            EXPECT_EQ(frame.linear.size(), std::size_t(good.width * good.height * 4)) << name;
+        } catch (const Error& error) {
+            EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded) << name << ": " << error.what();
+            EXPECT_NE(std::string(error.what()).find("objects[1].mesh: texture 0"),
+                      std::string::npos)
+                << error.what();
+            refused.push_back(name);
+        }
+    }
+    EXPECT_EQ(refused, std::vector<std::string>{"a " + std::to_string(widest + 1) + "x1 texture"});
+    // The next good frame is the one before, to the bit: render() ends with check_gl_errors,
+    // which throws on any GL error left behind, and nothing of the degenerate frames remains.
+    const Frame after = render(good);
+    EXPECT_EQ(after.linear, before.linear);
 }

@@ -32,6 +32,10 @@ bool finite(const glm::mat4& m) {
     return true;
 }
 
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
 }  // namespace
 
 void validate_frame_request(const FrameRequest& request, const FrameLimits& limits,
@@ -52,8 +56,9 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
         fail("lights", "the environment has " + std::to_string(request.rig->lights.size()) +
                            " light(s), got " + std::to_string(request.lights.size()) + " switches");
     }
-    if (request.samples < 1 || request.samples > 16) {
-        fail("samples", "must be in 1..16");
+    // Above one, the sample budget and the texture size below bound the samples.
+    if (request.samples < 1) {
+        fail("samples", "must be at least 1");
     }
     const int scale = supersampling_scale(request.samples);
     if (std::int64_t(request.width) * request.height * scale * scale > limits.max_samples_total ||
@@ -65,11 +70,14 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
                         " samples per frame and " + std::to_string(max_texture_size) +
                         " samples per side");
     }
-    if (request.shadows.resolution < 16 ||
-        request.shadows.resolution > limits.max_shadow_resolution) {
-        throw Error(ErrorKind::LimitExceeded, "shadow_resolution: must be in 16.." +
-                                                  std::to_string(limits.max_shadow_resolution));
+    if (request.shadows.resolution < 1 ||
+        request.shadows.resolution > std::min(limits.max_shadow_resolution, max_texture_size)) {
+        throw Error(ErrorKind::LimitExceeded,
+                    "shadow_resolution: must be in 1.." +
+                        std::to_string(std::min(limits.max_shadow_resolution, max_texture_size)));
     }
+    // 2^64 and 2^-64 are still normal floats: the shaders' exposure scale stays finite and
+    // non-zero.
     if (!std::isfinite(request.exposure) || std::abs(request.exposure) > 64.0) {
         fail("exposure", "must be a finite number of stops in [-64, 64]");
     }
@@ -85,15 +93,28 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
         if (!finite(object.transform) || std::abs(glm::determinant(object.transform)) < 1e-12f) {
             fail(member + ".transform", "must be finite and invertible");
         }
+        // The loaders bound a texture's pixels, not its sides: a 32768x1 image passes them,
+        // and GL would refuse its storage.
+        for (std::size_t t = 0; t < object.mesh->textures.size(); ++t) {
+            const Texture& texture = object.mesh->textures[t];
+            if (std::max(texture.width, texture.height) > max_texture_size) {
+                throw Error(ErrorKind::LimitExceeded,
+                            member + ".mesh: texture " + std::to_string(t) + " is " +
+                                std::to_string(texture.width) + "x" +
+                                std::to_string(texture.height) + ", over the limit of " +
+                                std::to_string(max_texture_size) + " texels per side");
+            }
+        }
+        // An albedo below zero would give negative radiance, which linear output would carry out.
         if (object.base_color &&
-            !(glm::all(glm::greaterThanEqual(*object.base_color, glm::vec3(0))) &&
-              std::isfinite(object.base_color->x + object.base_color->y + object.base_color->z))) {
+            !(finite(*object.base_color) &&
+              glm::all(glm::greaterThanEqual(*object.base_color, glm::vec3(0.0f))))) {
             fail(member + ".base_color", "must be finite and non-negative");
         }
     }
-    if (!request.linear && request.background.kind == BackgroundKind::Color &&
-        !glm::all(glm::lessThanEqual(glm::abs(request.background.color - 0.5f), glm::vec3(0.5f)))) {
-        fail("background", "the color must be in [0, 1]");
+    // A color outside [0, 1] is clamped by the 8-bit output; only a NaN would spread.
+    if (!finite(request.background.color)) {
+        fail("background", "the color must be finite");
     }
     if (request.background.kind == BackgroundKind::Environment && !request.environment_map) {
         fail("background", "the environment background needs the environment map");
