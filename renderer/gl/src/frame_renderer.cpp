@@ -31,8 +31,8 @@ std::size_t FrameRenderer::cached_shadow_maps() const {
     return state_->shadows.size();
 }
 
-// The passes in order, each timed to its end: llvmpipe runs GL commands on their own threads,
-// so each timing waits for the GPU (glFinish) before it stops.
+// The passes in order (passes/frame_passes.hpp). GL runs commands asynchronously (llvmpipe on
+// its rasterizer threads), so each pass's timing waits for them (glFinish) before it stops.
 Frame FrameRenderer::render(const FrameRequest& request) {
     validate_frame_request(request, state_->limits, state_->max_texture_size);
     RendererState& state = *state_;

@@ -6,7 +6,6 @@
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
-#include <glm/matrix.hpp>
 
 #include "frame_shaders.hpp"
 #include "passes/frame_passes.hpp"
