@@ -20,6 +20,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "base64.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
@@ -187,23 +188,6 @@ FrameRequest box_on_ground_request(std::shared_ptr<const Rig> rig, glm::dvec3 lo
     return request;
 }
 
-std::string base64(const std::vector<std::uint8_t>& bytes) {
-    static constexpr char kDigits[] =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string text;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-        const std::size_t left = bytes.size() - i;
-        const std::uint32_t group = std::uint32_t(bytes[i]) << 16 |
-                                    (left > 1 ? std::uint32_t(bytes[i + 1]) << 8 : 0) |
-                                    (left > 2 ? std::uint32_t(bytes[i + 2]) : 0);
-        text += kDigits[(group >> 18) & 63];
-        text += kDigits[(group >> 12) & 63];
-        text += left > 1 ? kDigits[(group >> 6) & 63] : '=';
-        text += left > 2 ? kDigits[group & 63] : '=';
-    }
-    return text;
-}
-
 // glTF-Sample-Models' BoxTextured with its base-color image replaced by a grey width x height
 // PNG, loaded as an upload would be.
 Mesh box_textured_with(const std::string& root, int width, int height) {
@@ -219,7 +203,7 @@ Mesh box_textured_with(const std::string& root, int width, int height) {
     image.width = width;
     image.height = height;
     image.pixels.assign(std::size_t(width) * std::size_t(height) * 4, 128);
-    gltf.replace(start, end - start, marker + base64(encode_png(image)));
+    gltf.replace(start, end - start, marker + oer::testing::base64(encode_png(image)));
     return load_mesh_memory(std::as_bytes(std::span(gltf)), "BoxTextured.gltf", MeshFormat::Gltf);
 }
 
@@ -541,7 +525,7 @@ TEST_F(FrameRendererTest, AntiAliasingAveragesSupersamplesBeforeToneMapping) {
     // The sphere's silhouette over the transparent background: coverage between 0 and 1.
     EXPECT_GT(partly_covered, 100);
 
-    // Display output through ACES, curved at every radiance (Neutral is linear below 0.76),
+    // Display output through ACES, curved at every radiance (Neutral is nearly linear below 0.76),
     // over a background color: each pixel must be the display transform of its samples' mean
     // radiance (`fine` holds them), not the mean of their display colors.
     request.samples = 4;
