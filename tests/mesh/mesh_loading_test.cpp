@@ -29,6 +29,7 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "base64.hpp"
 #include "oer/core/error.hpp"
 #include "oer/mesh/mesh.hpp"
 #include "oer/mesh/mesh_loading.hpp"
@@ -36,38 +37,12 @@
 using namespace oer;
 namespace fs = std::filesystem;
 using nlohmann::json;
+using oer::testing::base64;
 
 namespace {
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
-
-std::string base64(std::span<const std::uint8_t> bytes) {
-    static constexpr char alphabet[] =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    std::size_t i = 0;
-    for (; i + 2 < bytes.size(); i += 3) {
-        const std::uint32_t v = (bytes[i] << 16) | (bytes[i + 1] << 8) | bytes[i + 2];
-        out += alphabet[(v >> 18) & 63];
-        out += alphabet[(v >> 12) & 63];
-        out += alphabet[(v >> 6) & 63];
-        out += alphabet[v & 63];
-    }
-    if (i + 1 == bytes.size()) {
-        const std::uint32_t v = bytes[i] << 16;
-        out += alphabet[(v >> 18) & 63];
-        out += alphabet[(v >> 12) & 63];
-        out += "==";
-    } else if (i + 2 == bytes.size()) {
-        const std::uint32_t v = (bytes[i] << 16) | (bytes[i + 1] << 8);
-        out += alphabet[(v >> 18) & 63];
-        out += alphabet[(v >> 12) & 63];
-        out += alphabet[(v >> 6) & 63];
-        out += '=';
-    }
-    return out;
-}
 
 std::vector<std::uint8_t> read_bytes(const fs::path& path) {
     std::ifstream file(path, std::ios::binary);

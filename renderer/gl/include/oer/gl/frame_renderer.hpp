@@ -11,6 +11,8 @@
 
 namespace oer {
 
+struct RendererState;
+
 class FrameRenderer {
   public:
     explicit FrameRenderer(const FrameLimits& limits = {});
@@ -25,8 +27,7 @@ class FrameRenderer {
     std::size_t cached_shadow_maps() const;
 
   private:
-    struct State;
-    std::unique_ptr<State> state_;
+    std::unique_ptr<RendererState> state_;
 };
 
 }  // namespace oer

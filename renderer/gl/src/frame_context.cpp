@@ -1,0 +1,174 @@
+#include "frame_context.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/irradiance.hpp"
+#include "sh_shader_constants.hpp"
+
+namespace oer {
+
+namespace {
+
+SceneBounds scene_bounds(const std::vector<SceneObject>& objects) {
+    SceneBounds scene;
+    bool any = false;
+    for (const SceneObject& object : objects) {
+        const Bounds& b = object.mesh->bounds;
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::vec3 local{(corner & 1) ? b.max.x : b.min.x,
+                                  (corner & 2) ? b.max.y : b.min.y,
+                                  (corner & 4) ? b.max.z : b.min.z};
+            const glm::vec3 world = glm::vec3(object.transform * glm::vec4(local, 1.0f));
+            scene.box.min = any ? glm::min(scene.box.min, world) : world;
+            scene.box.max = any ? glm::max(scene.box.max, world) : world;
+            any = true;
+        }
+    }
+    if (!any) {
+        scene.box = {glm::vec3(-0.5f), glm::vec3(0.5f)};
+    }
+    scene.centre = scene.box.centre();
+    scene.radius = std::max(1e-4f, 0.5f * glm::length(scene.box.max - scene.box.min));
+    return scene;
+}
+
+// Orthographic light view fitted to the scene's bounding sphere along the light's direction.
+glm::mat4 light_matrix(const glm::vec3& direction, const SceneBounds& scene) {
+    const glm::vec3 up = std::abs(direction.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const float r = scene.radius;
+    const glm::mat4 view = glm::lookAt(scene.centre + direction * (2.0f * r), scene.centre, up);
+    return glm::ortho(-r, r, -r, r, r, 3.0f * r) * view;
+}
+
+void add_lights(FrameContext& frame) {
+    const FrameRequest& request = frame.request;
+    const Rig& rig = frame.rig;
+    const std::size_t light_count = rig.lights.size();
+    frame.on.assign(light_count, true);
+    for (std::size_t k = 0; k < request.lights.size(); ++k) {
+        frame.on[k] = request.lights[k];
+    }
+    for (std::size_t k = 0; k < light_count; ++k) {
+        if (frame.on[k]) {
+            frame.lit.push_back(k);
+        }
+    }
+    const double yaw = glm::radians(request.environment_yaw);
+    frame.yaw_cos_sin = {float(std::cos(yaw)), float(std::sin(yaw))};
+
+    std::vector<double> visibility(light_count);
+    for (std::size_t k = 0; k < light_count; ++k) {
+        visibility[k] = frame.on[k] ? 1.0 : 0.0;
+    }
+    frame.irradiance_sets.push_back(
+        irradiance_coefficients(visibility_coefficients(rig.sh, visibility), rig.window));
+    for (const std::size_t k : frame.lit) {
+        frame.irradiance_sets.push_back(irradiance_coefficients(rig.sh.per_light[k], rig.window));
+    }
+    if (rig.model == LightingModel::Thesis) {
+        for (std::size_t k = 0; k < light_count; ++k) {
+            frame.attenuation_base -= frame.on[k] ? 0.0 : rig.lights[k].luminance_share;
+        }
+    }
+}
+
+void add_camera(FrameContext& frame) {
+    const FrameRequest& request = frame.request;
+    const SceneBounds& scene = frame.scene;
+    const float aspect = float(request.width) / float(request.height);
+    frame.camera = request.camera.value_or(frame_bounds(scene.box, 45.0f, aspect));
+    frame.ground_half_size = 20.0f * scene.radius;
+    const float eye_distance = glm::length(frame.camera.eye - scene.centre);
+    const float far_plane =
+        eye_distance + (request.ground ? 1.5f * frame.ground_half_size : 2.0f * scene.radius);
+    frame.near_plane = std::max(far_plane * 1e-5f, 0.5f * (eye_distance - scene.radius));
+    frame.view_projection =
+        projection_matrix(frame.camera, aspect, std::min(frame.near_plane, far_plane * 0.5f),
+                          far_plane) *
+        view_matrix(frame.camera);
+}
+
+void add_shadow_views(FrameContext& frame) {
+    const FrameRequest& request = frame.request;
+    frame.shadows = request.shadows.enabled && !frame.lit.empty();
+    frame.pcf = request.shadows.filter == ShadowFilter::Pcf;
+    const int resolution = request.shadows.resolution;
+    frame.shadow_resolution = resolution;
+    for (const std::size_t k : frame.lit) {
+        const glm::vec3 direction = glm::normalize(glm::vec3(
+            equirect::rotate_yaw(frame.rig.lights[k].direction, request.environment_yaw)));
+        frame.light_directions.push_back(direction);
+        frame.light_matrices.push_back(light_matrix(direction, frame.scene));
+        // PCF radius: a penumbra about half the scene's radius from its occluder, seen through
+        // the light's angular radius; at least one texel.
+        frame.light_kernels.push_back(std::max(
+            1.0f / float(resolution), 0.25f * float(std::tan(frame.rig.lights[k].angular_radius))));
+    }
+    frame.normal_offset = 1.5f * 2.0f * frame.scene.radius / float(resolution);
+    frame.lighting_defines = "#define SH_ORDER " + std::to_string(frame.rig.sh.all.order) +
+                             "\n#define LIGHTS_ON " + std::to_string(frame.lit.size()) +
+                             "\n#define SHADOWS " + std::to_string(frame.shadows ? 1 : 0) +
+                             "\n#define PCF " + std::to_string(frame.pcf ? 1 : 0) + "\n";
+}
+
+}  // namespace
+
+FrameContext make_frame_context(const FrameRequest& request) {
+    FrameContext frame(request);
+    add_lights(frame);
+    frame.scene = scene_bounds(request.objects);
+    add_camera(frame);
+    add_shadow_views(frame);
+    frame.scale = supersampling_scale(request.samples);
+    frame.samples_wide = request.width * frame.scale;
+    frame.samples_high = request.height * frame.scale;
+    return frame;
+}
+
+int supersampling_scale(int samples) {
+    return int(std::ceil(std::sqrt(double(samples)) - 1e-9));
+}
+
+void set_light_uniforms(gl::Program& program, const FrameContext& frame) {
+    const std::vector<float>& sh_scale = sh_shader_scales(frame.rig.sh.all.order);
+    glUniform1fv(program.uniform("u_sh_scale"), GLsizei(sh_scale.size()), sh_scale.data());
+    for (std::size_t i = 0; i < frame.lit.size(); ++i) {
+        glUniformMatrix4fv(program.uniform(element("u_light_matrix", i)), 1, GL_FALSE,
+                           glm::value_ptr(frame.light_matrices[i]));
+        glUniform1i(program.uniform(element("u_light_layer", i)), GLint(frame.lit[i]));
+        glUniform1f(program.uniform(element("u_light_kernel", i)), frame.light_kernels[i]);
+        glUniform1f(program.uniform(element("u_normal_offset", i)), frame.normal_offset);
+    }
+}
+
+void set_display_uniforms(gl::Program& program, const FrameRequest& request) {
+    glUniform1f(program.uniform("u_exposure_scale"), float(std::exp2(request.exposure)));
+    glUniform1i(program.uniform("u_tonemap"), request.tonemap == ToneMapper::Neutral ? 0
+                                              : request.tonemap == ToneMapper::Aces  ? 1
+                                                                                     : 2);
+    const glm::vec4 background = request.background.kind == BackgroundKind::Color
+                                     ? glm::vec4(request.background.color, 1.0f)
+                                     : glm::vec4(0.0f);
+    glUniform4fv(program.uniform("u_background"), 1, glm::value_ptr(background));
+}
+
+std::string element(const char* name, std::size_t i) {
+    std::string text = name;
+    text += '[';
+    text += std::to_string(i);
+    text += ']';
+    return text;
+}
+
+float largest_scale(const glm::mat4& transform) {
+    return std::max({glm::length(glm::vec3(transform[0])), glm::length(glm::vec3(transform[1])),
+                     glm::length(glm::vec3(transform[2]))});
+}
+
+}  // namespace oer

@@ -1,0 +1,92 @@
+#pragma once
+// What the passes of one frame share (passes/frame_passes.hpp): the request, and what follows
+// from it before any GL call (which lights are on, their irradiance sets, the scene's bounds,
+// the camera and light matrices, the supersampling), computed once by make_frame_context.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "gl_program.hpp"
+#include "oer/gl/frame_request.hpp"
+#include "oer/lighting/sh.hpp"
+#include "oer/mesh/camera.hpp"
+#include "oer/mesh/mesh.hpp"
+#include "render_targets.hpp"
+
+namespace oer {
+
+// Surface kinds, the geometry pass's stencil values; each has its own shading program.
+constexpr int kBackgroundSurface = 0;
+constexpr int kObjectSurface = 1;
+constexpr int kGroundSurface = 2;
+
+struct SceneBounds {
+    Bounds box;  // world space, of every object's transformed mesh bounds
+    glm::vec3 centre{0.0f};
+    float radius = 1.0f;
+};
+
+struct FrameContext {
+    explicit FrameContext(const FrameRequest& request_) : request(request_), rig(*request_.rig) {}
+
+    const FrameRequest& request;
+    const Rig& rig;
+
+    // Lights.
+    std::vector<bool> on;          // per rig light
+    std::vector<std::size_t> lit;  // the rig indices of the lights that are on
+    glm::vec2 yaw_cos_sin{1.0f, 0.0f};
+    // The map without the lights that are off, then each light that is on.
+    std::vector<ShRgb> irradiance_sets;
+    double attenuation_base = 1.0;  // thesis model: 1 - the off lights' luminance shares
+
+    // Scene and camera.
+    SceneBounds scene;
+    Camera camera;
+    float near_plane = 0.0f;
+    float ground_half_size = 0.0f;
+    glm::mat4 view_projection{1.0f};
+
+    // Shadows, per light that is on (parallel to lit).
+    bool shadows = false;  // requested and at least one light on
+    bool pcf = false;
+    int shadow_resolution = 0;
+    std::vector<glm::vec3> light_directions;  // turned by the yaw
+    std::vector<glm::mat4> light_matrices;
+    std::vector<float> light_kernels;  // PCF radius in shadow-map uv
+    float normal_offset = 0.0f;        // receiver offset against acne, world units
+    // SH_ORDER, LIGHTS_ON, SHADOWS and PCF for every program that lights (frame_programs.cpp).
+    std::string lighting_defines;
+
+    // Supersampling: the G-buffer is scale times the frame's size on each side.
+    int scale = 1;
+    int samples_wide = 0;
+    int samples_high = 0;
+    RenderTargets* targets = nullptr;  // chosen by the geometry pass
+};
+
+// The request must have passed validate_frame_request.
+FrameContext make_frame_context(const FrameRequest& request);
+
+// Supersamples per pixel side for `samples` samples per pixel (FrameRequest::samples).
+int supersampling_scale(int samples);
+
+// The lights' uniforms, shared by the shading pass and the ground-visibility bake.
+void set_light_uniforms(gl::Program& program, const FrameContext& frame);
+
+// Exposure, tone map and background of the display transform (the shading pass's at one
+// sample per pixel, the resolve pass's above).
+void set_display_uniforms(gl::Program& program, const FrameRequest& request);
+
+// The name of element i of a uniform array: "name[i]".
+std::string element(const char* name, std::size_t i);
+
+// The largest factor by which a transform stretches a length: a mesh-space error times it bounds
+// the world-space error.
+float largest_scale(const glm::mat4& transform);
+
+}  // namespace oer

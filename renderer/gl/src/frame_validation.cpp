@@ -1,0 +1,127 @@
+#include "frame_validation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
+
+#include "frame_context.hpp"
+#include "oer/core/error.hpp"
+#include "oer/mesh/camera.hpp"
+
+namespace oer {
+
+namespace {
+
+void fail(const std::string& member, const std::string& message) {
+    throw Error(ErrorKind::InvalidInput, member + ": " + message);
+}
+
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            if (!std::isfinite(m[c][r])) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
+
+void validate_frame_request(const FrameRequest& request, const FrameLimits& limits,
+                            int max_texture_size) {
+    if (!request.rig) {
+        fail("environment", "no light rig given");
+    }
+    if (request.width < 1 || request.height < 1) {
+        fail("width", "the frame must be at least 1x1");
+    }
+    if (request.width > limits.max_width || request.height > limits.max_height) {
+        throw Error(ErrorKind::LimitExceeded,
+                    "width/height: " + std::to_string(request.width) + "x" +
+                        std::to_string(request.height) + " is over the limit of " +
+                        std::to_string(limits.max_width) + "x" + std::to_string(limits.max_height));
+    }
+    if (!request.lights.empty() && request.lights.size() != request.rig->lights.size()) {
+        fail("lights", "the environment has " + std::to_string(request.rig->lights.size()) +
+                           " light(s), got " + std::to_string(request.lights.size()) + " switches");
+    }
+    // Above one, the sample budget and the texture size below bound the samples.
+    if (request.samples < 1) {
+        fail("samples", "must be at least 1");
+    }
+    const int scale = supersampling_scale(request.samples);
+    if (std::int64_t(request.width) * request.height * scale * scale > limits.max_samples_total ||
+        std::max(request.width, request.height) * scale > max_texture_size) {
+        throw Error(ErrorKind::LimitExceeded,
+                    "samples: " + std::to_string(scale * scale) + " samples per pixel at " +
+                        std::to_string(request.width) + "x" + std::to_string(request.height) +
+                        " are over the limit of " + std::to_string(limits.max_samples_total) +
+                        " samples per frame and " + std::to_string(max_texture_size) +
+                        " samples per side");
+    }
+    if (request.shadows.resolution < 1 ||
+        request.shadows.resolution > std::min(limits.max_shadow_resolution, max_texture_size)) {
+        throw Error(ErrorKind::LimitExceeded,
+                    "shadow_resolution: must be in 1.." +
+                        std::to_string(std::min(limits.max_shadow_resolution, max_texture_size)));
+    }
+    // 2^64 and 2^-64 are still normal floats: the shaders' exposure scale stays finite and
+    // non-zero.
+    if (!std::isfinite(request.exposure) || std::abs(request.exposure) > 64.0) {
+        fail("exposure", "must be a finite number of stops in [-64, 64]");
+    }
+    if (!std::isfinite(request.environment_yaw)) {
+        fail("yaw", "must be finite");
+    }
+    for (std::size_t i = 0; i < request.objects.size(); ++i) {
+        const SceneObject& object = request.objects[i];
+        const std::string member = "objects[" + std::to_string(i) + "]";
+        if (!object.mesh) {
+            fail(member + ".mesh", "no mesh given");
+        }
+        if (!finite(object.transform) || std::abs(glm::determinant(object.transform)) < 1e-12f) {
+            fail(member + ".transform", "must be finite and invertible");
+        }
+        // The loaders bound a texture's pixels, not its sides: a 32768x1 image passes them,
+        // and GL would refuse its storage.
+        for (std::size_t t = 0; t < object.mesh->textures.size(); ++t) {
+            const Texture& texture = object.mesh->textures[t];
+            if (std::max(texture.width, texture.height) > max_texture_size) {
+                throw Error(ErrorKind::LimitExceeded,
+                            member + ".mesh: texture " + std::to_string(t) + " is " +
+                                std::to_string(texture.width) + "x" +
+                                std::to_string(texture.height) + ", over the limit of " +
+                                std::to_string(max_texture_size) + " texels per side");
+            }
+        }
+        // An albedo below zero would give negative radiance, which linear output would carry out.
+        if (object.base_color &&
+            !(finite(*object.base_color) &&
+              glm::all(glm::greaterThanEqual(*object.base_color, glm::vec3(0.0f))))) {
+            fail(member + ".base_color", "must be finite and non-negative");
+        }
+    }
+    // A color outside [0, 1] is clamped by the 8-bit output; only a NaN would spread.
+    if (!finite(request.background.color)) {
+        fail("background", "the color must be finite");
+    }
+    if (request.background.kind == BackgroundKind::Environment && !request.environment_map) {
+        fail("background", "the environment background needs the environment map");
+    }
+    if (request.camera) {
+        validate_camera(*request.camera);
+    }
+}
+
+}  // namespace oer

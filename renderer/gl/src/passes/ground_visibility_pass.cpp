@@ -1,0 +1,48 @@
+// Ground visibility bake. Reads: the shadow layers' depth (texture unit 4, bound by the shadow
+// pass) and the light's uniforms (frame). Writes: map.ground_visibility, a new R8 texture of
+// the light's visibility over the ground plane, kept with the map in the cache; leaves
+// state.bake_framebuffer bound.
+//
+// A filtered shadow has no detail finer than its kernel, so the bake is made with about two
+// texels per kernel radius (at most the shadow map's resolution): there the fixed 16-tap disc
+// covers the kernel densely, and the bake costs a few thousand texels for a soft light instead
+// of millions.
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/matrix.hpp>
+
+#include "passes/frame_passes.hpp"
+
+namespace oer {
+
+void bake_ground_visibility(const FrameContext& frame, RendererState& state, ShadowMap& map,
+                            int light, float ground_height) {
+    int resolution = frame.shadow_resolution;
+    if (frame.pcf) {
+        resolution = 64;
+        while (resolution < frame.shadow_resolution &&
+               float(resolution) * frame.light_kernels[std::size_t(light)] < 4.0f) {
+            resolution *= 2;
+        }
+    }
+    const glm::mat4 inverse_light_matrix = glm::inverse(frame.light_matrices[std::size_t(light)]);
+    map.ground_visibility = gl::create_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(map.ground_visibility.get(), 1, GL_R8, resolution, resolution);
+    glNamedFramebufferTexture(state.bake_framebuffer.get(), GL_COLOR_ATTACHMENT0,
+                              map.ground_visibility.get(), 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, state.bake_framebuffer.get());
+    glViewport(0, 0, resolution, resolution);
+    glDisable(GL_DEPTH_TEST);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl::Program& bake = state.program("ground visibility", frame.lighting_defines);
+    glUseProgram(bake.id());
+    set_light_uniforms(bake, frame);
+    glUniformMatrix4fv(bake.uniform("u_inverse_light_matrix"), 1, GL_FALSE,
+                       glm::value_ptr(inverse_light_matrix));
+    glUniform1f(bake.uniform("u_ground_height"), ground_height);
+    glUniform1i(bake.uniform("u_light"), light);
+    glUniform2f(bake.uniform("u_size"), float(resolution), float(resolution));
+    glBindVertexArray(state.empty_vertex_array.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+}  // namespace oer

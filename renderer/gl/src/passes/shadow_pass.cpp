@@ -1,0 +1,80 @@
+// Shadow pass. Reads: the scene's objects and the lights that are on (frame), the mesh cache.
+// Writes: state.shadows (a depth map per scene, light, filter and resolution, rendered only
+// when missing), state.shadow_layers (layer k: rig light k's depth and ground visibility),
+// texture unit 4 (the depth layers, with the PCF or hard comparison sampler).
+#include <cstdint>
+#include <string>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "passes/frame_passes.hpp"
+
+namespace oer {
+
+namespace {
+
+// The part of every shadow map's key that the scene decides: each object's mesh and transform.
+std::string scene_key(const FrameContext& frame, RendererState& state) {
+    std::string key;
+    for (const SceneObject& object : frame.request.objects) {
+        const std::uint64_t id = state.mesh(object.mesh).id;
+        key.append(reinterpret_cast<const char*>(&id), sizeof id);
+        key.append(reinterpret_cast<const char*>(glm::value_ptr(object.transform)),
+                   16 * sizeof(float));
+    }
+    return key;
+}
+
+}  // namespace
+
+void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& result) {
+    const FrameRequest& request = frame.request;
+    // The meshes are uploaded here, shadows or not: the geometry pass finds them cached.
+    const std::string scene = scene_key(frame, state);
+    const int resolution = frame.shadow_resolution;
+    if (frame.shadows) {
+        state.shadow_layers.reserve(int(frame.rig.lights.size()), resolution);
+        glBindTextureUnit(4, state.shadow_layers.depth());
+        glBindSampler(4, frame.pcf ? state.compare_linear.get() : state.compare_nearest.get());
+    }
+    gl::Program& depth = state.program("depth", "");
+    for (std::size_t i = 0; frame.shadows && i < frame.lit.size(); ++i) {
+        std::string key = scene;
+        key.append(reinterpret_cast<const char*>(glm::value_ptr(frame.light_directions[i])),
+                   3 * sizeof(float));
+        key.append(reinterpret_cast<const char*>(&frame.light_kernels[i]), sizeof(float));
+        key.append(reinterpret_cast<const char*>(&resolution), sizeof resolution);
+        key.push_back(frame.pcf ? 'p' : 'h');
+        bool rendered = false;
+        ShadowMap& map = state.shadows.get(
+            key, resolution,
+            [&] {
+                glUseProgram(depth.id());
+                glUniformMatrix4fv(depth.uniform("u_view_projection"), 1, GL_FALSE,
+                                   glm::value_ptr(frame.light_matrices[i]));
+                // Detail down to half a shadow-map texel.
+                const float texel = 2.0f * frame.scene.radius / float(resolution);
+                for (const SceneObject& object : request.objects) {
+                    glUniformMatrix4fv(depth.uniform("u_model"), 1, GL_FALSE,
+                                       glm::value_ptr(object.transform));
+                    const float max_error = 0.5f * texel / largest_scale(object.transform);
+                    for (const GpuPrimitive& primitive : state.mesh(object.mesh).gpu.primitives) {
+                        draw_primitive(primitive, max_error);
+                    }
+                }
+            },
+            rendered);
+        result.shadow_maps_rendered += rendered ? 1 : 0;
+        const int layer = int(frame.lit[i]);
+        state.shadow_layers.hold_depth(layer, map);
+        if (!request.ground) {
+            continue;
+        }
+        if (!map.ground_visibility) {
+            bake_ground_visibility(frame, state, map, int(i), frame.scene.box.min.y);
+        }
+        state.shadow_layers.hold_ground_visibility(layer, map);
+    }
+}
+
+}  // namespace oer

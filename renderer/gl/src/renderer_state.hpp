@@ -1,0 +1,66 @@
+#pragma once
+// What a FrameRenderer keeps between frames: its programs, the GL copies of meshes and
+// environment maps (dropped once their owners are gone), the shadow-map cache and its array
+// layers, the render targets, and the fixed objects every frame uses. The frame passes
+// (passes/frame_passes.hpp) read and fill it; it belongs to the thread of the GL context.
+#include <GL/glcorearb.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "gl_objects.hpp"
+#include "gl_program.hpp"
+#include "gpu_mesh.hpp"
+#include "oer/core/image.hpp"
+#include "oer/gl/frame_request.hpp"
+#include "oer/mesh/mesh.hpp"
+#include "render_targets.hpp"
+#include "shadow_layers.hpp"
+#include "shadow_map_cache.hpp"
+
+namespace oer {
+
+struct RendererState {
+    explicit RendererState(const FrameLimits& limits);
+
+    // The program `name` of frame_programs.cpp specialised by `defines`, linked on first use.
+    gl::Program& program(const std::string& name, const std::string& defines);
+
+    struct CachedMesh {
+        std::weak_ptr<const Mesh> owner;
+        std::uint64_t id = 0;  // unique over the renderer's life: part of the shadow-map keys
+        GpuMesh gpu;
+    };
+    // The mesh uploaded, on first use or when its address now belongs to a new mesh.
+    CachedMesh& mesh(const std::shared_ptr<const Mesh>& owner);
+    // The map as a linear RGB32F texture, repeating in x, uploaded likewise.
+    GLuint environment(const std::shared_ptr<const HdrImage>& owner);
+
+    FrameLimits limits;
+    ShadowMapCache shadows;
+    ShadowLayers shadow_layers;
+    gl::Object bake_framebuffer;  // the ground-visibility bake's
+    RenderTargetCache targets;
+
+    Mesh ground_mesh;  // a unit square at y = 0 facing +Y, scaled and placed per frame
+    GpuMesh ground;
+    gl::Object empty_vertex_array;  // the full-screen triangle's: its vertices come from ids
+    gl::Object compare_linear;      // depth-comparison samplers for the shadow layers: PCF
+    gl::Object compare_nearest;     // and the hard test
+    gl::Object irradiance_buffer;   // the frame's SH irradiance sets (shader storage)
+    int max_texture_size = 0;
+
+  private:
+    struct CachedEnvironment {
+        std::weak_ptr<const HdrImage> owner;
+        gl::Object texture;
+    };
+    std::map<std::string, std::unique_ptr<gl::Program>> programs_;
+    std::map<const Mesh*, CachedMesh> meshes_;
+    std::uint64_t next_mesh_id_ = 1;
+    std::map<const HdrImage*, CachedEnvironment> environments_;
+};
+
+}  // namespace oer
