@@ -1,7 +1,7 @@
 #pragma once
 // The passes of a frame, in the order FrameRenderer::render runs them, each in its own file.
 // The division follows Filament's (ShadowMapManager for the shadow maps, Renderer for the
-// colour passes, PostProcessManager for the resolve): every pass reads the FrameContext and
+// color passes, PostProcessManager for the resolve): every pass reads the FrameContext and
 // the RendererState, and says below what it leaves behind for the next.
 #include "frame_context.hpp"
 #include "oer/gl/frame_request.hpp"
