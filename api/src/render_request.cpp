@@ -696,7 +696,7 @@ std::string render_etag(const RenderSpec& spec) {
 }
 
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
-                              std::shared_ptr<const HdrImage> environment,
+                              std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes) {
     if (!rig) {
         throw Error(ErrorKind::Internal,
@@ -716,7 +716,7 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
     }
     FrameRequest request;
     request.rig = std::move(rig);
-    request.environment_map = std::move(environment);
+    request.environment_map = std::move(environment_map);
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const ObjectSpec& object = spec.objects[i];
         request.objects.push_back({meshes[i], glm::mat4(object.transform),

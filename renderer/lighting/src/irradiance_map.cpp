@@ -14,9 +14,9 @@ HdrImage irradiance_map_from_sh(const ShRgb& irradiance, int width, int height) 
     return out;
 }
 
-HdrImage irradiance_map_exact(const HdrImage& environment, int width, int height,
+HdrImage irradiance_map_exact(const HdrImage& environment_map, int width, int height,
                               std::size_t reference_samples) {
-    const ReferenceIrradiance reference(environment, reference_samples);
+    const ReferenceIrradiance reference(environment_map, reference_samples);
     const equirect::Grid grid(width, height);
     std::vector<glm::dvec3> normals(std::size_t(width) * height);
     for (std::size_t i = 0; i < normals.size(); ++i) {

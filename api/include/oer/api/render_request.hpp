@@ -134,11 +134,12 @@ nlohmann::json normalised_render_json(const RenderSpec& spec);
 std::string render_etag(const RenderSpec& spec);
 
 // The frame the spec asks for, once its ids are resolved: `meshes` holds one mesh per object, in
-// order; `environment` may be null unless the background is the environment. Throws
+// order; `environment_map` (the image the rig was made from) may be null unless the background
+// is the environment. Throws
 // InvalidParameter("lights") when the switches do not match the rig's lights, and oer::Error
 // (Internal) when the resolved assets do not match the spec (a caller's bug).
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
-                              std::shared_ptr<const HdrImage> environment,
+                              std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes);
 
 }  // namespace oer::api

@@ -12,7 +12,7 @@ namespace oer {
 HdrImage irradiance_map_from_sh(const ShRgb& irradiance, int width, int height);
 
 // The exact irradiance; reference_samples bounds the work (see ReferenceIrradiance).
-HdrImage irradiance_map_exact(const HdrImage& environment, int width, int height,
+HdrImage irradiance_map_exact(const HdrImage& environment_map, int width, int height,
                               std::size_t reference_samples);
 
 }  // namespace oer
