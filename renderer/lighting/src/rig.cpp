@@ -42,7 +42,7 @@ namespace {
 // tests use the same lattice.
 constexpr int kJudgingNormals = 1024;
 // The exact reference sums over at most this many area-preserving samples of the map: the
-// irradiance is a cosine-smoothed signal, and tests/unit/reference_irradiance_test.cpp
+// irradiance is a cosine-smoothed signal, and tests/lighting/reference_irradiance_test.cpp
 // measures the error this reduction adds.
 constexpr std::size_t kReferenceSamples = 16384;
 
