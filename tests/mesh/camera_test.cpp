@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "oer/core/error.hpp"
@@ -61,4 +62,71 @@ TEST(Camera, InvalidCamerasAreRejected) {
     camera = Camera{};
     camera.eye.x = std::nanf("");
     EXPECT_THROW(validate_camera(camera), Error);
+}
+
+TEST(Camera, TransformedBoundsHoldTheTransformedCorners) {
+    const Bounds bounds{{-1.0f, 0.0f, -0.5f}, {1.0f, 2.0f, 0.5f}};
+    // 90 degrees about +Y takes x to -z and z to x; then a shift by (10, 0, 0).
+    const glm::mat4 transform = glm::translate(glm::mat4(1.0f), glm::vec3(10.0f, 0.0f, 0.0f)) *
+                                glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), {0, 1, 0});
+    const Bounds box = transformed_bounds(bounds, transform);
+    EXPECT_NEAR(glm::length(box.min - glm::vec3(9.5f, 0.0f, -1.0f)), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::length(box.max - glm::vec3(10.5f, 2.0f, 1.0f)), 0.0f, 1e-5f);
+
+    const Bounds scene = enclosing_bounds({bounds, box});
+    EXPECT_EQ(scene.min, glm::vec3(-1.0f, 0.0f, -1.0f));
+    EXPECT_NEAR(glm::length(scene.max - glm::vec3(10.5f, 2.0f, 1.0f)), 0.0f, 1e-5f);
+    const Bounds empty = enclosing_bounds({});
+    EXPECT_EQ(empty.min, glm::vec3(-0.5f));
+    EXPECT_EQ(empty.max, glm::vec3(0.5f));
+}
+
+namespace {
+
+// Every corner of the bounds, seen through the camera, lands inside the frame (normalised device
+// coordinates within [-1, 1]).
+void expect_corners_in_frame(const Camera& camera, const Bounds& bounds, float aspect) {
+    const glm::mat4 view_projection =
+        projection_matrix(camera, aspect, 0.01f, 100.0f) * view_matrix(camera);
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 point{(corner & 1) ? bounds.max.x : bounds.min.x,
+                              (corner & 2) ? bounds.max.y : bounds.min.y,
+                              (corner & 4) ? bounds.max.z : bounds.min.z};
+        const glm::vec4 clip = view_projection * glm::vec4(point, 1.0f);
+        ASSERT_GT(clip.w, 0.0f);
+        EXPECT_LE(std::abs(clip.x / clip.w), 1.0f) << "corner " << corner << " aspect " << aspect;
+        EXPECT_LE(std::abs(clip.y / clip.w), 1.0f) << "corner " << corner << " aspect " << aspect;
+    }
+}
+
+}  // namespace
+
+TEST(Camera, FrameOrbitTakesTheMissingTargetAndDistanceFromTheBounds) {
+    const Bounds bounds{{-0.3f, 0.0f, -0.2f}, {0.3f, 1.6f, 0.2f}};
+    for (const float aspect : {0.5f, 4.0f / 3.0f, 2.0f}) {
+        const Camera framed =
+            frame_orbit(60.0f, 20.0f, std::nullopt, std::nullopt, bounds, 45.0f, aspect);
+        EXPECT_EQ(framed.target, bounds.centre());
+        // The automatic framing's distance, from the orbit's own angles.
+        const Camera automatic = frame_bounds(bounds, 45.0f, aspect);
+        EXPECT_NEAR(glm::length(framed.eye - framed.target),
+                    glm::length(automatic.eye - automatic.target), 1e-5f);
+        const Camera expected = orbit_camera(
+            {60.0f, 20.0f, glm::length(automatic.eye - automatic.target), bounds.centre()});
+        EXPECT_NEAR(glm::length(framed.eye - expected.eye), 0.0f, 1e-5f);
+        expect_corners_in_frame(framed, bounds, aspect);
+        // A target off the centre moves back far enough to keep the whole scene in the frame.
+        const Camera off_centre = frame_orbit(-120.0f, 60.0f, glm::vec3(0.3f, 0.0f, 0.2f),
+                                              std::nullopt, bounds, 30.0f, aspect);
+        EXPECT_EQ(off_centre.target, glm::vec3(0.3f, 0.0f, 0.2f));
+        expect_corners_in_frame(off_centre, bounds, aspect);
+    }
+    // Given ones win.
+    const Camera given =
+        frame_orbit(0.0f, 0.0f, glm::vec3(1.0f, 2.0f, 3.0f), 5.0f, bounds, 45.0f, 1.0f);
+    EXPECT_EQ(given.target, glm::vec3(1.0f, 2.0f, 3.0f));
+    EXPECT_NEAR(glm::length(given.eye - glm::vec3(1.0f, 2.0f, 8.0f)), 0.0f, 1e-5f);
+    const Camera distance_only = frame_orbit(0.0f, 0.0f, std::nullopt, 5.0f, bounds, 45.0f, 1.0f);
+    EXPECT_NEAR(glm::length(distance_only.eye - (bounds.centre() + glm::vec3(0, 0, 5))), 0.0f,
+                1e-5f);
 }

@@ -16,23 +16,12 @@ namespace oer {
 namespace {
 
 SceneBounds scene_bounds(const std::vector<SceneObject>& objects) {
-    SceneBounds scene;
-    bool any = false;
+    std::vector<Bounds> boxes;
     for (const SceneObject& object : objects) {
-        const Bounds& b = object.mesh->bounds;
-        for (int corner = 0; corner < 8; ++corner) {
-            const glm::vec3 local{(corner & 1) ? b.max.x : b.min.x,
-                                  (corner & 2) ? b.max.y : b.min.y,
-                                  (corner & 4) ? b.max.z : b.min.z};
-            const glm::vec3 world = glm::vec3(object.transform * glm::vec4(local, 1.0f));
-            scene.box.min = any ? glm::min(scene.box.min, world) : world;
-            scene.box.max = any ? glm::max(scene.box.max, world) : world;
-            any = true;
-        }
+        boxes.push_back(transformed_bounds(object.mesh->bounds, object.transform));
     }
-    if (!any) {
-        scene.box = {glm::vec3(-0.5f), glm::vec3(0.5f)};
-    }
+    SceneBounds scene;
+    scene.box = enclosing_bounds(boxes);
     scene.centre = scene.box.centre();
     scene.radius = std::max(1e-4f, 0.5f * glm::length(scene.box.max - scene.box.min));
     return scene;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -33,16 +34,57 @@ Camera orbit_camera(const Orbit& orbit, float fov_y) {
     return camera;
 }
 
-Camera frame_bounds(const Bounds& bounds, float fov_y, float aspect) {
-    const float radius = std::max(1e-6f, 0.5f * glm::length(bounds.max - bounds.min));
-    const float half_fov_y = glm::radians(fov_y) * 0.5f;
-    const float half_fov_x = std::atan(std::tan(half_fov_y) * std::max(aspect, 1e-3f));
-    const float half_fov = std::min(half_fov_y, half_fov_x);
-    constexpr float margin = 1.1f;
+Bounds transformed_bounds(const Bounds& bounds, const glm::mat4& transform) {
+    Bounds box;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 local{(corner & 1) ? bounds.max.x : bounds.min.x,
+                              (corner & 2) ? bounds.max.y : bounds.min.y,
+                              (corner & 4) ? bounds.max.z : bounds.min.z};
+        const glm::vec3 world = glm::vec3(transform * glm::vec4(local, 1.0f));
+        box.min = corner == 0 ? world : glm::min(box.min, world);
+        box.max = corner == 0 ? world : glm::max(box.max, world);
+    }
+    return box;
+}
+
+Bounds enclosing_bounds(const std::vector<Bounds>& boxes) {
+    if (boxes.empty()) {
+        return {glm::vec3(-0.5f), glm::vec3(0.5f)};
+    }
+    Bounds box = boxes.front();
+    for (const Bounds& other : boxes) {
+        box.min = glm::min(box.min, other.min);
+        box.max = glm::max(box.max, other.max);
+    }
+    return box;
+}
+
+Camera frame_orbit(float yaw, float pitch, const std::optional<glm::vec3>& target,
+                   const std::optional<float>& distance, const Bounds& bounds, float fov_y,
+                   float aspect) {
     Orbit orbit;
-    orbit.target = bounds.centre();
-    orbit.distance = margin * radius / std::sin(half_fov);
+    orbit.yaw = yaw;
+    orbit.pitch = pitch;
+    orbit.target = target.value_or(bounds.centre());
+    if (distance) {
+        orbit.distance = *distance;
+    } else {
+        // A sphere of radius r seen from distance d subtends asin(r / d): it fits the narrower
+        // half field of view when d >= r / sin(half_fov).
+        const float radius = std::max(1e-6f, 0.5f * glm::length(bounds.max - bounds.min) +
+                                                 glm::length(bounds.centre() - orbit.target));
+        const float half_fov_y = glm::radians(fov_y) * 0.5f;
+        const float half_fov_x = std::atan(std::tan(half_fov_y) * std::max(aspect, 1e-3f));
+        const float half_fov = std::min(half_fov_y, half_fov_x);
+        constexpr float margin = 1.1f;
+        orbit.distance = margin * radius / std::sin(half_fov);
+    }
     return orbit_camera(orbit, fov_y);
+}
+
+Camera frame_bounds(const Bounds& bounds, float fov_y, float aspect) {
+    const Orbit angles;
+    return frame_orbit(angles.yaw, angles.pitch, std::nullopt, std::nullopt, bounds, fov_y, aspect);
 }
 
 void validate_camera(const Camera& camera) {

@@ -1,6 +1,9 @@
 #pragma once
 // Cameras (DESIGN.md section 3: +Y up, the camera looks down its local -Z): look-at, orbit,
 // and automatic framing of a scene's bounds.
+#include <optional>
+#include <vector>
+
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
@@ -26,8 +29,24 @@ struct Orbit {
 
 Camera orbit_camera(const Orbit& orbit, float fov_y = 45.0f);
 
-// Looks at the bounds' centre from the default orbit angles, far enough that the bounding
-// sphere fits the vertical and horizontal field of view with a margin.
+// The axis-aligned box around `bounds` placed by `transform` (its eight corners transformed).
+Bounds transformed_bounds(const Bounds& bounds, const glm::mat4& transform);
+
+// The box around every one of `boxes` (a scene's objects, each transformed): the bounds the
+// automatic framing frames and the shadow maps cover. With none, the unit cube about the origin.
+Bounds enclosing_bounds(const std::vector<Bounds>& boxes);
+
+// An orbit camera whose target and distance may be left to the automatic framing: the target
+// defaults to the bounds' centre, the distance to the one from which the sphere about the target
+// enclosing the bounds' bounding sphere fits the vertical and horizontal field of view with a
+// margin, so that the whole scene is in the frame at any yaw and pitch. The framing depends on
+// the field of view and the aspect ratio alone, never on the size in pixels.
+Camera frame_orbit(float yaw, float pitch, const std::optional<glm::vec3>& target,
+                   const std::optional<float>& distance, const Bounds& bounds, float fov_y,
+                   float aspect);
+
+// The automatic framing: frame_orbit from the default orbit angles, target and distance both
+// taken from the bounds.
 Camera frame_bounds(const Bounds& bounds, float fov_y, float aspect);
 
 // Throws oer::Error (InvalidInput) when eye == target, up is parallel to the view direction,
