@@ -416,13 +416,35 @@ Json camera_json(const CameraSpec& camera) {
                 {"up", vector_json(look_at->up)}};
     } else {
         const OrbitSpec& orbit = std::get<OrbitSpec>(camera.placement);
-        json["orbit"] = {{"yaw", canonical(orbit.yaw)},
-                         {"pitch", canonical(orbit.pitch)},
-                         {"distance", canonical(orbit.distance)},
-                         {"target", vector_json(orbit.target)}};
+        json["orbit"] = {{"yaw", canonical(orbit.yaw)}, {"pitch", canonical(orbit.pitch)}};
+        // Absent stays absent: the automatic framing's target and distance depend on the
+        // meshes, which the canonical document names by id.
+        if (orbit.distance) {
+            json["orbit"]["distance"] = canonical(*orbit.distance);
+        }
+        if (orbit.target) {
+            json["orbit"]["target"] = vector_json(*orbit.target);
+        }
     }
     json["fov_y"] = canonical(camera.fov_y);
     return json;
+}
+
+// The orbit's missing target or distance from the automatic framing of the objects, as the
+// renderer frames a request without a camera (frame_context.cpp): the same bounds, in float, at
+// the frame's aspect ratio (width / height, never the size in pixels).
+Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const std::vector<SceneObject>& objects,
+                      float aspect) {
+    std::vector<Bounds> boxes;
+    for (const SceneObject& object : objects) {
+        boxes.push_back(transformed_bounds(object.mesh->bounds, object.transform));
+    }
+    const std::optional<glm::vec3> target =
+        orbit.target ? std::optional<glm::vec3>(glm::vec3(*orbit.target)) : std::nullopt;
+    const std::optional<float> distance =
+        orbit.distance ? std::optional<float>(float(*orbit.distance)) : std::nullopt;
+    return frame_orbit(float(orbit.yaw), float(orbit.pitch), target, distance,
+                       enclosing_bounds(boxes), fov_y, aspect);
 }
 
 }  // namespace
@@ -728,10 +750,9 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
         if (const auto* look_at = std::get_if<LookAtSpec>(&spec.camera->placement)) {
             request.camera = to_camera(*look_at, spec.camera->fov_y);
         } else {
-            const OrbitSpec& orbit = std::get<OrbitSpec>(spec.camera->placement);
-            request.camera = orbit_camera({float(orbit.yaw), float(orbit.pitch),
-                                           float(orbit.distance), glm::vec3(orbit.target)},
-                                          float(spec.camera->fov_y));
+            request.camera = resolved_orbit(std::get<OrbitSpec>(spec.camera->placement),
+                                            float(spec.camera->fov_y), request.objects,
+                                            float(spec.width) / float(spec.height));
         }
     }
     request.lights = spec.lights;

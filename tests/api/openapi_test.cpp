@@ -287,7 +287,10 @@ TEST(OpenApi, RenderRequestDefaultsAreTheParsers) {
         EXPECT_EQ(canonical.at(Json::json_pointer("/" + path)), *declared) << path;
         ++defaults;
     }
-    EXPECT_EQ(defaults, 21);
+    // The orbit's distance and target have none: absent, they are the automatic framing's.
+    EXPECT_EQ(defaults, 19);
+    EXPECT_FALSE(default_of(render_member("camera/orbit/distance")).has_value());
+    EXPECT_FALSE(default_of(render_member("camera/orbit/target")).has_value());
 }
 
 TEST(OpenApi, RenderRequestBoundsAndEnumsAreTheParsers) {
@@ -360,7 +363,6 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
         {"fov_y", "/camera/fov_y"},
         {"yaw", "/camera/orbit/yaw"},
         {"pitch", "/camera/orbit/pitch"},
-        {"distance", "/camera/orbit/distance"},
         {"width", "/width"},
         {"height", "/height"},
         {"format", "/format"},
@@ -378,6 +380,7 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
         ASSERT_TRUE(declared.has_value()) << name;
         EXPECT_EQ(defaults.at(Json::json_pointer(pointer)), *declared) << name;
     }
+    EXPECT_FALSE(default_of(parameter_schema(render_get_parameters(), "distance")).has_value());
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "ground")), Json("on"));
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "shadows")), Json("on"));
 }

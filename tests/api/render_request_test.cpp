@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
 #include "oer/api/content_id.hpp"
@@ -13,6 +16,8 @@
 #include "oer/api/malformed_request.hpp"
 #include "oer/api/render_request.hpp"
 #include "oer/api/version.hpp"
+#include "oer/mesh/camera.hpp"
+#include "oer/mesh/default_product.hpp"
 
 using namespace oer;
 using api::InvalidParameter;
@@ -161,7 +166,8 @@ TEST(RenderRequest, DefaultsFillTheCanonicalDocument) {
     EXPECT_EQ(api::normalised_render_json(spec), expected);
     EXPECT_EQ(api::normalised_render_json(spec).dump(), expected.dump());
 
-    // An object's transform is filled in as the identity; an orbit's defaults are oer::Orbit's.
+    // An object's transform is filled in as the identity; an orbit's angles default to
+    // oer::Orbit's, and its absent target and distance (the automatic framing's) stay absent.
     const Json filled = api::normalised_render_json(api::parse_render_json(
         R"({"environment": "default", "objects": [{"mesh": "default"}],
             "camera": {"orbit": {}}})"));
@@ -170,11 +176,8 @@ TEST(RenderRequest, DefaultsFillTheCanonicalDocument) {
         Json({{"mesh", "default"},
               {"transform",
                {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0}}}));
-    EXPECT_EQ(
-        filled.at("camera"),
-        Json({{"orbit",
-               {{"yaw", 30.0}, {"pitch", 15.0}, {"distance", 3.0}, {"target", {0.0, 0.0, 0.0}}}},
-              {"fov_y", 45.0}}));
+    EXPECT_EQ(filled.at("camera"),
+              Json({{"orbit", {{"yaw", 30.0}, {"pitch", 15.0}}}, {"fov_y", 45.0}}));
     const Json look_at = api::normalised_render_json(
         api::parse_render_json(with("camera", R"({"eye": [-0.0, 1, 2], "target": [0, 0, 0]})")));
     EXPECT_EQ(look_at.at("camera").dump(),
@@ -685,6 +688,128 @@ TEST(RenderRequest, ToFrameRequestConvertsAnOrbitAndTheExrFormat) {
     EXPECT_FALSE(api::to_frame_request(api::parse_render_query({{"environment", "default"}}),
                                        rig_with_lights(0), nullptr, {})
                      .camera.has_value());
+}
+
+namespace {
+
+// NDC (x, y) of a world point through the camera, as the renderer projects it.
+glm::vec2 projected(const Camera& camera, float aspect, const glm::vec3& point) {
+    const glm::vec4 clip = projection_matrix(camera, aspect, 0.01f, 100.0f) * view_matrix(camera) *
+                           glm::vec4(point, 1);
+    return glm::vec2(clip) / clip.w;
+}
+
+}  // namespace
+
+TEST(RenderRequest, AnOrbitWithoutTargetOrDistanceFramesTheScene) {
+    // GET /v1/render?environment=default&mesh=default&yaw=60&pitch=20, 800x600.
+    const RenderSpec spec = api::parse_render_query({{"environment", "default"},
+                                                     {"mesh", "default"},
+                                                     {"yaw", "60"},
+                                                     {"pitch", "20"},
+                                                     {"width", "800"},
+                                                     {"height", "600"}});
+    const auto product = std::make_shared<const Mesh>(make_default_product());
+    const FrameRequest request =
+        api::to_frame_request(spec, rig_with_lights(0), nullptr, {product});
+    ASSERT_TRUE(request.camera.has_value());
+    const Bounds& bounds = product->bounds;
+    const float aspect = 800.0f / 600.0f;
+    // The camera expected: the orbit's angles about the bounds' centre, from the automatic
+    // framing's distance (frame_bounds, as the renderer frames a request with no camera).
+    const Camera automatic = frame_bounds(bounds, 45.0f, aspect);
+    const Camera expected = orbit_camera(
+        {60.0f, 20.0f, glm::length(automatic.eye - automatic.target), bounds.centre()}, 45.0f);
+    EXPECT_NEAR(glm::length(request.camera->eye - expected.eye), 0.0f, 1e-5f);
+    EXPECT_EQ(request.camera->target, bounds.centre());
+    // The product's bounds project inside the frame, their centre onto the image centre.
+    glm::vec2 low(1e9f), high(-1e9f);
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec2 p = projected(
+            *request.camera, aspect,
+            {(corner & 1) ? bounds.max.x : bounds.min.x, (corner & 2) ? bounds.max.y : bounds.min.y,
+             (corner & 4) ? bounds.max.z : bounds.min.z});
+        low = glm::min(low, p);
+        high = glm::max(high, p);
+    }
+    EXPECT_GT(low.x, -1.0f);
+    EXPECT_GT(low.y, -1.0f);
+    EXPECT_LT(high.x, 1.0f);
+    EXPECT_LT(high.y, 1.0f);
+    // ... and fill a good part of it: framed, not lost in the distance.
+    EXPECT_GT(high.y - low.y, 1.0f);
+    EXPECT_NEAR(glm::length(projected(*request.camera, aspect, bounds.centre())), 0.0f, 1e-5f);
+
+    // The objects' transforms count: the product doubled and moved frames about its new centre.
+    const RenderSpec moved = api::parse_render_json(R"({"environment": "default",
+        "objects": [{"mesh": "default", "transform": [2,0,0,0, 0,2,0,0, 0,0,2,0, 5,0,0,1]}],
+        "camera": {"orbit": {"yaw": 60, "pitch": 20}}, "width": 800, "height": 600})");
+    const Camera moved_camera =
+        *api::to_frame_request(moved, rig_with_lights(0), nullptr, {product}).camera;
+    EXPECT_NEAR(glm::length(moved_camera.target - (2.0f * bounds.centre() + glm::vec3(5, 0, 0))),
+                0.0f, 1e-5f);
+    EXPECT_NEAR(glm::length(moved_camera.eye - moved_camera.target),
+                2.0f * glm::length(expected.eye - expected.target), 1e-4f);
+
+    // The framing depends on the aspect ratio, not the size: a 160x120 preview frames alike.
+    const RenderSpec preview = api::parse_render_query({{"environment", "default"},
+                                                        {"mesh", "default"},
+                                                        {"yaw", "60"},
+                                                        {"pitch", "20"},
+                                                        {"width", "160"},
+                                                        {"height", "120"},
+                                                        {"samples", "1"}});
+    const Camera preview_camera =
+        *api::to_frame_request(preview, rig_with_lights(0), nullptr, {product}).camera;
+    EXPECT_EQ(preview_camera.eye, request.camera->eye);
+    EXPECT_EQ(preview_camera.target, request.camera->target);
+}
+
+TEST(RenderRequest, AnOrbitsGivenTargetAndDistanceWin) {
+    const auto product = std::make_shared<const Mesh>(make_default_product());
+    const RenderSpec spec = api::parse_render_query({{"environment", "default"},
+                                                     {"mesh", "default"},
+                                                     {"yaw", "60"},
+                                                     {"pitch", "20"},
+                                                     {"distance", "7"},
+                                                     {"target", "1,2,3"}});
+    const Camera camera =
+        *api::to_frame_request(spec, rig_with_lights(0), nullptr, {product}).camera;
+    const Camera expected = orbit_camera({60.0f, 20.0f, 7.0f, {1.0f, 2.0f, 3.0f}}, 45.0f);
+    EXPECT_EQ(camera.target, expected.target);
+    EXPECT_EQ(camera.eye, expected.eye);
+    // A target alone: the distance keeps the whole product in the frame from there.
+    const RenderSpec target_only = api::parse_render_query(
+        {{"environment", "default"}, {"mesh", "default"}, {"yaw", "0"}, {"target", "0,0,0"}});
+    const Camera from_target =
+        *api::to_frame_request(target_only, rig_with_lights(0), nullptr, {product}).camera;
+    EXPECT_EQ(from_target.target, glm::vec3(0.0f));
+    const Bounds& bounds = product->bounds;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec2 p = projected(
+            from_target, 1.0f,
+            {(corner & 1) ? bounds.max.x : bounds.min.x, (corner & 2) ? bounds.max.y : bounds.min.y,
+             (corner & 4) ? bounds.max.z : bounds.min.z});
+        EXPECT_LT(std::max(std::abs(p.x), std::abs(p.y)), 1.0f) << "corner " << corner;
+    }
+}
+
+TEST(RenderRequest, AnAbsentOrbitTargetAndDistanceStayAbsentAndKeepOneEtag) {
+    const Query query = {
+        {"environment", "default"}, {"mesh", "default"}, {"yaw", "60"}, {"pitch", "20"}};
+    const Json body = {{"environment", "default"},
+                       {"objects", {{{"mesh", "default"}}}},
+                       {"camera", {{"orbit", {{"yaw", 60}, {"pitch", 20}}}}}};
+    const Json canonical = api::normalised_render_json(api::parse_render_query(query));
+    EXPECT_EQ(canonical.at("camera"),
+              Json({{"orbit", {{"yaw", 60.0}, {"pitch", 20.0}}}, {"fov_y", 45.0}}));
+    EXPECT_EQ(api::render_etag(api::parse_render_query(query)), etag_of_json(body));
+    EXPECT_EQ(api::normalised_render_json(api::parse_render_json(canonical.dump())), canonical);
+    // The framing's distance is not the old default's: asking for distance 3 is another request.
+    Query with_distance = query;
+    with_distance.insert({"distance", "3"});
+    EXPECT_NE(api::render_etag(api::parse_render_query(with_distance)),
+              api::render_etag(api::parse_render_query(query)));
 }
 
 TEST(RenderRequest, ToFrameRequestChecksTheLightsAndTheResolvedAssets) {

@@ -23,7 +23,8 @@
 // `yaw` and `pitch` always belong to the orbit camera; the environment's rotation about +Y is
 // `environment_yaw` in both forms. In the GET form, any of yaw, pitch, distance makes an orbit
 // camera (target is then the orbit's), otherwise eye and target make a look-at camera; with
-// neither, the scene is framed automatically.
+// neither, the scene is framed automatically. An orbit without target or distance takes them
+// from that automatic framing.
 //
 // Errors: MalformedRequest when the body is not readable JSON (HTTP 400); oer::Error
 // (LimitExceeded) for a body over RenderLimits::max_body_bytes (413); InvalidParameter for
@@ -83,12 +84,15 @@ struct LookAtSpec {
     glm::dvec3 up{0.0, 1.0, 0.0};
 };
 
-// Angles in degrees, as oer::Orbit (whose defaults these are).
+// Angles in degrees, as oer::Orbit (whose defaults these are). An absent target or distance is
+// the automatic framing's (oer::frame_orbit: the scene's bounds at the frame's aspect ratio),
+// resolved by to_frame_request once the meshes are known; it stays absent in the canonical
+// document, so that the request keeps one ETag whatever the meshes.
 struct OrbitSpec {
     double yaw = Orbit{}.yaw;
     double pitch = Orbit{}.pitch;
-    double distance = Orbit{}.distance;
-    glm::dvec3 target{0.0};
+    std::optional<double> distance;
+    std::optional<glm::dvec3> target;
 };
 
 struct CameraSpec {
@@ -134,8 +138,8 @@ nlohmann::json normalised_render_json(const RenderSpec& spec);
 std::string render_etag(const RenderSpec& spec);
 
 // The frame the spec asks for, once its ids are resolved: `meshes` holds one mesh per object, in
-// order; `environment_map` (the image the rig was made from) may be null unless the background
-// is the environment. Throws
+// order (their transformed bounds frame an orbit without target or distance); `environment_map`
+// (the image the rig was made from) may be null unless the background is the environment. Throws
 // InvalidParameter("lights") when the switches do not match the rig's lights, and oer::Error
 // (Internal) when the resolved assets do not match the spec (a caller's bug).
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
