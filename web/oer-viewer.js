@@ -326,7 +326,8 @@ export class OerViewer extends HTMLElement {
       return;
     }
     this.setPointerCapture(event.pointerId);
-    const orbit = this.orbit ?? DEFAULT_ORBIT;
+    // Without camera-orbit, the distance stays the server's (its framing of the scene).
+    const orbit = this.orbit ?? { ...DEFAULT_ORBIT, distance: null };
     this.#drag = { pointerId: event.pointerId, x: event.clientX, y: event.clientY, orbit };
   };
 
