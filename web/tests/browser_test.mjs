@@ -256,6 +256,35 @@ try {
     await again.close();
   });
 
+  await check('keyboard alone switches a light off in the panel and orbits', async () => {
+    const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
+    assert.equal(await page.locator('#light-switches input').count(), rig.lights.length);
+    const before = await shownImage(page);
+    let frames = await page.evaluate(() => window.oerFrames.length);
+    // Tab from the exposure slider's neighbours to the second light's switch, then Space.
+    await page.locator('#light-switches input').nth(0).focus();
+    await page.keyboard.press('Tab');
+    assert.equal(await page.evaluate(() => document.activeElement.closest('label')?.textContent),
+                 await page.locator('#light-switches label').nth(1).textContent());
+    await page.keyboard.press('Space');
+    const switched = await fullFrame(page, frames);
+    const expected = rig.lights.map((_, index) => (index === 1 ? 0 : 1)).join('%2C');
+    assert.match(switched.url, new RegExp(`[?&]lights=${expected}(&|$)`));
+    assert.notEqual((await shownImage(page)).checksum, before.checksum, 'the image changed');
+    assert.match(page.url(), new RegExp(`[?&]lights=${expected}(&|$)`));
+
+    const yaw = (await page.evaluate(() => document.querySelector('oer-viewer').orbit)).yaw;
+    frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('oer-viewer').focus();
+    await page.keyboard.press('ArrowLeft');
+    const turned = await fullFrame(page, frames);
+    assert.notEqual(turned.etag, switched.etag);
+    const orbit = await page.evaluate(() => document.querySelector('oer-viewer').orbit);
+    assert.ok(Math.abs(orbit.yaw - (yaw + 5)) < 0.01, `yaw ${yaw} -> ${orbit.yaw}`);
+    await page.locator('#all-on').click();
+    assert.equal(await page.locator('oer-viewer').getAttribute('lights'), null);
+  });
+
   await check('an error event carries the server\'s problem+json detail verbatim', async () => {
     const missing = '0'.repeat(64);
     const problem = await (await fetch(`${server.url}/v1/render?environment=${missing}&mesh=default`)).json();
@@ -274,6 +303,8 @@ try {
   await check('desktop screenshot (1280x800)', async () => {
     await page.goto(`${server.url}/`);
     await fullFrame(page);
+    // The lights come from their own request, which may end after a cached frame's.
+    await page.locator('#light-switches input').first().waitFor();
     await page.screenshot({ path: join(artifacts, 'desktop-1280x800.png') });
   });
 
@@ -286,6 +317,7 @@ try {
     await small.goto(`${server.url}/`);
     await fullFrame(small);
     assertRealFrame(await shownImage(small), 'phone frame');
+    await small.locator('#light-switches input').first().waitFor();
     const overflow = await small.evaluate(() => document.documentElement.scrollWidth - innerWidth);
     assert.ok(overflow <= 0, `the page is ${overflow} px wider than the phone`);
     await small.screenshot({ path: join(artifacts, 'phone-360x740.png') });
