@@ -154,8 +154,7 @@ TEST_F(Endpoints, PresetsListTheDefaultEnvironmentAndProduct) {
 // (embedded at build time), each with its Content-Type, the SHA-256 of its text as a strong
 // ETag (a 304 for it) and Cache-Control; no other name, and no way out of the embedded set.
 TEST_F(Endpoints, WebClientIsServedFromTheFilesEmbeddedAtBuildTime) {
-    const std::filesystem::path web =
-        std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "web";
+    const std::filesystem::path web = OER_WEB_DIR;
     const auto source = [&](const std::string& name) {
         std::ifstream file(web / name, std::ios::binary);
         std::ostringstream text;
