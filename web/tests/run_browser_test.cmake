@@ -7,6 +7,16 @@ foreach(variable NODE NPM TESTS_DIR SERVER ARTIFACTS)
         message(FATAL_ERROR "run_browser_test.cmake: ${variable} is not set")
     endif()
 endforeach()
+foreach(program NODE NPM)
+    if(NOT ${program} OR ${program} MATCHES "NOTFOUND$")
+        message(FATAL_ERROR "run_browser_test.cmake: no ${program} found when the build was "
+            "configured; run scripts/setup-debian.sh --with-test-data, then configure again")
+    endif()
+endforeach()
+if(NOT EXISTS /usr/bin/chromium)
+    message(FATAL_ERROR "run_browser_test.cmake: /usr/bin/chromium is missing; run "
+        "scripts/setup-debian.sh --with-test-data")
+endif()
 if(NOT EXISTS ${TESTS_DIR}/node_modules/playwright-core)
     execute_process(COMMAND ${NPM} ci --no-audit --no-fund WORKING_DIRECTORY ${TESTS_DIR}
         RESULT_VARIABLE installed)
