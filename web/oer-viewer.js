@@ -62,6 +62,13 @@ export class OerViewer extends HTMLElement {
     this.#image.part = 'frame';
     root.append(style, this.#image);
     this.#resizeObserver = new ResizeObserver(() => this.#requestFrame(false));
+    // Here rather than on connection, so that moving the element does not add them twice.
+    this.addEventListener('pointerdown', this.#onPointerDown);
+    this.addEventListener('pointermove', this.#onPointerMove);
+    this.addEventListener('pointerup', this.#onPointerUp);
+    this.addEventListener('pointercancel', this.#onPointerUp);
+    this.addEventListener('wheel', this.#onWheel, { passive: false });
+    this.addEventListener('keydown', this.#onKeyDown);
   }
 
   connectedCallback() {
@@ -72,12 +79,6 @@ export class OerViewer extends HTMLElement {
     if (!this.hasAttribute('role')) {
       this.setAttribute('role', 'img');
     }
-    this.addEventListener('pointerdown', this.#onPointerDown);
-    this.addEventListener('pointermove', this.#onPointerMove);
-    this.addEventListener('pointerup', this.#onPointerUp);
-    this.addEventListener('pointercancel', this.#onPointerUp);
-    this.addEventListener('wheel', this.#onWheel, { passive: false });
-    this.addEventListener('keydown', this.#onKeyDown);
     this.#resizeObserver.observe(this);
     this.#loadLights();
   }
@@ -206,6 +207,7 @@ export class OerViewer extends HTMLElement {
       return;
     }
     this.#lightsFor = url;
+    this.#lights = [];  // none of the previous environment's meanwhile
     try {
       const response = await fetch(url);
       if (!response.ok) {
