@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build, and run the service (build/bin/oer-server) on
-# its built-in default scene. It prints its URL and serves until Ctrl-C; arguments are passed
+# its built-in default scene. Its banner ends with the page to open (the browser client, web/,
+# served at /), and it serves until Ctrl-C; arguments are passed
 # to oer-server (--port, --data-dir, ...; `--help` lists them).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -15,13 +15,34 @@ build_packages=(
     libyaml-cpp-dev
     glslang-tools binutils
 )
-# Real-world data for tests (DESIGN.md section 5); the service itself never needs them.
-test_packages=(blender-data glmark2-data assimp-testmodels)
+# Real-world data for tests (DESIGN.md section 5), and the browser the browser test drives
+# (web/tests: /usr/bin/chromium through playwright-core, which downloads no browser of its own);
+# the service itself never needs them.
+test_packages=(blender-data glmark2-data assimp-testmodels chromium)
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+with_test_data=false
+if [[ "${1:-}" == "--with-test-data" ]]; then
+    with_test_data=true
+fi
 
 wanted=("${build_packages[@]}")
-if [[ "${1:-}" == "--with-test-data" ]]; then
+if $with_test_data; then
     wanted+=("${test_packages[@]}")
+    # Node.js runs the browser test; a machine may have it from elsewhere (NodeSource's nodejs
+    # carries its own npm, which Debian's npm package would conflict with).
+    if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+        wanted+=(nodejs npm)
+    fi
 fi
+
+# playwright-core, pinned by web/tests/package-lock.json (npm, not Debian: Debian has none).
+install_browser_test_modules() {
+    if $with_test_data && [[ ! -d "$root/web/tests/node_modules/playwright-core" ]]; then
+        echo "setup: npm ci in web/tests" >&2
+        (cd "$root/web/tests" && npm ci --no-audit --no-fund)
+    fi
+}
 
 missing=()
 for package in "${wanted[@]}"; do
@@ -31,6 +52,7 @@ for package in "${wanted[@]}"; do
 done
 
 if ((${#missing[@]} == 0)); then
+    install_browser_test_modules
     exit 0
 fi
 
@@ -42,3 +64,4 @@ echo "setup: installing ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+install_browser_test_modules

@@ -140,6 +140,7 @@ void Service::Impl::start() {
     add_mesh_routes(*router, *context);
     add_render_routes(*router, *context);
     add_service_routes(*router, *context);
+    add_web_routes(*router);
 
     if (config.port == 0) {
         port = server->bind_to_any_port(config.host);
@@ -327,6 +328,8 @@ std::string Service::banner() const {
     for (std::size_t i = 0; i < c.cors_origins.size(); ++i) {
         text << (i ? ", " : "") << c.cors_origins[i];
     }
+    // Last, so that scripts/run.sh ends with the page to open.
+    text << "\n  open the dressing room: " << url() << "/";
     return text.str();
 }
 

@@ -34,5 +34,7 @@ void add_environment_routes(Router& router, ServiceContext& context);
 void add_mesh_routes(Router& router, ServiceContext& context);
 void add_render_routes(Router& router, ServiceContext& context);
 void add_service_routes(Router& router, ServiceContext& context);
+// GET / and /web/{file}: the browser client (web/), embedded at build time.
+void add_web_routes(Router& router);
 
 }  // namespace oer::server

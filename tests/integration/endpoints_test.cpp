@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <optional>
 #include <regex>
+#include <sstream>
 
 #include <glm/geometric.hpp>
 
@@ -145,6 +148,54 @@ TEST_F(Endpoints, PresetsListTheDefaultEnvironmentAndProduct) {
         }
         EXPECT_TRUE(has_default) << kind << ": " << presets.dump();
     }
+}
+
+// The browser client comes with the binary: the files of web/ as they are in the source tree
+// (embedded at build time), each with its Content-Type, the SHA-256 of its text as a strong
+// ETag (a 304 for it) and Cache-Control; no other name, and no way out of the embedded set.
+TEST_F(Endpoints, WebClientIsServedFromTheFilesEmbeddedAtBuildTime) {
+    const std::filesystem::path web = OER_WEB_DIR;
+    const auto source = [&](const std::string& name) {
+        std::ifstream file(web / name, std::ios::binary);
+        std::ostringstream text;
+        text << file.rdbuf();
+        return text.str();
+    };
+    const std::vector<std::tuple<std::string, std::string, std::string, std::string>> files = {
+        {"/", "/", "index.html", "text/html; charset=utf-8"},
+        {"/web/index.html", "/web/{file}", "index.html", "text/html; charset=utf-8"},
+        {"/web/oer-viewer.js", "/web/{file}", "oer-viewer.js", "text/javascript; charset=utf-8"},
+        {"/web/index.css", "/web/{file}", "index.css", "text/css; charset=utf-8"},
+    };
+    for (const auto& [path, route, name, type] : files) {
+        SCOPED_TRACE(path);
+        const auto result = client_->Get(path);
+        expect_conforms("GET", route, result);
+        ASSERT_EQ(result->status, 200);
+        const std::string text = source(name);
+        ASSERT_FALSE(text.empty()) << web / name;
+        EXPECT_EQ(result->body, text);
+        EXPECT_EQ(result->get_header_value("Content-Type"), type);
+        EXPECT_EQ(result->get_header_value("Cache-Control"), "no-cache");
+        const std::string etag = result->get_header_value("ETag");
+        // Appended rather than "\"" + hex: GCC 12 warns (-Wrestrict) on the inlined operator+.
+        std::string expected_etag = "\"";
+        expected_etag.append(api::sha256_hex(text)).append("\"");
+        EXPECT_EQ(etag, expected_etag);
+        const auto again = client_->Get(path, {{"If-None-Match", etag}});
+        expect_conforms("GET", route, again);
+        EXPECT_EQ(again->status, 304);
+        EXPECT_TRUE(again->body.empty());
+    }
+    // The page's query is its view state, for the page to read.
+    EXPECT_EQ(client_->Get("/?camera-orbit=10+20&exposure=1")->status, 200);
+    for (const std::string path :
+         {"/web/embed-test.html", "/web/README.md", "/web/..%2FCMakeLists.txt", "/web/.."}) {
+        SCOPED_TRACE(path);
+        expect_problem("GET", "/web/{file}", client_->Get(path), 404);
+    }
+    EXPECT_EQ(client_->Get("/web/")->status, 404);
+    EXPECT_EQ(client_->Get("/web/../CMakeLists.txt")->status, 404);
 }
 
 TEST_F(Endpoints, MetricsAreValidPrometheusTextCountingRequestsAndCaches) {

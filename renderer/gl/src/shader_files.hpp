@@ -1,6 +1,6 @@
 #pragma once
 // The GLSL files of renderer/gl/shaders, embedded in the binary at build time: the build runs
-// cmake/embed_shaders.cmake, which writes shader_files.cpp with one raw string per file listed
+// cmake/embed_files.cmake, which writes shader_files.cpp with one raw string per file listed
 // in renderer/gl/CMakeLists.txt.
 #include <span>
 #include <string_view>

@@ -1,0 +1,422 @@
+// <oer-viewer>: a product under an environment's lights, rendered by oer-server, as one custom
+// element (one script tag, as model-viewer does). Frames come from GET /v1/render
+// (api/openapi.yaml); the view state lives in the element's attributes (web/README.md).
+
+// While the pointer drags, frames are cheaper: one sample, half the size, lower JPEG quality
+// and hard shadows (the parameters of GET /v1/render that the server documents for this).
+const PREVIEW = { scale: 0.5, samples: 1, quality: 60, shadow_filter: 'hard' };
+// The largest frame side GET /v1/render accepts.
+const MAX_FRAME_SIDE = 4096;
+// The orbit when camera-orbit gives none: GET /v1/render's defaults for yaw, pitch, distance.
+const DEFAULT_ORBIT = { yaw: 30, pitch: 15, distance: 3 };
+// Orbit limits: from just below the horizon to just short of straight down (the up vector
+// degenerates at 90 degrees), and zoom within a factor of about 15 either way.
+const PITCH_LIMITS = [-10, 89];
+const DISTANCE_LIMITS = [0.2, 50];
+const DEGREES_PER_PIXEL = 0.4;
+const KEY_STEP_DEGREES = 5;
+const WHEEL_ZOOM_PER_PIXEL = 0.0015;
+// How long the pointer must rest (no movement, no wheel) before the full frame is asked for.
+const REST_MILLISECONDS = 250;
+
+const clamp = (value, [low, high]) => Math.min(high, Math.max(low, value));
+// Angles kept in (-180, 180], the range GET /v1/render's yaw accepts with room to spare.
+const wrapDegrees = (angle) => ((((angle + 180) % 360) + 360) % 360) - 180;
+const rounded = (value) => Math.round(value * 100) / 100;
+
+const STYLE = `
+  :host { display: block; position: relative; overflow: hidden; touch-action: none;
+          min-width: 1px; min-height: 1px; cursor: grab; outline: none; }
+  :host(:focus-visible) { box-shadow: inset 0 0 0 3px #4d90fe; }
+  :host([dragging]) { cursor: grabbing; }
+  img { display: block; width: 100%; height: 100%; user-select: none;
+        -webkit-user-drag: none; pointer-events: none; }
+`;
+
+export class OerViewer extends HTMLElement {
+  static observedAttributes = [
+    'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'exposure',
+    'background',
+  ];
+
+  #image;
+  #controller = null;  // the one request in flight
+  #objectUrl = null;
+  #lights = [];
+  #lightsFor = null;  // the environment URL #lights came from
+  #drag = null;
+  #dragging = false;
+  #movingCamera = false;  // camera-orbit is being set by a drag, the wheel or a key
+  #restTimer = 0;
+  #pendingPreview = false;
+  #resizeObserver;
+  #connected = false;
+
+  constructor() {
+    super();
+    const root = this.attachShadow({ mode: 'open' });
+    const style = document.createElement('style');
+    style.textContent = STYLE;
+    this.#image = document.createElement('img');
+    this.#image.alt = '';
+    this.#image.part = 'frame';
+    root.append(style, this.#image);
+    this.#resizeObserver = new ResizeObserver(() => this.#requestFrame(false));
+    // Here rather than on connection, so that moving the element does not add them twice.
+    this.addEventListener('pointerdown', this.#onPointerDown);
+    this.addEventListener('pointermove', this.#onPointerMove);
+    this.addEventListener('pointerup', this.#onPointerUp);
+    this.addEventListener('pointercancel', this.#onPointerUp);
+    this.addEventListener('wheel', this.#onWheel, { passive: false });
+    this.addEventListener('keydown', this.#onKeyDown);
+  }
+
+  connectedCallback() {
+    this.#connected = true;
+    if (!this.hasAttribute('tabindex')) {
+      this.tabIndex = 0;
+    }
+    if (!this.hasAttribute('role')) {
+      this.setAttribute('role', 'img');
+    }
+    this.#resizeObserver.observe(this);
+    this.#loadLights();
+  }
+
+  disconnectedCallback() {
+    this.#connected = false;
+    this.#resizeObserver.disconnect();
+    this.#controller?.abort();
+    this.#controller = null;
+    clearTimeout(this.#restTimer);
+  }
+
+  attributeChangedCallback(name, oldValue, newValue) {
+    if (!this.#connected || oldValue === newValue) {
+      return;
+    }
+    if (name === 'server' || name === 'environment') {
+      this.#loadLights();
+    }
+    if (name === 'lights') {
+      this.#dispatchLightsChange();
+    }
+    // A drag, the wheel or a key asks for its own frames; the attribute only records the state.
+    if (!this.#movingCamera) {
+      this.#requestFrame(false);
+    }
+  }
+
+  // The server's base URL ('' = this page's origin).
+  get server() { return (this.getAttribute('server') ?? '').replace(/\/+$/, ''); }
+  get environment() { return this.getAttribute('environment') || 'default'; }
+  get mesh() { return this.getAttribute('mesh') || 'default'; }
+
+  // {yaw, pitch, distance} from camera-orbit="yaw pitch [distance]"; null when absent (the
+  // server frames the scene itself).
+  get orbit() {
+    const text = this.getAttribute('camera-orbit');
+    if (!text) {
+      return null;
+    }
+    const [yaw, pitch, distance] = text.trim().split(/[\s,]+/).map(Number);
+    return {
+      yaw: Number.isFinite(yaw) ? yaw : DEFAULT_ORBIT.yaw,
+      pitch: Number.isFinite(pitch) ? pitch : DEFAULT_ORBIT.pitch,
+      distance: Number.isFinite(distance) ? distance : null,
+    };
+  }
+
+  set orbit({ yaw, pitch, distance }) {
+    const parts = [rounded(wrapDegrees(yaw)), rounded(clamp(pitch, PITCH_LIMITS))];
+    if (distance != null) {
+      parts.push(rounded(clamp(distance, DISTANCE_LIMITS)));
+    }
+    this.setAttribute('camera-orbit', parts.join(' '));
+  }
+
+  // Every light of the environment (the `lights` of GET /v1/environments/{id}: direction,
+  // intensity, luminance_share, ...), each with its index and its weight from the lights
+  // attribute (1 when absent).
+  get lights() {
+    const weights = this.#weights();
+    return this.#lights.map((light, index) => ({ ...light, index, weight: weights[index] ?? 1 }));
+  }
+
+  // Switches (or, where the server accepts numbers, dims) light `index`.
+  setLight(index, weight) {
+    const weights = this.#lights.map((_, i) => this.#weights()[i] ?? 1);
+    weights[index] = weight;
+    this.setAttribute('lights', weights.join(','));
+  }
+
+  // Back to the server's own framing.
+  resetView() {
+    this.removeAttribute('camera-orbit');
+    this.removeAttribute('camera-target');
+  }
+
+  // The GET /v1/render URL of the frame this element shows (preview: the cheap one).
+  frameUrl(preview = false) {
+    const rect = this.getBoundingClientRect();
+    const ratio = window.devicePixelRatio || 1;
+    const scale = preview ? PREVIEW.scale : 1;
+    const side = (css) =>
+      Math.max(1, Math.round(Math.min(MAX_FRAME_SIDE, Math.max(1, css) * ratio) * scale));
+    const query = new URLSearchParams();
+    query.set('environment', this.environment);
+    for (const mesh of this.mesh.split(/\s+/).filter(Boolean)) {
+      query.append('mesh', mesh);
+    }
+    query.set('width', side(rect.width));
+    query.set('height', side(rect.height));
+    const orbit = this.orbit;
+    if (orbit) {
+      query.set('yaw', orbit.yaw);
+      query.set('pitch', orbit.pitch);
+      if (orbit.distance != null) {
+        query.set('distance', orbit.distance);
+      }
+    }
+    const target = this.getAttribute('camera-target');
+    if (target) {
+      query.set('target', target.trim().split(/[\s,]+/).join(','));
+    }
+    for (const name of ['lights', 'exposure', 'background']) {
+      const value = this.getAttribute(name);
+      if (value) {
+        query.set(name, value.replace(/\s+/g, ''));
+      }
+    }
+    if (preview) {
+      query.set('samples', PREVIEW.samples);
+      query.set('quality', PREVIEW.quality);
+      query.set('shadow_filter', PREVIEW.shadow_filter);
+    }
+    return `${this.server}/v1/render?${query}`;
+  }
+
+  #weights() {
+    const text = this.getAttribute('lights');
+    return text ? text.split(',').map(Number) : [];
+  }
+
+  async #loadLights() {
+    const url = `${this.server}/v1/environments/${encodeURIComponent(this.environment)}`;
+    if (url === this.#lightsFor) {
+      return;
+    }
+    this.#lightsFor = url;
+    this.#lights = [];  // none of the previous environment's meanwhile
+    try {
+      const response = await fetch(url);
+      if (!response.ok) {
+        throw await problemOf(response, url);
+      }
+      const rig = await response.json();
+      if (url !== this.#lightsFor) {
+        return;
+      }
+      this.#lights = rig.lights ?? [];
+      this.#dispatchLightsChange();
+    } catch (error) {
+      this.#lightsFor = null;
+      this.#dispatchError(error, url);
+    }
+  }
+
+  #dispatchLightsChange() {
+    this.dispatchEvent(new CustomEvent('lights-change', { detail: { lights: this.lights } }));
+  }
+
+  #dispatchError(error, url) {
+    const detail = error instanceof ProblemError
+      ? { status: error.status, title: error.title, detail: error.message, url }
+      : { status: 0, title: 'Network error', detail: String(error.message ?? error), url };
+    this.dispatchEvent(new CustomEvent('error', { detail }));
+  }
+
+  // Asks for a frame; a request still in flight is aborted, so only the latest is.
+  async #requestFrame(preview) {
+    if (!this.#connected || this.getBoundingClientRect().width === 0) {
+      return;
+    }
+    this.#controller?.abort();
+    const controller = new AbortController();
+    this.#controller = controller;
+    const url = this.frameUrl(preview);
+    const started = performance.now();
+    try {
+      const response = await fetch(url, { signal: controller.signal });
+      if (!response.ok) {
+        throw await problemOf(response, url);
+      }
+      const blob = await response.blob();
+      const objectUrl = URL.createObjectURL(blob);
+      const next = new Image();
+      next.src = objectUrl;
+      await next.decode();
+      if (controller !== this.#controller) {
+        URL.revokeObjectURL(objectUrl);
+        return;
+      }
+      this.#controller = null;
+      this.#image.src = objectUrl;
+      if (this.#objectUrl) {
+        URL.revokeObjectURL(this.#objectUrl);
+      }
+      this.#objectUrl = objectUrl;
+      this.dispatchEvent(new CustomEvent('load', {
+        detail: {
+          url,
+          preview,
+          etag: response.headers.get('ETag'),
+          serverTiming: response.headers.get('Server-Timing'),
+          cache: response.headers.get('X-Oer-Cache'),
+          bytes: blob.size,
+          width: next.naturalWidth,
+          height: next.naturalHeight,
+          milliseconds: performance.now() - started,
+        },
+      }));
+    } catch (error) {
+      if (controller.signal.aborted) {
+        return;
+      }
+      if (controller === this.#controller) {
+        this.#controller = null;
+      }
+      this.#dispatchError(error, url);
+    } finally {
+      if (this.#pendingPreview && this.#controller === null && this.#dragging) {
+        this.#pendingPreview = false;
+        this.#requestFrame(true);
+      }
+    }
+  }
+
+  // A preview now, or as soon as the one in flight is shown (dragging sends one at a time:
+  // aborting each for the next would leave the server rendering frames nobody sees).
+  #preview() {
+    if (this.#controller && this.#dragging) {
+      this.#pendingPreview = true;
+    } else {
+      this.#requestFrame(true);
+    }
+    clearTimeout(this.#restTimer);
+    this.#restTimer = setTimeout(() => this.#rest(), REST_MILLISECONDS);
+  }
+
+  #rest() {
+    clearTimeout(this.#restTimer);
+    this.#pendingPreview = false;
+    this.#requestFrame(false);
+  }
+
+  #moveCamera(change) {
+    const orbit = this.orbit ?? { ...DEFAULT_ORBIT, distance: null };
+    this.#movingCamera = true;
+    try {
+      this.orbit = change(orbit);
+    } finally {
+      this.#movingCamera = false;
+    }
+  }
+
+  #onPointerDown = (event) => {
+    if (event.button !== 0) {
+      return;
+    }
+    this.setPointerCapture(event.pointerId);
+    // Without camera-orbit, the distance stays the server's (its framing of the scene).
+    const orbit = this.orbit ?? { ...DEFAULT_ORBIT, distance: null };
+    this.#drag = { pointerId: event.pointerId, x: event.clientX, y: event.clientY, orbit };
+  };
+
+  #onPointerMove = (event) => {
+    const drag = this.#drag;
+    if (!drag || drag.pointerId !== event.pointerId) {
+      return;
+    }
+    const dx = event.clientX - drag.x;
+    const dy = event.clientY - drag.y;
+    if (!this.#dragging && Math.hypot(dx, dy) < 2) {
+      return;
+    }
+    this.#dragging = true;
+    this.setAttribute('dragging', '');
+    // Dragging right turns the product right (the eye goes left); dragging down raises the eye.
+    this.#moveCamera(() => ({
+      yaw: drag.orbit.yaw - dx * DEGREES_PER_PIXEL,
+      pitch: drag.orbit.pitch + dy * DEGREES_PER_PIXEL,
+      distance: drag.orbit.distance,
+    }));
+    this.#preview();
+  };
+
+  #onPointerUp = (event) => {
+    if (!this.#drag || this.#drag.pointerId !== event.pointerId) {
+      return;
+    }
+    this.#drag = null;
+    if (this.#dragging) {
+      this.#dragging = false;
+      this.removeAttribute('dragging');
+      this.#rest();
+    }
+  };
+
+  #onWheel = (event) => {
+    event.preventDefault();
+    const pixels = event.deltaMode === WheelEvent.DOM_DELTA_LINE ? event.deltaY * 16 : event.deltaY;
+    this.#moveCamera((orbit) => ({
+      ...orbit,
+      distance: (orbit.distance ?? DEFAULT_ORBIT.distance) * Math.exp(pixels * WHEEL_ZOOM_PER_PIXEL),
+    }));
+    this.#preview();
+  };
+
+  #onKeyDown = (event) => {
+    const turns = {
+      ArrowLeft: [KEY_STEP_DEGREES, 0, 1], ArrowRight: [-KEY_STEP_DEGREES, 0, 1],
+      ArrowUp: [0, -KEY_STEP_DEGREES, 1], ArrowDown: [0, KEY_STEP_DEGREES, 1],
+      '+': [0, 0, 0.9], '=': [0, 0, 0.9], '-': [0, 0, 1 / 0.9],
+    };
+    const turn = turns[event.key];
+    if (!turn) {
+      return;
+    }
+    event.preventDefault();
+    const [yaw, pitch, zoom] = turn;
+    this.#moveCamera((orbit) => ({
+      yaw: orbit.yaw + yaw,
+      pitch: orbit.pitch + pitch,
+      distance: zoom === 1 ? orbit.distance : (orbit.distance ?? DEFAULT_ORBIT.distance) * zoom,
+    }));
+    this.#requestFrame(false);
+  };
+}
+
+// An answer that is not 2xx, with the problem+json `detail` verbatim when there is one.
+class ProblemError extends Error {
+  constructor(status, title, detail) {
+    super(detail);
+    this.status = status;
+    this.title = title;
+  }
+}
+
+async function problemOf(response, url) {
+  let body = {};
+  try {
+    body = await response.json();
+  } catch {
+    // Not problem+json (a proxy's page, say): the status line is all there is.
+  }
+  return new ProblemError(response.status, body.title ?? response.statusText,
+                          body.detail ?? `${response.status} ${response.statusText} from ${url}`);
+}
+
+if (!customElements.get('oer-viewer')) {
+  customElements.define('oer-viewer', OerViewer);
+}

@@ -1,0 +1,346 @@
+// The browser test of web/ (ctest `browser`): the real oer-server on a free loopback port with a
+// temporary data folder, Debian's chromium driven by playwright-core (no browser download).
+//   node browser_test.mjs --server build/bin/oer-server --artifacts build/browser-artifacts
+// Screenshots at desktop (1280x800) and phone (360x740) width go to the artifacts folder.
+import { spawn } from 'node:child_process';
+import { once } from 'node:events';
+import { mkdtempSync, mkdirSync, readFileSync, rmSync } from 'node:fs';
+import { createServer } from 'node:http';
+import { tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import assert from 'node:assert/strict';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const argument = (name) => {
+  const index = process.argv.indexOf(name);
+  if (index < 0 || index + 1 >= process.argv.length) {
+    throw new Error(`browser_test.mjs: ${name} is required`);
+  }
+  return process.argv[index + 1];
+};
+const serverPath = argument('--server');
+const artifacts = argument('--artifacts');
+mkdirSync(artifacts, { recursive: true });
+
+const CHROMIUM = '/usr/bin/chromium';
+const CHROMIUM_ARGS = [
+  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+];
+
+let passed = 0;
+async function check(name, body) {
+  const started = Date.now();
+  await body();
+  passed += 1;
+  console.log(`ok ${passed} - ${name} (${Date.now() - started} ms)`);
+}
+
+// A second origin for the embedding page: web/embed-test.html, with the server's port filled
+// in once the server (told to allow this origin) listens.
+async function startShop() {
+  const template = readFileSync(join(here, '..', 'embed-test.html'), 'utf8');
+  let page = null;
+  const shop = createServer((request, response) => {
+    response.writeHead(page ? 200 : 503, { 'Content-Type': 'text/html; charset=utf-8' });
+    response.end(page ?? 'the oer-server is not up yet');
+  });
+  shop.listen(0, '127.0.0.1');
+  await once(shop, 'listening');
+  shop.serveFor = (serverPort) => { page = template.replaceAll('PORT', String(serverPort)); };
+  return shop;
+}
+
+// oer-server on a free port (--port 0), its URL read from its banner, once /readyz answers.
+async function startServer(dataDir, corsOrigin) {
+  const child = spawn(serverPath, ['--host', '127.0.0.1', '--port', '0', '--data-dir', dataDir,
+                                   '--cors-origins', corsOrigin],
+                      { stdio: ['ignore', 'pipe', 'pipe'] });
+  let output = '';
+  child.stderr.on('data', (chunk) => { output += chunk; });
+  const url = await new Promise((resolve, reject) => {
+    child.stdout.on('data', (chunk) => {
+      output += chunk;
+      const match = /listening on (http:\/\/[\d.]+:\d+)/.exec(output);
+      if (match) {
+        resolve(match[1]);
+      }
+    });
+    child.on('exit', (code) => reject(new Error(`oer-server exited (${code}):\n${output}`)));
+  });
+  for (let attempt = 0; attempt < 600; attempt += 1) {
+    const response = await fetch(`${url}/readyz`).catch(() => null);
+    if (response?.ok) {
+      return { child, url };
+    }
+    await new Promise((resolve) => setTimeout(resolve, 100));
+  }
+  throw new Error(`oer-server at ${url} never became ready:\n${output}`);
+}
+
+// Every 'load' and 'error' event of an <oer-viewer>, recorded from the page's start (the
+// element's events do not bubble; a capturing listener on the document sees them all: not one
+// on window, which a 'load' event never reaches, by the HTML standard's event path).
+const RECORD_EVENTS = () => {
+  window.oerFrames = [];
+  window.oerErrors = [];
+  document.addEventListener('load', (event) => {
+    if (event.target?.localName === 'oer-viewer') {
+      window.oerFrames.push(event.detail);
+    }
+  }, true);
+  document.addEventListener('error', (event) => {
+    if (event.target?.localName === 'oer-viewer') {
+      window.oerErrors.push(event.detail);
+    }
+  }, true);
+};
+
+// Waits for a full (not preview) frame after the first `after` frames; returns its detail.
+async function fullFrame(page, after = 0) {
+  const handle = await page.waitForFunction(
+    (count) => window.oerFrames.slice(count).findLast((frame) => !frame.preview) ?? false,
+    after, { timeout: 30000 });
+  return handle.jsonValue();
+}
+
+// The shown image: natural size, the element's CSS size times devicePixelRatio, and pixel
+// statistics (distinct colors in a 4-bit-per-channel histogram, luminance spread, a checksum).
+async function shownImage(page) {
+  return page.evaluate(() => {
+    const viewer = document.querySelector('oer-viewer');
+    const image = viewer.shadowRoot.querySelector('img');
+    const rect = viewer.getBoundingClientRect();
+    const canvas = document.createElement('canvas');
+    canvas.width = image.naturalWidth;
+    canvas.height = image.naturalHeight;
+    const context = canvas.getContext('2d');
+    context.drawImage(image, 0, 0);
+    const { data } = context.getImageData(0, 0, canvas.width, canvas.height);
+    const colors = new Set();
+    let sum = 0;
+    let sumSquares = 0;
+    let checksum = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      colors.add(((data[i] >> 4) << 8) | ((data[i + 1] >> 4) << 4) | (data[i + 2] >> 4));
+      const luminance = 0.2126 * data[i] + 0.7152 * data[i + 1] + 0.0722 * data[i + 2];
+      sum += luminance;
+      sumSquares += luminance * luminance;
+      checksum = (checksum * 31 + data[i] + 7 * data[i + 1] + 13 * data[i + 2]) >>> 0;
+    }
+    const count = data.length / 4;
+    const mean = sum / count;
+    return {
+      naturalWidth: image.naturalWidth,
+      naturalHeight: image.naturalHeight,
+      expectedWidth: Math.min(4096, Math.round(rect.width * devicePixelRatio)),
+      expectedHeight: Math.min(4096, Math.round(rect.height * devicePixelRatio)),
+      colors: colors.size,
+      mean,
+      deviation: Math.sqrt(Math.max(0, sumSquares / count - mean * mean)),
+      checksum,
+    };
+  });
+}
+
+function assertRealFrame(image, what) {
+  assert.equal(image.naturalWidth, image.expectedWidth, `${what}: width`);
+  assert.equal(image.naturalHeight, image.expectedHeight, `${what}: height`);
+  assert.ok(image.colors >= 50, `${what}: ${image.colors} colors, a blank or flat frame`);
+  assert.ok(image.deviation >= 10, `${what}: luminance deviation ${image.deviation}`);
+  assert.ok(image.mean > 5 && image.mean < 250, `${what}: mean luminance ${image.mean}`);
+}
+
+const dataDir = mkdtempSync(join(tmpdir(), 'oer-browser-test-'));
+let server = null;
+let shop = null;
+let browser = null;
+const started = Date.now();
+try {
+  shop = await startShop();
+  const shopUrl = `http://127.0.0.1:${shop.address().port}`;
+  server = await startServer(dataDir, shopUrl);
+  shop.serveFor(new URL(server.url).port);
+
+  browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
+
+  const desktop = await browser.newContext({ viewport: { width: 1280, height: 800 } });
+  await desktop.addInitScript(RECORD_EVENTS);
+  // The browser's own complaints, for a failure's log.
+  desktop.on('console', (message) => console.error(`browser console: ${message.text()}`));
+  desktop.on('weberror', (error) => console.error(`browser error: ${error.error()}`));
+  const page = await desktop.newPage();
+  const renders = [];
+  page.on('request', (request) => {
+    if (request.url().includes('/v1/render')) {
+      renders.push(request.url());
+    }
+  });
+
+  let first;
+  await check('the page at / shows a rendered frame of the element\'s size', async () => {
+    await page.goto(`${server.url}/`);
+    first = await fullFrame(page);
+    assert.match(first.etag ?? '', /^"[0-9a-f]{64}"$/);
+    assert.ok(first.serverTiming !== null, 'Server-Timing reaches the load event');
+    assertRealFrame(await shownImage(page), 'first frame');
+  });
+
+  await check('the element exposes the environment\'s lights and accepts lights="1,0,1"',
+              async () => {
+    const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
+    const lights = await page.evaluate(() => document.querySelector('oer-viewer').lights);
+    assert.equal(lights.length, rig.lights.length);
+    assert.deepEqual(lights[0].direction, rig.lights[0].direction);
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.evaluate(() => document.querySelector('oer-viewer').setAttribute('lights', '1,0,1'));
+    const dimmed = await fullFrame(page, frames);
+    assert.match(dimmed.url, /[?&]lights=1%2C0%2C1(&|$)/);
+    assert.notEqual(dimmed.etag, first.etag);
+    await page.evaluate(() => document.querySelector('oer-viewer').removeAttribute('lights'));
+    assert.equal((await fullFrame(page, frames + 1)).etag, first.etag);
+  });
+
+  let afterDrag;
+  await check('a drag sends previews, turns the camera and changes the image; release gives a full frame',
+              async () => {
+    const before = await shownImage(page);
+    const box = await page.locator('oer-viewer').boundingBox();
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    const x = box.x + box.width / 2;
+    const y = box.y + box.height / 2;
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    const firstDragRequest = renders.length;
+    const dragStarted = Date.now();
+    for (let step = 1; step <= 24; step += 1) {
+      await page.mouse.move(x + step * 7.5, y + step * 2);
+      await page.waitForTimeout(50);
+    }
+    const dragSeconds = (Date.now() - dragStarted) / 1000;
+    const duringDrag = renders.slice(firstDragRequest);
+    await page.mouse.up();
+    afterDrag = await fullFrame(page, frames);
+    const frameDetails = await page.evaluate((count) => window.oerFrames.slice(count), frames);
+    assert.ok(duringDrag.length >= 1, 'requests while dragging');
+    for (const url of duringDrag) {
+      assert.match(url, /[?&]samples=1(&|$)/, `a preview: ${url}`);
+      assert.match(url, /[?&]shadow_filter=hard(&|$)/, `a preview: ${url}`);
+    }
+    const previews = frameDetails.filter((frame) => frame.preview);
+    console.log(`  ${previews.length} previews shown in a ${dragSeconds.toFixed(2)} s drag ` +
+                `(${(previews.length / dragSeconds).toFixed(1)}/s; ${duringDrag.length} requests), ` +
+                `full frame ${afterDrag.milliseconds.toFixed(0)} ms after release`);
+    assert.ok(previews.length >= 1, 'a preview was shown while dragging');
+    assert.doesNotMatch(afterDrag.url, /samples=1/);
+    const orbit = await page.evaluate(() => document.querySelector('oer-viewer').orbit);
+    // 24 steps of 7.5 px right and 2 px down from the default orbit (30, 15), 0.4 degree a pixel.
+    assert.ok(Math.abs(orbit.yaw - (30 - 180 * 0.4)) < 0.01, `yaw ${orbit.yaw}`);
+    assert.ok(Math.abs(orbit.pitch - (15 + 48 * 0.4)) < 0.01, `pitch ${orbit.pitch}`);
+    assert.notEqual(afterDrag.etag, first.etag);
+    const after = await shownImage(page);
+    assertRealFrame(after, 'frame after the drag');
+    assert.notEqual(after.checksum, before.checksum, 'the image changed');
+    assert.equal(after.naturalWidth, before.naturalWidth, 'full size again');
+  });
+
+  await check('the page\'s URL reproduces the same frame (same ETag)', async () => {
+    await page.waitForFunction(() => location.search.includes('camera-orbit'));
+    const saved = page.url();
+    const again = await desktop.newPage();
+    await again.goto(saved);
+    const frame = await fullFrame(again);
+    assert.equal(frame.etag, afterDrag.etag, `${saved} gives the frame it was saved from`);
+    await again.close();
+  });
+
+  await check('keyboard alone switches a light off in the panel and orbits', async () => {
+    const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
+    assert.equal(await page.locator('#light-switches input').count(), rig.lights.length);
+    const before = await shownImage(page);
+    let frames = await page.evaluate(() => window.oerFrames.length);
+    // Tab from the exposure slider's neighbours to the second light's switch, then Space.
+    await page.locator('#light-switches input').nth(0).focus();
+    await page.keyboard.press('Tab');
+    assert.equal(await page.evaluate(() => document.activeElement.closest('label')?.textContent),
+                 await page.locator('#light-switches label').nth(1).textContent());
+    await page.keyboard.press('Space');
+    const switched = await fullFrame(page, frames);
+    const expected = rig.lights.map((_, index) => (index === 1 ? 0 : 1)).join('%2C');
+    assert.match(switched.url, new RegExp(`[?&]lights=${expected}(&|$)`));
+    assert.notEqual((await shownImage(page)).checksum, before.checksum, 'the image changed');
+    assert.match(page.url(), new RegExp(`[?&]lights=${expected}(&|$)`));
+
+    const yaw = (await page.evaluate(() => document.querySelector('oer-viewer').orbit)).yaw;
+    frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('oer-viewer').focus();
+    await page.keyboard.press('ArrowLeft');
+    const turned = await fullFrame(page, frames);
+    assert.notEqual(turned.etag, switched.etag);
+    const orbit = await page.evaluate(() => document.querySelector('oer-viewer').orbit);
+    assert.ok(Math.abs(orbit.yaw - (yaw + 5)) < 0.01, `yaw ${yaw} -> ${orbit.yaw}`);
+    await page.locator('#all-on').click();
+    assert.equal(await page.locator('oer-viewer').getAttribute('lights'), null);
+  });
+
+  await check('an error event carries the server\'s problem+json detail verbatim', async () => {
+    const missing = '0'.repeat(64);
+    const problem = await (await fetch(`${server.url}/v1/render?environment=${missing}&mesh=default`)).json();
+    const errors = await page.evaluate(() => window.oerErrors.length);
+    await page.evaluate((id) => document.querySelector('oer-viewer').setAttribute('environment', id),
+                        missing);
+    const handle = await page.waitForFunction(
+      (count) => window.oerErrors.slice(count).find((error) => error.url.includes('/v1/render')) ?? false,
+      errors, { timeout: 30000 });
+    const error = await handle.jsonValue();
+    assert.equal(error.status, problem.status);
+    assert.equal(error.detail, problem.detail);
+    assert.equal(await page.locator('#status').textContent(), problem.detail);
+  });
+
+  await check('desktop screenshot (1280x800)', async () => {
+    await page.goto(`${server.url}/`);
+    await fullFrame(page);
+    // The lights come from their own request, which may end after a cached frame's.
+    await page.locator('#light-switches input').first().waitFor();
+    await page.screenshot({ path: join(artifacts, 'desktop-1280x800.png') });
+  });
+
+  await check('at phone width (360x740, touch) the page fits and shows a frame', async () => {
+    const phone = await browser.newContext({
+      viewport: { width: 360, height: 740 }, deviceScaleFactor: 2, isMobile: true, hasTouch: true,
+    });
+    await phone.addInitScript(RECORD_EVENTS);
+    const small = await phone.newPage();
+    await small.goto(`${server.url}/`);
+    await fullFrame(small);
+    assertRealFrame(await shownImage(small), 'phone frame');
+    await small.locator('#light-switches input').first().waitFor();
+    const overflow = await small.evaluate(() => document.documentElement.scrollWidth - innerWidth);
+    assert.ok(overflow <= 0, `the page is ${overflow} px wider than the phone`);
+    await small.screenshot({ path: join(artifacts, 'phone-360x740.png') });
+    await phone.close();
+  });
+
+  await check('a page on another origin embeds the element (CORS)', async () => {
+    const context = await browser.newContext({ viewport: { width: 800, height: 600 } });
+    await context.addInitScript(RECORD_EVENTS);
+    const embedding = await context.newPage();
+    await embedding.goto(`${shopUrl}/`);
+    const frame = await fullFrame(embedding);
+    assert.ok(frame.url.startsWith(server.url), frame.url);
+    assert.match(frame.etag ?? '', /^"[0-9a-f]{64}"$/, 'ETag exposed to the other origin');
+    assertRealFrame(await shownImage(embedding), 'embedded frame');
+    await context.close();
+  });
+
+  console.log(`browser test: ${passed} checks passed in ${((Date.now() - started) / 1000).toFixed(1)} s; ` +
+              `screenshots in ${artifacts}`);
+} finally {
+  await browser?.close();
+  shop?.close();
+  server?.child.kill('SIGTERM');
+  rmSync(dataDir, { recursive: true, force: true });
+}
