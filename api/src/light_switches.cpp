@@ -2,27 +2,43 @@
 
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/parameter_text.hpp"
+#include "oer/gl/frame_request.hpp"
 
 namespace oer::api {
 
-std::vector<bool> parse_light_list(const std::string& text, std::size_t max_count) {
-    std::vector<bool> switches;
+namespace {
+
+// The comma-separated entries of text, at most max_count of them.
+std::vector<std::string> list_entries(const std::string& text, std::size_t max_count) {
+    std::vector<std::string> entries;
     std::size_t start = 0;
     while (start <= text.size()) {
-        if (switches.size() == max_count) {
+        if (entries.size() == max_count) {
             throw InvalidParameter("lights", "more than " + std::to_string(max_count) +
                                                  " entries in '" + excerpt(text) + "'");
         }
         const std::size_t end = std::min(text.find(',', start), text.size());
-        const std::string entry = text.substr(start, end - start);
-        if (entry != "0" && entry != "1") {
-            throw InvalidParameter("lights",
-                                   "each entry must be 0 or 1, got '" + excerpt(entry) + "'");
-        }
-        switches.push_back(entry == "1");
+        entries.push_back(text.substr(start, end - start));
         start = end + 1;
     }
-    return switches;
+    return entries;
+}
+
+}  // namespace
+
+std::vector<double> parse_light_list(const std::string& text, std::size_t max_count) {
+    const std::vector<std::string> entries = list_entries(text, max_count);
+    std::vector<double> weights;
+    for (const std::string& entry : entries) {
+        try {
+            weights.push_back(parse_number("lights", entry, 0.0, kMaxLightWeight));
+        } catch (const InvalidParameter&) {
+            throw InvalidParameter(
+                "lights", "entry " + std::to_string(weights.size()) + " must be a weight in [0, " +
+                              number_text(kMaxLightWeight) + "], got '" + excerpt(entry) + "'");
+        }
+    }
+    return weights;
 }
 
 std::vector<double> parse_light_switches(const std::optional<std::string>& text,
@@ -30,12 +46,19 @@ std::vector<double> parse_light_switches(const std::optional<std::string>& text,
     if (!text) {
         return std::vector<double>(light_count, 1.0);
     }
-    const std::vector<bool> switches = parse_light_list(*text, light_count);
-    if (switches.size() != light_count) {
+    std::vector<double> visibility;
+    for (const std::string& entry : list_entries(*text, light_count)) {
+        if (entry != "0" && entry != "1") {
+            throw InvalidParameter("lights",
+                                   "each entry must be 0 or 1, got '" + excerpt(entry) + "'");
+        }
+        visibility.push_back(entry == "1" ? 1.0 : 0.0);
+    }
+    if (visibility.size() != light_count) {
         throw InvalidParameter("lights", "the environment has " + std::to_string(light_count) +
                                              " light(s), got '" + excerpt(*text) + "'");
     }
-    return {switches.begin(), switches.end()};
+    return visibility;
 }
 
 }  // namespace oer::api

@@ -41,6 +41,7 @@ constexpr Range kPitch{-90.0, 90.0};
 constexpr Range kDistance{1e-4, 1e6};
 constexpr Range kExposure{-64.0, 64.0};  // the renderer's limit
 constexpr Range kColor{0.0, 1.0};
+constexpr Range kLightWeight{0.0, kMaxLightWeight};  // the renderer's limit
 constexpr int kMaxQuality = 100;
 constexpr int kMinShadowResolution = 64;
 constexpr std::array<int, 4> kSampleCounts = {1, 2, 4, 8};
@@ -191,6 +192,15 @@ long long json_integer(const Json& value, const std::string& path, long long low
 
 bool json_bool(const Json& value, const std::string& path) {
     return read.boolean(value, path, "true or false");
+}
+
+// A light's weight (DESIGN.md section 2, dimmable lights): true and false, the on/off form, are
+// 1 and 0.
+double json_light_weight(const Json& value, const std::string& path) {
+    if (value.is_boolean()) {
+        return value.get<bool>() ? 1.0 : 0.0;
+    }
+    return json_number(value, path, kLightWeight);
 }
 
 const std::string& json_string(const Json& value, const std::string& path) {
@@ -552,7 +562,7 @@ RenderSpec parse_render_json(std::string_view body, const RenderLimits& limits) 
     if (const Json* lights = find(json, "lights")) {
         require_array(*lights, "lights", limits.max_lights);
         for (std::size_t i = 0; i < lights->size(); ++i) {
-            spec.lights.push_back(json_bool((*lights)[i], child("lights", i)));
+            spec.lights.push_back(json_light_weight((*lights)[i], child("lights", i)));
         }
     }
     if (const Json* width = find(json, "width")) {
@@ -685,10 +695,15 @@ nlohmann::json normalised_render_json(const RenderSpec& spec) {
         }
         objects.push_back(std::move(json));
     }
+    // Weights as numbers, so that [true, false] and [1, 0] are one request.
+    Json lights = Json::array();
+    for (const double weight : spec.lights) {
+        lights.push_back(canonical(weight));
+    }
     Json json = {{"environment", spec.environment},
                  {"objects", std::move(objects)},
                  {"ground", spec.ground},
-                 {"lights", spec.lights},
+                 {"lights", std::move(lights)},
                  {"width", spec.width},
                  {"height", spec.height},
                  {"format", to_string(spec.format)},
@@ -734,7 +749,7 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
     if (!spec.lights.empty() && spec.lights.size() != rig->lights.size()) {
         throw InvalidParameter(
             "lights", "the environment has " + std::to_string(rig->lights.size()) +
-                          " light(s), got " + std::to_string(spec.lights.size()) + " switches");
+                          " light(s), got " + std::to_string(spec.lights.size()) + " weights");
     }
     FrameRequest request;
     request.rig = std::move(rig);
@@ -755,7 +770,7 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
                                             float(spec.width) / float(spec.height));
         }
     }
-    request.lights = spec.lights;
+    request.lights.assign(spec.lights.begin(), spec.lights.end());
     request.width = spec.width;
     request.height = spec.height;
     request.ground = spec.ground;

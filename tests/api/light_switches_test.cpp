@@ -15,3 +15,11 @@ TEST(LightSwitches, ParsesOnOffAndChecksTheCount) {
     EXPECT_THROW(api::parse_light_switches("1,,1", 3), InvalidParameter);
     EXPECT_THROW(api::parse_light_switches("", 1), InvalidParameter);
 }
+
+TEST(LightSwitches, ListsAreWeightsAndSwitchesStayOnOff) {
+    EXPECT_EQ(api::parse_light_list("1,0.5,0,4", 4), (std::vector<double>{1.0, 0.5, 0.0, 4.0}));
+    EXPECT_THROW(api::parse_light_list("1,4.5", 4), InvalidParameter);
+    EXPECT_THROW(api::parse_light_list("1,0,1", 2), InvalidParameter);
+    // The environment's irradiance takes on/off only.
+    EXPECT_THROW(api::parse_light_switches("1,0.5,1", 3), InvalidParameter);
+}

@@ -92,7 +92,7 @@ TEST(RenderRequest, TheDesignExampleParsesToItsValues) {
     EXPECT_EQ(look_at.target, glm::dvec3(0.0, 0.75, 0.0));
     EXPECT_EQ(look_at.up, glm::dvec3(0.0, 1.0, 0.0));
     EXPECT_EQ(spec.camera->fov_y, 45.0);
-    EXPECT_EQ(spec.lights, (std::vector<bool>{true, false}));
+    EXPECT_EQ(spec.lights, (std::vector<double>{1.0, 0.0}));
     EXPECT_EQ(spec.width, 512);
     EXPECT_EQ(spec.height, 512);
     EXPECT_EQ(spec.format, api::ImageFormat::Jpeg);
@@ -194,7 +194,7 @@ TEST(RenderRequest, TheCanonicalDocumentIsAValidBodyOfTheSameRequest) {
         "shadows": {"resolution": 8192}, "samples": 1, "environment_yaw": 12.5})";
     const Json canonical = api::normalised_render_json(api::parse_render_json(body));
     EXPECT_EQ(api::normalised_render_json(api::parse_render_json(canonical.dump())), canonical);
-    EXPECT_EQ(canonical.at("lights"), Json({false, true, true}));
+    EXPECT_EQ(canonical.at("lights"), Json({0.0, 1.0, 1.0}));
     EXPECT_EQ(canonical.at("objects")[0].at("base_color"), Json({0.25, 0.5, 1.0}));
 }
 
@@ -347,7 +347,7 @@ TEST(RenderRequest, ErrorsNameTheMembersPath) {
         {with("camera", R"({"orbit": {"target": [0, 0, "x"]}})"), "camera/orbit/target/2"},
         {with("camera", R"({"orbit": {}, "eye": [0, 0, 3]})"), "camera/eye"},
         {with("camera", R"({"orbit": 30})"), "camera/orbit"},
-        {with("lights", R"([true, 1])"), "lights/1"},
+        {with("lights", R"([true, "1"])"), "lights/1"},
         {with("lights", R"("1,0")"), "lights"},
         {with("width", "0"), "width"},
         {with("width", "4097"), "width"},
@@ -488,7 +488,7 @@ TEST(RenderRequest, QueryErrorsNameTheParameter) {
         {{{"environment", "default"}, {"yaw", "10"}, {"fov_y", "0"}}, "fov_y"},
         {{{"environment", "default"}, {"pitch", "-90.5"}}, "pitch"},
         {{{"environment", "default"}, {"distance", "-1"}}, "distance"},
-        {{{"environment", "default"}, {"lights", "1,2"}}, "lights"},
+        {{{"environment", "default"}, {"lights", "1,4.5"}}, "lights"},
         {{{"environment", "default"}, {"lights", ""}}, "lights"},
         {{{"environment", "default"}, {"width", "0x10"}}, "width"},
         {{{"environment", "default"}, {"width", "512.0"}}, "width"},
@@ -539,7 +539,7 @@ TEST(RenderRequest, QueryFormReadsEveryParameter) {
     EXPECT_EQ(orbit.pitch, 15.0);
     EXPECT_EQ(orbit.distance, 4.0);
     EXPECT_EQ(orbit.target, glm::dvec3(1.0, 2.0, 3.0));
-    EXPECT_EQ(spec.lights, (std::vector<bool>{false, true}));
+    EXPECT_EQ(spec.lights, (std::vector<double>{0.0, 1.0}));
     EXPECT_EQ(spec.background.kind, BackgroundKind::Transparent);
     EXPECT_FALSE(spec.shadows.enabled);
     EXPECT_EQ(spec.samples, 1);
@@ -647,7 +647,7 @@ TEST(RenderRequest, ToFrameRequestConvertsALookAtCamera) {
     EXPECT_EQ(request.camera->target, glm::vec3(0.0f, 1.0f, 0.0f));
     EXPECT_EQ(request.camera->up, glm::vec3(0.0f, 0.0f, 1.0f));
     EXPECT_EQ(request.camera->fov_y, 60.0f);
-    EXPECT_EQ(request.lights, (std::vector<bool>{false, true}));
+    EXPECT_EQ(request.lights, (std::vector<float>{0.0f, 1.0f}));
     EXPECT_EQ(request.width, 320);
     EXPECT_EQ(request.height, 200);
     EXPECT_FALSE(request.ground);
@@ -837,4 +837,54 @@ TEST(RenderRequest, ToFrameRequestChecksTheLightsAndTheResolvedAssets) {
     } catch (const Error& error) {
         EXPECT_EQ(error.kind(), ErrorKind::Internal);
     }
+}
+
+TEST(RenderRequest, LightsAreWeightsInBothForms) {
+    // DESIGN.md section 2, dimmable lights: true and false are 1 and 0.
+    EXPECT_EQ(api::parse_render_json(with("lights", "[true, 0.3, 0, false, 4, 1]")).lights,
+              (std::vector<double>{1.0, 0.3, 0.0, 0.0, 4.0, 1.0}));
+    EXPECT_EQ(
+        api::parse_render_query({{"environment", kRig}, {"lights", "1,0.3,0,4,2.5e-1"}}).lights,
+        (std::vector<double>{1.0, 0.3, 0.0, 4.0, 0.25}));
+    EXPECT_EQ(api::parse_render_query({{"environment", kRig}, {"lights", "1,0"}}).lights,
+              (std::vector<double>{1.0, 0.0}));
+    // Out of [0, 4], not a number or an empty entry: 422 naming lights, the index in the path
+    // (body) or the message (query).
+    for (const auto& [value, member] :
+         std::vector<std::pair<std::string, std::string>>{{"[1, 4.001]", "lights/1"},
+                                                          {"[-0.5]", "lights/0"},
+                                                          {"[1, 1, null]", "lights/2"},
+                                                          {R"(["0.5"])", "lights/0"}}) {
+        EXPECT_EQ(rejected_member(with("lights", value)), member) << value;
+    }
+    for (const std::string text : {"1,4.001", "1,-0.5", "1,nan", "1,inf", "1,,1", "1,0.5x"}) {
+        try {
+            api::parse_render_query({{"environment", kRig}, {"lights", text}});
+            ADD_FAILURE() << "accepted lights=" << text;
+        } catch (const InvalidParameter& error) {
+            EXPECT_EQ(error.parameter(), "lights") << text;
+            EXPECT_NE(std::string(error.what()).find("entry 1"), std::string::npos) << error.what();
+        }
+    }
+}
+
+TEST(RenderRequest, OnOffAndTheirWeightsShareTheEtagAndOtherWeightsDoNot) {
+    const std::string on_off = etag_of_json({{"environment", kRig}, {"lights", {true, false}}});
+    EXPECT_EQ(etag_of_json({{"environment", kRig}, {"lights", {1, 0}}}), on_off);
+    EXPECT_EQ(etag_of_json({{"environment", kRig}, {"lights", {1.0, -0.0}}}), on_off);
+    EXPECT_EQ(api::render_etag(api::parse_render_query({{"environment", kRig}, {"lights", "1,0"}})),
+              on_off);
+    EXPECT_NE(etag_of_json({{"environment", kRig}, {"lights", {1, 0.5}}}), on_off);
+    EXPECT_NE(etag_of_json({{"environment", kRig}, {"lights", {1, 0.5}}}),
+              etag_of_json({{"environment", kRig}, {"lights", {1, 0.25}}}));
+    EXPECT_EQ(api::normalised_render_json(api::parse_render_json(with("lights", "[true, 0.5]")))
+                  .at("lights"),
+              Json({1.0, 0.5}));
+}
+
+TEST(RenderRequest, ToFrameRequestPassesTheWeights) {
+    const RenderSpec spec = api::parse_render_json(
+        R"({"environment": "default", "objects": [{"mesh": "default"}], "lights": [true, 0.25, 4]})");
+    EXPECT_EQ(api::to_frame_request(spec, rig_with_lights(3), nullptr, meshes(1)).lights,
+              (std::vector<float>{1.0f, 0.25f, 4.0f}));
 }

@@ -279,17 +279,14 @@ TEST_F(FrameRendererTest, SpherePixelsMatchTheRigsShIrradianceAtTheirNormals) {
     }
 }
 
-TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
-    const auto rig = make_rig(three_light_map(), 3, 3);
-    ASSERT_EQ(rig->lights.size(), 3u);
-    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
-    Camera camera;
-    camera.eye = {0.0f, 4.0f, 3.0f};
-    camera.fov_y = 50.0f;
-    FrameRequest request = box_on_ground_request(rig, low, high, camera, 160);
+namespace {
 
-    // Classify ground pixels by the lights whose shadow covers them, keeping only pixels whose
-    // neighbours two pixels away agree (away from every edge).
+// Ground pixels of a box_on_ground_request classified by the lights whose shadow covers them
+// (bit k: light k's), keeping only pixels whose neighbours two pixels away agree (away from
+// every edge); -1 for the others.
+std::vector<int> shadow_classes(const Rig& rig, const FrameRequest& request, glm::dvec3 low,
+                                glm::dvec3 high) {
+    const Camera& camera = *request.camera;
     const auto occluders = [&](int x, int y) -> std::optional<int> {
         const glm::dvec3 ray = pixel_ray(camera, request.width, request.height, x, y);
         const glm::dvec3 eye(camera.eye);
@@ -298,8 +295,8 @@ TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
         }
         const glm::dvec3 ground = eye + (-eye.y / ray.y) * ray;
         int mask = 0;
-        for (int k = 0; k < 3; ++k) {
-            if (hits_box(ground, rig->lights[k].direction, low, high)) {
+        for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+            if (hits_box(ground, rig.lights[k].direction, low, high)) {
                 mask |= 1 << k;
             }
         }
@@ -318,6 +315,21 @@ TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
             }
         }
     }
+    return classes;
+}
+
+}  // namespace
+
+TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    ASSERT_EQ(rig->lights.size(), 3u);
+    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
+    Camera camera;
+    camera.eye = {0.0f, 4.0f, 3.0f};
+    camera.fov_y = 50.0f;
+    FrameRequest request = box_on_ground_request(rig, low, high, camera, 160);
+
+    const std::vector<int> classes = shadow_classes(*rig, request, low, high);
     std::vector<glm::dvec3> ground_irradiance;  // E_k(+Y) of each light
     for (int k = 0; k < 3; ++k) {
         ground_irradiance.push_back(
@@ -325,7 +337,8 @@ TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
     }
     int shadowed_pixels[3] = {0, 0, 0};
     for (int subset = 0; subset < 8; ++subset) {
-        request.lights = {bool(subset & 1), bool(subset & 2), bool(subset & 4)};
+        request.lights = {subset & 1 ? 1.0f : 0.0f, subset & 2 ? 1.0f : 0.0f,
+                          subset & 4 ? 1.0f : 0.0f};
         request.shadows.enabled = true;
         const Frame shadowed = render(request);
         request.shadows.enabled = false;
@@ -355,6 +368,81 @@ TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
     for (int k = 0; k < 3; ++k) {
         EXPECT_GT(shadowed_pixels[k], 100) << "light " << k << " cast no checked shadow";
     }
+}
+
+TEST_F(FrameRendererTest, ALightsWeightScalesItsShContributionWhereItReaches) {
+    // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2): from weight w to w', a ground
+    // pixel changes by (w' - w) v_k E_k(+Y) albedo / pi, the whole step where light k reaches it
+    // (v = 1) and nothing in its shadow (v = 0).
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    ASSERT_EQ(rig->lights.size(), 3u);
+    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
+    Camera camera;
+    camera.eye = {0.0f, 4.0f, 3.0f};
+    camera.fov_y = 50.0f;
+    FrameRequest request = box_on_ground_request(rig, low, high, camera, 160);
+    const std::vector<int> classes = shadow_classes(*rig, request, low, high);
+    constexpr std::size_t kDimmed = 0;
+    const glm::dvec3 light_part =
+        0.8 / kPi *
+        irradiance_coefficients(rig->sh.per_light[kDimmed], rig->window).evaluate({0, 1, 0});
+    const std::vector<float> weights = {1.0f, 0.5f, 2.0f, 4.0f, 0.0f};
+    std::vector<Frame> frames;
+    for (const float weight : weights) {
+        request.lights = {1.0f, 1.0f, 1.0f};
+        request.lights[kDimmed] = weight;
+        frames.push_back(render(request));
+    }
+    for (std::size_t step = 1; step < weights.size(); ++step) {
+        const double change = double(weights[step]) - double(weights[step - 1]);
+        int reached = 0, shadowed = 0;
+        for (int y = 0; y < request.height; ++y) {
+            for (int x = 0; x < request.width; ++x) {
+                const int mask = classes[std::size_t(y * request.width + x)];
+                if (mask < 0) {
+                    continue;
+                }
+                const bool in_shadow = (mask & (1 << kDimmed)) != 0;
+                const glm::dvec3 expected = in_shadow ? glm::dvec3(0.0) : change * light_part;
+                const glm::dvec3 difference =
+                    linear_rgb(frames[step], x, y) - linear_rgb(frames[step - 1], x, y);
+                const double scale = glm::length(linear_rgb(frames[step - 1], x, y));
+                ASSERT_NEAR(glm::length(difference - expected), 0.0, 1e-4 * scale + 1e-6)
+                    << "pixel " << x << "," << y << (in_shadow ? " in" : " out of")
+                    << " the light's shadow, weight " << weights[step - 1] << " -> "
+                    << weights[step];
+                ++(in_shadow ? shadowed : reached);
+            }
+        }
+        EXPECT_GT(reached, 1000) << "step " << step;
+        EXPECT_GT(shadowed, 100) << "step " << step;
+    }
+}
+
+TEST_F(FrameRendererTest, AWeightOfZeroIsOffAndGetsNoShadowPass) {
+    const auto rig = make_rig(three_light_map(), 3, 3);
+    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
+    Camera camera;
+    camera.eye = {0.0f, 4.0f, 3.0f};
+    camera.fov_y = 50.0f;
+    FrameRequest request = box_on_ground_request(rig, low, high, camera, 64);
+    request.shadows.resolution = 512;
+    // Yaws no other test uses, so that every light's shadow map is a cache miss.
+    request.environment_yaw = 17.0;
+    request.lights = {1.0f, 0.0f, 1.0f};
+    const Frame off = render(request);
+    EXPECT_EQ(off.shadow_maps_rendered, 2);
+    // The frame without light 1's shadow map is the frame with it: a light of weight 0 reads
+    // no shadow layer, whatever the cache holds.
+    request.lights = {1.0f, 1e-3f, 1.0f};
+    EXPECT_EQ(render(request).shadow_maps_rendered, 1);
+    request.lights = {1.0f, 0.0f, 1.0f};
+    const Frame off_again = render(request);
+    EXPECT_EQ(off_again.shadow_maps_rendered, 0);
+    EXPECT_EQ(off_again.linear, off.linear);
+    // And it does take the light away.
+    request.lights = {1.0f, 1.0f, 1.0f};
+    EXPECT_NE(render(request).linear, off.linear);
 }
 
 TEST_F(FrameRendererTest, ShadowEdgeLiesWhereGeometryPutsIt) {
@@ -449,7 +537,7 @@ TEST_F(FrameRendererTest, ThesisModelScalesByTheAttenuationFactor) {
     const auto rig = std::make_shared<const Rig>(build_rig(three_light_map(), {}, options));
     FrameRequest request = sphere_request(rig, front_camera());
     request.shadows.enabled = false;
-    request.lights = {true, false, true};
+    request.lights = {1.0f, 0.0f, 1.0f};
     const Frame frame = render(request);
     const bool on[3] = {true, false, true};
     const ShRgb irradiance = irradiance_coefficients(subset_coefficients(rig->sh, on), rig->window);
@@ -697,8 +785,8 @@ TEST_F(FrameRendererTest, SixteenShadowingLightsEachCastTheirShadow) {
     const Frame all_on = render(request);
     EXPECT_EQ(all_on.shadow_maps_rendered, 16);
     for (int k = 0; k < 16; k += 5) {
-        request.lights.assign(16, true);
-        request.lights[std::size_t(k)] = false;
+        request.lights.assign(16, 1.0f);
+        request.lights[std::size_t(k)] = 0.0f;
         const Frame one_off = render(request);
         EXPECT_EQ(one_off.shadow_maps_rendered, 0) << "light " << k;
         // Over the ground, light k's part of the frame is zero in the box's shadow along light
@@ -749,7 +837,7 @@ TEST_F(FrameRendererTest, ShadowMapsAreCachedAcrossCameraMoves) {
     EXPECT_EQ(first.shadow_maps_rendered, 3);
     request.camera->eye = {2.0f, 1.0f, 3.0f};
     EXPECT_EQ(render(request).shadow_maps_rendered, 0);
-    request.lights = {true, false, true};
+    request.lights = {1.0f, 0.0f, 1.0f};
     EXPECT_EQ(render(request).shadow_maps_rendered, 0);
     request.environment_yaw = 45.0;  // the lights move
     EXPECT_EQ(render(request).shadow_maps_rendered, 2);
@@ -769,7 +857,7 @@ TEST_F(FrameRendererTest, MalformedRequestsAreRejectedNamingTheMember) {
     };
     FrameRequest good = sphere_request(rig, front_camera());
     FrameRequest request = good;
-    request.lights = {true};
+    request.lights = {1.0f};
     expect_error(request, ErrorKind::InvalidInput, "lights");
     request = good;
     request.width = 0;

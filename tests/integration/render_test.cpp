@@ -260,6 +260,92 @@ TEST(RenderLighting, SwitchingALightChangesExactlyTheGroundItReaches) {
     EXPECT_GT(changed, 100);
 }
 
+// One light at weights 1, 0.5 and 0 over GET (DESIGN.md section 2, dimmable lights): where the
+// light reaches, the half-weight frame lies strictly between on and off (in linear terms
+// halfway, up to the 8-bit encoding); weight 0 is the POST body's `false`, byte for byte.
+TEST(RenderLighting, AHalfWeightLightGivesAFrameBetweenOnAndOff) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const Json rig = upload_environment(*client, exr_bytes(three_disc_environment().image),
+                                        "image/x-exr", "light_count=1&sh_order=3");
+    ASSERT_TRUE(rig.is_object());
+    ASSERT_EQ(rig.at("lights").size(), 1u);
+    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
+    const Json mesh = upload_mesh(*client, box_obj(low, high), "model/obj");
+    ASSERT_TRUE(mesh.is_object());
+    // Exposure that puts the fully lit ground at about 0.7 of white, as a query's text.
+    ShWindow window;
+    window.kind = window_kind_from_string(rig.at("sh").at("window").at("kind").get<std::string>());
+    window.cutoff = rig.at("sh").at("window").value("cutoff", 0.0);
+    const glm::dvec3 ground_all =
+        0.8 / kPi *
+        irradiance_coefficients(sh_of(rig.at("sh").at("radiance")), window).evaluate({0, 1, 0});
+    const std::string exposure =
+        std::to_string(std::log2(0.7 / std::max({ground_all.r, ground_all.g, ground_all.b})));
+    const std::string query = "/v1/render?environment=" + rig.at("id").get<std::string>() +
+                              "&mesh=" + mesh.at("id").get<std::string>() +
+                              "&eye=0,4,3&target=0,0.2,0&fov_y=50&width=96&height=96"
+                              "&format=png&tonemap=none&exposure=" +
+                              exposure + "&samples=1&shadow_filter=hard";
+    const auto render = [&](const std::string& lights) {
+        const auto result = client->Get((query + "&lights=" + lights).c_str());
+        EXPECT_TRUE(result && result->status == 200) << (result ? result->body : "no answer");
+        return result && result->status == 200 ? decode_image(result) : Rgba8Image{};
+    };
+    const Rgba8Image on = render("1"), half = render("0.5"), off = render("0");
+    ASSERT_EQ(on.width, 96);
+    ASSERT_EQ(half.width, 96);
+    ASSERT_EQ(off.width, 96);
+    const auto linear = [](double encoded) {
+        const double c = encoded / 255.0;
+        return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+    };
+    const auto luminance = [&](const Rgba8Image& image, int x, int y) {
+        const glm::dvec3 c = rgb_at(image, x, y);
+        return 0.2126 * linear(c.r) + 0.7152 * linear(c.g) + 0.0722 * linear(c.b);
+    };
+    // The pixels the light reaches: those it brightens, away from white (clamped).
+    double sum_on = 0.0, sum_half = 0.0, sum_off = 0.0;
+    int reached = 0;
+    for (int y = 0; y < 96; ++y) {
+        for (int x = 0; x < 96; ++x) {
+            const double l_on = luminance(on, x, y), l_off = luminance(off, x, y);
+            if (l_on - l_off < 0.02 || max_abs(rgb_at(on, x, y)) >= 255.0) {
+                continue;
+            }
+            sum_on += l_on;
+            sum_half += luminance(half, x, y);
+            sum_off += l_off;
+            ++reached;
+        }
+    }
+    ASSERT_GT(reached, 2000);
+    const double mean_on = sum_on / reached, mean_half = sum_half / reached,
+                 mean_off = sum_off / reached;
+    EXPECT_GT(mean_half, mean_off);
+    EXPECT_LT(mean_half, mean_on);
+    EXPECT_NEAR(mean_half, 0.5 * (mean_on + mean_off), 0.02 * (mean_on - mean_off));
+
+    Json body = {{"environment", rig.at("id")},
+                 {"objects", {{{"mesh", mesh.at("id")}}}},
+                 {"camera", {{"eye", {0, 4, 3}}, {"target", {0, 0.2, 0}}, {"fov_y", 50}}},
+                 {"lights", {false}},
+                 {"width", 96},
+                 {"height", 96},
+                 {"format", "png"},
+                 {"tonemap", "none"},
+                 {"exposure", std::stod(exposure)},
+                 {"samples", 1},
+                 {"shadows", {{"filter", "hard"}}}};
+    const auto posted = post_json(*client, "/v1/render", body);
+    const auto got = client->Get((query + "&lights=0").c_str());
+    ASSERT_TRUE(posted && got);
+    ASSERT_EQ(posted->status, 200) << posted->body;
+    EXPECT_EQ(posted->get_header_value("ETag"), got->get_header_value("ETag"));
+    EXPECT_EQ(posted->body, got->body);
+}
+
 // GET and POST forms of one request share their ETag; If-None-Match gives 304 without a body;
 // the second identical request comes from the frame cache.
 TEST(RenderCaching, EtagRoundTripAndFrameCache) {

@@ -20,11 +20,11 @@ uniform float u_albedo_scale;      // 1 / pi (hdr model) or 1 (thesis model)
 // The ground plane's normal never changes: its irradiance per set is computed once per frame
 // on the CPU, and no SH is evaluated for its pixels.
 uniform vec3 u_flat_irradiance[1 + LIGHTS_ON];
-uniform float u_attenuation_base;  // thesis: 1 - sum of the off lights' luminance shares
+uniform float u_attenuation_base;  // thesis: 1 - sum_k (1 - w_k) luminance_share_k
 #if LIGHTS_ON > 0
 uniform vec3 u_light_direction[LIGHTS_ON];
-uniform vec3 u_light_intensity[LIGHTS_ON];
-uniform float u_light_share[LIGHTS_ON];  // thesis model; 0 in the hdr model
+uniform vec3 u_light_intensity[LIGHTS_ON];  // times the light's weight w_k
+uniform float u_light_share[LIGHTS_ON];      // w_k luminance_share_k (thesis); 0 (hdr)
 #if SHADOWS
 // Each light's visibility on the ground plane, baked once per shadow map (the ground's depth
 // in light space is a function of the shadow-map uv), read with one bilinear fetch.
@@ -99,7 +99,8 @@ vec4 shade(ivec2 pixel) {
                     pow(max(dot(n, h), 0.0), normal.w) * max(dot(n, l), 0.0) *
                     u_light_intensity[k];
 #endif
-        // c = c(on) - (1 - v) c(k) (DESIGN.md section 2).
+        // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2) as set 0 minus
+        // (1 - v) w_k E(k): the weights are in the sets and uniforms (frame_context.hpp).
         E -= (1.0 - v) * light_irradiance;
         attenuation -= (1.0 - v) * u_light_share[k];
     }

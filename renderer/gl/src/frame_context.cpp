@@ -39,30 +39,39 @@ void add_lights(FrameContext& frame) {
     const FrameRequest& request = frame.request;
     const Rig& rig = frame.rig;
     const std::size_t light_count = rig.lights.size();
-    frame.on.assign(light_count, true);
-    for (std::size_t k = 0; k < request.lights.size(); ++k) {
-        frame.on[k] = request.lights[k];
-    }
+    frame.weights.assign(light_count, 1.0f);
+    std::copy(request.lights.begin(), request.lights.end(), frame.weights.begin());
     for (std::size_t k = 0; k < light_count; ++k) {
-        if (frame.on[k]) {
+        if (frame.weights[k] > 0.0f) {
             frame.lit.push_back(k);
         }
     }
     const double yaw = glm::radians(request.environment_yaw);
     frame.yaw_cos_sin = {float(std::cos(yaw)), float(std::sin(yaw))};
 
-    std::vector<double> visibility(light_count);
+    // The split of frame_context.hpp (visibility_coefficients' sum with 1 - w_k for 1 - v_k,
+    // which it cannot take: w_k goes up to 4). A weight of 1 adds nothing, and a weight of 0
+    // takes E(k) off exactly as an off light did.
+    ShRgb constant = rig.sh.all;
     for (std::size_t k = 0; k < light_count; ++k) {
-        visibility[k] = frame.on[k] ? 1.0 : 0.0;
+        if (frame.weights[k] != 1.0f) {
+            ShRgb dimmed = rig.sh.per_light[k];
+            dimmed *= 1.0 - double(frame.weights[k]);
+            constant -= dimmed;
+        }
     }
-    frame.irradiance_sets.push_back(
-        irradiance_coefficients(visibility_coefficients(rig.sh, visibility), rig.window));
+    frame.irradiance_sets.push_back(irradiance_coefficients(constant, rig.window));
     for (const std::size_t k : frame.lit) {
-        frame.irradiance_sets.push_back(irradiance_coefficients(rig.sh.per_light[k], rig.window));
+        ShRgb weighted = irradiance_coefficients(rig.sh.per_light[k], rig.window);
+        if (frame.weights[k] != 1.0f) {
+            weighted *= double(frame.weights[k]);
+        }
+        frame.irradiance_sets.push_back(std::move(weighted));
     }
     if (rig.model == LightingModel::Thesis) {
         for (std::size_t k = 0; k < light_count; ++k) {
-            frame.attenuation_base -= frame.on[k] ? 0.0 : rig.lights[k].luminance_share;
+            frame.attenuation_base -=
+                (1.0 - double(frame.weights[k])) * rig.lights[k].luminance_share;
         }
     }
 }

@@ -1,6 +1,6 @@
 #pragma once
 // What the passes of one frame share (passes/frame_passes.hpp): the request, and what follows
-// from it before any GL call (which lights are on, their irradiance sets, the scene's bounds,
+// from it before any GL call (the lights' weights, their irradiance sets, the scene's bounds,
 // the camera and light matrices, the supersampling), computed once by make_frame_context.
 #include <cstddef>
 #include <string>
@@ -37,12 +37,17 @@ struct FrameContext {
     const Rig& rig;
 
     // Lights.
-    std::vector<bool> on;          // per rig light
-    std::vector<std::size_t> lit;  // the rig indices of the lights that are on
+    std::vector<float> weights;    // per rig light, FrameRequest::lights (0 off, 1 as captured)
+    std::vector<std::size_t> lit;  // the rig indices of the lights of weight above 0
     glm::vec2 yaw_cos_sin{1.0f, 0.0f};
-    // The map without the lights that are off, then each light that is on.
+    // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2) split as
+    // [E(all) - sum_k (1 - w_k) E(k)] - sum_k (1 - v_k) w_k E(k), since
+    // 1 - w v = (1 - w) + w (1 - v): set 0 is the bracket, constant over the frame, and set
+    // i + 1 is w_k E(k) for the i-th lit light k, which the shading pass takes off in its shadow
+    // exactly as it took off an on light's E(k) before weights.
     std::vector<ShRgb> irradiance_sets;
-    double attenuation_base = 1.0;  // thesis model: 1 - the off lights' luminance shares
+    // Thesis model: 1 - sum_k (1 - w_k) luminance_share_k, split as the irradiance is.
+    double attenuation_base = 1.0;
 
     // Scene and camera.
     SceneBounds scene;

@@ -5,7 +5,7 @@
 // shader test (tests/gl/shader_sources_test.cpp), which compiles the variants it spans with
 // glslangValidator, so that no variant the renderer can ask for is left unchecked.
 //
-// The defines: SH_ORDER (bands 0 .. SH_ORDER-1), LIGHTS_ON (lights that are on this frame),
+// The defines: SH_ORDER (bands 0 .. SH_ORDER-1), LIGHTS_ON (lights of weight above 0 this frame),
 // SHADOWS (0: no shadow maps, every light reaches every point), PCF (0: the thesis's hard test,
 // 1: filtered), ENVIRONMENT_BACKGROUND (1: the map behind the scene, 0: nothing, alpha 0),
 // DISPLAY_OUTPUT (1: tone-mapped sRGB, 0: linear radiance) and SURFACE (the shading pass's

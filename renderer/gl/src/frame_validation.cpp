@@ -54,7 +54,15 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
     }
     if (!request.lights.empty() && request.lights.size() != request.rig->lights.size()) {
         fail("lights", "the environment has " + std::to_string(request.rig->lights.size()) +
-                           " light(s), got " + std::to_string(request.lights.size()) + " switches");
+                           " light(s), got " + std::to_string(request.lights.size()) + " weights");
+    }
+    for (std::size_t k = 0; k < request.lights.size(); ++k) {
+        const float weight = request.lights[k];
+        if (!(weight >= 0.0f && weight <= kMaxLightWeight)) {
+            fail("lights", "the weight of light " + std::to_string(k) + " must be in [0, " +
+                               std::to_string(int(kMaxLightWeight)) + "], got " +
+                               std::to_string(weight));
+        }
     }
     // Above one, the sample budget and the texture size below bound the samples.
     if (request.samples < 1) {

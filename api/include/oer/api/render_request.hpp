@@ -13,7 +13,7 @@
 //   camera.eye, camera.target, camera.up       eye, target, up        (look-at camera)
 //   camera.orbit.{yaw,pitch,distance,target}   yaw, pitch, distance, target  (orbit camera)
 //   camera.fov_y                               fov_y
-//   lights: [true, false]                      lights=1,0
+//   lights: [1, 0.5, false]                    lights=1,0.5,0  (weights; true/false: 1/0)
 //   ground: true | false                       ground=on|off
 //   shadows.enabled: true | false              shadows=on|off
 //   shadows.resolution, shadows.filter         shadow_resolution, shadow_filter
@@ -105,7 +105,9 @@ struct RenderSpec {
     std::vector<ObjectSpec> objects;
     bool ground = true;
     std::optional<CameraSpec> camera;  // empty: frame the scene automatically
-    std::vector<bool> lights;          // one per rig light; empty: every light on
+    // One weight per rig light in [0, kMaxLightWeight] (0 off, 1 as captured; the body's true
+    // and false are 1 and 0, so both spellings share the canonical document); empty: all 1.
+    std::vector<double> lights;
     int width = 512;
     int height = 512;
     ImageFormat format = ImageFormat::Jpeg;
@@ -140,7 +142,7 @@ std::string render_etag(const RenderSpec& spec);
 // The frame the spec asks for, once its ids are resolved: `meshes` holds one mesh per object, in
 // order (their transformed bounds frame an orbit without target or distance); `environment_map`
 // (the image the rig was made from) may be null unless the background is the environment. Throws
-// InvalidParameter("lights") when the switches do not match the rig's lights, and oer::Error
+// InvalidParameter("lights") when the weights do not match the rig's lights, and oer::Error
 // (Internal) when the resolved assets do not match the spec (a caller's bug).
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,

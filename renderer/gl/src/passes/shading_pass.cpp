@@ -80,17 +80,19 @@ void shade_surfaces(const FrameContext& frame, RendererState& state) {
                      glm::value_ptr(flat_irradiance[0]));
         for (std::size_t i = 0; i < frame.lit.size(); ++i) {
             const std::size_t k = frame.lit[i];
+            const double weight = frame.weights[k];
             // Intensity from the light's own SH: sum L dOmega = sqrt(4 pi) c_00, in the units
             // of the projected map (radiance in the hdr model, tone-mapped values in the
-            // thesis's).
-            const glm::vec3 intensity =
-                glm::vec3(rig.sh.per_light[k].coefficients[0] * std::sqrt(4.0 * std::numbers::pi));
+            // thesis's), times its weight. The share is weighted as its irradiance set is
+            // (frame_context.hpp).
+            const glm::vec3 intensity = glm::vec3(rig.sh.per_light[k].coefficients[0] *
+                                                  (weight * std::sqrt(4.0 * std::numbers::pi)));
             glUniform3fv(shade.uniform(element("u_light_direction", i)), 1,
                          glm::value_ptr(frame.light_directions[i]));
             glUniform3fv(shade.uniform(element("u_light_intensity", i)), 1,
                          glm::value_ptr(intensity));
             glUniform1f(shade.uniform(element("u_light_share", i)),
-                        thesis ? float(rig.lights[k].luminance_share) : 0.0f);
+                        thesis ? float(weight * rig.lights[k].luminance_share) : 0.0f);
         }
         if (display_in_shading) {
             set_display_uniforms(shade, request);

@@ -41,6 +41,9 @@ struct ShadowOptions {
     ShadowFilter filter = ShadowFilter::Pcf;
 };
 
+// The brightest a request can make a light: four times as captured (DESIGN.md section 2).
+constexpr float kMaxLightWeight = 4.0f;
+
 struct FrameRequest {
     std::shared_ptr<const Rig> rig;
     // The map the rig was made from, for the background; may be null unless the background is
@@ -48,7 +51,9 @@ struct FrameRequest {
     std::shared_ptr<const HdrImage> environment_map;
     std::vector<SceneObject> objects;
     std::optional<Camera> camera;  // empty: frame the scene's bounds automatically
-    std::vector<bool> lights;      // one per rig light; empty: every light on
+    // One weight per rig light (DESIGN.md section 2, dimmable lights): 0 off, 1 as captured, up
+    // to kMaxLightWeight; empty: every light at 1.
+    std::vector<float> lights;
     int width = 512;
     int height = 512;
     bool ground = true;
