@@ -143,7 +143,8 @@ export class OerViewer extends HTMLElement {
     return this.#lights.map((light, index) => ({ ...light, index, weight: weights[index] ?? 1 }));
   }
 
-  // Switches (or, where the server accepts numbers, dims) light `index`.
+  // Sets light `index` to `weight`: 0 switches it off, 1 is the environment's own, up to 4
+  // (GET /v1/render's range for each of `lights`).
   setLight(index, weight) {
     const weights = this.#lights.map((_, i) => this.#weights()[i] ?? 1);
     weights[index] = weight;
@@ -226,7 +227,10 @@ export class OerViewer extends HTMLElement {
   }
 
   #dispatchLightsChange() {
-    this.dispatchEvent(new CustomEvent('lights-change', { detail: { lights: this.lights } }));
+    const lights = this.lights;
+    this.dispatchEvent(new CustomEvent('lights-change', {
+      detail: { lights, weights: lights.map((light) => light.weight) },
+    }));
   }
 
   #dispatchError(error, url) {

@@ -203,6 +203,49 @@ try {
     assert.equal((await fullFrame(page, frames + 1)).etag, first.etag);
   });
 
+  await check('a light\'s dimmer at 0.5 gives a frame between that light on and off', async () => {
+    const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
+    // The light with the largest share of the energy, whose dimming shows the most.
+    const index = rig.lights.reduce((best, light, i) =>
+      (light.luminance_share > rig.lights[best].luminance_share ? i : best), 0);
+    const dimmer = page.locator('#light-switches input[type=range]').nth(index);
+    const toggle = page.locator('#light-switches input[type=checkbox]').nth(index);
+    assert.equal(await dimmer.getAttribute('aria-label'), `Light ${index + 1} weight`);
+    const on = await shownImage(page);
+    let frames = await page.evaluate(() => window.oerFrames.length);
+    await dimmer.fill('0');
+    await fullFrame(page, frames);
+    const off = await shownImage(page);
+    assert.equal(await toggle.isChecked(), false, 'a light dimmed to 0 is switched off');
+    frames = await page.evaluate(() => window.oerFrames.length);
+    const weightsEvent = page.evaluate(() => new Promise((resolve) => {
+      document.querySelector('oer-viewer').addEventListener(
+        'lights-change', ({ detail }) => resolve(detail.weights), { once: true });
+    }));
+    await dimmer.fill('0.5');
+    const half = await fullFrame(page, frames);
+    const expected = rig.lights.map((_, i) => (i === index ? 0.5 : 1)).join('%2C');
+    assert.match(half.url, new RegExp(`[?&]lights=${expected}(&|$)`));
+    assert.deepEqual(await weightsEvent, rig.lights.map((_, i) => (i === index ? 0.5 : 1)));
+    const dimmed = await shownImage(page);
+    console.log(`  mean luminance: on ${on.mean.toFixed(2)}, 0.5 ${dimmed.mean.toFixed(2)}, ` +
+                `off ${off.mean.toFixed(2)}`);
+    assert.ok(off.mean < dimmed.mean && dimmed.mean < on.mean,
+              `0.5 gives ${dimmed.mean}, between off ${off.mean} and on ${on.mean}`);
+    // The switch goes to 0 and back to the last weight above 0, not to 1.
+    const viewer = page.locator('oer-viewer');
+    await toggle.uncheck();
+    assert.equal(await viewer.getAttribute('lights'), rig.lights.map((_, i) => (i === index ? 0 : 1)).join(','));
+    await toggle.check();
+    assert.equal(await viewer.getAttribute('lights'), rig.lights.map((_, i) => (i === index ? 0.5 : 1)).join(','));
+    // The frames of the toggling may still arrive: wait for the one without lights.
+    await page.locator('#all-on').click();
+    const allOn = await page.waitForFunction(
+      (count) => window.oerFrames.slice(count).find((frame) => !frame.url.includes('lights=')) ?? false,
+      frames, { timeout: 30000 });
+    assert.equal((await allOn.jsonValue()).etag, first.etag);
+  });
+
   let afterDrag;
   await check('a drag sends previews, turns the camera and changes the image; release gives a full frame',
               async () => {
@@ -258,11 +301,11 @@ try {
 
   await check('keyboard alone switches a light off in the panel and orbits', async () => {
     const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
-    assert.equal(await page.locator('#light-switches input').count(), rig.lights.length);
+    assert.equal(await page.locator('#light-switches input[type=checkbox]').count(), rig.lights.length);
     const before = await shownImage(page);
     let frames = await page.evaluate(() => window.oerFrames.length);
-    // Tab from the exposure slider's neighbours to the second light's switch, then Space.
-    await page.locator('#light-switches input').nth(0).focus();
+    // Tab from the first light's dimmer to the second light's switch, then Space.
+    await page.locator('#light-switches input[type=range]').nth(0).focus();
     await page.keyboard.press('Tab');
     assert.equal(await page.evaluate(() => document.activeElement.closest('label')?.textContent),
                  await page.locator('#light-switches label').nth(1).textContent());
