@@ -36,7 +36,7 @@ const STYLE = `
 export class OerViewer extends HTMLElement {
   static observedAttributes = [
     'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'exposure',
-    'background',
+    'background', 'ground', 'environment-yaw',
   ];
 
   #image;
@@ -183,11 +183,17 @@ export class OerViewer extends HTMLElement {
     if (target) {
       query.set('target', target.trim().split(/[\s,]+/).join(','));
     }
-    for (const name of ['lights', 'exposure', 'background']) {
-      const value = this.getAttribute(name);
+    for (const [attribute, parameter] of [['lights', 'lights'], ['exposure', 'exposure'],
+                                          ['background', 'background'], ['ground', 'ground'],
+                                          ['environment-yaw', 'environment_yaw']]) {
+      const value = this.getAttribute(attribute);
       if (value) {
-        query.set(name, value.replace(/\s+/g, ''));
+        query.set(parameter, value.replace(/\s+/g, ''));
       }
+    }
+    // JPEG has no alpha: a transparent background needs PNG for the page to show through.
+    if (this.getAttribute('background') === 'transparent') {
+      query.set('format', 'png');
     }
     if (preview) {
       query.set('samples', PREVIEW.samples);

@@ -296,7 +296,48 @@ try {
     await again.goto(saved);
     const frame = await fullFrame(again);
     assert.equal(frame.etag, afterDrag.etag, `${saved} gives the frame it was saved from`);
+
+    // Exposure, a background color, no ground and a turned environment, set with the controls.
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#exposure').fill('1.5');
+    await page.locator('#background').selectOption('color');
+    await page.locator('#background-color').fill('#336699');
+    await page.locator('#ground').uncheck();
+    await page.locator('#environment-yaw').fill('90');
+    const handle = await page.waitForFunction(
+      (count) => window.oerFrames.slice(count).find((shown) => !shown.preview &&
+        shown.url.includes('environment_yaw=90')) ?? false, frames, { timeout: 30000 });
+    const dressed = await handle.jsonValue();
+    for (const parameter of ['exposure=1.5', 'background=%23336699', 'ground=off', 'environment_yaw=90']) {
+      assert.match(dressed.url, new RegExp(`[?&]${parameter}(&|$)`), dressed.url);
+    }
+    assert.notEqual(dressed.etag, afterDrag.etag);
+    const dressedLink = page.url();
+    for (const parameter of ['exposure=1.5', 'background=%23336699', 'ground=off', 'environment-yaw=90']) {
+      assert.match(dressedLink, new RegExp(`[?&]${parameter}(&|$)`), dressedLink);
+    }
+    await again.goto(dressedLink);
+    assert.equal((await fullFrame(again)).etag, dressed.etag, `${dressedLink} gives the same frame`);
+    // The link sets the controls too.
+    assert.equal(await again.locator('#exposure').inputValue(), '1.5');
+    assert.equal(await again.locator('#background').inputValue(), 'color');
+    assert.equal(await again.locator('#background-color').inputValue(), '#336699');
+    assert.equal(await again.locator('#ground').isChecked(), false);
+    assert.equal(await again.locator('#environment-yaw').inputValue(), '90');
     await again.close();
+
+    // A transparent background comes as PNG (JPEG has no alpha), and its link keeps it.
+    const before = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#background').selectOption('transparent');
+    const clear = await fullFrame(page, before);
+    assert.match(clear.url, /[?&]background=transparent(&|$)/);
+    assert.match(clear.url, /[?&]format=png(&|$)/);
+    assert.match(page.url(), /[?&]background=transparent(&|$)/);
+    for (const name of ['exposure', 'background', 'ground', 'environment-yaw']) {
+      await page.evaluate((attribute) => document.querySelector('oer-viewer').removeAttribute(attribute), name);
+    }
+    assert.equal(await page.locator('#background').inputValue(), 'env');
+    assert.equal(await page.locator('#background-color').isHidden(), true);
   });
 
   await check('keyboard alone switches a light off in the panel and orbits', async () => {
