@@ -264,6 +264,7 @@ try {
     }
     const dragSeconds = (Date.now() - dragStarted) / 1000;
     const duringDrag = renders.slice(firstDragRequest);
+    const dragStatus = await page.locator('#status').textContent();
     await page.mouse.up();
     afterDrag = await fullFrame(page, frames);
     const frameDetails = await page.evaluate((count) => window.oerFrames.slice(count), frames);
@@ -277,6 +278,9 @@ try {
                 `(${(previews.length / dragSeconds).toFixed(1)}/s; ${duringDrag.length} requests), ` +
                 `full frame ${afterDrag.milliseconds.toFixed(0)} ms after release`);
     assert.ok(previews.length >= 1, 'a preview was shown while dragging');
+    // Frames per second in the status line while dragging, near the previews shown per second.
+    const fps = Number(/ preview, .*, (\d+\.\d) fps$/.exec(dragStatus)?.[1]);
+    assert.ok(fps > 0 && fps < 2 * previews.length / dragSeconds + 1, `status "${dragStatus}"`);
     assert.doesNotMatch(afterDrag.url, /samples=1/);
     const orbit = await page.evaluate(() => document.querySelector('oer-viewer').orbit);
     // 24 steps of 7.5 px right and 2 px down from the default orbit (30, 15), 0.4 degree a pixel.
@@ -338,6 +342,39 @@ try {
     }
     assert.equal(await page.locator('#background').inputValue(), 'env');
     assert.equal(await page.locator('#background-color').isHidden(), true);
+  });
+
+  await check('the status line shows the server\'s time, then "cached" for the same frame again',
+              async () => {
+    // A fresh context each time: no browser cache, so the second request reaches the server.
+    const link = `${server.url}/?camera-orbit=75+25`;
+    const statuses = [];
+    for (let visit = 0; visit < 2; visit += 1) {
+      const context = await browser.newContext({ viewport: { width: 1280, height: 800 } });
+      await context.addInitScript(RECORD_EVENTS);
+      const visitor = await context.newPage();
+      await visitor.goto(link);
+      // The frame of the settled layout: the lights panel, once shown, takes height from the view.
+      await visitor.locator('#light-switches input').first().waitFor();
+      const handle = await visitor.waitForFunction(() => {
+        const rect = document.querySelector('oer-viewer').getBoundingClientRect();
+        const frame = window.oerFrames.at(-1);
+        return frame && !frame.preview && frame.height === Math.round(rect.height * devicePixelRatio)
+          ? frame : false;
+      }, null, { timeout: 30000 });
+      const frame = await handle.jsonValue();
+      const text = await visitor.locator('#status').textContent();
+      assert.ok(text.includes(`${(frame.bytes / 1024).toFixed(0)} KiB`), `bytes in "${text}"`);
+      statuses.push({ text, frame });
+      await context.close();
+    }
+    const [miss, hit] = statuses;
+    assert.equal(miss.frame.cache, 'miss');
+    const serverMs = Number(/, server (\d+) ms$/.exec(miss.text)?.[1]);
+    assert.ok(serverMs > 0, `server time in "${miss.text}"`);
+    assert.equal(hit.frame.cache, 'hit');
+    assert.equal(hit.frame.etag, miss.frame.etag);
+    assert.match(hit.text, /^\d+×\d+, \d+ KiB, \d+ ms, cached$/);
   });
 
   await check('keyboard alone switches a light off in the panel and orbits', async () => {
@@ -416,6 +453,11 @@ try {
     const frame = await fullFrame(embedding);
     assert.ok(frame.url.startsWith(server.url), frame.url);
     assert.match(frame.etag ?? '', /^"[0-9a-f]{64}"$/, 'ETag exposed to the other origin');
+    // Access-Control-Expose-Headers (server/src/cors.cpp) lets the shop's page read these too.
+    assert.match(frame.cache ?? '', /^(hit|miss)$/, 'X-Oer-Cache exposed to the other origin');
+    if (frame.cache === 'miss') {
+      assert.match(frame.serverTiming ?? '', /encode;dur=/, 'Server-Timing exposed to the other origin');
+    }
     assertRealFrame(await shownImage(embedding), 'embedded frame');
     await context.close();
   });
