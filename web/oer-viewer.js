@@ -203,6 +203,20 @@ export class OerViewer extends HTMLElement {
     return `${this.server}/v1/render?${query}`;
   }
 
+  // The frame this element shows at full quality, as a PNG Blob: the same request with
+  // format=png and samples=4 (GET /v1/render's default anti-aliasing, also for a preview).
+  async snapshot() {
+    const url = new URL(this.frameUrl(false), location.href);
+    url.searchParams.set('format', 'png');
+    url.searchParams.set('samples', '4');
+    url.searchParams.delete('quality');
+    const response = await fetch(url);
+    if (!response.ok) {
+      throw await problemOf(response, url.href);
+    }
+    return response.blob();
+  }
+
   #weights() {
     const text = this.getAttribute('lights');
     return text ? text.split(',').map(Number) : [];

@@ -406,6 +406,24 @@ try {
     assert.equal(await page.locator('oer-viewer').getAttribute('lights'), null);
   });
 
+  await check('Download PNG saves the view at full quality: a PNG of the view\'s size', async () => {
+    const requestsBefore = renders.length;
+    const [download] = await Promise.all([page.waitForEvent('download'),
+                                          page.locator('#download').click()]);
+    assert.equal(download.suggestedFilename(), 'oer-frame.png');
+    const bytes = readFileSync(await download.path());
+    // PNG signature, then the IHDR chunk: width and height, big-endian (PNG spec, 11.2.2).
+    assert.deepEqual([...bytes.subarray(0, 8)], [0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a]);
+    assert.equal(bytes.toString('latin1', 12, 16), 'IHDR');
+    const view = await shownImage(page);
+    assert.equal(bytes.readUInt32BE(16), view.expectedWidth, 'PNG width');
+    assert.equal(bytes.readUInt32BE(20), view.expectedHeight, 'PNG height');
+    const request = renders.slice(requestsBefore).find((url) => url.includes('format=png'));
+    assert.match(request ?? '', /[?&]samples=4(&|$)/, `the download's request: ${request}`);
+    assert.doesNotMatch(request, /[?&]quality=/);
+    console.log(`  downloaded ${bytes.length} bytes, ${bytes.readUInt32BE(16)}x${bytes.readUInt32BE(20)}`);
+  });
+
   await check('an error event carries the server\'s problem+json detail verbatim', async () => {
     const missing = '0'.repeat(64);
     const problem = await (await fetch(`${server.url}/v1/render?environment=${missing}&mesh=default`)).json();
