@@ -424,6 +424,41 @@ try {
     console.log(`  downloaded ${bytes.length} bytes, ${bytes.readUInt32BE(16)}x${bytes.readUInt32BE(20)}`);
   });
 
+  await check('Tab reaches every control of the strip, each named and its focus outlined', async () => {
+    // From the view, by keyboard, so that :focus-visible applies as it does for a keyboard user.
+    await page.locator('oer-viewer').focus();
+    await page.keyboard.press('Tab');
+    const seen = [];
+    for (let step = 0; step < 40; step += 1) {
+      const focused = await page.evaluate(() => {
+        const element = document.activeElement;
+        if (!element?.closest('#controls')) {
+          return null;
+        }
+        const name = element.getAttribute('aria-label') ||
+          [...(element.labels ?? [])].map((label) => label.textContent.trim()).join(' ');
+        return { id: element.id, name: name || element.textContent.trim(),
+                 outline: getComputedStyle(element).outlineStyle };
+      });
+      if (!focused) {
+        break;
+      }
+      seen.push(focused);
+      await page.keyboard.press('Tab');
+    }
+    for (const control of seen) {
+      assert.ok(control.name.length > 0, `a control without a name: ${JSON.stringify(control)}`);
+      assert.equal(control.outline, 'solid', `focus of ${control.name} is not outlined`);
+    }
+    const names = seen.map((control) => control.name);
+    for (const expected of ['Reset view', 'Background', 'Ground', 'Download PNG', 'Light 1 weight',
+                            'All on', 'All off']) {
+      assert.ok(names.includes(expected), `Tab never reaches ${expected}: ${names.join(' | ')}`);
+    }
+    assert.ok(names.some((name) => name.startsWith('Exposure')), names.join(' | '));
+    assert.ok(names.some((name) => name.startsWith('Environment rotation')), names.join(' | '));
+  });
+
   await check('an error event carries the server\'s problem+json detail verbatim', async () => {
     const missing = '0'.repeat(64);
     const problem = await (await fetch(`${server.url}/v1/render?environment=${missing}&mesh=default`)).json();
