@@ -318,18 +318,35 @@ std::vector<int> shadow_classes(const Rig& rig, const FrameRequest& request, glm
     return classes;
 }
 
-}  // namespace
+// A box on the ground under the three-light map, seen from above at 160x160, and each ground
+// pixel's set of lights that reach it by ray casting (shadow_classes): the scene of the tests that
+// check a light's SH contribution where it reaches and where it is shadowed.
+struct BoxShadowScene {
+    std::shared_ptr<const Rig> rig;
+    FrameRequest request;
+    std::vector<int> classes;
+};
 
-TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
+BoxShadowScene box_shadow_scene() {
     const auto rig = make_rig(three_light_map(), 3, 3);
-    ASSERT_EQ(rig->lights.size(), 3u);
     const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
     Camera camera;
     camera.eye = {0.0f, 4.0f, 3.0f};
     camera.fov_y = 50.0f;
     FrameRequest request = box_on_ground_request(rig, low, high, camera, 160);
+    std::vector<int> classes = shadow_classes(*rig, request, low, high);
+    return {rig, std::move(request), std::move(classes)};
+}
 
-    const std::vector<int> classes = shadow_classes(*rig, request, low, high);
+}  // namespace
+
+TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
+    const BoxShadowScene box = box_shadow_scene();
+    ASSERT_EQ(box.rig->lights.size(), 3u);
+    const std::shared_ptr<const Rig>& rig = box.rig;
+    FrameRequest request = box.request;
+
+    const std::vector<int>& classes = box.classes;
     std::vector<glm::dvec3> ground_irradiance;  // E_k(+Y) of each light
     for (int k = 0; k < 3; ++k) {
         ground_irradiance.push_back(
@@ -374,14 +391,11 @@ TEST_F(FrameRendererTest, ALightsWeightScalesItsShContributionWhereItReaches) {
     // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2): from weight w to w', a ground
     // pixel changes by (w' - w) v_k E_k(+Y) albedo / pi, the whole step where light k reaches it
     // (v = 1) and nothing in its shadow (v = 0).
-    const auto rig = make_rig(three_light_map(), 3, 3);
-    ASSERT_EQ(rig->lights.size(), 3u);
-    const glm::dvec3 low{-0.3, 0.0, -0.3}, high{0.3, 0.6, 0.3};
-    Camera camera;
-    camera.eye = {0.0f, 4.0f, 3.0f};
-    camera.fov_y = 50.0f;
-    FrameRequest request = box_on_ground_request(rig, low, high, camera, 160);
-    const std::vector<int> classes = shadow_classes(*rig, request, low, high);
+    const BoxShadowScene box = box_shadow_scene();
+    ASSERT_EQ(box.rig->lights.size(), 3u);
+    const std::shared_ptr<const Rig>& rig = box.rig;
+    FrameRequest request = box.request;
+    const std::vector<int>& classes = box.classes;
     constexpr std::size_t kDimmed = 0;
     const glm::dvec3 light_part =
         0.8 / kPi *

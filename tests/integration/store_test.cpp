@@ -42,6 +42,26 @@ httplib::Result render_with(httplib::Client& client, const std::string& environm
                       {"samples", 1}});
 }
 
+// The answers of 4 clients that send the same upload at the same moment (released together by a
+// latch), so that the later ones arrive while the first is still being processed.
+template <class Upload>
+std::vector<Json> at_once(const TestServer& server, Upload upload) {
+    constexpr int kClients = 4;
+    std::vector<Json> answers(kClients);
+    std::latch ready(kClients);
+    std::vector<std::thread> threads;
+    for (int i = 0; i < kClients; ++i) {
+        threads.emplace_back([&, i] {
+            auto client = server.client();
+            ready.arrive_and_wait();
+            answers[std::size_t(i)] = upload(*client);
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    return answers;
+}
 }  // namespace
 
 TEST(Store, ARigSurvivesARestartWithoutRecomputation) {
@@ -149,21 +169,9 @@ TEST(Store, ConcurrentUploadsOfOneMapComputeItsRigOnce) {
     TestServer server(test_config(root.data()));
     // Large enough that preprocessing (tens of milliseconds) overlaps every upload.
     const std::string bytes = exr_bytes(three_disc_environment(1024, 512).image);
-    constexpr int kClients = 4;
-    std::vector<Json> answers(kClients);
-    std::latch ready(kClients);
-    std::vector<std::thread> threads;
-    for (int i = 0; i < kClients; ++i) {
-        threads.emplace_back([&, i] {
-            auto client = server.client();
-            ready.arrive_and_wait();
-            answers[std::size_t(i)] =
-                upload_environment(*client, bytes, "image/x-exr", "light_count=2");
-        });
-    }
-    for (std::thread& thread : threads) {
-        thread.join();
-    }
+    const std::vector<Json> answers = at_once(server, [&](httplib::Client& client) {
+        return upload_environment(client, bytes, "image/x-exr", "light_count=2");
+    });
     int computed_here = 0;
     for (const Json& answer : answers) {
         ASSERT_TRUE(answer.is_object());
@@ -206,20 +214,8 @@ TEST(Store, ConcurrentUploadsOfOneMeshLoadItOnce) {
     TempRoot root;
     TestServer server(test_config(root.data()));
     const std::string bytes = grid_obj(300);
-    constexpr int kClients = 4;
-    std::vector<Json> answers(kClients);
-    std::latch ready(kClients);
-    std::vector<std::thread> threads;
-    for (int i = 0; i < kClients; ++i) {
-        threads.emplace_back([&, i] {
-            auto client = server.client();
-            ready.arrive_and_wait();
-            answers[std::size_t(i)] = upload_mesh(*client, bytes, "model/obj");
-        });
-    }
-    for (std::thread& thread : threads) {
-        thread.join();
-    }
+    const std::vector<Json> answers = at_once(
+        server, [&](httplib::Client& client) { return upload_mesh(client, bytes, "model/obj"); });
     int loaded_here = 0;
     for (const Json& answer : answers) {
         ASSERT_TRUE(answer.is_object());
