@@ -2,9 +2,10 @@
 // element (one script tag, as model-viewer does). Frames come from GET /v1/render
 // (api/openapi.yaml); the view state lives in the element's attributes (web/README.md).
 
-// While the pointer drags, frames are cheaper: one sample, half the size, lower JPEG quality
-// and hard shadows (the parameters of GET /v1/render that the server documents for this).
-const PREVIEW = { scale: 0.5, samples: 1, quality: 60, shadow_filter: 'hard' };
+// While the pointer drags or a control slides, frames are cheaper: the preview recipe of
+// GET /v1/render (api/openapi.yaml): one sample, half the size, JPEG quality 50, and hard
+// shadows from 512-texel maps, which keep a turning environment's new shadow maps cheap.
+const PREVIEW = { scale: 0.5, samples: 1, quality: 50, shadow_resolution: 512, shadow_filter: 'hard' };
 // The largest frame side GET /v1/render accepts.
 const MAX_FRAME_SIDE = 4096;
 // The orbit when camera-orbit gives none: GET /v1/render's defaults for yaw, pitch, distance.
@@ -46,7 +47,8 @@ export class OerViewer extends HTMLElement {
   #lightsFor = null;  // the environment URL #lights came from
   #drag = null;
   #dragging = false;
-  #movingCamera = false;  // camera-orbit is being set by a drag, the wheel or a key
+  #previewing = false;  // previews are being asked for, until the change rests
+  #settingState = false;  // an attribute is being set by an interaction that asks for its own frames
   #restTimer = 0;
   #pendingPreview = false;
   #resizeObserver;
@@ -101,8 +103,9 @@ export class OerViewer extends HTMLElement {
     if (name === 'lights') {
       this.#dispatchLightsChange();
     }
-    // A drag, the wheel or a key asks for its own frames; the attribute only records the state.
-    if (!this.#movingCamera) {
+    // A drag, the wheel, a key or adjust() asks for its own frames; the attribute only records
+    // the state.
+    if (!this.#settingState) {
       this.#requestFrame(false);
     }
   }
@@ -144,11 +147,30 @@ export class OerViewer extends HTMLElement {
   }
 
   // Sets light `index` to `weight`: 0 switches it off, 1 is the environment's own, up to 4
-  // (GET /v1/render's range for each of `lights`).
-  setLight(index, weight) {
+  // (GET /v1/render's range for each of `lights`). adjusting: as one step of a continuous
+  // change (a dimmer sliding), as adjust() does.
+  setLight(index, weight, { adjusting = false } = {}) {
     const weights = this.#lights.map((_, i) => this.#weights()[i] ?? 1);
     weights[index] = weight;
-    this.setAttribute('lights', weights.join(','));
+    if (adjusting) {
+      this.adjust('lights', weights.join(','));
+    } else {
+      this.setAttribute('lights', weights.join(','));
+    }
+  }
+
+  // Sets attribute `name` to `value` (null removes it) as one step of a continuous change, a
+  // slider being dragged say: previews while the steps keep coming, the full frame once they
+  // rest.
+  adjust(name, value) {
+    this.#setState(() => {
+      if (value === null || value === undefined) {
+        this.removeAttribute(name);
+      } else {
+        this.setAttribute(name, String(value));
+      }
+    });
+    this.#preview();
   }
 
   // Back to the server's own framing.
@@ -196,9 +218,9 @@ export class OerViewer extends HTMLElement {
       query.set('format', 'png');
     }
     if (preview) {
-      query.set('samples', PREVIEW.samples);
-      query.set('quality', PREVIEW.quality);
-      query.set('shadow_filter', PREVIEW.shadow_filter);
+      for (const parameter of ['samples', 'quality', 'shadow_resolution', 'shadow_filter']) {
+        query.set(parameter, PREVIEW[parameter]);
+      }
     }
     return `${this.server}/v1/render?${query}`;
   }
@@ -312,19 +334,20 @@ export class OerViewer extends HTMLElement {
       }
       this.#dispatchError(error, url);
     } finally {
-      if (this.#pendingPreview && this.#controller === null && this.#dragging) {
+      if (this.#pendingPreview && this.#controller === null && this.#previewing) {
         this.#pendingPreview = false;
         this.#requestFrame(true);
       }
     }
   }
 
-  // A preview now, or as soon as the one in flight is shown (dragging sends one at a time:
+  // A preview now, or as soon as the one in flight is shown (previews go one at a time:
   // aborting each for the next would leave the server rendering frames nobody sees).
   #preview() {
-    if (this.#controller && this.#dragging) {
+    if (this.#controller && this.#previewing) {
       this.#pendingPreview = true;
     } else {
+      this.#previewing = true;
       this.#requestFrame(true);
     }
     clearTimeout(this.#restTimer);
@@ -333,18 +356,23 @@ export class OerViewer extends HTMLElement {
 
   #rest() {
     clearTimeout(this.#restTimer);
+    this.#previewing = false;
     this.#pendingPreview = false;
     this.#requestFrame(false);
   }
 
+  #setState(set) {
+    this.#settingState = true;
+    try {
+      set();
+    } finally {
+      this.#settingState = false;
+    }
+  }
+
   #moveCamera(change) {
     const orbit = this.orbit ?? { ...DEFAULT_ORBIT, distance: null };
-    this.#movingCamera = true;
-    try {
-      this.orbit = change(orbit);
-    } finally {
-      this.#movingCamera = false;
-    }
+    this.#setState(() => { this.orbit = change(orbit); });
   }
 
   #onPointerDown = (event) => {
