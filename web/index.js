@@ -1,4 +1,6 @@
 // The page at /: the controls of the view around one <oer-viewer> (index.html).
+import { equirectangularUv } from '/web/oer-viewer.js';
+
 // The page's view state lives in the element's attributes and, mirrored, in the URL's
 // query, so that a shared link reproduces the same frame (the same ETag).
 const viewer = document.getElementById('viewer');
@@ -69,6 +71,60 @@ environmentYaw.addEventListener('input', () => {
   viewer.adjust('environment-yaw', Number(environmentYaw.value) === 0 ? null : environmentYaw.value);
 });
 
+// The turntable is behaviour, not view state: not in the URL.
+const turntable = document.getElementById('turntable');
+turntable.addEventListener('change', () => viewer.toggleAttribute('auto-rotate', turntable.checked));
+
+// Color variants: base-color as #rrggbb (sRGB), absent for the product's own materials.
+const variants = [...document.querySelectorAll('input[name=variant]')];
+const showVariant = () => {
+  const value = (viewer.getAttribute('base-color') ?? '').toLowerCase();
+  for (const variant of variants) {
+    variant.checked = variant.value === value;
+  }
+};
+for (const variant of variants) {
+  variant.addEventListener('change', () => {
+    if (variant.value) {
+      viewer.setAttribute('base-color', variant.value);
+    } else {
+      viewer.removeAttribute('base-color');
+    }
+  });
+}
+showVariant();
+new MutationObserver(showVariant).observe(viewer, { attributeFilter: ['base-color'] });
+
+// The environment's preview with each light's position marked by its number, in its color;
+// a light switched off is marked hollow.
+const lightMapImage = document.getElementById('light-map-image');
+const lightMap = document.getElementById('light-map');
+const showLightMap = (lights) => {
+  if (lightMapImage.getAttribute('src') !== viewer.environmentPreviewUrl) {
+    lightMapImage.src = viewer.environmentPreviewUrl;
+  }
+  lightMap.querySelectorAll('.marker').forEach((marker) => marker.remove());
+  for (const light of lights) {
+    const { u, v } = equirectangularUv(light.direction);
+    const marker = document.createElement('span');
+    marker.className = light.weight > 0 ? 'marker' : 'marker off';
+    marker.textContent = String(light.index + 1);
+    marker.style.left = `${(100 * u).toFixed(2)}%`;
+    marker.style.top = `${(100 * v).toFixed(2)}%`;
+    marker.style.setProperty('--light-color', lightColor(light));
+    marker.setAttribute('aria-hidden', 'true');
+    lightMap.append(marker);
+  }
+};
+
+// A light's color at full brightness (its intensity over its largest channel), for its swatch
+// and its marker.
+function lightColor(light) {
+  const peak = Math.max(...light.intensity, 1e-9);
+  const [r, g, b] = light.intensity.map((value) => Math.round(255 * value / peak));
+  return `rgb(${r} ${g} ${b})`;
+}
+
 // A switch and a dimmer per light of the environment, labelled with its color and share of
 // the energy. The switch toggles between 0 and the light's last weight above 0, so switching
 // a dimmed light back on restores its level.
@@ -77,6 +133,7 @@ const switches = document.getElementById('light-switches');
 const lastWeights = [];
 viewer.addEventListener('lights-change', ({ detail: { lights, weights } }) => {
   lightsPanel.hidden = lights.length === 0;
+  showLightMap(lights);
   if (switches.children.length !== lights.length) {
     lastWeights.length = 0;  // another environment's lights
     switches.replaceChildren(...lights.map((light) => {

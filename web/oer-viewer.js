@@ -17,6 +17,11 @@ const DISTANCE_LIMITS = [0.2, 50];
 const DEGREES_PER_PIXEL = 0.4;
 const KEY_STEP_DEGREES = 5;
 const WHEEL_ZOOM_PER_PIXEL = 0.0015;
+// The turntable (auto-rotate): degrees of yaw per second, and how long a drag, the wheel or a
+// key holds it still after the shopper lets go (model-viewer's rotation-per-second and
+// auto-rotate-delay play the same parts).
+const TURNTABLE_DEGREES_PER_SECOND = 30;
+const TURNTABLE_DELAY_MILLISECONDS = 3000;
 // How long the pointer must rest (no movement, no wheel) before the full frame is asked for.
 const REST_MILLISECONDS = 250;
 
@@ -24,6 +29,30 @@ const clamp = (value, [low, high]) => Math.min(high, Math.max(low, value));
 // Angles kept in (-180, 180], the range GET /v1/render's yaw accepts with room to spare.
 const wrapDegrees = (angle) => ((((angle + 180) % 360) + 360) % 360) - 180;
 const rounded = (value) => Math.round(value * 100) / 100;
+
+// Where direction [x, y, z] (world space, unturned map) lands on an equirectangular image, as
+// fractions of its width and height (DESIGN.md section 3: theta from +Y, phi = atan2(z, x);
+// u = (phi + pi) / 2 pi, v = theta / pi).
+export function equirectangularUv([x, y, z]) {
+  const length = Math.hypot(x, y, z) || 1;
+  return {
+    u: (Math.atan2(z, x) + Math.PI) / (2 * Math.PI),
+    v: Math.acos(clamp(y / length, [-1, 1])) / Math.PI,
+  };
+}
+
+// Linear RGB in [0, 1] from '#rrggbb' (sRGB, as a shop names a color), by the sRGB transfer
+// function (IEC 61966-2-1); null for anything else.
+export function linearFromHex(text) {
+  const match = /^#([0-9a-f]{6})$/i.exec(text?.trim() ?? '');
+  if (!match) {
+    return null;
+  }
+  return [0, 2, 4].map((offset) => {
+    const encoded = parseInt(match[1].slice(offset, offset + 2), 16) / 255;
+    return encoded <= 0.04045 ? encoded / 12.92 : ((encoded + 0.055) / 1.055) ** 2.4;
+  });
+}
 
 const STYLE = `
   :host { display: block; position: relative; overflow: hidden; touch-action: none;
@@ -37,7 +66,7 @@ const STYLE = `
 export class OerViewer extends HTMLElement {
   static observedAttributes = [
     'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'exposure',
-    'background', 'ground', 'environment-yaw',
+    'background', 'ground', 'environment-yaw', 'base-color', 'auto-rotate',
   ];
 
   #image;
@@ -46,6 +75,10 @@ export class OerViewer extends HTMLElement {
   #lights = [];
   #lightsFor = null;  // the environment URL #lights came from
   #drag = null;
+  #pointers = new Map();  // the pointers down on the element, by id: their latest positions
+  #pinch = null;  // two pointers down: the span between them and the distance at its start
+  #turntable = { frame: 0, last: 0, heldUntil: 0 };
+  #shownDistance = null;  // the shown frame's orbit distance, from its X-Oer-Camera
   #dragging = false;
   #previewing = false;  // previews are being asked for, until the change rests
   #settingState = false;  // an attribute is being set by an interaction that asks for its own frames
@@ -83,6 +116,7 @@ export class OerViewer extends HTMLElement {
     }
     this.#resizeObserver.observe(this);
     this.#loadLights();
+    this.#updateTurntable();
   }
 
   disconnectedCallback() {
@@ -91,6 +125,7 @@ export class OerViewer extends HTMLElement {
     this.#controller?.abort();
     this.#controller = null;
     clearTimeout(this.#restTimer);
+    this.#updateTurntable();
   }
 
   attributeChangedCallback(name, oldValue, newValue) {
@@ -103,6 +138,10 @@ export class OerViewer extends HTMLElement {
     if (name === 'lights') {
       this.#dispatchLightsChange();
     }
+    if (name === 'auto-rotate') {
+      this.#updateTurntable();
+      return;
+    }
     // A drag, the wheel, a key or adjust() asks for its own frames; the attribute only records
     // the state.
     if (!this.#settingState) {
@@ -114,6 +153,10 @@ export class OerViewer extends HTMLElement {
   get server() { return (this.getAttribute('server') ?? '').replace(/\/+$/, ''); }
   get environment() { return this.getAttribute('environment') || 'default'; }
   get mesh() { return this.getAttribute('mesh') || 'default'; }
+  // The equirectangular preview of the environment (GET /v1/environments/{id}/preview.jpg).
+  get environmentPreviewUrl() {
+    return `${this.server}/v1/environments/${encodeURIComponent(this.environment)}/preview.jpg`;
+  }
 
   // {yaw, pitch, distance} from camera-orbit="yaw pitch [distance]"; null when absent (the
   // server frames the scene itself).
@@ -204,6 +247,13 @@ export class OerViewer extends HTMLElement {
     const target = this.getAttribute('camera-target');
     if (target) {
       query.set('target', target.trim().split(/[\s,]+/).join(','));
+    }
+    // base-color: '#rrggbb' (sRGB) or the API's linear 'r,g,b', which the server validates.
+    const baseColorText = this.getAttribute('base-color');
+    if (baseColorText) {
+      const linear = linearFromHex(baseColorText);
+      query.set('base_color',
+                linear ? linear.map((value) => value.toFixed(4)).join(',') : baseColorText.replace(/\s+/g, ''));
     }
     for (const [attribute, parameter] of [['lights', 'lights'], ['exposure', 'exposure'],
                                           ['background', 'background'], ['ground', 'ground'],
@@ -312,6 +362,7 @@ export class OerViewer extends HTMLElement {
         URL.revokeObjectURL(this.#objectUrl);
       }
       this.#objectUrl = objectUrl;
+      this.#shownDistance = cameraDistance(response.headers.get('X-Oer-Camera')) ?? this.#shownDistance;
       this.dispatchEvent(new CustomEvent('load', {
         detail: {
           url,
@@ -375,17 +426,57 @@ export class OerViewer extends HTMLElement {
     this.#setState(() => { this.orbit = change(orbit); });
   }
 
+  // The orbit's distance, or while camera-orbit gives none the server's own (the automatic
+  // framing's, named by the shown frame's X-Oer-Camera), so that zooming starts where the view
+  // is.
+  #distanceOf(orbit) {
+    return orbit.distance ?? this.#shownDistance ?? DEFAULT_ORBIT.distance;
+  }
+
+  // The span between the two pointers of a pinch.
+  #span() {
+    const [a, b] = [...this.#pointers.values()];
+    return Math.hypot(a.x - b.x, a.y - b.y);
+  }
+
+  #startInteraction() {
+    this.#dragging = true;
+    this.setAttribute('dragging', '');
+  }
+
   #onPointerDown = (event) => {
-    if (event.button !== 0) {
+    if (event.pointerType === 'mouse' && event.button !== 0) {
       return;
     }
     this.setPointerCapture(event.pointerId);
+    this.#pointers.set(event.pointerId, { x: event.clientX, y: event.clientY });
+    this.#holdTurntable();
     // Without camera-orbit, the distance stays the server's (its framing of the scene).
     const orbit = this.orbit ?? { ...DEFAULT_ORBIT, distance: null };
-    this.#drag = { pointerId: event.pointerId, x: event.clientX, y: event.clientY, orbit };
+    if (this.#pointers.size === 2) {
+      // A second finger turns the drag into a pinch.
+      this.#drag = null;
+      this.#pinch = { span: Math.max(1, this.#span()), distance: this.#distanceOf(orbit) };
+    } else if (this.#pointers.size === 1) {
+      this.#drag = { pointerId: event.pointerId, x: event.clientX, y: event.clientY, orbit };
+    }
   };
 
   #onPointerMove = (event) => {
+    if (!this.#pointers.has(event.pointerId)) {
+      return;
+    }
+    this.#pointers.set(event.pointerId, { x: event.clientX, y: event.clientY });
+    if (this.#pinch) {
+      // Fingers apart bring the eye closer: the distance scales as the span's inverse.
+      const pinch = this.#pinch;
+      this.#startInteraction();
+      this.#moveCamera((orbit) => ({
+        ...orbit, distance: pinch.distance * pinch.span / Math.max(1, this.#span()),
+      }));
+      this.#preview();
+      return;
+    }
     const drag = this.#drag;
     if (!drag || drag.pointerId !== event.pointerId) {
       return;
@@ -395,8 +486,7 @@ export class OerViewer extends HTMLElement {
     if (!this.#dragging && Math.hypot(dx, dy) < 2) {
       return;
     }
-    this.#dragging = true;
-    this.setAttribute('dragging', '');
+    this.#startInteraction();
     // Dragging right turns the product right (the eye goes left); dragging down raises the eye.
     this.#moveCamera(() => ({
       yaw: drag.orbit.yaw - dx * DEGREES_PER_PIXEL,
@@ -407,23 +497,61 @@ export class OerViewer extends HTMLElement {
   };
 
   #onPointerUp = (event) => {
-    if (!this.#drag || this.#drag.pointerId !== event.pointerId) {
+    if (!this.#pointers.delete(event.pointerId)) {
       return;
     }
-    this.#drag = null;
-    if (this.#dragging) {
+    this.#holdTurntable();
+    // The finger left after a pinch does not start a drag: the view would jump to it.
+    if (this.#pinch || event.pointerId === this.#drag?.pointerId) {
+      this.#pinch = null;
+      this.#drag = null;
+    }
+    if (this.#pointers.size === 0 && this.#dragging) {
       this.#dragging = false;
       this.removeAttribute('dragging');
       this.#rest();
     }
   };
 
+  // The turntable turns the orbit's yaw on every animation frame while auto-rotate is set,
+  // through previews (one in flight at a time, as a drag's); pointers, the wheel and keys hold
+  // it for TURNTABLE_DELAY_MILLISECONDS, and switching it off rests on the full frame.
+  #updateTurntable() {
+    const table = this.#turntable;
+    const turning = table.frame !== 0;
+    cancelAnimationFrame(table.frame);
+    table.frame = 0;
+    if (this.#connected && this.hasAttribute('auto-rotate')) {
+      table.last = performance.now();
+      table.frame = requestAnimationFrame(this.#turn);
+    } else if (turning && this.#connected) {
+      this.#rest();
+    }
+  }
+
+  #holdTurntable() {
+    this.#turntable.heldUntil = performance.now() + TURNTABLE_DELAY_MILLISECONDS;
+  }
+
+  #turn = (now) => {
+    const table = this.#turntable;
+    table.frame = requestAnimationFrame(this.#turn);
+    const seconds = Math.max(0, now - table.last) / 1000;
+    table.last = now;
+    if (this.#pointers.size > 0 || now < table.heldUntil) {
+      return;
+    }
+    this.#moveCamera((orbit) => ({ ...orbit, yaw: orbit.yaw + TURNTABLE_DEGREES_PER_SECOND * seconds }));
+    this.#preview();
+  };
+
   #onWheel = (event) => {
     event.preventDefault();
+    this.#holdTurntable();
     const pixels = event.deltaMode === WheelEvent.DOM_DELTA_LINE ? event.deltaY * 16 : event.deltaY;
     this.#moveCamera((orbit) => ({
       ...orbit,
-      distance: (orbit.distance ?? DEFAULT_ORBIT.distance) * Math.exp(pixels * WHEEL_ZOOM_PER_PIXEL),
+      distance: this.#distanceOf(orbit) * Math.exp(pixels * WHEEL_ZOOM_PER_PIXEL),
     }));
     this.#preview();
   };
@@ -439,14 +567,26 @@ export class OerViewer extends HTMLElement {
       return;
     }
     event.preventDefault();
+    this.#holdTurntable();
     const [yaw, pitch, zoom] = turn;
     this.#moveCamera((orbit) => ({
       yaw: orbit.yaw + yaw,
       pitch: orbit.pitch + pitch,
-      distance: zoom === 1 ? orbit.distance : (orbit.distance ?? DEFAULT_ORBIT.distance) * zoom,
+      distance: zoom === 1 ? orbit.distance : this.#distanceOf(orbit) * zoom,
     }));
     this.#requestFrame(false);
   };
+}
+
+// |eye - target| of an X-Oer-Camera header (`eye=x,y,z; target=x,y,z; ...`); null without one.
+function cameraDistance(header) {
+  const vector = (name) => new RegExp(`${name}=([^;]+)`).exec(header ?? '')?.[1].split(',').map(Number);
+  const [eye, target] = [vector('eye'), vector('target')];
+  if (!eye || !target) {
+    return null;
+  }
+  const distance = Math.hypot(...eye.map((value, axis) => value - target[axis]));
+  return Number.isFinite(distance) ? distance : null;
 }
 
 // An answer that is not 2xx, with the problem+json `detail` verbatim when there is one.

@@ -440,21 +440,16 @@ Json camera_json(const CameraSpec& camera) {
     return json;
 }
 
-// The orbit's missing target or distance from the automatic framing of the objects, as the
-// renderer frames a request without a camera (frame_context.cpp): the same bounds, in float, at
-// the frame's aspect ratio (width / height, never the size in pixels).
-Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const std::vector<SceneObject>& objects,
-                      float aspect) {
-    std::vector<Bounds> boxes;
-    for (const SceneObject& object : objects) {
-        boxes.push_back(transformed_bounds(object.mesh->bounds, object.transform));
-    }
+// The orbit's missing target or distance from the automatic framing of `scene` (the objects'
+// enclosing bounds), as the renderer frames a request without a camera (frame_context.cpp): the
+// same bounds, in float, at the frame's aspect ratio (width / height, never the size in pixels).
+Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const Bounds& scene, float aspect) {
     const std::optional<glm::vec3> target =
         orbit.target ? std::optional<glm::vec3>(glm::vec3(*orbit.target)) : std::nullopt;
     const std::optional<float> distance =
         orbit.distance ? std::optional<float>(float(*orbit.distance)) : std::nullopt;
-    return frame_orbit(float(orbit.yaw), float(orbit.pitch), target, distance,
-                       enclosing_bounds(boxes), fov_y, aspect);
+    return frame_orbit(float(orbit.yaw), float(orbit.pitch), target, distance, scene, fov_y,
+                       aspect);
 }
 
 }  // namespace
@@ -732,6 +727,31 @@ std::string render_etag(const RenderSpec& spec) {
     return etag;
 }
 
+Camera resolved_camera(const RenderSpec& spec,
+                       const std::vector<std::shared_ptr<const Mesh>>& meshes) {
+    if (meshes.size() != spec.objects.size() ||
+        std::any_of(meshes.begin(), meshes.end(), [](const auto& mesh) { return !mesh; })) {
+        throw Error(ErrorKind::Internal,
+                    "resolved_camera: " + std::to_string(meshes.size()) + " mesh(es) for " +
+                        std::to_string(spec.objects.size()) + " object(s), or a null one");
+    }
+    std::vector<Bounds> boxes;
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        boxes.push_back(
+            transformed_bounds(meshes[i]->bounds, glm::mat4(spec.objects[i].transform)));
+    }
+    const Bounds scene = enclosing_bounds(boxes);
+    const float aspect = float(spec.width) / float(spec.height);
+    if (!spec.camera) {
+        return frame_bounds(scene, Camera{}.fov_y, aspect);
+    }
+    if (const auto* look_at = std::get_if<LookAtSpec>(&spec.camera->placement)) {
+        return to_camera(*look_at, spec.camera->fov_y);
+    }
+    return resolved_orbit(std::get<OrbitSpec>(spec.camera->placement), float(spec.camera->fov_y),
+                          scene, aspect);
+}
+
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes) {
@@ -761,15 +781,7 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
                                        ? std::optional<glm::vec3>(glm::vec3(*object.base_color))
                                        : std::nullopt});
     }
-    if (spec.camera) {
-        if (const auto* look_at = std::get_if<LookAtSpec>(&spec.camera->placement)) {
-            request.camera = to_camera(*look_at, spec.camera->fov_y);
-        } else {
-            request.camera = resolved_orbit(std::get<OrbitSpec>(spec.camera->placement),
-                                            float(spec.camera->fov_y), request.objects,
-                                            float(spec.width) / float(spec.height));
-        }
-    }
+    request.camera = resolved_camera(spec, meshes);
     request.lights.assign(spec.lights.begin(), spec.lights.end());
     request.width = spec.width;
     request.height = spec.height;

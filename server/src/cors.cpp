@@ -20,7 +20,8 @@ void add_cors_headers(const std::vector<std::string>& origins, const httplib::Re
         return;
     }
     response.set_header("Access-Control-Allow-Origin", origin);
-    response.set_header("Access-Control-Expose-Headers", "ETag, Server-Timing, X-Oer-Cache");
+    response.set_header("Access-Control-Expose-Headers",
+                        "ETag, Server-Timing, X-Oer-Cache, X-Oer-Camera");
 }
 
 void answer_preflight(const std::vector<std::string>& methods, httplib::Response& response) {

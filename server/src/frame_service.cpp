@@ -38,6 +38,18 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     EncodedFrame result;
     result.etag = etag;
     result.content_type = api::content_type_of(spec.format);
+    std::vector<std::shared_ptr<const Mesh>> meshes;
+    for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+        const auto mesh = meshes_.find(spec.objects[i].mesh);
+        if (!mesh) {
+            throw not_found(
+                "no mesh with id '" + spec.objects[i].mesh + "'",
+                form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
+        }
+        meshes.push_back(mesh->mesh);
+    }
+    // Before the cache, so that a cached frame names its camera too (a few map lookups).
+    result.camera = api::resolved_camera(spec, meshes);
     if (auto cached = frames_.get(result.etag)) {
         metrics_.cache(CacheName::Frame, true);
         result.bytes = std::move(cached);
@@ -49,16 +61,6 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     const auto environment = environments_.find(spec.environment);
     if (!environment) {
         throw not_found("no environment with id '" + spec.environment + "'", "environment");
-    }
-    std::vector<std::shared_ptr<const Mesh>> meshes;
-    for (std::size_t i = 0; i < spec.objects.size(); ++i) {
-        const auto mesh = meshes_.find(spec.objects[i].mesh);
-        if (!mesh) {
-            throw not_found(
-                "no mesh with id '" + spec.objects[i].mesh + "'",
-                form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
-        }
-        meshes.push_back(mesh->mesh);
     }
     std::shared_ptr<const HdrImage> map;
     if (spec.background.kind == BackgroundKind::Environment) {

@@ -22,6 +22,7 @@ struct EncodedFrame {
     std::string etag;
     bool cache_hit = false;
     std::string server_timing;  // W3C Server-Timing, per pass; empty for a cached frame
+    Camera camera;              // what the frame is seen from (api::resolved_camera)
 };
 
 // How the request named its members, for the `parameter` of a 404.

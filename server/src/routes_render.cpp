@@ -1,4 +1,6 @@
 // POST /v1/render (JSON body) and GET /v1/render (query parameters)
+#include <cstdio>
+
 #include "http_exchange.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "service_context.hpp"
@@ -10,6 +12,21 @@ namespace {
 // Frames are addressed by their request (ids are content hashes; the ETag holds the version):
 // caches may keep them a day, then revalidate with the ETag for a cheap 304.
 constexpr const char* kFrameCacheControl = "public, max-age=86400";
+
+// X-Oer-Camera: the camera the frame is seen from, in the query's notation, so that a client
+// can continue from the automatic framing (zoom from its distance, say) without a jump:
+// `eye=0,1.2,3.4; target=0,0.8,0; up=0,1,0; fov_y=45`.
+std::string camera_header(const Camera& camera) {
+    const auto vector = [](const glm::vec3& v) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.6g,%.6g,%.6g", double(v.x), double(v.y), double(v.z));
+        return std::string(text);
+    };
+    char fov_y[32];
+    std::snprintf(fov_y, sizeof fov_y, "%.6g", double(camera.fov_y));
+    return "eye=" + vector(camera.eye) + "; target=" + vector(camera.target) +
+           "; up=" + vector(camera.up) + "; fov_y=" + fov_y;
+}
 
 void answer_frame(ServiceContext& context, const httplib::Request& request,
                   httplib::Response& response, const api::RenderSpec& spec, RequestForm form) {
@@ -24,6 +41,7 @@ void answer_frame(ServiceContext& context, const httplib::Request& request,
     response.status = 200;
     response.set_header("ETag", frame.etag);
     response.set_header("X-Oer-Cache", frame.cache_hit ? "hit" : "miss");
+    response.set_header("X-Oer-Camera", camera_header(frame.camera));
     if (!frame.server_timing.empty()) {
         response.set_header("Server-Timing", frame.server_timing);
     }

@@ -684,10 +684,16 @@ TEST(RenderRequest, ToFrameRequestConvertsAnOrbitAndTheExrFormat) {
     EXPECT_EQ(request.camera->up, expected.up);
     EXPECT_TRUE(request.linear);
     EXPECT_TRUE(request.lights.empty());
-    // No camera: the renderer frames the scene.
-    EXPECT_FALSE(api::to_frame_request(api::parse_render_query({{"environment", "default"}}),
-                                       rig_with_lights(0), nullptr, {})
-                     .camera.has_value());
+    // No camera: the automatic framing, resolved here as the renderer would (so that the
+    // server can name it in X-Oer-Camera); with no objects, of the unit cube about the origin.
+    const api::RenderSpec framed = api::parse_render_query({{"environment", "default"}});
+    const FrameRequest automatic = api::to_frame_request(framed, rig_with_lights(0), nullptr, {});
+    ASSERT_TRUE(automatic.camera.has_value());
+    const Camera expected_framing =
+        frame_bounds(enclosing_bounds({}), 45.0f, float(framed.width) / float(framed.height));
+    EXPECT_EQ(automatic.camera->eye, expected_framing.eye);
+    EXPECT_EQ(automatic.camera->target, expected_framing.target);
+    EXPECT_NE(automatic.camera->eye, Camera{}.eye) << "not the fixed default camera";
 }
 
 namespace {

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <optional>
 #include <thread>
@@ -538,4 +539,63 @@ TEST(RenderBackPressure, RequestsOverCapacityGet503PromptlyAndNoneHang) {
     EXPECT_GE(rendered, 1);
     // At most one rendering and one waiting when the burst arrives.
     EXPECT_GE(refused, kRequests - 3) << rendered << " rendered";
+}
+
+namespace {
+
+// The three numbers of `name=x,y,z` in an X-Oer-Camera header.
+glm::dvec3 camera_vector(const std::string& header, const std::string& name) {
+    const std::size_t at = header.find(name + "=");
+    glm::dvec3 v(0.0);
+    if (at == std::string::npos ||
+        std::sscanf(header.c_str() + at + name.size() + 1, "%lf,%lf,%lf", &v.x, &v.y, &v.z) != 3) {
+        ADD_FAILURE() << "no " << name << " in X-Oer-Camera '" << header << "'";
+    }
+    return v;
+}
+
+}  // namespace
+
+// A frame names the camera it is seen from (X-Oer-Camera), the automatic framing's included, and
+// a cached frame too: an orbit built from that header draws the same pixels, and so continues
+// from the framing without a jump (what the web client's zoom relies on).
+TEST(RenderCamera, TheHeaderNamesTheAutomaticFramingSoAnOrbitFromItDrawsTheSameFrame) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::string common =
+        "/v1/render?environment=default&mesh=default&width=96&height=64&samples=1&format=png";
+    const auto framed = client->Get(common.c_str());
+    ASSERT_TRUE(framed);
+    ASSERT_EQ(framed->status, 200) << framed->body;
+    const std::string header = framed->get_header_value("X-Oer-Camera");
+    const glm::dvec3 eye = camera_vector(header, "eye");
+    const glm::dvec3 target = camera_vector(header, "target");
+    const glm::dvec3 offset = eye - target;
+    const double distance = glm::length(offset);
+    // The automatic framing is the default orbit (yaw 30, pitch 15) about the scene's centre.
+    EXPECT_NEAR(glm::degrees(std::atan2(offset.x, offset.z)), 30.0, 1e-3) << header;
+    EXPECT_NEAR(glm::degrees(std::asin(offset.y / distance)), 15.0, 1e-3) << header;
+    EXPECT_NE(distance, 3.0) << "the dress form's framing is not the fixed default distance";
+
+    const auto cached = client->Get(common.c_str());
+    ASSERT_TRUE(cached);
+    EXPECT_EQ(cached->get_header_value("X-Oer-Cache"), "hit");
+    EXPECT_EQ(cached->get_header_value("X-Oer-Camera"), header);
+
+    char orbit[256];
+    std::snprintf(orbit, sizeof orbit, "&yaw=30&pitch=15&distance=%.6f&target=%.6f,%.6f,%.6f",
+                  distance, target.x, target.y, target.z);
+    const auto continued = client->Get((common + orbit).c_str());
+    ASSERT_TRUE(continued);
+    ASSERT_EQ(continued->status, 200) << continued->body;
+    const Rgba8Image a = decode_image(framed);
+    const Rgba8Image b = decode_image(continued);
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    int largest = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+        largest = std::max(largest, std::abs(int(a.pixels[i]) - int(b.pixels[i])));
+    }
+    // The header's six significant digits move the camera by far less than a pixel.
+    EXPECT_LE(largest, 2) << "the orbit from X-Oer-Camera draws another frame";
 }

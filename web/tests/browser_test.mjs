@@ -123,7 +123,9 @@ async function shownImage(page) {
     let sum = 0;
     let sumSquares = 0;
     let checksum = 0;
+    let redMinusGreen = 0;
     for (let i = 0; i < data.length; i += 4) {
+      redMinusGreen += data[i] - data[i + 1];
       colors.add(((data[i] >> 4) << 8) | ((data[i + 1] >> 4) << 4) | (data[i + 2] >> 4));
       const luminance = 0.2126 * data[i] + 0.7152 * data[i + 1] + 0.0722 * data[i + 2];
       sum += luminance;
@@ -140,6 +142,7 @@ async function shownImage(page) {
       colors: colors.size,
       mean,
       deviation: Math.sqrt(Math.max(0, sumSquares / count - mean * mean)),
+      redOverGreen: redMinusGreen / count,
       checksum,
     };
   });
@@ -354,9 +357,14 @@ try {
       await context.addInitScript(RECORD_EVENTS);
       const visitor = await context.newPage();
       await visitor.goto(link);
-      // The frame of the settled layout: the lights panel, once shown, takes height from the view.
+      // The frame of the settled layout: the lights panel, once shown with its map, takes
+      // height from the view.
       await visitor.locator('#light-switches input').first().waitFor();
       const handle = await visitor.waitForFunction(() => {
+        const map = document.getElementById('light-map-image');
+        if (!map.complete || map.naturalWidth === 0) {
+          return false;
+        }
         const rect = document.querySelector('oer-viewer').getBoundingClientRect();
         const frame = window.oerFrames.at(-1);
         return frame && !frame.preview && frame.height === Math.round(rect.height * devicePixelRatio)
@@ -373,7 +381,7 @@ try {
     const serverMs = Number(/, server (\d+) ms$/.exec(miss.text)?.[1]);
     assert.ok(serverMs > 0, `server time in "${miss.text}"`);
     assert.equal(hit.frame.cache, 'hit');
-    assert.equal(hit.frame.etag, miss.frame.etag);
+    assert.equal(hit.frame.etag, miss.frame.etag, `${miss.frame.url} then ${hit.frame.url}`);
     assert.match(hit.text, /^\d+×\d+, \d+ KiB, \d+ ms, cached$/);
   });
 
@@ -404,6 +412,85 @@ try {
     assert.ok(Math.abs(orbit.yaw - (yaw + 5)) < 0.01, `yaw ${yaw} -> ${orbit.yaw}`);
     await page.locator('#all-on').click();
     assert.equal(await page.locator('oer-viewer').getAttribute('lights'), null);
+  });
+
+  await check('the lights panel marks each light where the environment\'s preview is bright',
+              async () => {
+    const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
+    await page.waitForFunction(() => document.getElementById('light-map-image').complete &&
+      document.getElementById('light-map-image').naturalWidth > 0);
+    const marks = await page.evaluate(() => {
+      const image = document.getElementById('light-map-image');
+      const canvas = document.createElement('canvas');
+      canvas.width = image.naturalWidth;
+      canvas.height = image.naturalHeight;
+      const context = canvas.getContext('2d');
+      context.drawImage(image, 0, 0);
+      const { data } = context.getImageData(0, 0, canvas.width, canvas.height);
+      const luminance = (x, y) => {
+        const i = 4 * (y * canvas.width + x);
+        return 0.2126 * data[i] + 0.7152 * data[i + 1] + 0.0722 * data[i + 2];
+      };
+      const all = [];
+      for (let y = 0; y < canvas.height; y += 1) {
+        for (let x = 0; x < canvas.width; x += 1) {
+          all.push(luminance(x, y));
+        }
+      }
+      all.sort((a, b) => a - b);
+      const box = image.getBoundingClientRect();
+      return {
+        median: all[all.length >> 1],
+        src: image.getAttribute('src'),
+        markers: [...document.querySelectorAll('#light-map .marker')].map((marker) => {
+          const rect = marker.getBoundingClientRect();
+          // The marker's centre on the image, in the image's own pixels; the brightest pixel
+          // within 2 % of the width around it (the light's region, not one pixel of it).
+          const cx = Math.round((rect.x + rect.width / 2 - box.x) / box.width * canvas.width);
+          const cy = Math.round((rect.y + rect.height / 2 - box.y) / box.height * canvas.height);
+          const reach = Math.round(0.02 * canvas.width);
+          let brightest = 0;
+          for (let dy = -reach; dy <= reach; dy += 1) {
+            for (let dx = -reach; dx <= reach; dx += 1) {
+              const x = (cx + dx + canvas.width) % canvas.width;
+              const y = Math.min(canvas.height - 1, Math.max(0, cy + dy));
+              brightest = Math.max(brightest, luminance(x, y));
+            }
+          }
+          return { text: marker.textContent, brightest };
+        }),
+      };
+    });
+    assert.equal(marks.src, '/v1/environments/default/preview.jpg');
+    assert.equal(marks.markers.length, rig.lights.length);
+    console.log(`  preview median luminance ${marks.median.toFixed(1)}; at the markers ` +
+                marks.markers.map((marker) => marker.brightest.toFixed(0)).join(', '));
+    marks.markers.forEach((marker, index) => {
+      assert.equal(marker.text, String(index + 1));
+      assert.ok(marker.brightest > 2 * marks.median + 40,
+                `light ${index + 1}'s marker sits on luminance ${marker.brightest}, the map's median is ${marks.median}`);
+    });
+  });
+
+  await check('the turntable turns the product through previews, and stopping it gives a full frame',
+              async () => {
+    const yaw = (await page.evaluate(() => document.querySelector('oer-viewer').orbit)).yaw;
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#turntable').check();
+    await page.waitForFunction((count) =>
+      window.oerFrames.slice(count).filter((frame) => frame.preview).length >= 3, frames,
+    { timeout: 30000 });
+    await page.locator('#turntable').uncheck();
+    const stopped = await fullFrame(page, frames);
+    const shown = await page.evaluate((count) => window.oerFrames.slice(count), frames);
+    const yaws = shown.filter((frame) => frame.preview)
+      .map((frame) => Number(new URL(frame.url, server.url).searchParams.get('yaw')));
+    for (let i = 1; i < yaws.length; i += 1) {
+      assert.ok(yaws[i] > yaws[i - 1], `the turntable's yaws increase: ${yaws.join(', ')}`);
+    }
+    assert.ok(yaws[0] > yaw, `from ${yaw} on: ${yaws.join(', ')}`);
+    assert.doesNotMatch(stopped.url, /samples=1/);
+    assert.equal(await page.locator('oer-viewer').getAttribute('auto-rotate'), null);
   });
 
   await check('Download PNG saves the view at full quality: a PNG of the view\'s size', async () => {
@@ -482,7 +569,7 @@ try {
     await page.screenshot({ path: join(artifacts, 'desktop-1280x800.png') });
   });
 
-  await check('at phone width (360x740, touch) the page fits and shows a frame', async () => {
+  await check('at phone width (360x740, touch) the page fits, shows a frame, and a pinch zooms', async () => {
     const phone = await browser.newContext({
       viewport: { width: 360, height: 740 }, deviceScaleFactor: 2, isMobile: true, hasTouch: true,
     });
@@ -495,6 +582,30 @@ try {
     const overflow = await small.evaluate(() => document.documentElement.scrollWidth - innerWidth);
     assert.ok(overflow <= 0, `the page is ${overflow} px wider than the phone`);
     await small.screenshot({ path: join(artifacts, 'phone-360x740.png') });
+
+    // Two fingers spread from 80 to 160 px apart: the eye comes to half the automatic framing's
+    // distance (named by the frame's X-Oer-Camera), and lifting them gives a full frame.
+    const shownUrl = await small.evaluate(() => window.oerFrames.at(-1).url);
+    const camera = (await fetch(new URL(shownUrl, server.url))).headers.get('X-Oer-Camera');
+    const vector = (name) => new RegExp(`${name}=([^;]+)`).exec(camera)[1].split(',').map(Number);
+    const framed = Math.hypot(...vector('eye').map((value, axis) => value - vector('target')[axis]));
+    const box = await small.locator('oer-viewer').boundingBox();
+    const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+    const touch = await phone.newCDPSession(small);
+    const fingers = (half) => [{ x: cx - half, y: cy, id: 1 }, { x: cx + half, y: cy, id: 2 }];
+    const frames = await small.evaluate(() => window.oerFrames.length);
+    await touch.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: fingers(40) });
+    for (let half = 45; half <= 80; half += 5) {
+      await touch.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: fingers(half) });
+      await small.waitForTimeout(30);
+    }
+    await touch.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    const pinched = await fullFrame(small, frames);
+    const orbit = await small.evaluate(() => document.querySelector('oer-viewer').orbit);
+    console.log(`  pinch: distance ${framed.toFixed(3)} -> ${orbit.distance}`);
+    assert.ok(Math.abs(orbit.distance - framed / 2) < 0.01 * framed,
+              `pinched to ${orbit.distance}, expected half of ${framed}`);
+    assert.match(pinched.url, new RegExp(`[?&]distance=${orbit.distance}(&|$)`));
     await phone.close();
   });
 

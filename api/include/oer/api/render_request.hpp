@@ -139,7 +139,16 @@ nlohmann::json normalised_render_json(const RenderSpec& spec);
 // version (a new version may draw the same request differently).
 std::string render_etag(const RenderSpec& spec);
 
-// The frame the spec asks for, once its ids are resolved: `meshes` holds one mesh per object, in
+// The camera the frame is seen from, once the spec's meshes are resolved (one per object, in
+// order): its look-at camera, its orbit with a missing target or distance from the automatic
+// framing, or without a camera the automatic framing itself (oer::frame_bounds of the objects'
+// transformed bounds, as the renderer frames a FrameRequest without one). Throws oer::Error
+// (Internal) when the meshes do not match the objects.
+Camera resolved_camera(const RenderSpec& spec,
+                       const std::vector<std::shared_ptr<const Mesh>>& meshes);
+
+// The frame the spec asks for, once its ids are resolved (its camera always set, by
+// resolved_camera): `meshes` holds one mesh per object, in
 // order (their transformed bounds frame an orbit without target or distance); `environment_map`
 // (the image the rig was made from) may be null unless the background is the environment. Throws
 // InvalidParameter("lights") when the weights do not match the rig's lights, and oer::Error
