@@ -61,7 +61,7 @@ constexpr std::array<std::string_view, 5> kCameraMembers = {"eye", "target", "up
                                                             "orbit"};
 constexpr std::array<std::string_view, 4> kOrbitMembers = {"yaw", "pitch", "distance", "target"};
 constexpr std::array<std::string_view, 3> kShadowMembers = {"enabled", "resolution", "filter"};
-constexpr std::array<std::string_view, 23> kQueryParameters = {"environment",
+constexpr std::array<std::string_view, 24> kQueryParameters = {"environment",
                                                                "mesh",
                                                                "eye",
                                                                "target",
@@ -83,7 +83,8 @@ constexpr std::array<std::string_view, 23> kQueryParameters = {"environment",
                                                                "shadow_resolution",
                                                                "shadow_filter",
                                                                "samples",
-                                                               "environment_yaw"};
+                                                               "environment_yaw",
+                                                               "base_color"};
 
 bool contains(Names names, std::string_view name) {
     return std::find(names.begin(), names.end(), name) != names.end();
@@ -622,9 +623,20 @@ RenderSpec parse_render_query(const std::multimap<std::string, std::string>& que
         throw InvalidParameter("mesh", "at most " + std::to_string(limits.max_objects) +
                                            " meshes, got " + std::to_string(query.count("mesh")));
     }
+    // One base color for every mesh of the query: the GET form's meshes are one product, and a
+    // colour variant recolours all of it (as objects[i].base_color does one object).
+    std::optional<glm::dvec3> base_color;
+    if (const std::string* color = get("base_color")) {
+        if (query.count("mesh") == 0) {
+            throw InvalidParameter("base_color",
+                                   "needs a mesh: it sets the base color of every mesh of the "
+                                   "query, and there is none");
+        }
+        base_color = parse_vector3("base_color", *color, kColor.low, kColor.high);
+    }
     const auto [first_mesh, last_mesh] = query.equal_range("mesh");
     for (auto mesh = first_mesh; mesh != last_mesh; ++mesh) {
-        spec.objects.push_back({checked_id("mesh", mesh->second), glm::dmat4(1.0), std::nullopt});
+        spec.objects.push_back({checked_id("mesh", mesh->second), glm::dmat4(1.0), base_color});
     }
     spec.camera = query_camera(get);
     if (const std::string* lights = get("lights")) {

@@ -1,10 +1,14 @@
 #pragma once
-// Shared by the benchmarks: timing by best of several runs, and synthetic environment maps
-// with known bright discs.
+// Shared by the benchmarks: timing by best of several runs, percentiles, the server's
+// Server-Timing header read back, and synthetic environment maps with known bright discs.
 #include <chrono>
 #include <cstddef>
 #include <ctime>
 #include <limits>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -44,6 +48,15 @@ double best_ms(int max_repetitions, double budget_ms, F&& f) {
     }
     return best;
 }
+
+// The p-quantile (p in [0, 1]) of `values`, the nearest-rank sample of the sorted values; 0 when
+// there are none.
+double percentile(std::vector<double> values, double p);
+
+// The entries of a W3C Server-Timing header as oer-server writes them, "name;dur=1.25, ...",
+// as (name, milliseconds) in order. Throws oer::Error (InvalidInput) quoting the header when an
+// entry has no name or no readable dur.
+std::vector<std::pair<std::string, double>> parse_server_timing(std::string_view header);
 
 // The bright discs of the synthetic maps: distinct sizes, colors and radiances, of comparable
 // power, away from the seam and the poles (the literal thesis clusters in pixel space).

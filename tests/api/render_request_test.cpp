@@ -238,6 +238,15 @@ TEST(RenderRequest, GetAndPostFormsOfOneRequestShareTheEtag) {
         {"environment", "default"}, {"mesh", "default"}, {"yaw", "30"},
         {"pitch", "-10"},           {"distance", "2.5"}, {"target", "0,0.8,0"}};
     EXPECT_EQ(api::render_etag(api::parse_render_query(orbit_query)), etag_of_json(orbit_body));
+    // A colour variant: the query's base_color is each object's.
+    const Json variant_body = {{"environment", "default"},
+                               {"objects", {{{"mesh", kMeshA}, {"base_color", {0.5, 0.1, 0.1}}}}}};
+    const Query variant_query = {
+        {"environment", "default"}, {"mesh", kMeshA}, {"base_color", "0.5,0.1,0.1"}};
+    EXPECT_EQ(api::render_etag(api::parse_render_query(variant_query)), etag_of_json(variant_body));
+    EXPECT_NE(
+        api::render_etag(api::parse_render_query(variant_query)),
+        api::render_etag(api::parse_render_query({{"environment", "default"}, {"mesh", kMeshA}})));
     // Integers and their float spellings are one number.
     EXPECT_EQ(etag_of_json({{"environment", "default"}, {"width", 512.0}}),
               api::render_etag(api::parse_render_query({{"environment", "default"}})));
@@ -546,6 +555,47 @@ TEST(RenderRequest, QueryFormReadsEveryParameter) {
     EXPECT_FALSE(api::parse_render_query({{"environment", "default"}}).camera.has_value());
 }
 
+TEST(RenderRequest, QueryBaseColorColorsEveryMesh) {
+    const RenderSpec spec = api::parse_render_query(
+        {{"environment", kRig}, {"mesh", kMeshA}, {"mesh", kMeshB}, {"base_color", "1,0.25,-0"}});
+    ASSERT_EQ(spec.objects.size(), 2u);
+    for (const api::ObjectSpec& object : spec.objects) {
+        EXPECT_EQ(object.base_color, glm::dvec3(1.0, 0.25, 0.0)) << object.mesh;
+        EXPECT_EQ(object.transform, glm::dmat4(1.0)) << object.mesh;
+    }
+    EXPECT_FALSE(
+        api::parse_render_query({{"environment", kRig}, {"mesh", kMeshA}}).objects[0].base_color);
+    // The other vector parameters' messages, and one of its own without a mesh.
+    const auto message = [](const Query& query) -> std::string {
+        try {
+            api::parse_render_query(query);
+        } catch (const InvalidParameter& error) {
+            EXPECT_EQ(error.parameter(), "base_color") << error.what();
+            return error.what();
+        }
+        return "accepted";
+    };
+    const auto with_mesh = [&message](const std::string& color) {
+        return message({{"environment", kRig}, {"mesh", kMeshA}, {"base_color", color}});
+    };
+    EXPECT_EQ(with_mesh("0.5,0.1"),
+              "base_color: expected x,y,z (three comma-separated numbers), got '0.5,0.1'");
+    EXPECT_EQ(with_mesh("0.5,0.1,0.1,1"),
+              "base_color: expected x,y,z (three comma-separated numbers), got '0.5,0.1,0.1,1'");
+    EXPECT_EQ(with_mesh("0.5,red,0.1"), "base_color: expected a finite number, got 'red'");
+    EXPECT_EQ(with_mesh("0.5,nan,0.1"), "base_color: expected a finite number, got 'nan'");
+    EXPECT_EQ(with_mesh("0.5,0.1,1.5"), "base_color: must be in [0, 1], got 1.5");
+    EXPECT_EQ(with_mesh("-0.01,0.1,0.1"), "base_color: must be in [0, 1], got -0.01");
+    EXPECT_EQ(message({{"environment", kRig}, {"base_color", "0.5,0.1,0.1"}}),
+              "base_color: needs a mesh: it sets the base color of every mesh of the query, and "
+              "there is none");
+    EXPECT_EQ(message({{"environment", kRig},
+                       {"mesh", kMeshA},
+                       {"base_color", "1,0,0"},
+                       {"base_color", "0,1,0"}}),
+              "base_color: given more than once");
+}
+
 TEST(RenderRequest, TheMemberListsMatchTheParsers) {
     const std::vector<std::string>& members = api::render_json_members();
     for (const char* path : {"environment", "objects/*/transform", "camera/fov_y",
@@ -557,6 +607,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
     const std::map<std::string, Query> valid = {
         {"environment", {}},
         {"mesh", {{"mesh", "default"}}},
+        {"base_color", {{"mesh", "default"}, {"base_color", "0.5,0.1,0.1"}}},
         {"eye", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
         {"target", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
         {"up", {{"eye", "0,0,3"}, {"target", "0,0,0"}, {"up", "1,0,0"}}},
@@ -584,7 +635,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         query.insert({"environment", "default"});
         EXPECT_EQ(rejected_parameter(query), "") << parameter;
     }
-    EXPECT_EQ(api::render_query_parameters().size(), 23u);
+    EXPECT_EQ(api::render_query_parameters().size(), 24u);
 }
 
 TEST(RenderRequest, BackgroundsReadAndPrintCanonically) {

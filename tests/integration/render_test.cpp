@@ -1,6 +1,6 @@
 // Frames over HTTP: what switching a light and shadows do to the pixels (against ray-cast
-// geometry and the rig's SH irradiance), the ETag round trip and the frame cache, concurrent
-// clients, and back-pressure (503 when the render queue is full, never a hang).
+// geometry and the rig's SH irradiance), a colour variant, the ETag round trip and the frame
+// cache, concurrent clients, and back-pressure (503 when the render queue is full, never a hang).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -345,6 +345,63 @@ TEST(RenderLighting, AHalfWeightLightGivesAFrameBetweenOnAndOff) {
     ASSERT_EQ(posted->status, 200) << posted->body;
     EXPECT_EQ(posted->get_header_value("ETag"), got->get_header_value("ETag"));
     EXPECT_EQ(posted->body, got->body);
+}
+
+// A colour variant over GET (base_color, every mesh of the query): the default product against
+// a black background with no ground, its plain materials (fabric 0.85, 0.80, 0.75, a dark
+// stand) against a red base color. The red frame's product pixels are red-dominant, the plain
+// one's are not; the GET form and the JSON body's objects[0].base_color are one request (one
+// ETag, the same bytes), and another one than the plain product's.
+TEST(RenderMaterials, AQueryBaseColorRecolorsTheProduct) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::string query =
+        "/v1/render?environment=default&mesh=default&width=96&height=96&format=png&samples=1"
+        "&ground=off&shadows=off&background=%23000000";
+    struct Counts {
+        int product = 0;
+        int red = 0;
+    };
+    const auto count = [](const Rgba8Image& image) {
+        Counts counts;
+        for (int y = 0; y < image.height; ++y) {
+            for (int x = 0; x < image.width; ++x) {
+                const glm::dvec3 c = rgb_at(image, x, y);
+                if (max_abs(c) < 16.0) {
+                    continue;  // the black background, and the darkest of the stand
+                }
+                ++counts.product;
+                counts.red += c.r > 2.0 * std::max(c.g, c.b);
+            }
+        }
+        return counts;
+    };
+    const auto plain = client->Get(query.c_str());
+    const auto red = client->Get((query + "&base_color=0.8,0.05,0.05").c_str());
+    ASSERT_TRUE(plain && red);
+    ASSERT_EQ(plain->status, 200) << plain->body;
+    ASSERT_EQ(red->status, 200) << red->body;
+    const Counts plain_counts = count(decode_image(plain)), red_counts = count(decode_image(red));
+    ASSERT_GT(plain_counts.product, 400);  // the dress form: about 8 % of the frame
+    EXPECT_LT(plain_counts.red, plain_counts.product / 50);
+    EXPECT_GT(red_counts.red, red_counts.product / 2);
+    EXPECT_NE(red->get_header_value("ETag"), plain->get_header_value("ETag"));
+
+    const Json body = {{"environment", "default"},
+                       {"objects", {{{"mesh", "default"}, {"base_color", {0.8, 0.05, 0.05}}}}},
+                       {"width", 96},
+                       {"height", 96},
+                       {"format", "png"},
+                       {"samples", 1},
+                       {"ground", false},
+                       {"shadows", {{"enabled", false}}},
+                       {"background", "#000000"}};
+    const auto posted = post_json(*client, "/v1/render", body);
+    ASSERT_TRUE(posted);
+    ASSERT_EQ(posted->status, 200) << posted->body;
+    EXPECT_EQ(posted->get_header_value("ETag"), red->get_header_value("ETag"));
+    EXPECT_EQ(posted->body, red->body);
 }
 
 // GET and POST forms of one request share their ETag; If-None-Match gives 304 without a body;

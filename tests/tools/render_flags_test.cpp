@@ -3,6 +3,7 @@
 // rejected alike, and rejected with the same message (the flag's name for the parameter's).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -11,6 +12,7 @@
 #include "cli_process.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/render_request.hpp"
+#include "oer/image/image_encoding.hpp"
 #include "oer/lighting/default_environment.hpp"
 
 namespace {
@@ -74,6 +76,10 @@ std::vector<Case> cases() {
         {"--yaw -90", {{"environment_yaw", "-90"}}, "yaw"},
         {"--ground maybe", {{"ground", "maybe"}}, "ground"},
         {"--shadows yes", {{"shadows", "yes"}}, "shadows"},
+        {"--base-color 0.8,0.1", {{"base_color", "0.8,0.1"}}, "base-color"},
+        {"--base-color 0.8,0.1,1.2", {{"base_color", "0.8,0.1,1.2"}}, "base-color"},
+        {"--base-color 0.8,0.1,x", {{"base_color", "0.8,0.1,x"}}, "base-color"},
+        {"--base-color 0.8,0.1,0.1", {{"base_color", "0.8,0.1,0.1"}}, "base-color"},
         {"--shadow-filter soft", {{"shadow_filter", "soft"}}, "shadow-filter"},
         {"--shadow-filter hard", {{"shadow_filter", "hard"}}, "shadow-filter"},
         {"--background '#12345'", {{"background", "#12345"}}, "background"},
@@ -133,4 +139,38 @@ TEST_F(RenderFlags, DefaultsAreTheServicesJpegQualityAndSamples) {
     EXPECT_EQ(by_default, frame("--quality 85 --samples 4"));
     EXPECT_NE(by_default, frame("--quality 90"));
     EXPECT_NE(by_default, frame("--samples 1"));
+}
+
+// --base-color is the query's base_color: every mesh takes it. Against a black background with
+// no ground, a red variant turns most of the product's pixels red-dominant; the default
+// product (fabric 0.85, 0.80, 0.75 and a dark stand) has next to none.
+TEST_F(RenderFlags, BaseColorRecolorsTheProduct) {
+    struct Counts {
+        int product = 0;
+        int red = 0;
+    };
+    const auto count = [this](const std::string& flags) {
+        const std::filesystem::path path = dir_ / "frame.png";
+        const ProcessResult result =
+            run("render --env default --mesh default --size 64x64 --samples 1 --shadows off "
+                "--ground off --background '#000000' -o " +
+                path.string() + " " + flags);
+        EXPECT_EQ(result.status, 0) << flags << ": " << result.err;
+        const std::string bytes = slurp(path);
+        const oer::Rgba8Image image = oer::decode_8bit({bytes.begin(), bytes.end()});
+        Counts counts;
+        for (std::size_t i = 0; i + 3 < image.pixels.size(); i += 4) {
+            const int r = image.pixels[i], g = image.pixels[i + 1], b = image.pixels[i + 2];
+            if (std::max({r, g, b}) < 16) {
+                continue;  // the black background, and the darkest of the stand
+            }
+            ++counts.product;
+            counts.red += r > 2 * std::max(g, b);
+        }
+        return counts;
+    };
+    const Counts plain = count(""), red = count("--base-color 0.8,0.05,0.05");
+    ASSERT_GT(plain.product, 200);  // the dress form: about 8 % of the frame
+    EXPECT_LT(plain.red, plain.product / 50);
+    EXPECT_GT(red.red, red.product / 2);
 }

@@ -36,7 +36,8 @@ std::string extension_of(const std::string& path) {
 // The flags that are query parameters of GET /v1/render, as (flag, parameter): their values go
 // through the service's parser, so that the CLI accepts, rejects and defaults exactly as the
 // service does. --size WxH gives two of them, width and height.
-constexpr std::array<std::pair<std::string_view, std::string_view>, 15> kQueryFlags{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 16> kQueryFlags{{
+    {"base-color", "base_color"},
     {"eye", "eye"},
     {"target", "target"},
     {"up", "up"},

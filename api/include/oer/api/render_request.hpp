@@ -9,7 +9,8 @@
 //   JSON body                                  GET query
 //   environment                                environment
 //   objects[i].mesh                            mesh (repeatable: one object each)
-//   objects[i].transform, objects[i].base_color  (JSON only; GET objects are untransformed)
+//   objects[i].transform                       (JSON only; GET objects are untransformed)
+//   objects[i].base_color                      base_color  (one color for every mesh)
 //   camera.eye, camera.target, camera.up       eye, target, up        (look-at camera)
 //   camera.orbit.{yaw,pitch,distance,target}   yaw, pitch, distance, target  (orbit camera)
 //   camera.fov_y                               fov_y
