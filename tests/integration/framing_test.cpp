@@ -27,16 +27,6 @@ const std::string kOrbitQuery =
     "/v1/render?environment=default&mesh=default&yaw=60&pitch=20&ground=off"
     "&background=transparent&format=png";
 
-Rgba8Image render(httplib::Client& client, const std::string& query) {
-    const auto result = client.Get(query.c_str());
-    if (!result || result->status != 200) {
-        ADD_FAILURE() << query << ": " << (result ? result->body : "no answer");
-        return {};
-    }
-    expect_conforms("GET", "/v1/render", result);
-    return decode_image(result);
-}
-
 // Pixel-space bounding box of the pixels whose alpha is over half.
 struct PixelBox {
     glm::dvec2 low{1e9};
@@ -129,7 +119,7 @@ TEST(Framing, AnOrbitWithoutTargetOrDistanceFramesTheWholeProduct) {
     // ... and hold the product drawn, whose centre is near the image centre (the dress form is
     // nearly symmetric about its bounds' centre) and which is not lost in the distance.
     const PixelBox product =
-        silhouette_box(render(*client, kOrbitQuery + "&width=320&height=240&samples=1"));
+        silhouette_box(get_frame(*client, kOrbitQuery + "&width=320&height=240&samples=1"));
     expect_inside(product, framed);
     const glm::dvec2 product_centre = 0.5 * (product.low + product.high);
     EXPECT_NEAR(product_centre.x, width / 2.0, 0.05 * width);
@@ -140,8 +130,8 @@ TEST(Framing, AnOrbitWithoutTargetOrDistanceFramesTheWholeProduct) {
     // defaults, which do not hold the product: its top leaves the frame).
     const PixelBox floor_bounds = projected_bounds(glm::dvec3(0.0), 3.0);
     EXPECT_LT(floor_bounds.low.y, 0.0);
-    const PixelBox floor_view = silhouette_box(
-        render(*client, kOrbitQuery + "&target=0,0,0&distance=3&width=320&height=240&samples=1"));
+    const PixelBox floor_view = silhouette_box(get_frame(
+        *client, kOrbitQuery + "&target=0,0,0&distance=3&width=320&height=240&samples=1"));
     expect_inside(floor_view, floor_bounds);
     EXPECT_GT(glm::length(0.5 * (floor_view.low + floor_view.high) - product_centre), 0.1 * height);
 }
@@ -155,10 +145,10 @@ TEST(Framing, APreviewFramesTheProductAsTheFullFrameDoes) {
     TestServer server(test_config(root.data()));
     auto client = server.client();
     const Rgba8Image preview =
-        render(*client, kOrbitQuery +
-                            "&width=160&height=120&samples=1&shadow_resolution=512"
-                            "&shadow_filter=hard");
-    const Rgba8Image full = render(*client, kOrbitQuery + "&width=800&height=600");
+        get_frame(*client, kOrbitQuery +
+                               "&width=160&height=120&samples=1&shadow_resolution=512"
+                               "&shadow_filter=hard");
+    const Rgba8Image full = get_frame(*client, kOrbitQuery + "&width=800&height=600");
     ASSERT_EQ(preview.width, 160);
     ASSERT_EQ(preview.height, 120);
     ASSERT_EQ(full.width, 800);

@@ -603,4 +603,14 @@ httplib::Result post_json(httplib::Client& client, const std::string& path, cons
     return client.Post(path.c_str(), headers, body.dump(), "application/json");
 }
 
+Rgba8Image get_frame(httplib::Client& client, const std::string& path_and_query) {
+    const auto result = client.Get(path_and_query.c_str());
+    if (!result || result->status != 200) {
+        ADD_FAILURE() << "GET " << path_and_query << ": " << describe(result);
+        return {};
+    }
+    expect_conforms("GET", "/v1/render", result);
+    return decode_image(result);
+}
+
 }  // namespace oer::itest

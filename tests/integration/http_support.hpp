@@ -144,5 +144,8 @@ Json upload_mesh(httplib::Client& client, const std::string& bytes,
                  const std::string& content_type);
 httplib::Result post_json(httplib::Client& client, const std::string& path, const Json& body,
                           const httplib::Headers& headers = {});
+// GET /v1/render with this path and query, checked to succeed and to conform to the spec: the
+// frame decoded (an empty image after a failure).
+Rgba8Image get_frame(httplib::Client& client, const std::string& path_and_query);
 
 }  // namespace oer::itest
