@@ -2,8 +2,10 @@
 // / in Debian's chromium against the real oer-server, the Stanford bunny under a Blender world,
 // the viewer 800x600 CSS pixels at deviceScaleFactor 1. It prints figures, it asserts nothing:
 //   node web/tests/browser_benchmark.mjs [--build build] [--world forest] [--repeat 5] [--seconds 3]
+//                                        [--viewer changed/oer-viewer.js]
 // (from the repository's root; --build: the build folder holding bin/oer-server; --world: a
-// Blender world's name; --seconds: each gesture's length).
+// Blender world's name; --seconds: each gesture's length; --viewer: an oer-viewer.js served in
+// place of the embedded one, to measure a change to the element without rebuilding).
 // Per repetition, in a fresh browser context (no HTTP cache): (1) the first frame after page
 // load, (2) previews per second during a ~60 Hz scripted drag, (3) the sharp frame after the
 // pointer is released, (4) previews per second while adjust('environment-yaw', v) turns the
@@ -23,13 +25,16 @@ if (!existsSync(join(here, 'node_modules', 'playwright-core'))) {
   console.error(`browser_benchmark.mjs: npm ci in ${here}`);
   execFileSync('npm', ['ci', '--no-audit', '--no-fund'], { cwd: here, stdio: 'inherit' });
 }
-const { RECORD_EVENTS, fullFrame, launchChromium, option, startServer } =
+const { RECORD_EVENTS, launchChromium, option, startServer } =
   await import('./harness.mjs');
 
 const build = resolve(option('--build', 'build'));
 const worldName = option('--world', 'forest');
 const repetitions = Number(option('--repeat', '5'));
 const gestureSeconds = Number(option('--seconds', '3'));
+// A changed oer-viewer.js served in place of the embedded one, to measure a change to the
+// element's scheduling or preview recipe before rebuilding the server.
+const viewerPath = option('--viewer', '');
 const GESTURE_HZ = 60;
 const BUNNY = '/usr/share/glmark2/models/bunny.obj';
 const WORLD = `/usr/share/blender/datafiles/studiolights/world/${worldName}.exr`;
@@ -47,7 +52,8 @@ const PASSES = ['setup', 'shadow_pass', 'geometry_pass', 'shading_pass', 'readba
                 'encode'];
 
 for (const [path, what] of [[join(build, 'bin', 'oer-server'), 'the server (build it first)'],
-                            [BUNNY, 'the bunny (glmark2-data)'], [WORLD, `the world ${worldName}`]]) {
+                            [BUNNY, 'the bunny (glmark2-data)'], [WORLD, `the world ${worldName}`],
+                            ...(viewerPath ? [[viewerPath, 'the --viewer file']] : [])]) {
   if (!existsSync(path)) {
     throw new Error(`browser_benchmark.mjs: ${what} is missing at ${path}; ` +
                     'run scripts/setup-debian.sh --with-test-data and build oer-server');
@@ -123,10 +129,8 @@ function framesWithFetchTimes(page) {
   }));
 }
 
-// Waits for the viewer's full frame of its final size once the page has settled (the lights
-// panel shown).
+// Waits for the viewer's full frame of its final size (the first, as its style holds it).
 async function settledFrame(page) {
-  await page.locator('#light-switches input').first().waitFor();
   await page.waitForFunction(({ width, height }) => {
     const frame = window.oerFrames.at(-1);
     return frame && !frame.preview && frame.width === width && frame.height === height;
@@ -139,10 +143,14 @@ async function oneRepetition(browser, pageUrl) {
   await context.addInitScript(RECORD_EVENTS);
   await context.addInitScript(BENCHMARK_PAGE, VIEWER);
   context.on('weberror', (error) => console.error(`browser error: ${error.error()}`));
+  if (viewerPath) {
+    await context.route('**/web/oer-viewer.js', (route) => route.fulfill({
+      contentType: 'text/javascript; charset=utf-8', body: readFileSync(viewerPath, 'utf8'),
+    }));
+  }
   const page = await context.newPage();
   try {
     await page.goto(pageUrl);
-    await fullFrame(page);
     await settledFrame(page);
     const box = await page.locator('oer-viewer').boundingBox();
     if (Math.round(box.width) !== VIEWER.width || Math.round(box.height) !== VIEWER.height) {
@@ -294,7 +302,8 @@ try {
   const pageUrl = `${server.url}/?mesh=${mesh.id}&environment=${environment.id}`;
   console.log(`${repetitions} repetitions of ${pageUrl}, viewer ${VIEWER.width}x${VIEWER.height} ` +
               `CSS px (its style; viewport ${VIEWER.width}x900), deviceScaleFactor 1, gestures ` +
-              `${gestureSeconds} s at ${GESTURE_HZ} Hz, server frame cache off\n`);
+              `${gestureSeconds} s at ${GESTURE_HZ} Hz, server frame cache off` +
+              `${viewerPath ? `, oer-viewer.js from ${viewerPath}` : ''}\n`);
   const runs = [];
   for (let repetition = 1; repetition <= repetitions; repetition += 1) {
     if (repetition > 1) {
