@@ -137,7 +137,7 @@ async function settledFrame(page) {
   }, VIEWER, { timeout: 30000 });
 }
 
-async function oneRepetition(browser, pageUrl) {
+async function oneRepetition(browser, pageUrl, serverCpuMs) {
   const context = await browser.newContext({ viewport: { width: VIEWER.width, height: 900 },
                                              deviceScaleFactor: 1 });
   await context.addInitScript(RECORD_EVENTS);
@@ -150,8 +150,10 @@ async function oneRepetition(browser, pageUrl) {
   }
   const page = await context.newPage();
   try {
+    const cpu = [serverCpuMs()];
     await page.goto(pageUrl);
     await settledFrame(page);
+    cpu.push(serverCpuMs());
     const box = await page.locator('oer-viewer').boundingBox();
     if (Math.round(box.width) !== VIEWER.width || Math.round(box.height) !== VIEWER.height) {
       throw new Error(`the viewer is ${box.width}x${box.height}, not ${VIEWER.width}x${VIEWER.height}`);
@@ -163,6 +165,7 @@ async function oneRepetition(browser, pageUrl) {
     const [left, right] = [box.x + 100, box.x + box.width - 100];
     const y = box.y + box.height / 2;
     await page.mouse.move(left, y);
+    cpu.push(serverCpuMs());
     await page.mouse.down();
     const dragStart = performance.now();
     for (let step = 1; step <= steps; step += 1) {
@@ -172,16 +175,19 @@ async function oneRepetition(browser, pageUrl) {
         await new Promise((done) => setTimeout(done, wait));
       }
     }
+    cpu.push(serverCpuMs());
     await page.mouse.up();
     await page.waitForFunction((count) => window.oerPointer.up !== null &&
       window.oerFrames.slice(count).some((frame) => !frame.preview &&
                                                     frame.shownAt > window.oerPointer.up),
     beforeDrag, { timeout: 30000 });
+    cpu.push(serverCpuMs());
     const pointer = await page.evaluate(() => window.oerPointer);
 
     // (4): the environment turned by adjust() at ~60 Hz, one degree a step (the page's rotation
     // slider), then left to rest.
     const beforeTurn = await page.evaluate(() => window.oerFrames.length);
+    cpu.push(serverCpuMs());
     const turn = await page.evaluate(({ seconds, hz }) => new Promise((done) => {
       const viewer = document.querySelector('oer-viewer');
       const start = performance.now();
@@ -195,9 +201,11 @@ async function oneRepetition(browser, pageUrl) {
         }
       }, 1000 / hz);
     }), { seconds: gestureSeconds, hz: GESTURE_HZ });
+    cpu.push(serverCpuMs());
     await page.waitForFunction(({ count, end }) => window.oerFrames.slice(count).some(
       (frame) => !frame.preview && frame.shownAt > end), { count: beforeTurn, end: turn.end },
     { timeout: 60000 });
+    cpu.push(serverCpuMs());
 
     const frames = await framesWithFetchTimes(page);
     const firstMove = pointer.moves[0];
@@ -210,14 +218,20 @@ async function oneRepetition(browser, pageUrl) {
                                                             frame.shownAt > pointer.up);
     const turnRest = frames.slice(beforeTurn).find((frame) => !frame.preview &&
                                                                frame.shownAt > turn.end);
+    // The server's CPU time in each case, per frame shown (aborted renders included).
+    const [loadStart, loaded, dragStarted, dragEnded, sharpShown, turnStarted, turnEnded,
+           turnRested] = cpu;
     return {
-      first: { value: frames[0].shownAt, frames: [frames[0]] },
+      first: { value: frames[0].shownAt, frames: [frames[0]], cpuMs: loaded - loadStart },
       drag: { value: dragPreviews.length / ((lastMove - firstMove) / 1000), frames: dragPreviews,
+              cpuMs: (dragEnded - dragStarted) / dragPreviews.length,
               moves: pointer.moves.length },
-      sharp: { value: sharp.shownAt - pointer.up, frames: [sharp] },
+      sharp: { value: sharp.shownAt - pointer.up, frames: [sharp], cpuMs: sharpShown - dragEnded },
       turn: { value: turnPreviews.length / ((turn.end - turn.start) / 1000), frames: turnPreviews,
+              cpuMs: (turnEnded - turnStarted) / turnPreviews.length,
               steps: turn.steps },
-      turnRest: { value: turnRest.shownAt - turn.end, frames: [turnRest] },
+      turnRest: { value: turnRest.shownAt - turn.end, frames: [turnRest],
+                  cpuMs: turnRested - turnEnded },
     };
   } catch (error) {
     const state = await page.evaluate(() => JSON.stringify({ frames: window.oerFrames,
@@ -281,6 +295,13 @@ async function warmServer(url, frameQuery) {
 }
 
 const server = await startServer(join(build, 'bin', 'oer-server'), ['--frame-cache-bytes', '0']);
+// The server's CPU time so far (all its threads, /proc/PID/stat utime + stime, proc(5)): other
+// processes' load stretches wall times, much less the CPU time a frame takes.
+const ticksPerSecond = Number(execFileSync('getconf', ['CLK_TCK'], { encoding: 'utf8' }));
+const serverCpuMs = () => {
+  const fields = readFileSync(`/proc/${server.child.pid}/stat`, 'utf8').split(') ')[1].split(' ');
+  return (Number(fields[11]) + Number(fields[12])) * 1000 / ticksPerSecond;
+};
 let browser = null;
 try {
   const info = await (await fetch(`${server.url}/v1/info`)).json();
@@ -309,7 +330,7 @@ try {
     if (repetition > 1) {
       await warmServer(server.url, frameQuery);
     }
-    const run = await oneRepetition(browser, pageUrl);
+    const run = await oneRepetition(browser, pageUrl, serverCpuMs);
     runs.push(run);
     console.log(`  run ${repetition}: first frame ${fixed(run.first.value, 0)} ms, drag ` +
                 `${fixed(run.drag.value)} previews/s (${run.drag.frames.length} in ${run.drag.moves} ` +
@@ -342,15 +363,18 @@ try {
 
   console.log('\nwhere the time goes: p50 ms per frame (server passes from Server-Timing; client = ' +
               'the element\'s milliseconds - (total + encode), = http (fetch beyond the server) + ' +
-              'decode (blob, decode, show)):');
+              'decode (blob, decode, show); frame = the element\'s milliseconds; cpu = the server\'s ' +
+              `CPU ms per frame shown, whose half bounds its wall time on ${availableParallelism()} ` +
+              'idle CPUs from below):');
   const columns = ['setup', 'shadow', 'geometry', 'shading', 'readback', 'total', 'encode',
-                   'client', 'http', 'decode', 'frame', 'KiB'];
+                   'client', 'http', 'decode', 'frame', 'KiB', 'cpu'];
   console.log(`${'case'.padEnd(34)}${'frames'.padStart(7)} ${'size'.padStart(8)}` +
               columns.map((column) => column.padStart(9)).join(''));
   for (const [name, key] of cases) {
     const row = breakdown(runs.flatMap((run) => run[key].frames));
     const values = [row.setup, row.shadow_pass, row.geometry_pass, row.shading_pass, row.readback,
-                    row.total, row.encode, row.client, row.http, row.decode, row.frameMs, row.kib];
+                    row.total, row.encode, row.client, row.http, row.decode, row.frameMs, row.kib,
+                    median(runs.map((run) => run[key].cpuMs))];
     console.log(`${name.padEnd(34)}${String(row.count).padStart(7)} ${row.size.padStart(8)}` +
                 values.map((value) => fixed(value).padStart(9)).join(''));
   }
