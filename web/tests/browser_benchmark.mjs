@@ -99,7 +99,8 @@ async function upload(url, path, type) {
 // In the page, before its scripts: the viewer held at 800x600 CSS pixels whatever the control
 // strip below it takes (the page lets it fill the window above the strip, whose height changes
 // once the lights panel appears), set as the element is parsed so that its first frame is
-// already of that size; the times of the pointer's moves while pressed and of its release; room for every frame's resource timing.
+// already of that size; the times of the pointer's moves while pressed and of its release;
+// room for every frame's resource timing.
 const BENCHMARK_PAGE = ({ width, height }) => {
   performance.setResourceTimingBufferSize(100000);
   new MutationObserver((_, observer) => {
@@ -245,8 +246,7 @@ async function oneRepetition(browser, pageUrl, serverCpuMs) {
 
 // The p50 of each server pass, of the server's time (total + encode), of the rest of the
 // element's `milliseconds` (client), split into the fetch beyond the server's time (HTTP:
-// queue, network, headers and body) and after the fetch (blob, decode, show); for previews, the
-// idle time between one shown and the next asked for (the element's one-at-a-time scheduling).
+// queue, network, headers and body) and after the fetch (blob, decode, show).
 function breakdown(frames) {
   const row = {};
   for (const pass of PASSES) {
@@ -266,7 +266,6 @@ function breakdown(frames) {
   row.frameMs = median(frames.map((frame) => frame.milliseconds));
   row.kib = median(frames.map((frame) => frame.bytes / 1024));
   row.size = frames.length ? `${frames[0].width}x${frames[0].height}` : '-';
-  row.misses = frames.filter((frame) => frame.cache === 'miss').length;
   row.count = frames.length;
   return row;
 }
