@@ -1,34 +1,20 @@
 // The browser test of web/ (ctest `browser`): the real oer-server on a free loopback port with a
-// temporary data folder, Debian's chromium driven by playwright-core (no browser download).
+// temporary data folder, Debian's chromium driven by playwright-core (no browser download), both
+// started by harness.mjs.
 //   node browser_test.mjs --server build/bin/oer-server --artifacts build/browser-artifacts
 // Screenshots at desktop (1280x800) and phone (360x740) width go to the artifacts folder.
-import { spawn } from 'node:child_process';
 import { once } from 'node:events';
-import { mkdtempSync, mkdirSync, readFileSync, rmSync } from 'node:fs';
+import { mkdirSync, readFileSync } from 'node:fs';
 import { createServer } from 'node:http';
-import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import assert from 'node:assert/strict';
-import { chromium } from 'playwright-core';
+import { RECORD_EVENTS, fullFrame, launchChromium, option, startServer } from './harness.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
-const argument = (name) => {
-  const index = process.argv.indexOf(name);
-  if (index < 0 || index + 1 >= process.argv.length) {
-    throw new Error(`browser_test.mjs: ${name} is required`);
-  }
-  return process.argv[index + 1];
-};
-const serverPath = argument('--server');
-const artifacts = argument('--artifacts');
+const serverPath = option('--server');
+const artifacts = option('--artifacts');
 mkdirSync(artifacts, { recursive: true });
-
-const CHROMIUM = '/usr/bin/chromium';
-const CHROMIUM_ARGS = [
-  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-  '--disable-background-networking', '--disable-component-update', '--disable-sync',
-];
 
 let passed = 0;
 async function check(name, body) {
@@ -51,59 +37,6 @@ async function startShop() {
   await once(shop, 'listening');
   shop.serveFor = (serverPort) => { page = template.replaceAll('PORT', String(serverPort)); };
   return shop;
-}
-
-// oer-server on a free port (--port 0), its URL read from its banner, once /readyz answers.
-async function startServer(dataDir, corsOrigin) {
-  const child = spawn(serverPath, ['--host', '127.0.0.1', '--port', '0', '--data-dir', dataDir,
-                                   '--cors-origins', corsOrigin],
-                      { stdio: ['ignore', 'pipe', 'pipe'] });
-  let output = '';
-  child.stderr.on('data', (chunk) => { output += chunk; });
-  const url = await new Promise((resolve, reject) => {
-    child.stdout.on('data', (chunk) => {
-      output += chunk;
-      const match = /listening on (http:\/\/[\d.]+:\d+)/.exec(output);
-      if (match) {
-        resolve(match[1]);
-      }
-    });
-    child.on('exit', (code) => reject(new Error(`oer-server exited (${code}):\n${output}`)));
-  });
-  for (let attempt = 0; attempt < 600; attempt += 1) {
-    const response = await fetch(`${url}/readyz`).catch(() => null);
-    if (response?.ok) {
-      return { child, url };
-    }
-    await new Promise((resolve) => setTimeout(resolve, 100));
-  }
-  throw new Error(`oer-server at ${url} never became ready:\n${output}`);
-}
-
-// Every 'load' and 'error' event of an <oer-viewer>, recorded from the page's start (the
-// element's events do not bubble; a capturing listener on the document sees them all: not one
-// on window, which a 'load' event never reaches, by the HTML standard's event path).
-const RECORD_EVENTS = () => {
-  window.oerFrames = [];
-  window.oerErrors = [];
-  document.addEventListener('load', (event) => {
-    if (event.target?.localName === 'oer-viewer') {
-      window.oerFrames.push(event.detail);
-    }
-  }, true);
-  document.addEventListener('error', (event) => {
-    if (event.target?.localName === 'oer-viewer') {
-      window.oerErrors.push(event.detail);
-    }
-  }, true);
-};
-
-// Waits for a full (not preview) frame after the first `after` frames; returns its detail.
-async function fullFrame(page, after = 0) {
-  const handle = await page.waitForFunction(
-    (count) => window.oerFrames.slice(count).findLast((frame) => !frame.preview) ?? false,
-    after, { timeout: 30000 });
-  return handle.jsonValue();
 }
 
 // The shown image: natural size, the element's CSS size times devicePixelRatio, and pixel
@@ -156,7 +89,6 @@ function assertRealFrame(image, what) {
   assert.ok(image.mean > 5 && image.mean < 250, `${what}: mean luminance ${image.mean}`);
 }
 
-const dataDir = mkdtempSync(join(tmpdir(), 'oer-browser-test-'));
 let server = null;
 let shop = null;
 let browser = null;
@@ -164,10 +96,10 @@ const started = Date.now();
 try {
   shop = await startShop();
   const shopUrl = `http://127.0.0.1:${shop.address().port}`;
-  server = await startServer(dataDir, shopUrl);
+  server = await startServer(serverPath, ['--cors-origins', shopUrl]);
   shop.serveFor(new URL(server.url).port);
 
-  browser = await chromium.launch({ executablePath: CHROMIUM, args: CHROMIUM_ARGS });
+  browser = await launchChromium();
 
   const desktop = await browser.newContext({ viewport: { width: 1280, height: 800 } });
   await desktop.addInitScript(RECORD_EVENTS);
@@ -631,6 +563,5 @@ try {
 } finally {
   await browser?.close();
   shop?.close();
-  server?.child.kill('SIGTERM');
-  rmSync(dataDir, { recursive: true, force: true });
+  await server?.stop();
 }
