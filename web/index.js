@@ -131,7 +131,7 @@ function lightColor(light) {
 const lightsPanel = document.getElementById('lights');
 const switches = document.getElementById('light-switches');
 const lastWeights = [];
-viewer.addEventListener('lights-change', ({ detail: { lights, weights } }) => {
+const showLights = ({ lights, weights }) => {
   lightsPanel.hidden = lights.length === 0;
   showLightMap(lights);
   if (switches.children.length !== lights.length) {
@@ -176,7 +176,12 @@ viewer.addEventListener('lights-change', ({ detail: { lights, weights } }) => {
       lastWeights[index] = weight;
     }
   });
-});
+};
+viewer.addEventListener('lights-change', ({ detail }) => showLights(detail));
+// The element may have its lights before this module listens (its request can end first).
+if (viewer.lights.length > 0) {
+  showLights({ lights: viewer.lights, weights: viewer.lights.map((light) => light.weight) });
+}
 document.getElementById('all-on').addEventListener('click', () => viewer.removeAttribute('lights'));
 document.getElementById('all-off').addEventListener('click', () =>
   viewer.setAttribute('lights', viewer.lights.map(() => 0).join(',')));
@@ -196,12 +201,12 @@ viewer.addEventListener('load', ({ detail }) => {
   }));
   const server = (timing.total ?? 0) + (timing.encode ?? 0);
   const parts = [
-    `${detail.width}×${detail.height}${detail.preview ? ' preview' : ''}`,
+    `${detail.width}×${detail.height}${detail.stage === 'full' ? '' : ` ${detail.stage}`}`,
     `${(detail.bytes / 1024).toFixed(0)} KiB`,
     `${detail.milliseconds.toFixed(0)} ms`,
     detail.cache === 'hit' ? 'cached' : `server ${server.toFixed(0)} ms`,
   ];
-  if (detail.preview && viewer.hasAttribute('dragging')) {
+  if (detail.stage === 'preview' && viewer.hasAttribute('dragging')) {
     drag.previews += 1;
     const seconds = (performance.now() - drag.started) / 1000;
     parts.push(`${(drag.previews / seconds).toFixed(1)} fps`);

@@ -6,6 +6,11 @@
 // GET /v1/render (api/openapi.yaml): one sample, half the size, JPEG quality 50, and hard
 // shadows from 512-texel maps, which keep a turning environment's new shadow maps cheap.
 const PREVIEW = { scale: 0.5, samples: 1, quality: 50, shadow_resolution: 512, shadow_filter: 'hard' };
+// Once the change rests, the frame comes in two stages: 'sharp', the full frame at one sample
+// (a third of its time on llvmpipe: no supersampling), then at once 'full', with the server's
+// default anti-aliasing. The framing of all three stages is the same (it depends on the aspect
+// ratio alone).
+const SHARP = { samples: 1 };
 // The largest frame side GET /v1/render accepts.
 const MAX_FRAME_SIDE = 4096;
 // The orbit when camera-orbit gives none: GET /v1/render's defaults for yaw, pitch, distance.
@@ -96,7 +101,7 @@ export class OerViewer extends HTMLElement {
     this.#image.alt = '';
     this.#image.part = 'frame';
     root.append(style, this.#image);
-    this.#resizeObserver = new ResizeObserver(() => this.#requestFrame(false));
+    this.#resizeObserver = new ResizeObserver(() => this.#requestFrame('sharp'));
     // Here rather than on connection, so that moving the element does not add them twice.
     this.addEventListener('pointerdown', this.#onPointerDown);
     this.addEventListener('pointermove', this.#onPointerMove);
@@ -145,7 +150,7 @@ export class OerViewer extends HTMLElement {
     // A drag, the wheel, a key or adjust() asks for its own frames; the attribute only records
     // the state.
     if (!this.#settingState) {
-      this.#requestFrame(false);
+      this.#requestFrame('sharp');
     }
   }
 
@@ -222,8 +227,13 @@ export class OerViewer extends HTMLElement {
     this.removeAttribute('camera-target');
   }
 
-  // The GET /v1/render URL of the frame this element shows (preview: the cheap one).
-  frameUrl(preview = false) {
+  // The GET /v1/render URL of the frame this element shows, at stage 'preview' (the cheap
+  // one), 'sharp' (full size, one sample) or 'full'.
+  frameUrl(stage = 'full') {
+    if (!['preview', 'sharp', 'full'].includes(stage)) {
+      throw new RangeError(`frameUrl: stage is 'preview', 'sharp' or 'full', not '${stage}'`);
+    }
+    const preview = stage === 'preview';
     const rect = this.getBoundingClientRect();
     const ratio = window.devicePixelRatio || 1;
     const scale = preview ? PREVIEW.scale : 1;
@@ -271,6 +281,8 @@ export class OerViewer extends HTMLElement {
       for (const parameter of ['samples', 'quality', 'shadow_resolution', 'shadow_filter']) {
         query.set(parameter, PREVIEW[parameter]);
       }
+    } else if (stage === 'sharp') {
+      query.set('samples', SHARP.samples);
     }
     return `${this.server}/v1/render?${query}`;
   }
@@ -278,7 +290,7 @@ export class OerViewer extends HTMLElement {
   // The frame this element shows at full quality, as a PNG Blob: the same request with
   // format=png and samples=4 (GET /v1/render's default anti-aliasing, also for a preview).
   async snapshot() {
-    const url = new URL(this.frameUrl(false), location.href);
+    const url = new URL(this.frameUrl('full'), location.href);
     url.searchParams.set('format', 'png');
     url.searchParams.set('samples', '4');
     url.searchParams.delete('quality');
@@ -332,15 +344,16 @@ export class OerViewer extends HTMLElement {
     this.dispatchEvent(new CustomEvent('error', { detail }));
   }
 
-  // Asks for a frame; a request still in flight is aborted, so only the latest is.
-  async #requestFrame(preview) {
+  // Asks for a frame at `stage`; a request still in flight is aborted, so only the latest is.
+  // A sharp frame shown asks for the full one.
+  async #requestFrame(stage) {
     if (!this.#connected || this.getBoundingClientRect().width === 0) {
       return;
     }
     this.#controller?.abort();
     const controller = new AbortController();
     this.#controller = controller;
-    const url = this.frameUrl(preview);
+    const url = this.frameUrl(stage);
     const started = performance.now();
     try {
       const response = await fetch(url, { signal: controller.signal });
@@ -366,7 +379,8 @@ export class OerViewer extends HTMLElement {
       this.dispatchEvent(new CustomEvent('load', {
         detail: {
           url,
-          preview,
+          stage,
+          preview: stage !== 'full',
           etag: response.headers.get('ETag'),
           serverTiming: response.headers.get('Server-Timing'),
           cache: response.headers.get('X-Oer-Cache'),
@@ -376,6 +390,9 @@ export class OerViewer extends HTMLElement {
           milliseconds: performance.now() - started,
         },
       }));
+      if (stage === 'sharp') {
+        this.#requestFrame('full');
+      }
     } catch (error) {
       if (controller.signal.aborted) {
         return;
@@ -387,7 +404,7 @@ export class OerViewer extends HTMLElement {
     } finally {
       if (this.#pendingPreview && this.#controller === null && this.#previewing) {
         this.#pendingPreview = false;
-        this.#requestFrame(true);
+        this.#requestFrame('preview');
       }
     }
   }
@@ -399,7 +416,7 @@ export class OerViewer extends HTMLElement {
       this.#pendingPreview = true;
     } else {
       this.#previewing = true;
-      this.#requestFrame(true);
+      this.#requestFrame('preview');
     }
     clearTimeout(this.#restTimer);
     this.#restTimer = setTimeout(() => this.#rest(), REST_MILLISECONDS);
@@ -409,7 +426,7 @@ export class OerViewer extends HTMLElement {
     clearTimeout(this.#restTimer);
     this.#previewing = false;
     this.#pendingPreview = false;
-    this.#requestFrame(false);
+    this.#requestFrame('sharp');
   }
 
   #setState(set) {
@@ -574,7 +591,7 @@ export class OerViewer extends HTMLElement {
       pitch: orbit.pitch + pitch,
       distance: zoom === 1 ? orbit.distance : this.#distanceOf(orbit) * zoom,
     }));
-    this.#requestFrame(false);
+    this.#requestFrame('sharp');
   };
 }
 

@@ -858,6 +858,33 @@ TEST_F(FrameRendererTest, ShadowMapsAreCachedAcrossCameraMoves) {
     EXPECT_GE(cached_shadow_maps(), 5u);
 }
 
+// Previews (512-texel maps, the lights turned) between full frames (2048) change nothing of the
+// full frame: each layout keeps its own layers, and the full frame after them, drawn from the
+// layers it left, equals the first one bit for bit; a third layout then replaces one of the two.
+TEST_F(FrameRendererTest, FramesAlternatingShadowResolutionsKeepTheirOwnShadows) {
+    const BoxShadowScene box = box_shadow_scene();
+    FrameRequest full = box.request;
+    full.shadows.resolution = 2048;
+    FrameRequest preview = box.request;
+    preview.shadows.resolution = 512;
+    preview.environment_yaw = 60.0;
+    // Linear or display, whichever the request asks for: the other is empty in both frames.
+    const auto same = [](const Frame& a, const Frame& b) {
+        return a.linear == b.linear && a.display.pixels == b.display.pixels;
+    };
+    const Frame first = render(full);
+    const Frame turned = render(preview);
+    EXPECT_EQ(turned.shadow_maps_rendered, 3);
+    const Frame again = render(full);
+    EXPECT_EQ(again.shadow_maps_rendered, 0);
+    EXPECT_TRUE(same(again, first)) << "the full frame after a preview differs";
+    EXPECT_FALSE(same(turned, first)) << "the preview's shadows are not the full frame's";
+    FrameRequest third = box.request;
+    third.shadows.resolution = 1024;
+    render(third);
+    EXPECT_TRUE(same(render(full), first)) << "after a third layout";
+}
+
 TEST_F(FrameRendererTest, MalformedRequestsAreRejectedNamingTheMember) {
     const auto rig = make_rig(three_light_map(), 3, 3);
     const auto expect_error = [&](FrameRequest request, ErrorKind kind, const std::string& member) {

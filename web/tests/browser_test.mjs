@@ -134,8 +134,9 @@ try {
     const dimmed = await fullFrame(page, frames);
     assert.match(dimmed.url, /[?&]lights=1%2C0%2C1(&|$)/);
     assert.notEqual(dimmed.etag, first.etag);
+    const beforeRemoval = await page.evaluate(() => window.oerFrames.length);
     await page.evaluate(() => document.querySelector('oer-viewer').removeAttribute('lights'));
-    assert.equal((await fullFrame(page, frames + 1)).etag, first.etag);
+    assert.equal((await fullFrame(page, beforeRemoval)).etag, first.etag);
   });
 
   await check('a light\'s dimmer at 0.5 gives a frame between that light on and off', async () => {
@@ -176,7 +177,8 @@ try {
     // The frames of the toggling may still arrive: wait for the one without lights.
     await page.locator('#all-on').click();
     const allOn = await page.waitForFunction(
-      (count) => window.oerFrames.slice(count).find((frame) => !frame.url.includes('lights=')) ?? false,
+      (count) => window.oerFrames.slice(count).find((frame) => frame.stage === 'full' &&
+        !frame.url.includes('lights=')) ?? false,
       frames, { timeout: 30000 });
     assert.equal((await allOn.jsonValue()).etag, first.etag);
   });
@@ -208,7 +210,7 @@ try {
       assert.match(url, /[?&]samples=1(&|$)/, `a preview: ${url}`);
       assert.match(url, /[?&]shadow_filter=hard(&|$)/, `a preview: ${url}`);
     }
-    const previews = frameDetails.filter((frame) => frame.preview);
+    const previews = frameDetails.filter((frame) => frame.stage === 'preview');
     console.log(`  ${previews.length} previews shown in a ${dragSeconds.toFixed(2)} s drag ` +
                 `(${(previews.length / dragSeconds).toFixed(1)}/s; ${duringDrag.length} requests), ` +
                 `full frame ${afterDrag.milliseconds.toFixed(0)} ms after release`);
@@ -346,6 +348,26 @@ try {
     assert.equal(await page.locator('oer-viewer').getAttribute('lights'), null);
   });
 
+  await check('a color variant recolors the product, in the request and the link', async () => {
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    const original = await shownImage(page);
+    await page.locator('input[name=variant][value="#b3262d"]').check();
+    const red = await fullFrame(page, frames);
+    // #b3262d in linear RGB (sRGB transfer function): 0.4508, 0.0194, 0.0262.
+    assert.match(red.url, /[?&]base_color=0\.4508%2C0\.0194%2C0\.0262(&|$)/, red.url);
+    assert.match(page.url(), /[?&]base-color=%23b3262d(&|$)/);
+    const recolored = await shownImage(page);
+    console.log(`  mean red minus green: original ${original.redOverGreen.toFixed(2)}, ` +
+                `red variant ${recolored.redOverGreen.toFixed(2)}`);
+    assert.ok(recolored.redOverGreen > original.redOverGreen + 5,
+              `red - green ${original.redOverGreen} -> ${recolored.redOverGreen}`);
+    const beforeOriginal = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('input[name=variant][value=""]').check();
+    const back = await fullFrame(page, beforeOriginal);
+    assert.doesNotMatch(back.url, /base_color/);
+    assert.equal(await page.locator('oer-viewer').getAttribute('base-color'), null);
+  });
+
   await check('the lights panel marks each light where the environment\'s preview is bright',
               async () => {
     const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
@@ -410,12 +432,12 @@ try {
     const frames = await page.evaluate(() => window.oerFrames.length);
     await page.locator('#turntable').check();
     await page.waitForFunction((count) =>
-      window.oerFrames.slice(count).filter((frame) => frame.preview).length >= 3, frames,
+      window.oerFrames.slice(count).filter((frame) => frame.stage === 'preview').length >= 3, frames,
     { timeout: 30000 });
     await page.locator('#turntable').uncheck();
     const stopped = await fullFrame(page, frames);
     const shown = await page.evaluate((count) => window.oerFrames.slice(count), frames);
-    const yaws = shown.filter((frame) => frame.preview)
+    const yaws = shown.filter((frame) => frame.stage === 'preview')
       .map((frame) => Number(new URL(frame.url, server.url).searchParams.get('yaw')));
     for (let i = 1; i < yaws.length; i += 1) {
       assert.ok(yaws[i] > yaws[i - 1], `the turntable's yaws increase: ${yaws.join(', ')}`);

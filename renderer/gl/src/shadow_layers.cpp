@@ -23,34 +23,45 @@ void copy_layer(const gl::Object& from, const gl::Object& to, int layer, int res
 }  // namespace
 
 void ShadowLayers::reserve(int layers, int resolution) {
-    if (layers == layers_ && resolution == resolution_) {
+    const auto matches = [&](const Set& set) {
+        return set.layers == layers && set.resolution == resolution;
+    };
+    if (matches(current())) {
         return;
     }
-    layers_ = layers;
-    resolution_ = resolution;
-    depth_serials_.assign(std::size_t(layers), 0);
-    ground_visibility_serials_.assign(std::size_t(layers), 0);
-    depth_ = make_array(GL_DEPTH_COMPONENT32F, GL_LINEAR, resolution, layers);
-    ground_visibility_ = make_array(GL_R8, GL_LINEAR, resolution, layers);
+    const std::size_t other = 1 - current_;
+    current_ = other;
+    if (matches(current())) {
+        return;
+    }
+    Set& set = current();
+    set.layers = layers;
+    set.resolution = resolution;
+    set.depth_serials.assign(std::size_t(layers), 0);
+    set.ground_visibility_serials.assign(std::size_t(layers), 0);
+    set.depth = make_array(GL_DEPTH_COMPONENT32F, GL_LINEAR, resolution, layers);
+    set.ground_visibility = make_array(GL_R8, GL_LINEAR, resolution, layers);
 }
 
 void ShadowLayers::hold_depth(int layer, const ShadowMap& map) {
-    std::uint64_t& held = depth_serials_.at(std::size_t(layer));
+    Set& set = current();
+    std::uint64_t& held = set.depth_serials.at(std::size_t(layer));
     if (held != map.serial) {
-        copy_layer(map.depth, depth_, layer, resolution_);
+        copy_layer(map.depth, set.depth, layer, set.resolution);
         held = map.serial;
     }
 }
 
 void ShadowLayers::hold_ground_visibility(int layer, const ShadowMap& map) {
-    std::uint64_t& held = ground_visibility_serials_.at(std::size_t(layer));
+    Set& set = current();
+    std::uint64_t& held = set.ground_visibility_serials.at(std::size_t(layer));
     if (held == map.serial) {
         return;
     }
     GLint baked = 0;
     glGetTextureLevelParameteriv(map.ground_visibility.get(), 0, GL_TEXTURE_WIDTH, &baked);
-    if (baked == resolution_) {
-        copy_layer(map.ground_visibility, ground_visibility_, layer, resolution_);
+    if (baked == set.resolution) {
+        copy_layer(map.ground_visibility, set.ground_visibility, layer, set.resolution);
     } else {
         // A soft light's bake is smaller than the layer: magnified bilinearly.
         if (!read_framebuffer_) {
@@ -60,9 +71,10 @@ void ShadowLayers::hold_ground_visibility(int layer, const ShadowMap& map) {
         glNamedFramebufferTexture(read_framebuffer_.get(), GL_COLOR_ATTACHMENT0,
                                   map.ground_visibility.get(), 0);
         glNamedFramebufferTextureLayer(draw_framebuffer_.get(), GL_COLOR_ATTACHMENT0,
-                                       ground_visibility_.get(), 0, layer);
+                                       set.ground_visibility.get(), 0, layer);
         glBlitNamedFramebuffer(read_framebuffer_.get(), draw_framebuffer_.get(), 0, 0, baked, baked,
-                               0, 0, resolution_, resolution_, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+                               0, 0, set.resolution, set.resolution, GL_COLOR_BUFFER_BIT,
+                               GL_LINEAR);
     }
     held = map.serial;
 }
