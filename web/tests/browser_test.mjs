@@ -530,6 +530,8 @@ try {
               async () => {
     const name = 'studio.exr';
     const bytes = readFileSync(`/usr/share/blender/datafiles/studiolights/world/${name}`);
+    // Weights for the default studio's lights, which the new environment's must not inherit.
+    await page.evaluate(() => document.querySelector('oer-viewer').setAttribute('lights', '1,0,1'));
     await watchUploadStatus();
     const frames = await page.evaluate(() => window.oerFrames.length);
     await page.locator('#upload-file').setInputFiles({ name, mimeType: 'image/x-exr', buffer: bytes });
@@ -550,6 +552,7 @@ try {
         frame.url.includes(`environment=${document.querySelector('oer-viewer').environment}`)) ?? false,
       frames, { timeout: 30000 });
     assert.doesNotMatch((await handle.jsonValue()).url, /[?&]lights=/);
+    assert.equal(await viewerAttribute('lights'), null);
     const switches = page.locator('#light-switches input[type=checkbox]');
     // The default studio has 3 lights, this one 4: the panel is the new environment's.
     assert.notEqual(rig.lights.length, 3);
