@@ -187,6 +187,7 @@ viewer.addEventListener('error', ({ detail }) => {
 // reports the bytes sent (fetch reports none).
 const meshPicker = document.getElementById('mesh-picker');
 const environmentPicker = document.getElementById('environment-picker');
+const uploadGroup = document.getElementById('upload-group');
 const uploadButton = document.getElementById('upload');
 const uploadFile = document.getElementById('upload-file');
 const uploadProgress = document.getElementById('upload-progress');
@@ -281,10 +282,21 @@ const sizeText = (bytes) => {
   return `${bytes.toLocaleString('en-US')} bytes (${rounded})`;
 };
 
-let uploading = null;  // the file being sent, one at a time
-async function upload(file) {
+// The file being sent, one at a time. The button stays enabled meanwhile (disabling it would
+// take the keyboard focus away); the group is aria-busy.
+let uploading = null;
+const refuseWhileUploading = (name) => {
   if (uploading) {
-    say(`${file.name}: wait until ${uploading.name} is uploaded`, { error: true });
+    say(`${name}: wait until ${uploading.name} is uploaded`, { error: true });
+  }
+  return uploading !== null;
+};
+const endUpload = () => {
+  uploading = null;
+  uploadGroup.removeAttribute('aria-busy');
+};
+async function upload(file) {
+  if (refuseWhileUploading(file.name)) {
     return;
   }
   const extension = /\.([^.]+)$/.exec(file.name)?.[1].toLowerCase();
@@ -295,13 +307,12 @@ async function upload(file) {
     return;
   }
   uploading = file;
-  uploadButton.disabled = true;
+  uploadGroup.setAttribute('aria-busy', 'true');
   const limit = await uploadLimit;
   if (limit !== null && file.size > limit) {
     say(`${file.name} is ${sizeText(file.size)}, over the server's upload limit of ` +
         `${sizeText(limit)}`, { error: true });
-    uploading = null;
-    uploadButton.disabled = false;
+    endUpload();
     return;
   }
   const url = `${viewer.server}${kind.route}`;
@@ -309,8 +320,7 @@ async function upload(file) {
   const finish = (text, options) => {
     say(text, options);
     uploadProgress.hidden = true;
-    uploading = null;
-    uploadButton.disabled = false;
+    endUpload();
   };
   request.upload.addEventListener('progress', (event) => {
     if (event.lengthComputable) {
@@ -359,7 +369,11 @@ async function upload(file) {
   request.send(file);
 }
 
-uploadButton.addEventListener('click', () => uploadFile.click());
+uploadButton.addEventListener('click', () => {
+  if (!refuseWhileUploading('Another file')) {
+    uploadFile.click();
+  }
+});
 uploadFile.addEventListener('change', () => {
   const [file] = uploadFile.files;
   // Cleared, so that choosing the same file again (after fixing it, say) is a change too.

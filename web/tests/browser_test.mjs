@@ -464,8 +464,8 @@ try {
     assert.ok(names.some((name) => name.startsWith('Environment rotation')), names.join(' | '));
   });
 
-  // Presets and uploads. The page's upload status, every text it showed since `watch()`, and
-  // the end of an upload (the button enabled again, the progress hidden).
+  // Presets and uploads. The page's upload status, every text it showed since
+  // watchUploadStatus(), and the end of an upload (its group no longer aria-busy).
   const uploadStatus = page.locator('#upload-status');
   const watchUploadStatus = () => page.evaluate(() => {
     window.uploadTexts = [];
@@ -475,8 +475,8 @@ try {
       }
     }).observe(document.getElementById('upload-status'), { childList: true });
   });
-  const uploadEnded = () => page.waitForFunction(() => !document.getElementById('upload').disabled &&
-    document.getElementById('upload-progress').hidden, null, { timeout: 30000 });
+  const uploadEnded = () => page.waitForFunction(
+    () => !document.getElementById('upload-group').hasAttribute('aria-busy'), null, { timeout: 30000 });
   const postAsset = async (route, type, bytes) => {
     const response = await fetch(`${server.url}${route}`,
                                  { method: 'POST', headers: { 'Content-Type': type }, body: bytes });
@@ -544,6 +544,7 @@ try {
     assert.equal(texts[0], `Uploading ${name}: 0 %`);
     assert.ok(texts.includes(`Uploading ${name}: 100 %`), texts.join(' | '));
     assert.deepEqual(texts.slice(-2), ['Preprocessing lights…', `${name}: ${rig.lights.length} lights`]);
+    assert.equal(await page.locator('#upload-progress').isHidden(), true, 'the progress is gone');
     assert.equal(await viewerAttribute('environment'), rig.id);
     assert.equal(await page.locator('#environment-picker').inputValue(), rig.id);
     assert.equal(await page.locator('#environment-picker option:checked').textContent(), name);
