@@ -77,7 +77,7 @@ environmentYaw.addEventListener('input', () => {
 const lightsPanel = document.getElementById('lights');
 const switches = document.getElementById('light-switches');
 const lastWeights = [];
-viewer.addEventListener('lights-change', ({ detail: { lights, weights } }) => {
+const showLights = ({ detail: { lights, weights } }) => {
   lightsPanel.hidden = lights.length === 0;
   if (switches.children.length !== lights.length) {
     lastWeights.length = 0;  // another environment's lights
@@ -121,7 +121,12 @@ viewer.addEventListener('lights-change', ({ detail: { lights, weights } }) => {
       lastWeights[index] = weight;
     }
   });
-});
+};
+viewer.addEventListener('lights-change', showLights);
+// The element is defined before this module runs, and may have loaded the lights already (its
+// answer can come before this file does): show those.
+const loadedLights = viewer.lights;
+showLights({ detail: { lights: loadedLights, weights: loadedLights.map((light) => light.weight) } });
 document.getElementById('all-on').addEventListener('click', () => viewer.removeAttribute('lights'));
 document.getElementById('all-off').addEventListener('click', () =>
   viewer.setAttribute('lights', viewer.lights.map(() => 0).join(',')));

@@ -643,6 +643,24 @@ try {
     await page.screenshot({ path: join(artifacts, 'desktop-1280x800.png') });
   });
 
+  await check('the lights panel fills when the lights come before the page\'s script', async () => {
+    // index.js held back until the element (defined first) has its lights: the page must show
+    // those, not wait for a lights-change that has already gone.
+    const context = await browser.newContext({ viewport: { width: 800, height: 600 } });
+    const late = await context.newPage();
+    await context.route('**/web/index.js', async (route) => {
+      await late.waitForFunction(() => document.querySelector('oer-viewer').lights?.length > 0,
+                                 null, { timeout: 30000 });
+      await route.continue();
+    });
+    await late.goto(`${server.url}/`);
+    const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
+    await late.waitForFunction((count) =>
+      document.querySelectorAll('#light-switches input[type=checkbox]').length === count,
+    rig.lights.length, { timeout: 30000 });
+    await context.close();
+  });
+
   await check('at phone width (360x740, touch) the page fits and shows a frame', async () => {
     const phone = await browser.newContext({
       viewport: { width: 360, height: 740 }, deviceScaleFactor: 2, isMobile: true, hasTouch: true,
