@@ -3,6 +3,8 @@ import { equirectangularUv } from '/web/oer-viewer.js';
 
 // The page's view state lives in the element's attributes and, mirrored, in the URL's
 // query, so that a shared link reproduces the same frame (the same ETag).
+import { problemOf } from '/web/oer-viewer.js';
+
 const viewer = document.getElementById('viewer');
 // stateAttributes: declared by index.html's inline script, which applies the URL's query.
 
@@ -131,7 +133,7 @@ function lightColor(light) {
 const lightsPanel = document.getElementById('lights');
 const switches = document.getElementById('light-switches');
 const lastWeights = [];
-const showLights = ({ lights, weights }) => {
+const showLights = ({ detail: { lights, weights } }) => {
   lightsPanel.hidden = lights.length === 0;
   showLightMap(lights);
   if (switches.children.length !== lights.length) {
@@ -177,11 +179,11 @@ const showLights = ({ lights, weights }) => {
     }
   });
 };
-viewer.addEventListener('lights-change', ({ detail }) => showLights(detail));
-// The element may have its lights before this module listens (its request can end first).
-if (viewer.lights.length > 0) {
-  showLights({ lights: viewer.lights, weights: viewer.lights.map((light) => light.weight) });
-}
+viewer.addEventListener('lights-change', showLights);
+// The element is defined before this module runs, and may have loaded the lights already (its
+// answer can come before this file does): show those.
+const loadedLights = viewer.lights;
+showLights({ detail: { lights: loadedLights, weights: loadedLights.map((light) => light.weight) } });
 document.getElementById('all-on').addEventListener('click', () => viewer.removeAttribute('lights'));
 document.getElementById('all-off').addEventListener('click', () =>
   viewer.setAttribute('lights', viewer.lights.map(() => 0).join(',')));
@@ -237,4 +239,246 @@ download.addEventListener('click', async () => {
 viewer.addEventListener('error', ({ detail }) => {
   status.textContent = detail.detail;
   status.classList.add('error');
+});
+
+// Presets and uploads. The Product and Environment pickers list the server's presets
+// (GET /v1/presets), what was uploaded in this page, and the element's id when it is neither
+// (a shared link's upload, named by its short id), so that they always show the view's state.
+// A file (the Upload… button, or dropped anywhere on the page) goes to POST /v1/meshes or
+// POST /v1/environments by its extension, through XMLHttpRequest, whose upload.onprogress
+// reports the bytes sent (fetch reports none).
+const meshPicker = document.getElementById('mesh-picker');
+const environmentPicker = document.getElementById('environment-picker');
+const uploadGroup = document.getElementById('upload-group');
+const uploadButton = document.getElementById('upload');
+const uploadFile = document.getElementById('upload-file');
+const uploadProgress = document.getElementById('upload-progress');
+const uploadStatus = document.getElementById('upload-status');
+const dropHint = document.getElementById('drop-hint');
+
+// Per extension: the attribute the upload's id goes to, the route, and the Content-Type the
+// route reads the file's format from (api/openapi.yaml).
+const UPLOAD_KINDS = {
+  glb: { attribute: 'mesh', route: '/v1/meshes', type: 'model/gltf-binary' },
+  gltf: { attribute: 'mesh', route: '/v1/meshes', type: 'model/gltf+json' },
+  obj: { attribute: 'mesh', route: '/v1/meshes', type: 'model/obj' },
+  hdr: { attribute: 'environment', route: '/v1/environments', type: 'image/vnd.radiance' },
+  exr: { attribute: 'environment', route: '/v1/environments', type: 'image/x-exr' },
+};
+// What the server does between the last byte received and its answer.
+const SERVER_WORK = { mesh: 'Reading mesh…', environment: 'Preprocessing lights…' };
+const pickers = { mesh: meshPicker, environment: environmentPicker };
+// Per attribute, the pickers' options: the presets, then this page's uploads ({ id, name }).
+const presets = { mesh: [], environment: [] };
+const uploads = { mesh: [], environment: [] };
+
+// A content id is 64 hexadecimal digits; its first 8 tell uploads apart. The mesh attribute
+// may hold several ids, one object each.
+const shortName = (value) =>
+  value.split(/\s+/).filter(Boolean).map((id) => (/^[0-9a-f]{64}$/.test(id) ? id.slice(0, 8) : id))
+    .join(' + ');
+
+const showPicked = (attribute) => {
+  const picker = pickers[attribute];
+  const current = viewer[attribute];  // 'default' when the attribute is absent
+  const choices = [...presets[attribute], ...uploads[attribute]];
+  if (!choices.some((choice) => choice.id === current)) {
+    choices.push({ id: current, name: shortName(current) });
+  }
+  picker.replaceChildren(...choices.map(({ id, name, description }) => {
+    const option = new Option(name, id);
+    option.title = description ?? id;
+    return option;
+  }));
+  picker.value = current;
+};
+const showPickers = () => {
+  showPicked('mesh');
+  showPicked('environment');
+};
+showPickers();
+new MutationObserver(showPickers)
+  .observe(viewer, { attributes: true, attributeFilter: ['mesh', 'environment'] });
+
+const show = (attribute, id) => {
+  // The weights in `lights` belong to the previous environment's lights, in their order.
+  if (attribute === 'environment') {
+    viewer.removeAttribute('lights');
+  }
+  viewer.setAttribute(attribute, id);
+};
+meshPicker.addEventListener('change', () => show('mesh', meshPicker.value));
+environmentPicker.addEventListener('change', () => show('environment', environmentPicker.value));
+
+const say = (text, { error = false } = {}) => {
+  uploadStatus.textContent = text;
+  uploadStatus.classList.toggle('error', error);
+};
+
+const fetchJson = async (path) => {
+  const url = `${viewer.server}${path}`;
+  const response = await fetch(url);
+  if (!response.ok) {
+    throw await problemOf(response, url);
+  }
+  return response.json();
+};
+fetchJson('/v1/presets').then((answer) => {
+  presets.mesh = answer.meshes;
+  presets.environment = answer.environments;
+  showPickers();
+}, (error) => say(`The presets did not load: ${error.message}`, { error: true }));
+// The server's upload limit, to refuse a larger file before sending it; null when unknown
+// (GET /v1/info failed, which the status says: the server's 413 then refuses it).
+const uploadLimit = fetchJson('/v1/info').then(
+  (info) => info.limits.max_upload_bytes,
+  (error) => {
+    say(`The server's limits did not load: ${error.message}`, { error: true });
+    return null;
+  });
+
+const sizeText = (bytes) => {
+  const mebibytes = bytes / 2 ** 20;
+  const rounded = mebibytes >= 1 ? `${mebibytes.toFixed(1)} MiB`
+    : `${(bytes / 1024).toFixed(1)} KiB`;
+  return `${bytes.toLocaleString('en-US')} bytes (${rounded})`;
+};
+
+// The file being sent, one at a time. The button stays enabled meanwhile (disabling it would
+// take the keyboard focus away); the group is aria-busy.
+let uploading = null;
+const refuseWhileUploading = (name) => {
+  if (uploading) {
+    say(`${name}: wait until ${uploading.name} is uploaded`, { error: true });
+  }
+  return uploading !== null;
+};
+const endUpload = () => {
+  uploading = null;
+  uploadGroup.removeAttribute('aria-busy');
+};
+async function upload(file) {
+  if (refuseWhileUploading(file.name)) {
+    return;
+  }
+  const extension = /\.([^.]+)$/.exec(file.name)?.[1].toLowerCase();
+  const kind = UPLOAD_KINDS[extension];
+  if (!kind) {
+    say(`${file.name}: not a product (.glb, .gltf, .obj) or an environment (.hdr, .exr)`,
+        { error: true });
+    return;
+  }
+  uploading = file;
+  uploadGroup.setAttribute('aria-busy', 'true');
+  const limit = await uploadLimit;
+  if (limit !== null && file.size > limit) {
+    say(`${file.name} is ${sizeText(file.size)}, over the server's upload limit of ` +
+        `${sizeText(limit)}`, { error: true });
+    endUpload();
+    return;
+  }
+  const url = `${viewer.server}${kind.route}`;
+  const request = new XMLHttpRequest();
+  const finish = (text, options) => {
+    say(text, options);
+    uploadProgress.hidden = true;
+    endUpload();
+  };
+  request.upload.addEventListener('progress', (event) => {
+    if (event.lengthComputable) {
+      uploadProgress.value = event.loaded / event.total;
+      say(`Uploading ${file.name}: ${Math.round((100 * event.loaded) / event.total)} %`);
+    }
+  });
+  // Every byte is sent; the answer comes once the server has read the file (an environment's
+  // preprocessing takes seconds for a big map). A progress without a value is indeterminate.
+  request.upload.addEventListener('load', () => {
+    uploadProgress.removeAttribute('value');
+    say(SERVER_WORK[kind.attribute]);
+  });
+  request.addEventListener('load', async () => {
+    if (request.status < 200 || request.status >= 300) {
+      // problemOf reads a fetch Response; this one holds the XMLHttpRequest's answer.
+      const answer = new Response(request.responseText,
+                                  { status: request.status, statusText: request.statusText });
+      const problem = await problemOf(answer, url);
+      finish(problem.message, { error: true });
+      return;
+    }
+    let asset;
+    try {
+      asset = JSON.parse(request.responseText);
+    } catch (error) {
+      finish(`${file.name}: the answer of ${url} is not JSON (${error.message})`, { error: true });
+      return;
+    }
+    if (!uploads[kind.attribute].some((choice) => choice.id === asset.id)) {
+      uploads[kind.attribute].push({ id: asset.id, name: file.name });
+    }
+    show(kind.attribute, asset.id);
+    finish(kind.attribute === 'environment'
+      ? `${file.name}: ${asset.lights.length} lights`
+      : `${file.name}: ${asset.counts.triangles.toLocaleString('en-US')} triangles`);
+  });
+  request.addEventListener('error', () =>
+    finish(`Network error: ${file.name} did not reach ${new URL(url, location.href).origin}`,
+           { error: true }));
+  request.open('POST', url);
+  request.setRequestHeader('Content-Type', kind.type);
+  uploadProgress.value = 0;
+  uploadProgress.hidden = false;
+  say(`Uploading ${file.name}: 0 %`);
+  request.send(file);
+}
+
+uploadButton.addEventListener('click', () => {
+  if (!refuseWhileUploading('Another file')) {
+    uploadFile.click();
+  }
+});
+uploadFile.addEventListener('change', () => {
+  const [file] = uploadFile.files;
+  // Cleared, so that choosing the same file again (after fixing it, say) is a change too.
+  uploadFile.value = '';
+  if (file) {
+    upload(file);
+  }
+});
+
+// A file dragged over the page shows the hint until it leaves the window or is dropped;
+// dragenter and dragleave come for every element crossed, hence the count.
+let dragDepth = 0;
+const carriesFiles = (event) => event.dataTransfer?.types.includes('Files');
+document.addEventListener('dragenter', (event) => {
+  if (carriesFiles(event)) {
+    event.preventDefault();
+    dragDepth += 1;
+    dropHint.hidden = false;
+  }
+});
+document.addEventListener('dragover', (event) => {
+  if (carriesFiles(event)) {
+    event.preventDefault();  // lets the drop happen
+    event.dataTransfer.dropEffect = 'copy';
+  }
+});
+document.addEventListener('dragleave', (event) => {
+  if (carriesFiles(event)) {
+    dragDepth = Math.max(0, dragDepth - 1);
+    dropHint.hidden = dragDepth > 0;
+  }
+});
+document.addEventListener('drop', (event) => {
+  if (!carriesFiles(event)) {
+    return;
+  }
+  event.preventDefault();  // the browser would open the file instead
+  dragDepth = 0;
+  dropHint.hidden = true;
+  const files = [...event.dataTransfer.files];
+  if (files.length === 1) {
+    upload(files[0]);
+  } else {
+    say(`Drop one file at a time (${files.length} were dropped)`, { error: true });
+  }
 });

@@ -615,7 +615,7 @@ class ProblemError extends Error {
   }
 }
 
-async function problemOf(response, url) {
+export async function problemOf(response, url) {
   let body = {};
   try {
     body = await response.json();

@@ -45,7 +45,8 @@ void add_service_routes(Router& router, ServiceContext& context) {
                                 {"max_objects", limits.max_objects},
                                 {"max_lights", limits.max_lights},
                                 {"max_shadow_resolution", limits.max_shadow_resolution},
-                                {"max_body_bytes", limits.max_body_bytes}}}});
+                                {"max_body_bytes", limits.max_body_bytes},
+                                {"max_upload_bytes", context.config.max_upload_bytes}}}});
                });
 
     // Liveness: no GL, no store, no lock another request may hold.

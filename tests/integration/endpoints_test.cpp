@@ -83,6 +83,7 @@ class Endpoints : public ::testing::Test {
         server::ServiceConfig config = test_config(root_->data());
         config.max_frame_width = 2000;  // distinguishable from the defaults in /v1/info
         config.max_frame_height = 1500;
+        config.max_upload_bytes = 64ull << 20;
         server_ = new TestServer(config);
     }
     static void TearDownTestSuite() {
@@ -133,6 +134,7 @@ TEST_F(Endpoints, InfoReportsVersionRendererAndTheConfiguredLimits) {
     EXPECT_FALSE(info.at("renderer").at("vendor").get<std::string>().empty());
     EXPECT_EQ(info.at("limits").at("max_width"), 2000);
     EXPECT_EQ(info.at("limits").at("max_height"), 1500);
+    EXPECT_EQ(info.at("limits").at("max_upload_bytes"), 64ull << 20);
 }
 
 TEST_F(Endpoints, PresetsListTheDefaultEnvironmentAndProduct) {

@@ -39,6 +39,10 @@ async function startShop() {
   return shop;
 }
 
+// The server's upload limit in this test: small enough to refuse a generated file before
+// sending it, large enough for a Blender world.
+const UPLOAD_LIMIT = 4 << 20;
+
 // The shown image: natural size, the element's CSS size times devicePixelRatio, and pixel
 // statistics (distinct colors in a 4-bit-per-channel histogram, luminance spread, a checksum).
 async function shownImage(page) {
@@ -96,7 +100,8 @@ const started = Date.now();
 try {
   shop = await startShop();
   const shopUrl = `http://127.0.0.1:${shop.address().port}`;
-  server = await startServer(serverPath, ['--cors-origins', shopUrl]);
+  server = await startServer(serverPath, ['--cors-origins', shopUrl,
+                                          '--max-upload-bytes', String(UPLOAD_LIMIT)]);
   shop.serveFor(new URL(server.url).port);
 
   browser = await launchChromium();
@@ -492,12 +497,168 @@ try {
       assert.equal(control.outline, 'solid', `focus of ${control.name} is not outlined`);
     }
     const names = seen.map((control) => control.name);
-    for (const expected of ['Reset view', 'Background', 'Ground', 'Download PNG', 'Light 1 weight',
-                            'All on', 'All off']) {
+    for (const expected of ['Product', 'Environment', 'Upload…', 'Reset view', 'Background', 'Ground',
+                            'Download PNG', 'Light 1 weight', 'All on', 'All off']) {
       assert.ok(names.includes(expected), `Tab never reaches ${expected}: ${names.join(' | ')}`);
     }
     assert.ok(names.some((name) => name.startsWith('Exposure')), names.join(' | '));
     assert.ok(names.some((name) => name.startsWith('Environment rotation')), names.join(' | '));
+  });
+
+  // Presets and uploads. The page's upload status, every text it showed since
+  // watchUploadStatus(), and the end of an upload (its group no longer aria-busy).
+  const uploadStatus = page.locator('#upload-status');
+  const watchUploadStatus = () => page.evaluate(() => {
+    window.uploadTexts = [];
+    new MutationObserver((records) => {
+      for (const record of records) {
+        window.uploadTexts.push(...[...record.addedNodes].map((node) => node.data));
+      }
+    }).observe(document.getElementById('upload-status'), { childList: true });
+  });
+  const uploadEnded = () => page.waitForFunction(
+    () => !document.getElementById('upload-group').hasAttribute('aria-busy'), null, { timeout: 30000 });
+  const postAsset = async (route, type, bytes) => {
+    const response = await fetch(`${server.url}${route}`,
+                                 { method: 'POST', headers: { 'Content-Type': type }, body: bytes });
+    return { status: response.status, body: await response.json() };
+  };
+  const viewerAttribute = (name) => page.locator('oer-viewer').getAttribute(name);
+
+  await check('a file the server rejects shows its problem+json detail verbatim; the view stays',
+              async () => {
+    const garbage = Buffer.from('not a Radiance file');
+    // The server's own answer to the same bytes.
+    const answer = await postAsset('/v1/environments', 'image/vnd.radiance', garbage);
+    assert.equal(answer.status, 422);
+    const environment = await viewerAttribute('environment');
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#upload-file').setInputFiles({ name: 'broken.hdr', mimeType: 'image/vnd.radiance',
+                                                       buffer: garbage });
+    await uploadEnded();
+    assert.equal(await uploadStatus.textContent(), answer.body.detail);
+    assert.equal(await uploadStatus.getAttribute('class'), 'error');
+    assert.equal(await viewerAttribute('environment'), environment);
+    assert.equal(await page.locator('#environment-picker').inputValue(), environment);
+    assert.equal(await page.evaluate(() => window.oerFrames.length), frames, 'no new frame');
+
+    // Refused in the page, without a request: a file of no known kind, one over the server's
+    // limit (GET /v1/info's max_upload_bytes).
+    const uploads = [];
+    const onRequest = (request) => {
+      if (request.method() === 'POST') {
+        uploads.push(request.url());
+      }
+    };
+    page.on('request', onRequest);
+    await page.locator('#upload-file').setInputFiles({ name: 'notes.txt', mimeType: 'text/plain',
+                                                       buffer: Buffer.from('hello') });
+    assert.equal(await uploadStatus.textContent(),
+                 'notes.txt: not a product (.glb, .gltf, .obj) or an environment (.hdr, .exr)');
+    await page.locator('#upload-file').setInputFiles({ name: 'huge.exr', mimeType: 'image/x-exr',
+                                                       buffer: Buffer.alloc(UPLOAD_LIMIT + 1) });
+    await uploadEnded();
+    assert.equal(await uploadStatus.textContent(),
+                 'huge.exr is 4,194,305 bytes (4.0 MiB), over the server\'s upload limit of ' +
+                 '4,194,304 bytes (4.0 MiB)');
+    page.off('request', onRequest);
+    assert.deepEqual(uploads, []);
+    assert.equal(await viewerAttribute('environment'), environment);
+  });
+
+  let uploadedEnvironment;
+  await check('a real HDR uploads with progress, then is picked and shown, its lights in the panel',
+              async () => {
+    const name = 'studio.exr';
+    const bytes = readFileSync(`/usr/share/blender/datafiles/studiolights/world/${name}`);
+    // Weights for the default studio's lights, which the new environment's must not inherit.
+    await page.evaluate(() => document.querySelector('oer-viewer').setAttribute('lights', '1,0,1'));
+    await watchUploadStatus();
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#upload-file').setInputFiles({ name, mimeType: 'image/x-exr', buffer: bytes });
+    await uploadEnded();
+    // The same bytes again: the server answers the stored rig, whose id the page must show.
+    const { body: rig } = await postAsset('/v1/environments', 'image/x-exr', bytes);
+    uploadedEnvironment = rig.id;
+    const texts = await page.evaluate(() => window.uploadTexts);
+    console.log(`  upload status: ${texts.join(' | ')}`);
+    assert.equal(texts[0], `Uploading ${name}: 0 %`);
+    assert.ok(texts.includes(`Uploading ${name}: 100 %`), texts.join(' | '));
+    assert.deepEqual(texts.slice(-2), ['Preprocessing lights…', `${name}: ${rig.lights.length} lights`]);
+    assert.equal(await page.locator('#upload-progress').isHidden(), true, 'the progress is gone');
+    assert.equal(await viewerAttribute('environment'), rig.id);
+    assert.equal(await page.locator('#environment-picker').inputValue(), rig.id);
+    assert.equal(await page.locator('#environment-picker option:checked').textContent(), name);
+    const handle = await page.waitForFunction(
+      (count) => window.oerFrames.slice(count).find((frame) => !frame.preview &&
+        frame.url.includes(`environment=${document.querySelector('oer-viewer').environment}`)) ?? false,
+      frames, { timeout: 30000 });
+    assert.doesNotMatch((await handle.jsonValue()).url, /[?&]lights=/);
+    assert.equal(await viewerAttribute('lights'), null);
+    const switches = page.locator('#light-switches input[type=checkbox]');
+    // The default studio has 3 lights, this one 4: the panel is the new environment's.
+    assert.notEqual(rig.lights.length, 3);
+    await page.waitForFunction((count) =>
+      document.querySelectorAll('#light-switches input[type=checkbox]').length === count,
+    rig.lights.length, { timeout: 30000 });
+    assert.equal(await switches.count(), rig.lights.length);
+  });
+
+  let uploadedMesh;
+  await check('a mesh file dropped on the page becomes the product', async () => {
+    // A unit cube, 8 vertices and 12 triangles, counter-clockwise seen from outside.
+    const cube = ['v 0 0 0', 'v 1 0 0', 'v 1 1 0', 'v 0 1 0', 'v 0 0 1', 'v 1 0 1', 'v 1 1 1', 'v 0 1 1',
+                  'f 1 4 3', 'f 1 3 2', 'f 5 6 7', 'f 5 7 8', 'f 1 5 8', 'f 1 8 4',
+                  'f 2 3 7', 'f 2 7 6', 'f 4 8 7', 'f 4 7 3', 'f 1 2 6', 'f 1 6 5', ''].join('\n');
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    const dataTransfer = await page.evaluateHandle((text) => {
+      const transfer = new DataTransfer();
+      transfer.items.add(new File([text], 'cube.obj'));
+      return transfer;
+    }, cube);
+    await page.dispatchEvent('body', 'dragenter', { dataTransfer });
+    assert.equal(await page.locator('#drop-hint').isVisible(), true, 'the drop hint shows');
+    await page.dispatchEvent('body', 'drop', { dataTransfer });
+    assert.equal(await page.locator('#drop-hint').isVisible(), false, 'the drop hint is gone');
+    await uploadEnded();
+    const { body: mesh } = await postAsset('/v1/meshes', 'model/obj', Buffer.from(cube));
+    uploadedMesh = mesh.id;
+    assert.equal(mesh.counts.triangles, 12);
+    assert.equal(await uploadStatus.textContent(), 'cube.obj: 12 triangles');
+    assert.equal(await viewerAttribute('mesh'), mesh.id);
+    assert.equal(await page.locator('#mesh-picker option:checked').textContent(), 'cube.obj');
+    const handle = await page.waitForFunction(
+      ([count, id]) => window.oerFrames.slice(count).find((frame) => !frame.preview &&
+        frame.url.includes(`mesh=${id}`)) ?? false, [frames, mesh.id], { timeout: 30000 });
+    assert.match((await handle.jsonValue()).url, new RegExp(`[?&]environment=${uploadedEnvironment}(&|$)`));
+  });
+
+  await check('the pickers list the presets and the uploads, and choosing one changes the request',
+              async () => {
+    const presets = await (await fetch(`${server.url}/v1/presets`)).json();
+    const optionTexts = (picker) => page.locator(`${picker} option`).allTextContents();
+    assert.deepEqual(await optionTexts('#environment-picker'),
+                     [...presets.environments.map((preset) => preset.name), 'studio.exr']);
+    assert.deepEqual(await optionTexts('#mesh-picker'),
+                     [...presets.meshes.map((preset) => preset.name), 'cube.obj']);
+    let frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#environment-picker').selectOption('default');
+    let handle = await page.waitForFunction((count) => window.oerFrames.slice(count).find((frame) =>
+      !frame.preview && frame.url.includes('environment=default')) ?? false, frames, { timeout: 30000 });
+    assert.match((await handle.jsonValue()).url, new RegExp(`[?&]mesh=${uploadedMesh}(&|$)`));
+    assert.match(page.url(), /[?&]environment=default(&|$)/);
+    frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#mesh-picker').selectOption('default');
+    handle = await page.waitForFunction((count) => window.oerFrames.slice(count).find((frame) =>
+      !frame.preview && frame.url.includes('mesh=default')) ?? false, frames, { timeout: 30000 });
+    assert.match((await handle.jsonValue()).url, /[?&]environment=default(&|$)/);
+    // A shared link to an upload this page never saw: the picker names it by its short id.
+    const again = await desktop.newPage();
+    await again.goto(`${server.url}/?environment=${uploadedEnvironment}`);
+    assert.equal(await again.locator('#environment-picker').inputValue(), uploadedEnvironment);
+    assert.equal(await again.locator('#environment-picker option:checked').textContent(),
+                 uploadedEnvironment.slice(0, 8));
+    await again.close();
   });
 
   await check('an error event carries the server\'s problem+json detail verbatim', async () => {
@@ -521,6 +682,24 @@ try {
     // The lights come from their own request, which may end after a cached frame's.
     await page.locator('#light-switches input').first().waitFor();
     await page.screenshot({ path: join(artifacts, 'desktop-1280x800.png') });
+  });
+
+  await check('the lights panel fills when the lights come before the page\'s script', async () => {
+    // index.js held back until the element (defined first) has its lights: the page must show
+    // those, not wait for a lights-change that has already gone.
+    const context = await browser.newContext({ viewport: { width: 800, height: 600 } });
+    const late = await context.newPage();
+    await context.route('**/web/index.js', async (route) => {
+      await late.waitForFunction(() => document.querySelector('oer-viewer').lights?.length > 0,
+                                 null, { timeout: 30000 });
+      await route.continue();
+    });
+    await late.goto(`${server.url}/`);
+    const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
+    await late.waitForFunction((count) =>
+      document.querySelectorAll('#light-switches input[type=checkbox]').length === count,
+    rig.lights.length, { timeout: 30000 });
+    await context.close();
   });
 
   await check('at phone width (360x740, touch) the page fits, shows a frame, and a pinch zooms', async () => {
