@@ -6,7 +6,7 @@
 //   (c) uncached warm 512x512 JPEG frames: a new camera every request, so every frame renders
 //       (shadow maps cached, since the scene and lights do not change);
 //   (d) preview frames while dragging: the preview recipe of api/openapi.yaml (the web client's
-//       PREVIEW: half of each side, samples=1, quality=50, shadow_resolution=512,
+//       PREVIEW: half of each side, samples=1, quality=50, shadow_resolution=256,
 //       shadow_filter=hard) of (c)'s frame, a new orbit yaw every request, against (c)'s p50;
 //   (e) preview frames while the environment turns: the same preview at a fixed camera with a
 //       new environment_yaw every request, so every light moves and every shadow map is new
@@ -209,7 +209,7 @@ std::string frame_query(double yaw, double environment_yaw = 0.0) {
 // The preview recipe (api/openapi.yaml, GET /v1/render; web/oer-viewer.js PREVIEW) of that frame.
 std::string preview_query(double yaw, double environment_yaw = 0.0) {
     return scene_query(kFullSide / 2, yaw, environment_yaw) +
-           "&samples=1&quality=50&shadow_resolution=512&shadow_filter=hard";
+           "&samples=1&quality=50&shadow_resolution=256&shadow_filter=hard";
 }
 
 }  // namespace
@@ -282,7 +282,7 @@ int main(int argc, char** argv) {
             const Request uncached = [&](httplib::Client& client, std::size_t sequence) {
                 return rendered(client, frame_query(step(uncached_offset + sequence)));
             };
-            // (d): the orbit turns, the lights stay: the 512-texel shadow maps are made once.
+            // (d): the orbit turns, the lights stay: the 256-texel shadow maps are made once.
             const Request preview_orbit = [&](httplib::Client& client, std::size_t sequence) {
                 return rendered(client, preview_query(step(sequence)));
             };
@@ -312,7 +312,7 @@ int main(int argc, char** argv) {
             report("(c) uncached warm 512x512 JPEG", 2, run(port, 2, seconds, uncached), 0.0);
 
             // Each preview case starts after one request outside its sequence, which pays for
-            // what only its first frame needs (its 512-texel shadow maps, for (d)).
+            // what only its first frame needs (its 256-texel shadow maps, for (d)).
             rendered(warm, preview_query(359.5));
             report_preview("(d) preview 256x256, orbit turning",
                            run(port, 1, seconds, preview_orbit), "(c) 1 client", full_orbit);

@@ -146,7 +146,7 @@ TEST(Framing, APreviewFramesTheProductAsTheFullFrameDoes) {
     auto client = server.client();
     const Rgba8Image preview =
         get_frame(*client, kOrbitQuery +
-                               "&width=160&height=120&samples=1&shadow_resolution=512"
+                               "&width=160&height=120&samples=1&shadow_resolution=256"
                                "&shadow_filter=hard");
     const Rgba8Image full = get_frame(*client, kOrbitQuery + "&width=800&height=600");
     ASSERT_EQ(preview.width, 160);
