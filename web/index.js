@@ -1,9 +1,8 @@
 // The page at /: the controls of the view around one <oer-viewer> (index.html).
-import { equirectangularUv } from '/web/oer-viewer.js';
+import { equirectangularUv, problemOf } from '/web/oer-viewer.js';
 
 // The page's view state lives in the element's attributes and, mirrored, in the URL's
 // query, so that a shared link reproduces the same frame (the same ETag).
-import { problemOf } from '/web/oer-viewer.js';
 
 const viewer = document.getElementById('viewer');
 // stateAttributes: declared by index.html's inline script, which applies the URL's query.
