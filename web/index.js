@@ -12,6 +12,7 @@ const exposureValue = document.getElementById('exposure-value');
 const background = document.getElementById('background');
 const backgroundColor = document.getElementById('background-color');
 const ground = document.getElementById('ground');
+const shadows = document.getElementById('shadows');
 const environmentYaw = document.getElementById('environment-yaw');
 const environmentYawValue = document.getElementById('environment-yaw-value');
 const showState = () => {
@@ -24,6 +25,7 @@ const showState = () => {
     backgroundColor.value = backgroundValue.toLowerCase();
   }
   ground.checked = viewer.getAttribute('ground') !== 'off';
+  shadows.checked = viewer.getAttribute('shadows') !== 'off';
   environmentYaw.value = viewer.getAttribute('environment-yaw') ?? '0';
   environmentYawValue.value = environmentYaw.value;
 };
@@ -60,13 +62,16 @@ const applyBackground = () => {
 };
 background.addEventListener('change', applyBackground);
 backgroundColor.addEventListener('input', applyBackground);
-ground.addEventListener('change', () => {
-  if (ground.checked) {
-    viewer.removeAttribute('ground');
-  } else {
-    viewer.setAttribute('ground', 'off');
-  }
-});
+// Switches whose attribute is absent when on (GET /v1/render's default) and 'off' when off.
+for (const [box, attribute] of [[ground, 'ground'], [shadows, 'shadows']]) {
+  box.addEventListener('change', () => {
+    if (box.checked) {
+      viewer.removeAttribute(attribute);
+    } else {
+      viewer.setAttribute(attribute, 'off');
+    }
+  });
+}
 environmentYaw.addEventListener('input', () => {
   environmentYawValue.value = environmentYaw.value;
   viewer.adjust('environment-yaw', Number(environmentYaw.value) === 0 ? null : environmentYaw.value);

@@ -72,7 +72,7 @@ const STYLE = `
 export class OerViewer extends HTMLElement {
   static observedAttributes = [
     'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'exposure',
-    'background', 'ground', 'environment-yaw', 'base-color', 'auto-rotate',
+    'background', 'ground', 'shadows', 'environment-yaw', 'base-color', 'auto-rotate',
   ];
 
   #image;
@@ -267,7 +267,7 @@ export class OerViewer extends HTMLElement {
                 linear ? linear.map((value) => value.toFixed(4)).join(',') : baseColorText.replace(/\s+/g, ''));
     }
     for (const [attribute, parameter] of [['lights', 'lights'], ['exposure', 'exposure'],
-                                          ['background', 'background'], ['ground', 'ground'],
+                                          ['background', 'background'], ['ground', 'ground'], ['shadows', 'shadows'],
                                           ['environment-yaw', 'environment_yaw']]) {
       const value = this.getAttribute(attribute);
       if (value) {

@@ -249,17 +249,20 @@ try {
     await page.locator('#background').selectOption('color');
     await page.locator('#background-color').fill('#336699');
     await page.locator('#ground').uncheck();
+    await page.locator('#shadows').uncheck();
     await page.locator('#environment-yaw').fill('90');
     const handle = await page.waitForFunction(
       (count) => window.oerFrames.slice(count).find((shown) => !shown.preview &&
         shown.url.includes('environment_yaw=90')) ?? false, frames, { timeout: 30000 });
     const dressed = await handle.jsonValue();
-    for (const parameter of ['exposure=1.5', 'background=%23336699', 'ground=off', 'environment_yaw=90']) {
+    for (const parameter of ['exposure=1.5', 'background=%23336699', 'ground=off', 'shadows=off',
+                             'environment_yaw=90']) {
       assert.match(dressed.url, new RegExp(`[?&]${parameter}(&|$)`), dressed.url);
     }
     assert.notEqual(dressed.etag, afterDrag.etag);
     const dressedLink = page.url();
-    for (const parameter of ['exposure=1.5', 'background=%23336699', 'ground=off', 'environment-yaw=90']) {
+    for (const parameter of ['exposure=1.5', 'background=%23336699', 'ground=off', 'shadows=off',
+                             'environment-yaw=90']) {
       assert.match(dressedLink, new RegExp(`[?&]${parameter}(&|$)`), dressedLink);
     }
     await again.goto(dressedLink);
@@ -269,6 +272,7 @@ try {
     assert.equal(await again.locator('#background').inputValue(), 'color');
     assert.equal(await again.locator('#background-color').inputValue(), '#336699');
     assert.equal(await again.locator('#ground').isChecked(), false);
+    assert.equal(await again.locator('#shadows').isChecked(), false);
     assert.equal(await again.locator('#environment-yaw').inputValue(), '90');
     await again.close();
 
@@ -279,7 +283,7 @@ try {
     assert.match(clear.url, /[?&]background=transparent(&|$)/);
     assert.match(clear.url, /[?&]format=png(&|$)/);
     assert.match(page.url(), /[?&]background=transparent(&|$)/);
-    for (const name of ['exposure', 'background', 'ground', 'environment-yaw']) {
+    for (const name of ['exposure', 'background', 'ground', 'shadows', 'environment-yaw']) {
       await page.evaluate((attribute) => document.querySelector('oer-viewer').removeAttribute(attribute), name);
     }
     assert.equal(await page.locator('#background').inputValue(), 'env');
@@ -498,7 +502,8 @@ try {
     }
     const names = seen.map((control) => control.name);
     for (const expected of ['Product', 'Environment', 'Upload…', 'Reset view', 'Background', 'Ground',
-                            'Download PNG', 'Light 1 weight', 'All on', 'All off']) {
+                            'Shadows', 'Turntable', 'Download PNG', 'Light 1 weight', 'All on',
+                            'All off']) {
       assert.ok(names.includes(expected), `Tab never reaches ${expected}: ${names.join(' | ')}`);
     }
     assert.ok(names.some((name) => name.startsWith('Exposure')), names.join(' | '));
