@@ -206,6 +206,71 @@ TEST(LightLocation, FindsOrdinarySeamAndPoleDiscsWithDirections) {
     expect_discs_found(scene, found, three_discs, disc_names);
 }
 
+TEST(LightLocation, FindsTheSouthPoleDiscAndASeamDiscOnTheEquator) {
+    // The other pole (-Y, the last row) and the seam where it crosses the equator (-X), each
+    // also at an exact pixel-corner direction of the grid: the pole is the meeting point of every
+    // column, the seam the edge between column W - 1 and column 0.
+    const std::vector<Disc> discs = {
+        {{0.0, -1.0, 0.0}, disc_radius, {150.0f, 150.0f, 150.0f}},
+        {{-1.0, 0.0, 0.0}, disc_radius, {120.0f, 100.0f, 150.0f}},
+    };
+    const char* const names[] = {"south pole", "seam on the equator"};
+    const Scene scene = make_scene(1024, 512, 0.05f, discs);
+    const LightLocation found = locate_lights(scene.image, 2);
+    ASSERT_EQ(found.lights.size(), 2u) << found.note;
+    expect_consistent(found, scene.image);
+    expect_discs_found(scene, found, discs, names);
+}
+
+TEST(LightLocation, NearlyCoincidentLightsLoseNoPixelAndNoEnergy) {
+    // Two discs of 1 degree radius on the equator, 3 degrees apart centre to centre (one degree
+    // of sky between them, under three pixels of 1024x512: the blur bridges it) and 2 degrees
+    // apart (touching), where the blurred discs are one connected bright region and come out as
+    // one light; 8 degrees apart they are two. Whether they come out as one light or two, every
+    // pixel of both discs belongs to a light, and the lights' intensity is the discs' (plus a halo
+    // of dim sky: at most 1 %).
+    for (const double separation : {8.0, 3.0, 2.0}) {
+        const std::vector<Disc> discs = {
+            {spherical(90.0, 30.0), pi / 180.0, {300.0f, 280.0f, 260.0f}},
+            {spherical(90.0, 30.0 + separation), pi / 180.0, {200.0f, 220.0f, 240.0f}},
+        };
+        const Scene scene = make_scene(1024, 512, 0.05f, discs);
+        const LightLocation found = locate_lights(scene.image, 2);
+        ASSERT_GE(found.lights.size(), 1u) << found.note;
+        expect_consistent(found, scene.image);
+        std::vector<std::uint32_t> all;
+        glm::dvec3 intensity{0.0};
+        for (const Light& light : found.lights) {
+            all.insert(all.end(), light.pixels.begin(), light.pixels.end());
+            intensity += light.intensity;
+        }
+        std::sort(all.begin(), all.end());
+        const glm::dvec3 discs_intensity = scene.disc_intensity[0] + scene.disc_intensity[1];
+        std::printf(
+            "[ measured ] discs %.0f degrees apart: %zu lights, intensity %.4f of the discs'\n",
+            separation, found.lights.size(), intensity.g / discs_intensity.g);
+        for (std::size_t k = 0; k < discs.size(); ++k) {
+            EXPECT_TRUE(contains_all(all, scene.disc_pixels[k])) << separation << " disc " << k;
+        }
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GE(intensity[c], discs_intensity[c]) << separation;
+            EXPECT_LE(intensity[c], 1.01 * discs_intensity[c]) << separation;
+        }
+        // One light holding both points between them, weighted by energy: within a pixel of
+        // the discs' energy-weighted centre.
+        if (found.lights.size() == 1) {
+            const glm::dvec3 centre =
+                glm::normalize(luminance(scene.disc_intensity[0]) * discs[0].centre +
+                               luminance(scene.disc_intensity[1]) * discs[1].centre);
+            EXPECT_LE(angle_between(found.lights[0].direction, centre), pi / 512) << separation;
+        } else {
+            const char* const names[] = {"brighter", "dimmer"};
+            expect_discs_found(scene, found, discs, names);
+        }
+        EXPECT_EQ(found.lights.size(), separation > 5.0 ? 2u : 1u) << separation;
+    }
+}
+
 TEST(LightLocation, AskingForMoreLightsThanThereAreReturnsFewerWithANote) {
     const std::vector<Disc> two = {three_discs[0], three_discs[1]};
     const Scene scene = make_scene(512, 256, 0.05f, two);

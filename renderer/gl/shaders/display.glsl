@@ -37,6 +37,9 @@ vec3 srgb_encode(vec3 c) {
 vec4 output_color(vec4 radiance) {
     float alpha = clamp(radiance.a, 0.0, 1.0);
     vec3 linear = alpha > 0.0 ? max(radiance.rgb / alpha, 0.0) * u_exposure_scale : vec3(0.0);
+    // kToneMapInputCap of oer/lighting/tonemap.hpp: white in every mapper, and no NaN from an
+    // overflowing ACES fit or neutral's Inf * 0 (tonemap.cpp).
+    linear = min(linear, vec3(1e6));
     vec3 mapped = linear;
     if (u_tonemap == 0) mapped = neutral(linear);
     else if (u_tonemap == 1) mapped = aces(linear);

@@ -66,7 +66,11 @@ glm::vec3 aces(glm::vec3 c) {
 }  // namespace
 
 glm::vec3 tone_map(glm::vec3 linear, ToneMapper mapper) {
-    linear = glm::max(linear, glm::vec3(0.0f));
+    // Capped at kToneMapInputCap: above it both mappers are white to within 1e-5 (neutral's
+    // desaturation leaves 1 / (0.15 x)), while the ACES fit's x^2 overflows past 1.8e19 to
+    // Inf / Inf = NaN and neutral's peak scaling is Inf * 0 = NaN at +Inf (a repaired +Inf is
+    // the largest float, which exposure can push to +Inf). The shaders apply the same cap.
+    linear = glm::clamp(linear, glm::vec3(0.0f), glm::vec3(kToneMapInputCap));
     glm::vec3 mapped = linear;
     if (mapper == ToneMapper::Neutral) {
         mapped = neutral(linear);

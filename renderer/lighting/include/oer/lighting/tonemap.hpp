@@ -18,6 +18,10 @@ enum class ToneMapper {
 std::string to_string(ToneMapper mapper);
 ToneMapper tone_mapper_from_string(const std::string& name);  // throws oer::Error
 
+// Linear radiance (after exposure) above this maps to white whatever the mapper; tone_map and
+// the shaders clamp their input to it, so that no finite or infinite radiance gives NaN.
+constexpr float kToneMapInputCap = 1e6f;
+
 glm::vec3 tone_map(glm::vec3 linear, ToneMapper mapper);
 
 // sRGB transfer function (IEC 61966-2-1) of a value in [0, 1].
