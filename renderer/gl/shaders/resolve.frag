@@ -8,11 +8,14 @@ out vec4 o_color;
 #include "display.glsl"
 void main() {
     ivec2 base = ivec2(gl_FragCoord.xy) * u_scale;
-    vec4 sum = vec4(0.0);
+    // The mean as a sum of fractions: samples near the largest float (a repaired +Inf in the
+    // map) would overflow a plain sum to Inf. (Exact for 4 and 16 samples, powers of two.)
+    float weight = 1.0 / float(u_scale * u_scale);
+    vec4 mean = vec4(0.0);
     for (int y = 0; y < u_scale; ++y) {
         for (int x = 0; x < u_scale; ++x) {
-            sum += texelFetch(u_radiance, base + ivec2(x, y), 0);
+            mean += weight * texelFetch(u_radiance, base + ivec2(x, y), 0);
         }
     }
-    o_color = output_color(sum / float(u_scale * u_scale));
+    o_color = output_color(mean);
 }

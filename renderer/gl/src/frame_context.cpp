@@ -23,7 +23,14 @@ SceneBounds scene_bounds(const std::vector<SceneObject>& objects) {
     SceneBounds scene;
     scene.box = enclosing_bounds(boxes);
     scene.centre = scene.box.centre();
-    scene.radius = std::max(1e-4f, 0.5f * glm::length(scene.box.max - scene.box.min));
+    // The radius follows the scene however small: a floor of 1e-4 fitted the shadow maps, their
+    // normal offset and bias of a 1e-6-unit scene to a sphere 190 times too large, detaching its
+    // shadows (tests/gl, ShadowsLandWhereGeometryPutsThemAtEveryScale). It stays above float's
+    // resolution of the centre's position (2^-23 of it), so that the light's eye, 2 radii from
+    // the centre, is a distinct point; a scene of no extent (no objects, one point) keeps 1e-4.
+    const float half_diagonal = 0.5f * glm::length(scene.box.max - scene.box.min);
+    scene.radius =
+        half_diagonal > 0.0f ? std::max(half_diagonal, 1e-6f * glm::length(scene.centre)) : 1e-4f;
     return scene;
 }
 
