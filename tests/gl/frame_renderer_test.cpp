@@ -1264,11 +1264,17 @@ TEST_F(FrameRendererTest, LightsAtThePoleAndOnTheSeamCastTheirShadows) {
     low_front.target = {0.0f, 0.2f, 0.0f};
     low_front.fov_y = 45.0f;
     for (const glm::dvec3 direction : {glm::dvec3{0.0, 1.0, 0.0}, glm::dvec3{-1.0, 1.0, 0.0}}) {
-        const auto rig = one_light_rig(direction);
-        ASSERT_EQ(rig->lights.size(), 1u);
-        EXPECT_LT(std::acos(glm::dot(rig->lights[0].direction, glm::normalize(direction))),
+        const auto found = one_light_rig(direction);
+        ASSERT_EQ(found->lights.size(), 1u);
+        EXPECT_LT(std::acos(glm::dot(found->lights[0].direction, glm::normalize(direction))),
                   kPi / 512)
             << "light found off its disc";
+        // Exactly on the pole and the seam: the mean of the disc's pixel directions leaves about
+        // 1e-17 of the other axes, which would hide a light view whose up vector is parallel to
+        // it (a mutation tried: with +Y as the up vector for every light, the exact pole fails).
+        Rig exact = *found;
+        exact.lights[0].direction = glm::normalize(direction);
+        const auto rig = std::make_shared<const Rig>(std::move(exact));
         const auto [shadowed, unshadowed] = render_boxes(
             [](const FrameRequest& r) { return render(r); }, rig, boxes, low_front, 256);
         const ShadowCheck check = check_shadows(shadowed, unshadowed, *rig, boxes, low_front, 0.5f);
@@ -1278,7 +1284,7 @@ TEST_F(FrameRendererTest, LightsAtThePoleAndOnTheSeamCastTheirShadows) {
             direction.x, direction.y, direction.z, check.shadow_pixels, check.lit_pixels,
             check.misplaced, check.lit_faces, check.acne);
         EXPECT_GT(check.shadow_pixels, 500);
-        EXPECT_GT(check.lit_faces, 1000);
+        EXPECT_GT(check.lit_faces, 500);
         EXPECT_EQ(check.misplaced, 0);
         EXPECT_EQ(check.acne, 0);
     }
