@@ -53,6 +53,14 @@ RigOptions plain_rig(int lights) {
     return options;
 }
 
+// A sphere of `albedo`, radius 0.8 about the origin, seen from (0, 0, 3) under constant
+// `radiance`: the furnace.
+FrameRequest furnace_request(glm::vec3 radiance, glm::vec3 albedo, int segments, int size) {
+    return request_for(oer::testing::constant_map(64, 32, radiance), plain_rig(0),
+                       oer::testing::uv_sphere({0, 0, 0}, 0.8f, segments, segments / 2, albedo),
+                       {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, size);
+}
+
 glm::dvec3 rgb_at(const ReferenceFrame& frame, std::size_t index) {
     return {frame.linear[index * 4], frame.linear[index * 4 + 1], frame.linear[index * 4 + 2]};
 }
@@ -61,14 +69,15 @@ double alpha_at(const ReferenceFrame& frame, std::size_t index) {
     return frame.linear[index * 4 + 3];
 }
 
-// The ray through the centre of pixel (x, y) of a square frame, as the renderer casts it.
-glm::dvec3 pixel_ray(const Camera& camera, int size, int x, int y) {
+// The ray through image position (x, y), in pixels from the top left, of a square frame, as
+// the renderer casts it.
+glm::dvec3 pixel_ray(const Camera& camera, int size, double x, double y) {
     const glm::dvec3 forward = glm::normalize(glm::dvec3(camera.target - camera.eye));
     const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(camera.up)));
     const glm::dvec3 up = glm::cross(right, forward);
     const double t = std::tan(glm::radians(double(camera.fov_y)) / 2.0);
-    return glm::normalize(forward + (2.0 * (x + 0.5) / size - 1.0) * t * right +
-                          (1.0 - 2.0 * (y + 0.5) / size) * t * up);
+    return glm::normalize(forward + (2.0 * x / size - 1.0) * t * right +
+                          (1.0 - 2.0 * y / size) * t * up);
 }
 
 // The nearest hit of a ray on a sphere, if any.
@@ -106,10 +115,7 @@ TEST(ReferenceRendererFurnace, CosineSamplingGivesExactlyTheMapsRadiance) {
     // A white Lambertian sphere under constant radiance L reflects exactly L wherever it sees
     // the map alone (DESIGN.md section 3): with cosine sampling each sample is L itself.
     const glm::vec3 radiance(0.5f, 0.75f, 1.25f);
-    FrameRequest request =
-        request_for(oer::testing::constant_map(64, 32, radiance), plain_rig(0),
-                    oer::testing::uv_sphere({0, 0, 0}, 0.8f, 192, 96, glm::vec3(1.0f)),
-                    {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 32);
+    FrameRequest request = furnace_request(radiance, glm::vec3(1.0f), 192, 32);
     ReferenceOptions options;
     options.sampling = ReferenceSampling::Cosine;
     options.samples = 8;
@@ -137,10 +143,7 @@ TEST(ReferenceRendererFurnace, CosineSamplingGivesExactlyTheMapsRadiance) {
 
 TEST(ReferenceRendererFurnace, MisIsWithinItsNoiseAndUnbiased) {
     const glm::vec3 radiance(1.0f, 1.0f, 1.0f);
-    FrameRequest request =
-        request_for(oer::testing::constant_map(64, 32, radiance), plain_rig(0),
-                    oer::testing::uv_sphere({0, 0, 0}, 0.8f, 192, 96, glm::vec3(1.0f)),
-                    {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 32);
+    FrameRequest request = furnace_request(radiance, glm::vec3(1.0f), 192, 32);
     ReferenceOptions options;
     options.samples = 16;
     const ReferenceFrame frame = render_reference(request, options);
@@ -168,10 +171,7 @@ TEST(ReferenceRendererFurnace, MisIsWithinItsNoiseAndUnbiased) {
 }
 
 TEST(ReferenceRendererFurnace, SameImageWhateverTheThreadCount) {
-    FrameRequest request =
-        request_for(oer::testing::constant_map(64, 32, glm::vec3(1.0f)), plain_rig(0),
-                    oer::testing::uv_sphere({0, 0, 0}, 0.8f, 32, 16, glm::vec3(0.5f)),
-                    {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 16);
+    FrameRequest request = furnace_request(glm::vec3(1.0f), glm::vec3(0.5f), 32, 16);
     ReferenceOptions options;
     options.samples = 4;
     options.threads = 1;
@@ -184,10 +184,7 @@ TEST(ReferenceRendererFurnace, SameImageWhateverTheThreadCount) {
 }
 
 TEST(ReferenceRendererFurnace, RejectsOddSamplesAndAMissingMap) {
-    FrameRequest request =
-        request_for(oer::testing::constant_map(16, 8, glm::vec3(1.0f)), plain_rig(0),
-                    oer::testing::uv_sphere({0, 0, 0}, 0.8f, 8, 4, glm::vec3(0.5f)),
-                    {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 8);
+    FrameRequest request = furnace_request(glm::vec3(1.0f), glm::vec3(0.5f), 8, 8);
     ReferenceOptions options;
     options.samples = 3;
     EXPECT_THROW(render_reference(request, options), Error);
@@ -230,7 +227,7 @@ TEST(ReferenceRendererConvex, SphereMatchesTheBruteForceIrradianceOfARealWorld) 
     const Camera& camera = *request.camera;
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
-            const glm::dvec3 ray = pixel_ray(camera, size, x, y);
+            const glm::dvec3 ray = pixel_ray(camera, size, x + 0.5, y + 0.5);
             const auto hit = hit_sphere(glm::dvec3(camera.eye), ray, glm::dvec3(0.0), 0.8);
             const std::size_t index = std::size_t(y) * size + x;
             // Away from the silhouette, where a pixel's samples all land on the sphere.
@@ -303,13 +300,7 @@ TEST(ReferenceRendererShadow, BoxShadowLandsWhereGeometryPutsIt) {
             int blocked = 0, open = 0;
             for (const auto& [dx, dy] :
                  {std::pair{0.0, 0.0}, {-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}}) {
-                const glm::dvec3 forward = glm::normalize(glm::dvec3(camera.target - camera.eye));
-                const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 1, 0)));
-                const glm::dvec3 up = glm::cross(right, forward);
-                const double t = std::tan(glm::radians(double(camera.fov_y)) / 2.0);
-                const glm::dvec3 ray =
-                    glm::normalize(forward + (2.0 * (x + 0.5 + dx) / size - 1.0) * t * right +
-                                   (1.0 - 2.0 * (y + 0.5 + dy) / size) * t * up);
+                const glm::dvec3 ray = pixel_ray(camera, size, x + 0.5 + dx, y + 0.5 + dy);
                 const glm::dvec3 eye(camera.eye);
                 if (ray.y >= 0.0 || hits_box(eye, ray, glm::dvec3(low), glm::dvec3(high))) {
                     open = blocked = 1;  // not ground: leave the pixel out
