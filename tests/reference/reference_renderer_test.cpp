@@ -368,4 +368,67 @@ TEST(ReferenceRendererShadow, BoxShadowLandsWhereGeometryPutsIt) {
     }
 }
 
+// A sphere floating above the ground under constant radiance L. Without a bounce a point of
+// normal n sees the sky above the horizon only: rho L (1 + n_y) / 2, the cosine lobe's share
+// of the upper half-space. One bounce adds the ground below, of radiance 0.8 L where the
+// sphere does not shadow it: rho 0.8 L (1 - n_y) / 2, less the sphere's own shadow (at most
+// (r / d)^2 = 6 % of the sky of a ground point under it).
+TEST(ReferenceRendererBounce, OneBounceAddsTheLitGroundBelow) {
+    const float radius = 0.25f;
+    const glm::vec3 centre(0.0f, 1.0f, 0.0f);
+    const glm::vec3 albedo(0.5f);
+    const int size = 48;
+    FrameRequest request =
+        request_for(oer::testing::constant_map(64, 32, glm::vec3(1.0f)), plain_rig(0),
+                    oer::testing::uv_sphere(centre, radius, 192, 96, albedo), {0.0f, 0.45f, 1.6f},
+                    centre, size);
+    // A speck far away puts the ground at y = 0, 0.75 below the sphere.
+    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
+                                   {3.0f, 0.0f, 3.0f}, {3.02f, 0.02f, 3.02f}, albedo)),
+                               glm::mat4(1.0f), std::nullopt});
+    request.ground = true;
+    ReferenceOptions options;
+    options.samples = 64;
+    const ReferenceFrame none = render_reference(request, options);
+    options.bounce = Bounce::One;
+    const ReferenceFrame one = render_reference(request, options);
+
+    const Camera& camera = *request.camera;
+    double none_error = 0.0, none_signal = 0.0, added = 0.0, added_expected = 0.0;
+    int checked = 0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const glm::dvec3 ray = pixel_ray(camera, size, x + 0.5, y + 0.5);
+            const auto hit =
+                hit_sphere(glm::dvec3(camera.eye), ray, glm::dvec3(centre), double(radius));
+            const std::size_t index = std::size_t(y) * size + x;
+            if (!hit) {
+                continue;
+            }
+            const glm::dvec3 n = glm::normalize(*hit - glm::dvec3(centre));
+            if (glm::dot(n, -ray) < 0.4 || alpha_at(none, index) < 1.0) {
+                continue;
+            }
+            ++checked;
+            const double sky = 0.5 * (1.0 + n.y) * albedo.g;
+            const double ground = 0.8 * 0.5 * (1.0 - n.y) * albedo.g;
+            const double without = rgb_at(none, index).g, with = rgb_at(one, index).g;
+            none_error += (without - sky) * (without - sky);
+            none_signal += sky * sky;
+            added += with - without;
+            added_expected += ground;
+        }
+    }
+    ASSERT_GT(checked, 150);
+    const double none_relative = std::sqrt(none_error / none_signal);
+    const double added_ratio = added / added_expected;
+    std::printf(
+        "%d pixels: bounce none against the sky's share, relative RMS %.4f (noise "
+        "%.4f); bounce one adds %.3f of the unshadowed ground's share\n",
+        checked, none_relative, none.noise.object, added_ratio);
+    EXPECT_LT(none_relative, 3.0 * none.noise.object);
+    EXPECT_GT(added_ratio, 0.9);
+    EXPECT_LT(added_ratio, 1.01);
+}
+
 }  // namespace
