@@ -7,7 +7,7 @@ build_packages=(
     build-essential cmake pkg-config git clang-format
     libopenimageio-dev openimageio-tools libopenexr-dev
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
-    libmeshoptimizer-dev
+    libmeshoptimizer-dev libembree-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev
     libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
     libssl-dev libcli11-dev

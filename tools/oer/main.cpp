@@ -26,6 +26,8 @@ constexpr const char* kUsage = R"(usage:
              [--background env|transparent|#rrggbb] [--tonemap neutral|aces|none]
              [--exposure EV] [--shadows on|off] [--shadow-resolution N] [--shadow-filter pcf|hard]
              [--samples N] [--yaw DEG] [--quality Q] -o OUT.(jpg|png|exr)
+  oer reference (the scene, camera, environment and light flags of render) [--bounce none|one]
+                [--samples N] [--sample-seed N] [--threads N] [--stats FILE.json] -o OUT.exr
   oer --version
 
 MAP is an .hdr or .exr file, or 'default' for the built-in studio environment; MESH is a .glb,
@@ -77,6 +79,7 @@ int main(int argc, char** argv) {
         {"preprocess", oer::cli::preprocess_command},
         {"irradiance-map", oer::cli::irradiance_map_command},
         {"masks", oer::cli::masks_command},
+        {"reference", oer::cli::reference_command},
     };
     const auto command = commands.find(arguments[0]);
     if (command == commands.end()) {

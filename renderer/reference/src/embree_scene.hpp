@@ -1,0 +1,72 @@
+#pragma once
+// The request's surfaces in an Embree 3 scene (Intel's Embree, the ray tracer issue 11 names:
+// rtcNewDevice, rtcNewScene, one RTC_GEOMETRY_TYPE_TRIANGLE geometry per primitive, committed
+// once, then rtcIntersect1 / rtcOccluded1 from any number of threads): every object's
+// primitives in world space, and the renderer's ground plane. A hit is resolved to what
+// shading needs: position, normals and the renderer's albedo there.
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <embree3/rtcore.h>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "oer/gl/frame_request.hpp"
+#include "oer/mesh/camera.hpp"
+
+namespace oer::reference {
+
+// The ground plane of the renderer (renderer/gl/src/frame_context.cpp and the geometry pass):
+// the objects' transformed bounds, the plane y = their lowest y, a square centred under their
+// centre with half side 20 times the radius of their bounding sphere.
+struct SceneFrame {
+    Bounds box;
+    glm::vec3 centre{0.0f};
+    float radius = 1.0f;
+    float ground_half_size = 0.0f;
+};
+SceneFrame scene_frame(const std::vector<SceneObject>& objects);
+
+struct SurfaceHit {
+    glm::dvec3 position{0.0};
+    glm::dvec3 geometric_normal{0.0};  // unit, either side
+    glm::dvec3 shading_normal{0.0};    // unit, on the side the ray came from
+    glm::dvec3 albedo{0.0};
+    bool ground = false;
+};
+
+class EmbreeScene {
+  public:
+    // Throws oer::Error (Internal) when Embree fails, with its message.
+    EmbreeScene(const FrameRequest& request, const SceneFrame& frame);
+    ~EmbreeScene();
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    // The nearest surface along the ray beyond t_near, if any.
+    std::optional<SurfaceHit> intersect(const glm::dvec3& origin, const glm::dvec3& direction,
+                                        double t_near) const;
+    // Whether anything lies along the ray beyond t_near (to infinity).
+    bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_near) const;
+
+  private:
+    struct Geometry {
+        std::vector<glm::vec3> positions;  // world space
+        std::vector<glm::vec3> normals;    // world space, unit
+        std::vector<glm::vec2> texcoords;  // empty without a texture
+        std::vector<std::uint32_t> indices;
+        glm::dvec3 base_color{1.0};
+        const Texture* texture = nullptr;  // the base-color texture, sRGB
+        bool ground = false;
+    };
+    void add(Geometry geometry);
+    glm::dvec3 albedo_at(const Geometry& geometry, unsigned triangle, double u, double v) const;
+
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    std::vector<Geometry> geometries_;  // by Embree geometry id
+};
+
+}  // namespace oer::reference

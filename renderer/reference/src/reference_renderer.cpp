@@ -1,0 +1,304 @@
+#include "oer/reference/reference_renderer.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <thread>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "embree_scene.hpp"
+#include "environment_sampler.hpp"
+#include "oer/core/error.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/light_location.hpp"
+#include "pixel_random.hpp"
+
+namespace oer {
+
+namespace {
+
+using reference::EmbreeScene;
+using reference::EnvironmentSampler;
+using reference::PixelRandom;
+using reference::SurfaceHit;
+
+constexpr double kPi = std::numbers::pi;
+
+// The renderer's environment background (shade.frag, SURFACE 0): the request's map as given,
+// turned by the yaw, sampled bilinearly, repeating across the seam and clamped at the poles
+// as its texture is.
+glm::dvec3 background_radiance(const HdrImage& map, const glm::dvec3& world_direction,
+                               double yaw_degrees) {
+    const glm::dvec3 d = equirect::rotate_yaw(world_direction, -yaw_degrees);
+    const double u = (std::atan2(d.z, d.x) + kPi) / (2.0 * kPi);
+    const double v = std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi;
+    const double x = u * map.width - 0.5, y = v * map.height - 0.5;
+    const double x0 = std::floor(x), y0 = std::floor(y);
+    const double fx = x - x0, fy = y - y0;
+    const auto texel = [&map](long long tx, long long ty) {
+        const long long w = map.width;
+        const int column = int((tx % w + w) % w);
+        const int row = int(std::clamp(ty, 0LL, (long long)map.height - 1));
+        const float* p = map.at(column, row);
+        return glm::dvec3(p[0], p[1], p[2]);
+    };
+    const long long ix = (long long)x0, iy = (long long)y0;
+    return (1 - fy) * ((1 - fx) * texel(ix, iy) + fx * texel(ix + 1, iy)) +
+           fy * ((1 - fx) * texel(ix, iy + 1) + fx * texel(ix + 1, iy + 1));
+}
+
+// A direction about unit n with density cos / pi: Malley's method, a uniform disc sample
+// (Shirley and Chiu's concentric map, "A Low Distortion Map Between Disk and Square", 1997)
+// lifted onto the hemisphere.
+glm::dvec3 cosine_direction(const glm::dvec3& n, double u1, double u2) {
+    const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
+    double r = 0.0, phi = 0.0;
+    if (a != 0.0 || b != 0.0) {
+        if (std::abs(a) > std::abs(b)) {
+            r = a;
+            phi = (kPi / 4.0) * (b / a);
+        } else {
+            r = b;
+            phi = kPi / 2.0 - (kPi / 4.0) * (a / b);
+        }
+    }
+    const double x = r * std::cos(phi), y = r * std::sin(phi);
+    const double z = std::sqrt(std::max(0.0, 1.0 - x * x - y * y));
+    // An orthonormal basis about n (Duff et al., "Building an Orthonormal Basis, Revisited",
+    // JCGT 2017).
+    const double sign = std::copysign(1.0, n.z);
+    const double p = -1.0 / (sign + n.z), q = n.x * n.y * p;
+    const glm::dvec3 t(1.0 + sign * n.x * n.x * p, sign * q, -sign * n.x);
+    const glm::dvec3 s(q, sign + n.y * n.y * p, -n.y);
+    return glm::normalize(x * t + y * s + z * n);
+}
+
+// Veach's power heuristic (beta = 2) for the strategy of density `chosen` against `other`.
+double power_heuristic(double chosen, double other) {
+    const double a = chosen * chosen, b = other * other;
+    return a + b > 0.0 ? a / (a + b) : 0.0;
+}
+
+class Tracer {
+  public:
+    Tracer(const EmbreeScene& scene, const EnvironmentSampler& environment,
+           const ReferenceOptions& options, double offset)
+        : scene_(scene), environment_(environment), options_(options), offset_(offset) {}
+
+    // An estimate of the irradiance at a hit, integral of L_in cos over the hemisphere of its
+    // shading normal: L_in from the environment where the way out is free and, with
+    // `bounce`, from the Lambertian surface seen elsewhere (lit by the environment alone).
+    glm::dvec3 irradiance(const SurfaceHit& hit, PixelRandom& random, bool bounce) const {
+        const glm::dvec3& n = hit.shading_normal;
+        glm::dvec3 sum(0.0);
+        const bool mis = options_.sampling == ReferenceSampling::Mis && environment_.can_sample();
+        if (mis) {
+            const reference::EnvironmentSample light =
+                environment_.sample(random.uniform(), random.uniform(), random.uniform());
+            const double cosine = glm::dot(n, light.direction);
+            if (cosine > 0.0 && light.pdf > 0.0 &&
+                !scene_.occluded(leave(hit, light.direction), light.direction, 0.0)) {
+                sum += light.radiance *
+                       (cosine / light.pdf * power_heuristic(light.pdf, cosine / kPi));
+            }
+        }
+        const glm::dvec3 direction = cosine_direction(n, random.uniform(), random.uniform());
+        const double cosine = glm::dot(n, direction);
+        if (cosine <= 0.0) {
+            return sum;
+        }
+        const double cosine_pdf = cosine / kPi;
+        const std::optional<SurfaceHit> next =
+            scene_.intersect(leave(hit, direction), direction, 0.0);
+        if (!next) {
+            const double weight =
+                mis ? power_heuristic(cosine_pdf, environment_.pdf(direction)) : 1.0;
+            // cosine / cosine_pdf = pi.
+            sum += environment_.radiance(direction) * (kPi * weight);
+        } else if (bounce) {
+            const glm::dvec3 outgoing = next->albedo / kPi * irradiance(*next, random, false);
+            sum += outgoing * kPi;
+        }
+        return sum;
+    }
+
+  private:
+    // The origin of a ray leaving a hit: off the surface, on the side the ray goes, by the
+    // scene's offset (a fixed fraction of its size, far above float rounding at its scale).
+    glm::dvec3 leave(const SurfaceHit& hit, const glm::dvec3& direction) const {
+        const double side = glm::dot(hit.geometric_normal, direction) >= 0.0 ? 1.0 : -1.0;
+        return hit.position + (side * offset_) * hit.geometric_normal;
+    }
+
+    const EmbreeScene& scene_;
+    const EnvironmentSampler& environment_;
+    const ReferenceOptions& options_;
+    double offset_;
+};
+
+struct CameraRays {
+    glm::dvec3 eye, forward, right, up;
+    double tan_half_fov = 1.0, aspect = 1.0;
+    int width = 1, height = 1;
+
+    // Through image position (x, y) in pixels, y down from the top row.
+    glm::dvec3 direction(double x, double y) const {
+        const double nx = (2.0 * x / width - 1.0) * tan_half_fov * aspect;
+        const double ny = (1.0 - 2.0 * y / height) * tan_half_fov;
+        return glm::normalize(forward + nx * right + ny * up);
+    }
+};
+
+CameraRays camera_rays(const Camera& camera, int width, int height) {
+    CameraRays rays;
+    rays.eye = glm::dvec3(camera.eye);
+    rays.forward = glm::normalize(glm::dvec3(camera.target) - rays.eye);
+    rays.right = glm::normalize(glm::cross(rays.forward, glm::dvec3(camera.up)));
+    rays.up = glm::cross(rays.right, rays.forward);
+    rays.tan_half_fov = std::tan(glm::radians(double(camera.fov_y)) / 2.0);
+    rays.aspect = double(width) / double(height);
+    rays.width = width;
+    rays.height = height;
+    return rays;
+}
+
+void validate(const FrameRequest& request, const ReferenceOptions& options) {
+    if (!request.rig) {
+        throw Error(ErrorKind::InvalidInput, "reference: the request has no rig");
+    }
+    if (!request.environment_map) {
+        throw Error(ErrorKind::InvalidInput,
+                    "reference: the request has no environment map (the reference lights with "
+                    "the map itself, not its rig)");
+    }
+    if (request.width < 1 || request.height < 1) {
+        throw Error(ErrorKind::InvalidInput, "reference: the frame is " +
+                                                 std::to_string(request.width) + "x" +
+                                                 std::to_string(request.height));
+    }
+    if (options.samples < 2 || options.samples % 2 != 0) {
+        throw Error(ErrorKind::InvalidInput,
+                    "reference: samples must be even and at least 2 (two independent halves "
+                    "estimate the noise), got " +
+                        std::to_string(options.samples));
+    }
+    if (options.threads < 0) {
+        throw Error(ErrorKind::InvalidInput,
+                    "reference: threads must be 0 (every core) or more, got " +
+                        std::to_string(options.threads));
+    }
+}
+
+// The relative RMS noise of ReferenceNoise over the pixels of one surface kind.
+double relative_noise(const std::vector<double>& halves_a, const std::vector<double>& halves_b,
+                      const std::vector<ReferenceSurface>& surfaces, ReferenceSurface kind,
+                      std::size_t& pixels) {
+    double noise = 0.0, signal = 0.0;
+    pixels = 0;
+    for (std::size_t i = 0; i < surfaces.size(); ++i) {
+        if (surfaces[i] != kind) {
+            continue;
+        }
+        ++pixels;
+        const double mean = 0.5 * (halves_a[i] + halves_b[i]);
+        const double error = 0.5 * (halves_a[i] - halves_b[i]);
+        noise += error * error;
+        signal += mean * mean;
+    }
+    return signal > 0.0 ? std::sqrt(noise / signal) : 0.0;
+}
+
+}  // namespace
+
+ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOptions& options) {
+    validate(request, options);
+    const auto start = std::chrono::steady_clock::now();
+    const int width = request.width, height = request.height;
+    const reference::SceneFrame frame = reference::scene_frame(request.objects);
+    const EmbreeScene scene(request, frame);
+    const EnvironmentSampler environment(*request.environment_map, *request.rig, request.lights,
+                                         request.environment_yaw);
+    const Camera camera =
+        request.camera.value_or(frame_bounds(frame.box, 45.0f, float(width) / float(height)));
+    const CameraRays rays = camera_rays(camera, width, height);
+    const Tracer tracer(scene, environment, options, 1e-4 * double(frame.radius));
+    const bool environment_background = request.background.kind == BackgroundKind::Environment;
+
+    ReferenceFrame result;
+    result.width = width;
+    result.height = height;
+    const std::size_t pixel_count = std::size_t(width) * std::size_t(height);
+    result.linear.assign(pixel_count * 4, 0.0f);
+    result.surfaces.assign(pixel_count, ReferenceSurface::Background);
+    std::vector<double> luminance_a(pixel_count, 0.0), luminance_b(pixel_count, 0.0);
+    const int half = options.samples / 2;
+
+    const auto render_pixel = [&](int x, int y) {
+        const std::size_t index = std::size_t(y) * std::size_t(width) + std::size_t(x);
+        if (const auto centre = scene.intersect(rays.eye, rays.direction(x + 0.5, y + 0.5), 0.0)) {
+            result.surfaces[index] =
+                centre->ground ? ReferenceSurface::Ground : ReferenceSurface::Object;
+        }
+        PixelRandom random(options.seed, index);
+        glm::dvec3 halves[2] = {glm::dvec3(0.0), glm::dvec3(0.0)};
+        double coverage = 0.0;
+        for (int s = 0; s < options.samples; ++s) {
+            // A box filter over the pixel: a uniform point in it per sample.
+            const glm::dvec3 direction = rays.direction(x + random.uniform(), y + random.uniform());
+            glm::dvec3 radiance(0.0);
+            if (const auto hit = scene.intersect(rays.eye, direction, 0.0)) {
+                radiance = hit->albedo / kPi *
+                           tracer.irradiance(*hit, random, options.bounce == Bounce::One);
+                coverage += 1.0;
+            } else if (environment_background) {
+                radiance = background_radiance(*request.environment_map, direction,
+                                               request.environment_yaw);
+                coverage += 1.0;
+            }
+            halves[s < half ? 0 : 1] += radiance;
+        }
+        const glm::dvec3 mean = (halves[0] + halves[1]) / double(options.samples);
+        float* out = &result.linear[index * 4];
+        out[0] = float(mean.r);
+        out[1] = float(mean.g);
+        out[2] = float(mean.b);
+        out[3] = float(coverage / options.samples);
+        luminance_a[index] = luminance(halves[0] / double(half));
+        luminance_b[index] = luminance(halves[1] / double(half));
+    };
+
+    const int thread_count = options.threads > 0
+                                 ? options.threads
+                                 : std::max(1, int(std::thread::hardware_concurrency()));
+    std::atomic<int> next_row{0};
+    const auto work = [&] {
+        for (int y = next_row++; y < height; y = next_row++) {
+            for (int x = 0; x < width; ++x) {
+                render_pixel(x, y);
+            }
+        }
+    };
+    std::vector<std::thread> workers;
+    for (int t = 1; t < thread_count; ++t) {
+        workers.emplace_back(work);
+    }
+    work();
+    for (std::thread& worker : workers) {
+        worker.join();
+    }
+
+    result.noise.object = relative_noise(luminance_a, luminance_b, result.surfaces,
+                                         ReferenceSurface::Object, result.noise.object_pixels);
+    result.noise.ground = relative_noise(luminance_a, luminance_b, result.surfaces,
+                                         ReferenceSurface::Ground, result.noise.ground_pixels);
+    result.render_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace oer

@@ -1,0 +1,434 @@
+// The reference renderer against answers known without it: the furnace (a white sphere under a
+// constant map), the brute-force irradiance of a real map on a convex object, and a box's
+// shadow on the ground where ray geometry puts it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <optional>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "oer/core/error.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/light_location.hpp"
+#include "oer/lighting/reference_irradiance.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/reference/reference_renderer.hpp"
+#include "synthetic_maps.hpp"
+#include "test_meshes.hpp"
+
+using namespace oer;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A request of one object under `map`, seen from `eye` towards `target` (fov 40 degrees).
+FrameRequest request_for(const HdrImage& map, const RigOptions& rig_options, Mesh mesh,
+                         glm::vec3 eye, glm::vec3 target, int size) {
+    FrameRequest request;
+    request.rig = std::make_shared<const Rig>(build_rig(map, {}, rig_options));
+    request.environment_map = std::make_shared<const HdrImage>(map);
+    request.objects.push_back(
+        {std::make_shared<const Mesh>(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
+    request.camera = Camera{eye, target, {0.0f, 1.0f, 0.0f}, 40.0f};
+    request.width = size;
+    request.height = size;
+    request.ground = false;
+    request.background.kind = BackgroundKind::Transparent;
+    request.linear = true;
+    return request;
+}
+
+RigOptions plain_rig(int lights) {
+    RigOptions options;
+    options.light_count = lights;
+    options.sh_order = 3;
+    return options;
+}
+
+// A sphere of `albedo`, radius 0.8 about the origin, seen from (0, 0, 3) under constant
+// `radiance`: the furnace.
+FrameRequest furnace_request(glm::vec3 radiance, glm::vec3 albedo, int segments, int size) {
+    return request_for(oer::testing::constant_map(64, 32, radiance), plain_rig(0),
+                       oer::testing::uv_sphere({0, 0, 0}, 0.8f, segments, segments / 2, albedo),
+                       {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, size);
+}
+
+glm::dvec3 rgb_at(const ReferenceFrame& frame, std::size_t index) {
+    return {frame.linear[index * 4], frame.linear[index * 4 + 1], frame.linear[index * 4 + 2]};
+}
+
+double alpha_at(const ReferenceFrame& frame, std::size_t index) {
+    return frame.linear[index * 4 + 3];
+}
+
+// The ray through image position (x, y), in pixels from the top left, of a square frame, as
+// the renderer casts it.
+glm::dvec3 pixel_ray(const Camera& camera, int size, double x, double y) {
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(camera.target - camera.eye));
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(camera.up)));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const double t = std::tan(glm::radians(double(camera.fov_y)) / 2.0);
+    return glm::normalize(forward + (2.0 * x / size - 1.0) * t * right +
+                          (1.0 - 2.0 * y / size) * t * up);
+}
+
+// The nearest hit of a ray on a sphere, if any.
+std::optional<glm::dvec3> hit_sphere(glm::dvec3 origin, glm::dvec3 direction, glm::dvec3 centre,
+                                     double radius) {
+    const glm::dvec3 oc = origin - centre;
+    const double b = glm::dot(oc, direction), c = glm::dot(oc, oc) - radius * radius;
+    const double discriminant = b * b - c;
+    if (discriminant < 0.0) {
+        return std::nullopt;
+    }
+    return origin + (-b - std::sqrt(discriminant)) * direction;
+}
+
+bool hits_box(glm::dvec3 origin, glm::dvec3 direction, glm::dvec3 low, glm::dvec3 high) {
+    double near_t = 1e-9, far_t = 1e30;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(direction[a]) < 1e-12) {
+            if (origin[a] < low[a] || origin[a] > high[a]) {
+                return false;
+            }
+            continue;
+        }
+        double t0 = (low[a] - origin[a]) / direction[a], t1 = (high[a] - origin[a]) / direction[a];
+        if (t0 > t1) {
+            std::swap(t0, t1);
+        }
+        near_t = std::max(near_t, t0);
+        far_t = std::min(far_t, t1);
+    }
+    return near_t <= far_t;
+}
+
+TEST(ReferenceRendererFurnace, CosineSamplingGivesExactlyTheMapsRadiance) {
+    // A white Lambertian sphere under constant radiance L reflects exactly L wherever it sees
+    // the map alone (DESIGN.md section 3): with cosine sampling each sample is L itself.
+    const glm::vec3 radiance(0.5f, 0.75f, 1.25f);
+    FrameRequest request = furnace_request(radiance, glm::vec3(1.0f), 192, 32);
+    ReferenceOptions options;
+    options.sampling = ReferenceSampling::Cosine;
+    options.samples = 8;
+    const ReferenceFrame frame = render_reference(request, options);
+    ASSERT_EQ(frame.linear.size(), 32u * 32u * 4u);
+    int checked = 0;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
+        if (frame.surfaces[i] != ReferenceSurface::Object || alpha_at(frame, i) < 1.0) {
+            continue;
+        }
+        ++checked;
+        const glm::dvec3 value = rgb_at(frame, i);
+        for (int c = 0; c < 3; ++c) {
+            largest = std::max(largest, std::abs(value[c] / radiance[c] - 1.0));
+        }
+    }
+    std::printf("furnace, cosine sampling: %d pixels, largest relative error %.2e\n", checked,
+                largest);
+    ASSERT_GT(checked, 300);
+    // Float rounding only (measured 0): a direction of the shading normal's hemisphere could
+    // enter the sphere where a facet tilts from it, but none does at 192x96 facets.
+    EXPECT_LT(largest, 1e-6);
+}
+
+TEST(ReferenceRendererFurnace, MisIsWithinItsNoiseAndUnbiased) {
+    const glm::vec3 radiance(1.0f, 1.0f, 1.0f);
+    FrameRequest request = furnace_request(radiance, glm::vec3(1.0f), 192, 32);
+    ReferenceOptions options;
+    options.samples = 16;
+    const ReferenceFrame frame = render_reference(request, options);
+    double squared = 0.0, signed_sum = 0.0;
+    int checked = 0;
+    for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
+        if (frame.surfaces[i] != ReferenceSurface::Object || alpha_at(frame, i) < 1.0) {
+            continue;
+        }
+        ++checked;
+        const double error = rgb_at(frame, i).g - 1.0;
+        squared += error * error;
+        signed_sum += error;
+    }
+    const double rms = std::sqrt(squared / checked), bias = signed_sum / checked;
+    std::printf(
+        "furnace, MIS: %d pixels, relative RMS error %.4f, estimated noise %.4f, "
+        "mean error %.5f\n",
+        checked, rms, frame.noise.object, bias);
+    ASSERT_GT(checked, 300);
+    EXPECT_GT(frame.noise.object, 0.0);
+    EXPECT_LT(rms, 3.0 * frame.noise.object);
+    // The mean of `checked` independent errors: within 4 standard errors of 0.
+    EXPECT_LT(std::abs(bias), 4.0 * rms / std::sqrt(double(checked)));
+}
+
+TEST(ReferenceRendererFurnace, SameImageWhateverTheThreadCount) {
+    FrameRequest request = furnace_request(glm::vec3(1.0f), glm::vec3(0.5f), 32, 16);
+    ReferenceOptions options;
+    options.samples = 4;
+    options.threads = 1;
+    const ReferenceFrame one = render_reference(request, options);
+    options.threads = 3;
+    const ReferenceFrame three = render_reference(request, options);
+    EXPECT_EQ(one.linear, three.linear);
+    options.seed = 2;
+    EXPECT_NE(render_reference(request, options).linear, one.linear);
+}
+
+TEST(ReferenceRendererFurnace, RejectsOddSamplesAndAMissingMap) {
+    FrameRequest request = furnace_request(glm::vec3(1.0f), glm::vec3(0.5f), 8, 8);
+    ReferenceOptions options;
+    options.samples = 3;
+    EXPECT_THROW(render_reference(request, options), Error);
+    options.samples = 2;
+    request.environment_map = nullptr;
+    EXPECT_THROW(render_reference(request, options), Error);
+}
+
+// A convex object sees the whole map above its tangent plane: the reference must be the
+// brute-force irradiance sum over texels of L cos dOmega (in double) times albedo / pi, here
+// with the map turned by a yaw and its brightest light dimmed, which the brute force applies
+// to the map itself.
+TEST(ReferenceRendererConvex, SphereMatchesTheBruteForceIrradianceOfARealWorld) {
+    const std::filesystem::path path = "/usr/share/blender/datafiles/studiolights/world/forest.exr";
+    if (!std::filesystem::exists(path)) {
+        GTEST_SKIP() << "SKIPPED LOUDLY: " << path << " is missing (install blender-data)";
+    }
+    const HdrImage map = load_image_file(path.string()).image;
+    const glm::vec3 albedo(0.9f, 0.6f, 0.3f);
+    const int size = 40;
+    FrameRequest request =
+        request_for(map, plain_rig(2), oer::testing::uv_sphere({0, 0, 0}, 0.8f, 192, 96, albedo),
+                    {0.5f, 0.8f, 2.8f}, {0.0f, 0.0f, 0.0f}, size);
+    ASSERT_GE(request.rig->lights.size(), 1u);
+    const float weight = 0.25f;
+    request.lights.assign(request.rig->lights.size(), 1.0f);
+    request.lights[0] = weight;
+    request.environment_yaw = 70.0;
+    ReferenceOptions options;
+    options.samples = 64;
+    const ReferenceFrame frame = render_reference(request, options);
+
+    HdrImage weighted = map;
+    for (const std::uint32_t pixel : request.rig->lights[0].pixels) {
+        weighted.set(pixel, map.rgb(pixel) * weight);
+    }
+    const ReferenceIrradiance brute_force(weighted);
+    std::vector<std::size_t> pixels;
+    std::vector<glm::dvec3> normals;  // in the map's frame: the world's turned back by the yaw
+    const Camera& camera = *request.camera;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const glm::dvec3 ray = pixel_ray(camera, size, x + 0.5, y + 0.5);
+            const auto hit = hit_sphere(glm::dvec3(camera.eye), ray, glm::dvec3(0.0), 0.8);
+            const std::size_t index = std::size_t(y) * size + x;
+            // Away from the silhouette, where a pixel's samples all land on the sphere.
+            if (hit && glm::dot(glm::normalize(*hit), -ray) > 0.4 && alpha_at(frame, index) == 1) {
+                pixels.push_back(index);
+                normals.push_back(
+                    equirect::rotate_yaw(glm::normalize(*hit), -request.environment_yaw));
+            }
+        }
+    }
+    ASSERT_GT(pixels.size(), 400u);
+    const std::vector<glm::dvec3> irradiance = brute_force.at(normals);
+    double error = 0.0, signal = 0.0;
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+        const double expected = luminance(glm::dvec3(albedo) / kPi * irradiance[i]);
+        const double difference = luminance(rgb_at(frame, pixels[i])) - expected;
+        error += difference * difference;
+        signal += expected * expected;
+    }
+    const double relative_error = std::sqrt(error / signal);
+    std::printf(
+        "forest, sphere, %zu pixels: relative RMS error %.4f against the brute force, "
+        "estimated noise %.4f\n",
+        pixels.size(), relative_error, frame.noise.object);
+    EXPECT_GT(frame.noise.object, 0.0);
+    EXPECT_LT(relative_error, 3.0 * frame.noise.object);
+}
+
+// A box on the ground under one small bright light in a dim sky: ground points from which the
+// box hides the whole light disc are darker by the light's irradiance, points that see all of
+// it are not, as ray geometry says; dimming the light scales what it adds.
+TEST(ReferenceRendererShadow, BoxShadowLandsWhereGeometryPutsIt) {
+    const double elevation = glm::radians(40.0), disc_radius = glm::radians(3.0);
+    const glm::dvec3 to_light(std::cos(elevation), std::sin(elevation), 0.0);
+    const glm::vec3 sky(0.05f);
+    const HdrImage map =
+        oer::testing::disc_map(512, 256, sky, {{to_light, disc_radius, glm::vec3(600.0f)}});
+    const glm::vec3 low(-0.3f, 0.0f, -0.3f), high(0.3f, 0.6f, 0.3f);
+    const int size = 64;
+    FrameRequest request =
+        request_for(map, plain_rig(1), oer::testing::box(low, high, glm::vec3(0.5f)),
+                    {0.6f, 2.6f, 2.4f}, {-0.5f, 0.0f, 0.0f}, size);
+    request.ground = true;
+    ASSERT_EQ(request.rig->lights.size(), 1u);
+    ASSERT_GT(glm::dot(request.rig->lights[0].direction, to_light), std::cos(disc_radius));
+
+    // The ground's irradiance from the light's pixels (the rig's mask) and from the rest of
+    // the map's upper hemisphere, brute force.
+    const equirect::Grid grid(map.width, map.height);
+    std::vector<bool> in_light(map.pixel_count(), false);
+    for (const std::uint32_t pixel : request.rig->lights[0].pixels) {
+        in_light[pixel] = true;
+    }
+    double light_irradiance = 0.0, rest_irradiance = 0.0;
+    for (std::size_t i = 0; i < map.pixel_count(); ++i) {
+        const double up = std::max(0.0, grid.direction(i).y);
+        const double value = luminance(glm::dvec3(map.rgb(i))) * up *
+                             grid.row_solid_angle[i / std::size_t(map.width)];
+        (in_light[i] ? light_irradiance : rest_irradiance) += value;
+    }
+    ASSERT_GT(light_irradiance, 10.0 * rest_irradiance);
+    const double ground_albedo = 0.8;
+
+    // Ground pixels classified by rays from their centre and their corners towards the disc's
+    // centre and rim: wholly in the shadow, wholly lit, or neither (not checked).
+    const Camera& camera = *request.camera;
+    std::vector<int> kind(std::size_t(size) * size, 0);  // 1 shadow, 2 lit
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            int blocked = 0, open = 0;
+            for (const auto& [dx, dy] :
+                 {std::pair{0.0, 0.0}, {-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}}) {
+                const glm::dvec3 ray = pixel_ray(camera, size, x + 0.5 + dx, y + 0.5 + dy);
+                const glm::dvec3 eye(camera.eye);
+                if (ray.y >= 0.0 || hits_box(eye, ray, glm::dvec3(low), glm::dvec3(high))) {
+                    open = blocked = 1;  // not ground: leave the pixel out
+                    break;
+                }
+                const glm::dvec3 ground = eye + (-eye.y / ray.y) * ray;
+                for (int r = 0; r <= 8; ++r) {
+                    glm::dvec3 direction = to_light;
+                    if (r > 0) {
+                        const double a = 2.0 * kPi * r / 8.0;
+                        const glm::dvec3 side(-to_light.y, to_light.x, 0.0), depth(0, 0, 1);
+                        direction = glm::normalize(to_light +
+                                                   1.2 * std::tan(disc_radius) *
+                                                       (std::cos(a) * side + std::sin(a) * depth));
+                    }
+                    (hits_box(ground, direction, glm::dvec3(low), glm::dvec3(high)) ? blocked
+                                                                                    : open) = 1;
+                }
+            }
+            kind[std::size_t(y) * size + x] = blocked && !open ? 1 : open && !blocked ? 2 : 0;
+        }
+    }
+
+    ReferenceOptions options;
+    options.samples = 64;
+    for (const float weight : {1.0f, 2.0f, 0.0f}) {
+        request.lights = {weight};
+        const ReferenceFrame frame = render_reference(request, options);
+        const double light_part = ground_albedo / kPi * weight * light_irradiance;
+        const double rest_part = ground_albedo / kPi * rest_irradiance;
+        int shadow = 0, lit = 0;
+        double shadow_sum = 0.0, lit_sum = 0.0;
+        for (std::size_t i = 0; i < kind.size(); ++i) {
+            if (kind[i] == 0) {
+                continue;
+            }
+            ASSERT_EQ(frame.surfaces[i], ReferenceSurface::Ground) << "pixel " << i;
+            const double value = luminance(rgb_at(frame, i));
+            // Per pixel, bounds wide enough for the noise (the map's samples miss the light
+            // one time in twenty: 3 % a pixel at 64 samples, outliers at 4 times that) and
+            // tight against the light's share (over 10 times the sky's).
+            if (kind[i] == 1) {
+                ++shadow;
+                shadow_sum += value;
+                EXPECT_LT(value, 1.5 * rest_part)
+                    << "pixel " << i << " in the shadow, weight " << weight;
+            } else {
+                ++lit;
+                lit_sum += value;
+                EXPECT_GT(value, 0.8 * light_part) << "lit pixel " << i << ", weight " << weight;
+                EXPECT_LT(value, 1.2 * light_part + 1.5 * rest_part)
+                    << "lit pixel " << i << ", weight " << weight;
+            }
+        }
+        ASSERT_GT(shadow, 60);
+        ASSERT_GT(lit, 300);
+        // On average the shadow is darker by the light's share, within the sky's part that
+        // the box hides (less near the box, where the shadow is, than elsewhere).
+        const double darkening = lit_sum / lit - shadow_sum / shadow;
+        std::printf(
+            "weight %.0f: %d shadow and %d lit ground pixels, darker by %.4f in the "
+            "shadow against the light's %.4f (sky %.4f), noise %.4f\n",
+            weight, shadow, lit, darkening, light_part, rest_part, frame.noise.ground);
+        EXPECT_NEAR(darkening, light_part, 0.3 * rest_part + 0.02 * light_part);
+    }
+}
+
+// A sphere floating above the ground under constant radiance L. Without a bounce a point of
+// normal n sees the sky above the horizon only: rho L (1 + n_y) / 2, the cosine lobe's share
+// of the upper half-space. One bounce adds the ground below, of radiance 0.8 L where the
+// sphere does not shadow it: rho 0.8 L (1 - n_y) / 2, less the sphere's own shadow (at most
+// (r / d)^2 = 6 % of the sky of a ground point under it).
+TEST(ReferenceRendererBounce, OneBounceAddsTheLitGroundBelow) {
+    const float radius = 0.25f;
+    const glm::vec3 centre(0.0f, 1.0f, 0.0f);
+    const glm::vec3 albedo(0.5f);
+    const int size = 48;
+    FrameRequest request =
+        request_for(oer::testing::constant_map(64, 32, glm::vec3(1.0f)), plain_rig(0),
+                    oer::testing::uv_sphere(centre, radius, 192, 96, albedo), {0.0f, 0.45f, 1.6f},
+                    centre, size);
+    // A speck far away puts the ground at y = 0, 0.75 below the sphere.
+    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
+                                   {3.0f, 0.0f, 3.0f}, {3.02f, 0.02f, 3.02f}, albedo)),
+                               glm::mat4(1.0f), std::nullopt});
+    request.ground = true;
+    ReferenceOptions options;
+    options.samples = 64;
+    const ReferenceFrame none = render_reference(request, options);
+    options.bounce = Bounce::One;
+    const ReferenceFrame one = render_reference(request, options);
+
+    const Camera& camera = *request.camera;
+    double none_error = 0.0, none_signal = 0.0, added = 0.0, added_expected = 0.0;
+    int checked = 0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const glm::dvec3 ray = pixel_ray(camera, size, x + 0.5, y + 0.5);
+            const auto hit =
+                hit_sphere(glm::dvec3(camera.eye), ray, glm::dvec3(centre), double(radius));
+            const std::size_t index = std::size_t(y) * size + x;
+            if (!hit) {
+                continue;
+            }
+            const glm::dvec3 n = glm::normalize(*hit - glm::dvec3(centre));
+            if (glm::dot(n, -ray) < 0.4 || alpha_at(none, index) < 1.0) {
+                continue;
+            }
+            ++checked;
+            const double sky = 0.5 * (1.0 + n.y) * albedo.g;
+            const double ground = 0.8 * 0.5 * (1.0 - n.y) * albedo.g;
+            const double without = rgb_at(none, index).g, with = rgb_at(one, index).g;
+            none_error += (without - sky) * (without - sky);
+            none_signal += sky * sky;
+            added += with - without;
+            added_expected += ground;
+        }
+    }
+    ASSERT_GT(checked, 150);
+    const double none_relative = std::sqrt(none_error / none_signal);
+    const double added_ratio = added / added_expected;
+    std::printf(
+        "%d pixels: bounce none against the sky's share, relative RMS %.4f (noise "
+        "%.4f); bounce one adds %.3f of the unshadowed ground's share\n",
+        checked, none_relative, none.noise.object, added_ratio);
+    EXPECT_LT(none_relative, 3.0 * none.noise.object);
+    EXPECT_GT(added_ratio, 0.9);
+    EXPECT_LT(added_ratio, 1.01);
+}
+
+}  // namespace
