@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <string>
 
@@ -119,6 +120,31 @@ std::vector<std::vector<std::uint32_t>> downsample_light_pixels(
         }
     }
     return reduced;
+}
+
+DiscMap make_disc_map(int width, int height, glm::vec3 sky, std::span<const Disc> discs) {
+    DiscMap map{HdrImage(width, height), std::vector<std::vector<std::uint32_t>>(discs.size())};
+    const equirect::Grid grid(width, height);
+    std::vector<glm::dvec3> centres;
+    std::vector<double> cos_radii;
+    for (const Disc& disc : discs) {
+        centres.push_back(disc_centre(disc));
+        cos_radii.push_back(std::cos(disc.radius_degrees * std::numbers::pi / 180.0));
+    }
+    for (std::size_t i = 0; i < map.image.pixel_count(); ++i) {
+        const glm::dvec3 d = grid.direction(i);
+        std::size_t painter = discs.size();
+        for (std::size_t k = 0; k < discs.size(); ++k) {
+            if (glm::dot(d, centres[k]) >= cos_radii[k]) {
+                painter = k;
+            }
+        }
+        map.image.set(i, painter < discs.size() ? discs[painter].radiance : sky);
+        if (painter < discs.size()) {
+            map.disc_pixels[painter].push_back(std::uint32_t(i));
+        }
+    }
+    return map;
 }
 
 IrradianceError irradiance_error(std::span<const glm::dvec3> approx,

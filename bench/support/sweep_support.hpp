@@ -54,6 +54,15 @@ HdrImage downsample_equirect(const HdrImage& image, int factor);
 std::vector<std::vector<std::uint32_t>> downsample_light_pixels(
     const HdrImage& image, std::span<const std::vector<std::uint32_t>> light_pixels, int factor);
 
+// A map of constant sky radiance with hard-edged discs painted over it (a pixel takes a disc's
+// radiance when its centre lies within the disc; a later disc paints over an earlier one), and
+// each disc's pixels as painted: the known lights of the light-location sweep.
+struct DiscMap {
+    HdrImage image;
+    std::vector<std::vector<std::uint32_t>> disc_pixels;  // per disc, sorted
+};
+DiscMap make_disc_map(int width, int height, glm::vec3 sky, std::span<const Disc> discs);
+
 // Irradiance of an approximation against the truth at the same normals.
 struct IrradianceError {
     // sqrt(sum |approx - truth|^2) / sqrt(sum |truth|^2) over normals and RGB
