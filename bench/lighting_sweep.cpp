@@ -39,7 +39,7 @@ const char* const kWorldDirectory = "/usr/share/blender/datafiles/studiolights/w
 // well under a second a map.
 constexpr int kNormals = 512;
 constexpr int kMaxOrder = 9;
-constexpr int kFullRepetitions = 5;
+constexpr int kFullRepetitions = 9;
 constexpr int kQuickRepetitions = 3;
 
 enum class WindowMode { None, Hanning, Lanczos, Auto };
