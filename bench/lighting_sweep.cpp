@@ -316,6 +316,31 @@ void print_world(const WorldResult& world) {
     std::fflush(stdout);
 }
 
+// Across the worlds: how often the defaults' choice (auto order, no window, full resolution)
+// is on its world's front, and its worst-subset error.
+void print_overview(const std::vector<WorldResult>& worlds) {
+    std::size_t on_front = 0;
+    double largest_error = 0.0;
+    std::string off_front;
+    for (const WorldResult& world : worlds) {
+        const Configuration* chosen = auto_configuration(world, WindowMode::None);
+        if (chosen == nullptr) {
+            continue;
+        }
+        largest_error = std::max(largest_error, chosen->worst_relative_rms);
+        if (front_verdict(world, *chosen) == "on the front") {
+            ++on_front;
+        } else {
+            off_front += " " + world.name;
+        }
+    }
+    std::printf(
+        "\nThe defaults (auto order, window none, full resolution) are on the front on %zu of %zu "
+        "worlds%s%s;\ntheir worst subset's relative RMS is at most %.3f %%.\n",
+        on_front, worlds.size(), off_front.empty() ? "" : ", not on:", off_front.c_str(),
+        100.0 * largest_error);
+}
+
 nlohmann::json configuration_json(const Configuration& c) {
     return {{"order", c.order},
             {"window", name_of(c.window)},
@@ -429,6 +454,7 @@ int main(int argc, char** argv) {
         if (!arguments.csv_path.empty()) {
             oer::bench::write_text_file(arguments.csv_path, to_csv(rows));
         }
+        print_overview(worlds);
         std::printf("\n%zu rows; sweep took %.1f s\n", rows.size(), ms_since(start) / 1e3);
         return 0;
     } catch (const std::exception& e) {
