@@ -15,25 +15,6 @@ namespace oer {
 
 namespace {
 
-SceneBounds scene_bounds(const std::vector<SceneObject>& objects) {
-    std::vector<Bounds> boxes;
-    for (const SceneObject& object : objects) {
-        boxes.push_back(transformed_bounds(object.mesh->bounds, object.transform));
-    }
-    SceneBounds scene;
-    scene.box = enclosing_bounds(boxes);
-    scene.centre = scene.box.centre();
-    // The radius follows the scene however small: a floor of 1e-4 fitted the shadow maps, their
-    // normal offset and bias of a 1e-6-unit scene to a sphere 190 times too large, detaching its
-    // shadows (tests/gl, ShadowsLandWhereGeometryPutsThemAtEveryScale). It stays above float's
-    // resolution of the centre's position (2^-23 of it), so that the light's eye, 2 radii from
-    // the centre, is a distinct point; a scene of no extent (no objects, one point) keeps 1e-4.
-    const float half_diagonal = 0.5f * glm::length(scene.box.max - scene.box.min);
-    scene.radius =
-        half_diagonal > 0.0f ? std::max(half_diagonal, 1e-6f * glm::length(scene.centre)) : 1e-4f;
-    return scene;
-}
-
 // Orthographic light view fitted to the scene's bounding sphere along the light's direction.
 glm::mat4 light_matrix(const glm::vec3& direction, const SceneBounds& scene) {
     const glm::vec3 up = std::abs(direction.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
@@ -88,7 +69,7 @@ void add_camera(FrameContext& frame) {
     const SceneBounds& scene = frame.scene;
     const float aspect = float(request.width) / float(request.height);
     frame.camera = request.camera.value_or(frame_bounds(scene.box, 45.0f, aspect));
-    frame.ground_half_size = 20.0f * scene.radius;
+    frame.ground_half_size = scene.ground_half_size();
     const float eye_distance = glm::length(frame.camera.eye - scene.centre);
     const float far_plane =
         eye_distance + (request.ground ? 1.5f * frame.ground_half_size : 2.0f * scene.radius);

@@ -12,6 +12,7 @@
 
 #include "gl_program.hpp"
 #include "oer/gl/frame_request.hpp"
+#include "oer/gl/scene_bounds.hpp"
 #include "oer/lighting/sh.hpp"
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/mesh.hpp"
@@ -23,12 +24,6 @@ namespace oer {
 constexpr int kBackgroundSurface = 0;
 constexpr int kObjectSurface = 1;
 constexpr int kGroundSurface = 2;
-
-struct SceneBounds {
-    Bounds box;  // world space, of every object's transformed mesh bounds
-    glm::vec3 centre{0.0f};
-    float radius = 1.0f;
-};
 
 struct FrameContext {
     explicit FrameContext(const FrameRequest& request_) : request(request_), rig(*request_.rig) {}

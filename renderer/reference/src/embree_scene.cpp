@@ -63,20 +63,7 @@ RTCRay make_ray(const glm::dvec3& origin, const glm::dvec3& direction, double t_
 
 }  // namespace
 
-SceneFrame scene_frame(const std::vector<SceneObject>& objects) {
-    std::vector<Bounds> boxes;
-    for (const SceneObject& object : objects) {
-        boxes.push_back(transformed_bounds(object.mesh->bounds, object.transform));
-    }
-    SceneFrame frame;
-    frame.box = enclosing_bounds(boxes);
-    frame.centre = frame.box.centre();
-    frame.radius = std::max(1e-4f, 0.5f * glm::length(frame.box.max - frame.box.min));
-    frame.ground_half_size = 20.0f * frame.radius;
-    return frame;
-}
-
-EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneFrame& frame) {
+EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) {
     device_ = rtcNewDevice(nullptr);
     if (device_ == nullptr) {
         throw Error(ErrorKind::Internal, "reference: rtcNewDevice failed (RTCError " +
@@ -114,7 +101,7 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneFrame& frame) {
     if (request.ground) {
         // The renderer's unit ground (renderer_state.cpp), albedo 0.8 (DESIGN.md section 7).
         Geometry ground;
-        const float h = frame.ground_half_size, y = frame.box.min.y;
+        const float h = frame.ground_half_size(), y = frame.box.min.y;
         const glm::vec3 c = frame.centre;
         ground.positions = {{c.x - h, y, c.z + h},
                             {c.x + h, y, c.z + h},

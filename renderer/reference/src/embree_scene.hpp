@@ -14,20 +14,10 @@
 #include <glm/vec3.hpp>
 
 #include "oer/gl/frame_request.hpp"
+#include "oer/gl/scene_bounds.hpp"
 #include "oer/mesh/camera.hpp"
 
 namespace oer::reference {
-
-// The ground plane of the renderer (renderer/gl/src/frame_context.cpp and the geometry pass):
-// the objects' transformed bounds, the plane y = their lowest y, a square centred under their
-// centre with half side 20 times the radius of their bounding sphere.
-struct SceneFrame {
-    Bounds box;
-    glm::vec3 centre{0.0f};
-    float radius = 1.0f;
-    float ground_half_size = 0.0f;
-};
-SceneFrame scene_frame(const std::vector<SceneObject>& objects);
 
 struct SurfaceHit {
     glm::dvec3 position{0.0};
@@ -40,7 +30,9 @@ struct SurfaceHit {
 class EmbreeScene {
   public:
     // Throws oer::Error (Internal) when Embree fails, with its message.
-    EmbreeScene(const FrameRequest& request, const SceneFrame& frame);
+    // frame: the scene's bounds as the GL renderer has them (oer/gl/scene_bounds.hpp), whose ground
+    // plane (y = the box's lowest y, half side ground_half_size()) the reference traces too.
+    EmbreeScene(const FrameRequest& request, const SceneBounds& frame);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;

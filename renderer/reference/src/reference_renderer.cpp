@@ -219,7 +219,7 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
     validate(request, options);
     const auto start = std::chrono::steady_clock::now();
     const int width = request.width, height = request.height;
-    const reference::SceneFrame frame = reference::scene_frame(request.objects);
+    const SceneBounds frame = scene_bounds(request.objects);
     const EmbreeScene scene(request, frame);
     const EnvironmentSampler environment(*request.environment_map, *request.rig, request.lights,
                                          request.environment_yaw);

@@ -1,0 +1,42 @@
+#pragma once
+// The bounds of a frame's scene, from its objects: what the automatic framing frames, the shadow
+// maps cover and the ground plane spans. One definition for the GL renderer and the reference
+// renderer (renderer/reference), so that both light, shadow and ground the same scene.
+#include <algorithm>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "oer/gl/frame_request.hpp"
+
+namespace oer {
+
+struct SceneBounds {
+    Bounds box;  // world space, of every object's transformed mesh bounds
+    glm::vec3 centre{0.0f};
+    float radius = 1.0f;
+    // Half the side of the square ground plane under the scene (at the box's lowest y): 20
+    // radii, far enough that its edge is rarely in view and casts nothing onto the scene.
+    float ground_half_size() const { return 20.0f * radius; }
+};
+
+inline SceneBounds scene_bounds(const std::vector<SceneObject>& objects) {
+    std::vector<Bounds> boxes;
+    for (const SceneObject& object : objects) {
+        boxes.push_back(transformed_bounds(object.mesh->bounds, object.transform));
+    }
+    SceneBounds scene;
+    scene.box = enclosing_bounds(boxes);
+    scene.centre = scene.box.centre();
+    // The radius follows the scene however small: a floor of 1e-4 fitted the shadow maps, their
+    // normal offset and bias of a 1e-6-unit scene to a sphere 190 times too large, detaching its
+    // shadows (tests/gl, ShadowsLandWhereGeometryPutsThemAtEveryScale). It stays above float's
+    // resolution of the centre's position (2^-23 of it), so that the light's eye, 2 radii from
+    // the centre, is a distinct point; a scene of no extent (no objects, one point) keeps 1e-4.
+    const float half_diagonal = 0.5f * glm::length(scene.box.max - scene.box.min);
+    scene.radius =
+        half_diagonal > 0.0f ? std::max(half_diagonal, 1e-6f * glm::length(scene.centre)) : 1e-4f;
+    return scene;
+}
+
+}  // namespace oer
