@@ -1187,6 +1187,27 @@ std::shared_ptr<const Rig> one_light_rig(glm::dvec3 direction) {
                     1, 3);
 }
 
+// Renders the boxes under rig's light with and without shadows (box albedo 0.5, 256 pixels) and
+// expects no ground pixel misplaced and no acne, over at least the given numbers of shadowed
+// ground pixels and lit box pixels (so that a frame without the shadow or the box fails);
+// `label` names the case in the printed figures and in failures, unit is check_shadows's.
+void expect_shadows_in_place(const std::function<Frame(const FrameRequest&)>& render,
+                             std::shared_ptr<const Rig> rig, const std::vector<Box>& boxes,
+                             const Camera& camera, const std::string& label,
+                             int least_shadow_pixels, int least_lit_faces, double unit = 1.0) {
+    const auto [shadowed, unshadowed] = render_boxes(render, rig, boxes, camera, 256);
+    const ShadowCheck check = check_shadows(shadowed, unshadowed, *rig, boxes, camera, 0.5f, unit);
+    std::printf(
+        "[ measured ] %s: %d shadow, %d lit ground pixels, %d misplaced; %d lit box pixels, %d "
+        "with acne\n",
+        label.c_str(), check.shadow_pixels, check.lit_pixels, check.misplaced, check.lit_faces,
+        check.acne);
+    EXPECT_GT(check.shadow_pixels, least_shadow_pixels) << label;
+    EXPECT_GT(check.lit_faces, least_lit_faces) << label;
+    EXPECT_EQ(check.misplaced, 0) << label;
+    EXPECT_EQ(check.acne, 0) << label;
+}
+
 }  // namespace
 
 TEST_F(FrameRendererTest, ShadowsLandWhereGeometryPutsThemAtEveryScale) {
@@ -1207,19 +1228,9 @@ TEST_F(FrameRendererTest, ShadowsLandWhereGeometryPutsThemAtEveryScale) {
         camera.target = {0.0f, 0.0f, 0.0f};
         camera.up = {0.0f, 0.0f, -1.0f};
         camera.fov_y = 30.0f;
-        const auto [shadowed, unshadowed] =
-            render_boxes([](const FrameRequest& r) { return render(r); }, rig, boxes, camera, 256);
-        const ShadowCheck check =
-            check_shadows(shadowed, unshadowed, *rig, boxes, camera, 0.5f, scale);
-        std::printf(
-            "[ measured ] scale %g: %d shadow, %d lit ground pixels, %d misplaced; %d lit "
-            "box pixels, %d with acne\n",
-            scale, check.shadow_pixels, check.lit_pixels, check.misplaced, check.lit_faces,
-            check.acne);
-        EXPECT_GT(check.shadow_pixels, 1000) << scale;
-        EXPECT_GT(check.lit_faces, 1000) << scale;
-        EXPECT_EQ(check.misplaced, 0) << scale;
-        EXPECT_EQ(check.acne, 0) << scale;
+        char label[32];
+        std::snprintf(label, sizeof label, "scale %g", scale);
+        expect_shadows_in_place(render, rig, boxes, camera, label, 1000, 1000, scale);
     }
 }
 
@@ -1238,18 +1249,9 @@ TEST_F(FrameRendererTest, GrazingLightsCastLongShadowsWithoutAcne) {
         const auto rig = one_light_rig(
             {std::cos(e) * std::cos(azimuth), std::sin(e), std::cos(e) * std::sin(azimuth)});
         ASSERT_EQ(rig->lights.size(), 1u);
-        const auto [shadowed, unshadowed] =
-            render_boxes([](const FrameRequest& r) { return render(r); }, rig, boxes, above, 256);
-        const ShadowCheck check = check_shadows(shadowed, unshadowed, *rig, boxes, above, 0.5f);
-        std::printf(
-            "[ measured ] light %.0f degrees up: %d shadow, %d lit ground pixels, %d "
-            "misplaced; %d lit box pixels, %d with acne\n",
-            elevation, check.shadow_pixels, check.lit_pixels, check.misplaced, check.lit_faces,
-            check.acne);
-        EXPECT_GT(check.shadow_pixels, 200) << elevation;
-        EXPECT_GT(check.lit_faces, 20) << elevation;
-        EXPECT_EQ(check.misplaced, 0) << elevation;
-        EXPECT_EQ(check.acne, 0) << elevation;
+        char label[40];
+        std::snprintf(label, sizeof label, "light %.0f degrees up", elevation);
+        expect_shadows_in_place(render, rig, boxes, above, label, 200, 20);
     }
 }
 
@@ -1275,18 +1277,10 @@ TEST_F(FrameRendererTest, LightsAtThePoleAndOnTheSeamCastTheirShadows) {
         Rig exact = *found;
         exact.lights[0].direction = glm::normalize(direction);
         const auto rig = std::make_shared<const Rig>(std::move(exact));
-        const auto [shadowed, unshadowed] = render_boxes(
-            [](const FrameRequest& r) { return render(r); }, rig, boxes, low_front, 256);
-        const ShadowCheck check = check_shadows(shadowed, unshadowed, *rig, boxes, low_front, 0.5f);
-        std::printf(
-            "[ measured ] light towards %.1f,%.1f,%.1f: %d shadow, %d lit ground "
-            "pixels, %d misplaced; %d lit box pixels, %d with acne\n",
-            direction.x, direction.y, direction.z, check.shadow_pixels, check.lit_pixels,
-            check.misplaced, check.lit_faces, check.acne);
-        EXPECT_GT(check.shadow_pixels, 500);
-        EXPECT_GT(check.lit_faces, 500);
-        EXPECT_EQ(check.misplaced, 0);
-        EXPECT_EQ(check.acne, 0);
+        char label[48];
+        std::snprintf(label, sizeof label, "light towards %.1f,%.1f,%.1f", direction.x, direction.y,
+                      direction.z);
+        expect_shadows_in_place(render, rig, boxes, low_front, label, 500, 500);
     }
 }
 
