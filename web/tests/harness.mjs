@@ -89,15 +89,35 @@ export const RECORD_EVENTS = () => {
   }, true);
   document.addEventListener('error', (event) => {
     if (event.target?.localName === 'oer-viewer') {
-      window.oerErrors.push(event.detail);
+      window.oerErrors.push({ ...event.detail, afterFrames: window.oerFrames.length });
     }
   }, true);
 };
 
-// Waits for a full (not preview) frame after the first `after` frames; returns its detail.
+// Waits for a full (not preview) frame after the first `after` frames; returns its detail. An
+// error event after those frames fails at once with the element's message, and a timeout says
+// what the element showed and reported meanwhile, so that a failure in CI explains itself.
 export async function fullFrame(page, after = 0) {
-  const handle = await page.waitForFunction(
-    (count) => window.oerFrames.slice(count).findLast((frame) => !frame.preview) ?? false,
-    after, { timeout: 30000 });
-  return handle.jsonValue();
+  let handle;
+  try {
+    handle = await page.waitForFunction((count) => {
+      const error = window.oerErrors.find((reported) => reported.afterFrames >= count);
+      return (error && { error }) ??
+        window.oerFrames.slice(count).findLast((frame) => !frame.preview) ?? false;
+    }, after, { timeout: 30000 });
+  } catch (error) {
+    const seen = await page.evaluate((count) => ({
+      frames: window.oerFrames.slice(count).map(({ stage, url, cache, milliseconds }) =>
+        ({ stage, url, cache, milliseconds })),
+      errors: window.oerErrors,
+    }), after).catch(() => 'unavailable: the page is gone');
+    throw new Error(`no full frame after frame ${after}: ${error.message}\n` +
+                    `the element showed and reported meanwhile: ${JSON.stringify(seen, null, 1)}`);
+  }
+  const result = await handle.jsonValue();
+  if (result.error) {
+    throw new Error(`the element reported an error instead of a full frame: ` +
+                    `${JSON.stringify(result.error)}`);
+  }
+  return result;
 }
