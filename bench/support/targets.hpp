@@ -27,4 +27,8 @@ inline constexpr double kPreviewP50Ms = 15.0;   // preview frame while dragging
 inline constexpr double kWarmJpegP50Ms = 40.0;  // warm 512x512 JPEG, default request
 inline constexpr double kCachedFrameMs = 1.0;   // a frame already in the cache (ETag or LRU)
 
+// Frame error against the reference renderer (frame_sweep), on the product and on the ground:
+// the default's relative RMS of luminance at most this share of plain SH irradiance's.
+inline constexpr double kFrameErrorOverPlainSh = 0.5;
+
 }  // namespace oer::bench::targets

@@ -49,19 +49,16 @@ inline std::vector<std::vector<std::string>> split_csv(const std::string& text) 
     return lines;
 }
 
-// Runs `executable --quick --json F --csv F` in a fresh temporary folder (removed afterwards).
-// The JSON is parsed when the run succeeded; a parse failure is a test failure.
-inline SweepOutput run_quick_sweep(const std::string& executable) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                      ("oer-sweep-test-" + std::to_string(::getpid()) + "-" +
-                                       std::filesystem::path(executable).filename().string());
-    std::filesystem::create_directories(dir);
-    const std::filesystem::path json = dir / "sweep.json", csv = dir / "sweep.csv",
-                                out = dir / "stdout", err = dir / "stderr";
-    const std::string command = executable + " --quick --json " + json.string() + " --csv " +
-                                csv.string() + " >" + out.string() + " 2>" + err.string() +
-                                " </dev/null";
-    const int raw = std::system(command.c_str());
+// Runs `command` (its output redirected into `dir`), then reads the JSON and CSV it wrote; the
+// JSON is parsed when the run succeeded, a parse failure is a test failure. Removes `dir`,
+// after `inspect` has seen it.
+template <class Inspect>
+SweepOutput run_sweep_command(const std::string& command, const std::filesystem::path& dir,
+                              const std::filesystem::path& json, const std::filesystem::path& csv,
+                              Inspect&& inspect) {
+    const std::filesystem::path out = dir / "stdout", err = dir / "stderr";
+    const int raw =
+        std::system((command + " >" + out.string() + " 2>" + err.string() + " </dev/null").c_str());
     SweepOutput output;
     output.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
     output.stdout_text = read_whole_file(out);
@@ -70,10 +67,29 @@ inline SweepOutput run_quick_sweep(const std::string& executable) {
         try {
             output.json = nlohmann::json::parse(read_whole_file(json));
         } catch (const std::exception& e) {
-            ADD_FAILURE() << executable << " wrote JSON that does not parse: " << e.what();
+            ADD_FAILURE() << command << " wrote JSON that does not parse: " << e.what();
         }
         output.csv = split_csv(read_whole_file(csv));
+        inspect(dir);
     }
     std::filesystem::remove_all(dir);
     return output;
+}
+
+inline std::filesystem::path fresh_sweep_folder(const std::string& executable) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("oer-sweep-test-" + std::to_string(::getpid()) + "-" +
+                                       std::filesystem::path(executable).filename().string());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+// Runs `executable --quick --json F --csv F` in a fresh temporary folder (removed afterwards).
+inline SweepOutput run_quick_sweep(const std::string& executable) {
+    const std::filesystem::path dir = fresh_sweep_folder(executable);
+    const std::filesystem::path json = dir / "sweep.json", csv = dir / "sweep.csv";
+    return run_sweep_command(
+        executable + " --quick --json " + json.string() + " --csv " + csv.string(), dir, json, csv,
+        [](const std::filesystem::path&) {});
 }

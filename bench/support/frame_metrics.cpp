@@ -1,0 +1,167 @@
+#include "frame_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "oer/core/error.hpp"
+#include "oer/lighting/light_location.hpp"
+
+namespace oer::bench {
+namespace {
+
+void check_sizes(std::size_t a, std::size_t b, std::size_t mask, const char* what) {
+    if (a != b || a != mask) {
+        throw Error(ErrorKind::InvalidInput, std::string(what) + ": sizes differ (" +
+                                                 std::to_string(a) + ", " + std::to_string(b) +
+                                                 ", mask " + std::to_string(mask) + ")");
+    }
+}
+
+double yiq_y(double r, double g, double b) {
+    return r * 0.29889531 + g * 0.58662247 + b * 0.11448223;
+}
+double yiq_i(double r, double g, double b) {
+    return r * 0.59597799 - g * 0.27417610 - b * 0.32180189;
+}
+double yiq_q(double r, double g, double b) {
+    return r * 0.21147017 - g * 0.52261711 + b * 0.31114694;
+}
+// pixelmatch blends a translucent pixel over white.
+double over_white(std::uint8_t channel, double alpha) {
+    return 255.0 + (double(channel) - 255.0) * alpha;
+}
+
+}  // namespace
+
+std::vector<double> frame_luminance(std::span<const float> rgba) {
+    std::vector<double> out(rgba.size() / 4);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        out[i] = luminance(glm::dvec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]));
+    }
+    return out;
+}
+
+double relative_rms_error(std::span<const double> luminance, std::span<const double> reference,
+                          std::span<const std::uint8_t> mask) {
+    check_sizes(luminance.size(), reference.size(), mask.size(), "relative_rms_error");
+    double difference = 0.0, truth = 0.0;
+    std::size_t selected = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (mask[i] != 0) {
+            difference += (luminance[i] - reference[i]) * (luminance[i] - reference[i]);
+            truth += reference[i] * reference[i];
+            ++selected;
+        }
+    }
+    if (selected == 0 || !(truth > 0.0)) {
+        throw Error(ErrorKind::InvalidInput,
+                    "relative_rms_error: " + std::string(selected == 0 ? "no pixel selected"
+                                                                       : "the reference is black"));
+    }
+    return std::sqrt(difference / truth);
+}
+
+double least_squares_scale(std::span<const double> luminance, std::span<const double> reference,
+                           std::span<const std::uint8_t> mask) {
+    check_sizes(luminance.size(), reference.size(), mask.size(), "least_squares_scale");
+    double cross = 0.0, square = 0.0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (mask[i] != 0) {
+            cross += luminance[i] * reference[i];
+            square += luminance[i] * luminance[i];
+        }
+    }
+    if (!(square > 0.0)) {
+        throw Error(ErrorKind::InvalidInput, "least_squares_scale: the frame is black there");
+    }
+    return cross / square;
+}
+
+double yiq_delta(const std::uint8_t* a, const std::uint8_t* b) {
+    const double alpha_a = a[3] / 255.0, alpha_b = b[3] / 255.0;
+    const double r1 = over_white(a[0], alpha_a), g1 = over_white(a[1], alpha_a),
+                 b1 = over_white(a[2], alpha_a);
+    const double r2 = over_white(b[0], alpha_b), g2 = over_white(b[1], alpha_b),
+                 b2 = over_white(b[2], alpha_b);
+    const double y = yiq_y(r1, g1, b1) - yiq_y(r2, g2, b2);
+    const double i = yiq_i(r1, g1, b1) - yiq_i(r2, g2, b2);
+    const double q = yiq_q(r1, g1, b1) - yiq_q(r2, g2, b2);
+    return 0.5053 * y * y + 0.299 * i * i + 0.1957 * q * q;
+}
+
+double fidelity_db(const Rgba8Image& image, const Rgba8Image& reference,
+                   std::span<const std::uint8_t> mask) {
+    check_sizes(image.pixels.size() / 4, reference.pixels.size() / 4, mask.size(), "fidelity_db");
+    double square_sum = 0.0;
+    std::size_t selected = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (mask[i] != 0) {
+            const double delta = yiq_delta(&image.pixels[4 * i], &reference.pixels[4 * i]);
+            square_sum += delta * delta;
+            ++selected;
+        }
+    }
+    if (selected == 0) {
+        throw Error(ErrorKind::InvalidInput, "fidelity_db: no pixel selected");
+    }
+    const double ratio = std::sqrt(square_sum / double(selected)) / kMaxYiqDelta;
+    return ratio > 0.0 ? 10.0 * std::log10(ratio) : -std::numeric_limits<double>::infinity();
+}
+
+Rgba8Image display_image(std::span<const float> rgba, int width, int height, double scale,
+                         double exposure, ToneMapper mapper) {
+    HdrImage linear(width, height);
+    for (std::size_t i = 0; i < linear.pixel_count(); ++i) {
+        linear.set(i, glm::vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]) * float(scale));
+    }
+    const HdrImage display = to_display(linear, exposure, mapper);
+    Rgba8Image out{width, height, std::vector<std::uint8_t>(linear.pixel_count() * 4)};
+    for (std::size_t i = 0; i < linear.pixel_count(); ++i) {
+        const glm::vec3 rgb = display.rgb(i);
+        for (int c = 0; c < 3; ++c) {
+            out.pixels[4 * i + c] =
+                std::uint8_t(std::lround(255.0f * std::clamp(rgb[c], 0.0f, 1.0f)));
+        }
+        out.pixels[4 * i + 3] =
+            std::uint8_t(std::lround(255.0f * std::clamp(rgba[4 * i + 3], 0.0f, 1.0f)));
+    }
+    return out;
+}
+
+Rgba8Image error_map(std::span<const double> luminance, std::span<const double> reference,
+                     std::span<const std::uint8_t> mask, int width, int height, double full_scale) {
+    check_sizes(luminance.size(), reference.size(), mask.size(), "error_map");
+    double sum = 0.0;
+    std::size_t selected = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (mask[i] != 0) {
+            sum += reference[i];
+            ++selected;
+        }
+    }
+    const double mean = selected > 0 ? sum / double(selected) : 0.0;
+    Rgba8Image out{width, height, std::vector<std::uint8_t>(mask.size() * 4, 255)};
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        std::uint8_t* pixel = &out.pixels[4 * i];
+        if (mask[i] == 0 || !(mean > 0.0)) {
+            pixel[0] = pixel[1] = pixel[2] = 128;
+            continue;
+        }
+        const double relative =
+            std::clamp((luminance[i] - reference[i]) / (mean * full_scale), -1.0, 1.0);
+        // White at 0, towards red (brighter) or blue (darker): the other channels fall.
+        const auto fall = std::uint8_t(std::lround(255.0 * (1.0 - std::abs(relative))));
+        if (relative >= 0.0) {
+            pixel[1] = pixel[2] = fall;
+        } else {
+            pixel[0] = pixel[1] = fall;
+        }
+    }
+    return out;
+}
+
+}  // namespace oer::bench

@@ -1,0 +1,58 @@
+#pragma once
+// How far a rendered frame is from the reference renderer's (issue 11, the frame sweep): the
+// relative RMS of luminance and the render-fidelity metric of model-viewer and the Khronos
+// glTF Render Fidelity project, each over a set of pixels (the product's, or the ground's),
+// and the images the report shows (display-referred frames and a signed error map).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "oer/core/image.hpp"
+#include "oer/lighting/tonemap.hpp"
+
+namespace oer::bench {
+
+// Luminance (Rec. 709 weights, as light_location.hpp's luminance) of each pixel of an RGBA
+// linear frame (Frame::linear's layout).
+std::vector<double> frame_luminance(std::span<const float> rgba);
+
+// sqrt(sum (Y - Y_ref)^2 / sum Y_ref^2) over the pixels whose mask entry is set: the reference
+// renderer's noise measure (ReferenceNoise), so that noise and error compare directly. Sizes
+// must match, at least one pixel must be selected and the reference must not be black there
+// (else oer::Error InvalidInput).
+double relative_rms_error(std::span<const double> luminance, std::span<const double> reference,
+                          std::span<const std::uint8_t> mask);
+
+// The factor s minimising sum (s Y - Y_ref)^2 over the mask: s = sum Y Y_ref / sum Y^2. For a
+// frame with no absolute scale (the thesis model's display-referred lighting). oer::Error
+// (InvalidInput) when the frame is black over the mask.
+double least_squares_scale(std::span<const double> luminance, std::span<const double> reference,
+                           std::span<const std::uint8_t> mask);
+
+// The colour difference of pixelmatch (Y. Kotsarenko, F. Ramos, "Measuring perceived color
+// difference using YIQ NTSC transmission color space in mobile applications", 2010), as
+// model-viewer's render-fidelity tools use it (packages/render-fidelity-tools, common.ts and
+// third_party/pixelmatch/color-delta.ts): per pixel of two 8-bit sRGB images, alpha-blended
+// over white, delta = 0.5053 dY^2 + 0.299 dI^2 + 0.1957 dQ^2; then sqrt(mean delta^2) over
+// the pixels, divided by the largest possible delta (35215, black against white), in decibels
+// (10 log10). model-viewer's fidelity test fails a renderer above -22 dB. -infinity for equal
+// images. Sizes must match and a pixel must be selected (else oer::Error InvalidInput).
+inline constexpr double kMaxYiqDelta = 35215.0;
+inline constexpr double kFidelityFailDb = -22.0;
+double yiq_delta(const std::uint8_t* a, const std::uint8_t* b);  // RGBA, 4 bytes each
+double fidelity_db(const Rgba8Image& image, const Rgba8Image& reference,
+                   std::span<const std::uint8_t> mask);
+
+// An RGBA linear frame (alpha the coverage) to 8-bit sRGB through the service's display
+// transform (exposure, tone mapper, sRGB), each pixel's radiance first multiplied by `scale`.
+Rgba8Image display_image(std::span<const float> rgba, int width, int height, double scale,
+                         double exposure, ToneMapper mapper);
+
+// The signed luminance error of the masked pixels as colour: (Y - Y_ref) / mean Y_ref over the
+// mask, blue where the frame is darker than the reference, red where brighter, white where
+// equal, saturated at +-full_scale; pixels outside the mask mid grey.
+Rgba8Image error_map(std::span<const double> luminance, std::span<const double> reference,
+                     std::span<const std::uint8_t> mask, int width, int height, double full_scale);
+
+}  // namespace oer::bench

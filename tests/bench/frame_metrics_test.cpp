@@ -1,0 +1,110 @@
+// bench/support/frame_metrics: the frame-error figures of the frame sweep, on images whose
+// answer is known by hand.
+#include "frame_metrics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "oer/core/error.hpp"
+
+namespace {
+
+using oer::bench::fidelity_db;
+using oer::bench::relative_rms_error;
+
+oer::Rgba8Image flat(int width, int height, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+    oer::Rgba8Image image{width, height, {}};
+    for (int i = 0; i < width * height; ++i) {
+        image.pixels.insert(image.pixels.end(), {r, g, b, 255});
+    }
+    return image;
+}
+
+TEST(FrameMetrics, RelativeRmsIsTheReferenceNoiseMeasureOverTheMaskOnly) {
+    const std::vector<double> reference{1.0, 2.0, 100.0};
+    const std::vector<double> frame{1.5, 2.0, -7.0};
+    const std::vector<std::uint8_t> mask{1, 1, 0};
+    // sqrt((0.5^2 + 0) / (1 + 4)): the third pixel, outside the mask, counts for nothing.
+    EXPECT_NEAR(relative_rms_error(frame, reference, mask), std::sqrt(0.25 / 5.0), 1e-15);
+    EXPECT_EQ(relative_rms_error(reference, reference, mask), 0.0);
+    EXPECT_THROW(relative_rms_error(frame, reference, std::vector<std::uint8_t>{0, 0, 0}),
+                 oer::Error);
+    EXPECT_THROW(relative_rms_error(frame, std::vector<double>{0.0, 0.0, 1.0}, mask), oer::Error);
+    EXPECT_THROW(relative_rms_error(frame, reference, std::vector<std::uint8_t>{1, 1}), oer::Error);
+}
+
+TEST(FrameMetrics, LeastSquaresScaleUndoesAnExposure) {
+    const std::vector<double> reference{0.2, 0.9, 4.0};
+    const std::vector<double> frame{0.8, 3.6, 16.0};  // 4x the reference
+    EXPECT_NEAR(
+        oer::bench::least_squares_scale(frame, reference, std::vector<std::uint8_t>{1, 1, 1}), 0.25,
+        1e-15);
+    EXPECT_THROW(oer::bench::least_squares_scale(std::vector<double>{0.0, 0.0, 0.0}, reference,
+                                                 std::vector<std::uint8_t>{1, 1, 1}),
+                 oer::Error);
+}
+
+TEST(FrameMetrics, YiqDeltaOfBlackAgainstWhiteIsPixelmatchsLuminanceTerm) {
+    const std::uint8_t black[4] = {0, 0, 0, 255}, white[4] = {255, 255, 255, 255};
+    // Y of white is 255 (the weights sum to 1), I and Q are 0: 0.5053 * 255^2.
+    EXPECT_NEAR(oer::bench::yiq_delta(black, white), 0.5053 * 255.0 * 255.0, 1e-3);
+    EXPECT_EQ(oer::bench::yiq_delta(white, white), 0.0);
+    // A transparent pixel is blended over white, as pixelmatch does.
+    const std::uint8_t clear_black[4] = {0, 0, 0, 0};
+    EXPECT_EQ(oer::bench::yiq_delta(clear_black, white), 0.0);
+    // Pure red against black: the chroma terms count too.
+    const std::uint8_t red[4] = {255, 0, 0, 255};
+    const double y = 255 * 0.29889531, i = 255 * 0.59597799, q = 255 * 0.21147017;
+    EXPECT_NEAR(oer::bench::yiq_delta(red, black), 0.5053 * y * y + 0.299 * i * i + 0.1957 * q * q,
+                1e-6);
+}
+
+TEST(FrameMetrics, FidelityDbIsModelViewersRmsRatioInDecibels) {
+    const oer::Rgba8Image black = flat(4, 2, 0, 0, 0), white = flat(4, 2, 255, 255, 255);
+    std::vector<std::uint8_t> mask(8, 1);
+    EXPECT_NEAR(fidelity_db(black, white, mask),
+                10.0 * std::log10(0.5053 * 255.0 * 255.0 / oer::bench::kMaxYiqDelta),
+                1e-6);  // the Y weights sum to 1 + 1e-8
+    EXPECT_EQ(fidelity_db(white, white, mask), -INFINITY);
+    // Half the pixels differ: the RMS of delta falls by sqrt(2), 1.5 dB.
+    oer::Rgba8Image half = white;
+    for (int i = 0; i < 4; ++i) {
+        half.pixels[4 * i] = half.pixels[4 * i + 1] = half.pixels[4 * i + 2] = 0;
+    }
+    EXPECT_NEAR(fidelity_db(half, white, mask) - fidelity_db(black, white, mask),
+                10.0 * std::log10(std::sqrt(0.5)), 1e-9);
+    // Only the masked pixels count.
+    std::fill(mask.begin(), mask.begin() + 4, 0);
+    EXPECT_EQ(fidelity_db(half, white, mask), -INFINITY);
+    EXPECT_THROW(fidelity_db(half, white, std::vector<std::uint8_t>(8, 0)), oer::Error);
+}
+
+TEST(FrameMetrics, DisplayImageAppliesScaleExposureAndTheTransferFunction) {
+    // 0.25 x 2 (scale) x 2 (1 EV) = 1 linear: white without tone mapping; alpha kept.
+    const std::vector<float> rgba{0.25f, 0.0f, 0.125f, 0.5f};
+    const oer::Rgba8Image image =
+        oer::bench::display_image(rgba, 1, 1, 2.0, 1.0, oer::ToneMapper::None);
+    EXPECT_EQ(image.pixels[0], 255);
+    EXPECT_EQ(image.pixels[1], 0);
+    EXPECT_EQ(image.pixels[2], std::uint8_t(std::lround(255.0f * oer::srgb_encode(0.5f))));
+    EXPECT_EQ(image.pixels[3], 128);
+}
+
+TEST(FrameMetrics, ErrorMapIsRedWhereBrighterBlueWhereDarkerWhiteWhereEqual) {
+    const std::vector<double> reference{1.0, 1.0, 1.0, 1.0};
+    const std::vector<double> frame{1.0, 1.25, 0.5, 9.0};
+    const std::vector<std::uint8_t> mask{1, 1, 1, 0};
+    const oer::Rgba8Image map = oer::bench::error_map(frame, reference, mask, 4, 1, 0.5);
+    const auto pixel = [&](int i) {
+        return std::vector<int>{map.pixels[4 * i], map.pixels[4 * i + 1], map.pixels[4 * i + 2]};
+    };
+    EXPECT_EQ(pixel(0), (std::vector<int>{255, 255, 255}));
+    EXPECT_EQ(pixel(1), (std::vector<int>{255, 128, 128}));  // +25 % of a 50 % full scale
+    EXPECT_EQ(pixel(2), (std::vector<int>{0, 0, 255}));      // -50 %: saturated
+    EXPECT_EQ(pixel(3), (std::vector<int>{128, 128, 128}));  // outside the mask
+}
+
+}  // namespace

@@ -1,0 +1,141 @@
+// bench/frame_sweep --quick as a process (the bunny under two Blender worlds, the three
+// pipelines, compared with the reference renderer at 64x64): its JSON and CSV agree, every
+// comparison is complete and well formed, the images it names exist at the compare size, and
+// its figures say what the shadows must: our default is nearer the reference than plain SH
+// irradiance (the same map, no shadows) on the product and on the ground.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+
+#include "sweep_process.hpp"
+
+namespace {
+
+const char* const kWorldDirectory = "/usr/share/blender/datafiles/studiolights/world";
+const char* const kBunny = "/usr/share/glmark2/models/bunny.obj";
+
+// (world, config, state, bounce, surface)
+using Key = std::tuple<std::string, std::string, std::string, std::string, std::string>;
+
+class FrameSweepQuick : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        if (!std::filesystem::exists(std::filesystem::path(kWorldDirectory) / "studio.exr") ||
+            !std::filesystem::exists(kBunny)) {
+            return;
+        }
+        const std::filesystem::path dir = fresh_sweep_folder(FRAME_SWEEP_PATH);
+        images_ = new std::map<std::string, std::uintmax_t>;
+        output_ = new SweepOutput(run_sweep_command(
+            std::string(FRAME_SWEEP_PATH) + " --quick --out " + dir.string(), dir,
+            dir / "frame_sweep.json", dir / "frame_sweep.csv",
+            [](const std::filesystem::path& folder) {
+                for (const auto& entry : std::filesystem::directory_iterator(folder / "images")) {
+                    (*images_)["images/" + entry.path().filename().string()] = entry.file_size();
+                }
+            }));
+    }
+    static void TearDownTestSuite() {
+        delete output_;
+        delete images_;
+        output_ = nullptr;
+        images_ = nullptr;
+    }
+    void SetUp() override {
+        if (output_ == nullptr) {
+            GTEST_SKIP() << "needs the Blender worlds and the bunny: install blender-data and "
+                            "glmark2-data (scripts/setup-debian.sh --with-test-data)";
+        }
+        ASSERT_EQ(output_->status, 0) << output_->stderr_text;
+        for (const auto& row : output_->json.at("rows")) {
+            rows_[{row.at("world"), row.at("config"), row.at("state"), row.at("bounce"),
+                   row.at("surface")}] = row;
+        }
+    }
+    double error(const std::string& world, const std::string& config,
+                 const std::string& surface) const {
+        return rows_.at({world, config, "all on", "none", surface}).at("relative_rms");
+    }
+
+    static SweepOutput* output_;
+    static std::map<std::string, std::uintmax_t>* images_;
+    std::map<Key, nlohmann::json> rows_;
+};
+SweepOutput* FrameSweepQuick::output_ = nullptr;
+std::map<std::string, std::uintmax_t>* FrameSweepQuick::images_ = nullptr;
+
+TEST_F(FrameSweepQuick, JsonAndCsvHoldTheSameRows) {
+    const auto& rows = output_->json.at("rows");
+    ASSERT_EQ(output_->csv.size(), rows.size() + 1);
+    EXPECT_EQ(output_->csv[0][0], "mesh");
+    EXPECT_EQ(rows_.size(), rows.size()) << "a (world, config, state, bounce, surface) twice";
+}
+
+TEST_F(FrameSweepQuick, EveryPipelineIsComparedInEveryStateOnBothSurfaces) {
+    std::set<std::string> states;
+    for (const std::string world : {"forest", "studio"}) {
+        for (const std::string config : {"default", "plain SH", "thesis"}) {
+            for (const std::string surface : {"object", "ground"}) {
+                EXPECT_TRUE(rows_.contains({world, config, "all on", "none", surface}));
+                EXPECT_TRUE(rows_.contains({world, config, "all on", "one", surface}));
+                EXPECT_TRUE(rows_.contains({world, config, "light 1 off", "none", surface}));
+                EXPECT_TRUE(rows_.contains({world, config, "light 1 at 0.5", "none", surface}));
+            }
+        }
+    }
+    EXPECT_EQ(rows_.size(), 2u * 3u * 4u * 2u);
+}
+
+TEST_F(FrameSweepQuick, FiguresAreFiniteAndConsistent) {
+    for (const auto& [key, row] : rows_) {
+        const double error = row.at("relative_rms"), noise = row.at("reference_noise");
+        EXPECT_TRUE(error > 0.0 && error < 1.0) << row.dump();
+        EXPECT_TRUE(std::isfinite(row.at("fidelity_db").get<double>()) &&
+                    row.at("fidelity_db").get<double>() < 0.0)
+            << row.dump();
+        EXPECT_TRUE(noise > 0.0 && noise < 0.2) << row.dump();
+        EXPECT_NEAR(row.at("noise_ratio").get<double>(), noise / error, 1e-12);
+        EXPECT_GT(row.at("frame_ms").get<double>(), 0.0);
+        EXPECT_GT(row.at("pixels").get<int>(), 100) << row.dump();
+        EXPECT_EQ(row.at("scale_fitted").get<bool>(), std::get<1>(key) == "thesis");
+        EXPECT_EQ(row.at("shadow_filter").get<std::string>(), std::get<1>(key) == "plain SH" ? "off"
+                                                              : std::get<1>(key) == "thesis"
+                                                                  ? "hard"
+                                                                  : "pcf");
+        // The thesis's order 3, the plain SH's order 3; the default chooses its own.
+        if (std::get<1>(key) != "default") {
+            EXPECT_EQ(row.at("order").get<int>(), 3);
+        }
+    }
+}
+
+TEST_F(FrameSweepQuick, TheDefaultsShadowsBringItNearerTheReferenceThanPlainSh) {
+    for (const std::string world : {"forest", "studio"}) {
+        for (const std::string surface : {"object", "ground"}) {
+            EXPECT_LT(error(world, "default", surface), error(world, "plain SH", surface))
+                << world << ", " << surface;
+        }
+    }
+}
+
+TEST_F(FrameSweepQuick, TheImagesItNamesExist) {
+    const auto& scenes = output_->json.at("scenes");
+    ASSERT_EQ(scenes.size(), 2u);
+    for (const auto& scene : scenes) {
+        for (const std::string key : {"reference", "reference_one_bounce", "default", "plain_sh",
+                                      "thesis", "error_default", "error_plain_sh"}) {
+            ASSERT_TRUE(scene.at("images").contains(key)) << scene.dump();
+            const std::string path = scene.at("images").at(key);
+            ASSERT_TRUE(images_->contains(path)) << path;
+            // A 64x64 RGBA PNG of a rendered frame: more than its headers.
+            EXPECT_GT(images_->at(path), 1000u) << path;
+        }
+    }
+}
+
+}  // namespace
