@@ -6,6 +6,7 @@ table with holes nobody notices.
 """
 
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -23,6 +24,12 @@ FRAME_ROW_FIELDS = ("mesh", "world", "config", "family", "state", "bounce", "sur
                     "order", "shadow_resolution", "shadow_filter", "frame_ms", "shadow_ms",
                     "relative_rms", "fidelity_db", "pixels", "reference_samples",
                     "reference_noise", "noise_ratio", "scale_fitted")
+# Fields the report does arithmetic on: a null (how nlohmann::json writes NaN and Inf) or a
+# non-finite value would otherwise surface as a traceback or a "nan %" cell.
+FRAME_ROW_NUMBERS = ("lights", "order", "shadow_resolution", "frame_ms", "shadow_ms",
+                     "relative_rms", "fidelity_db", "noise_ratio")
+LIGHTING_ROW_NUMBERS = ("order", "downsampling", "projection_ms", "window_ms", "relative_rms",
+                        "most_negative")
 LIGHTING_TOP_FIELDS = ("benchmark", "quick", "rows", "worlds")
 LIGHTING_ROW_FIELDS = ("world", "subset", "lights_on", "order", "window", "downsampling",
                        "projection_ms", "window_ms", "relative_rms", "max_relative_error",
@@ -71,6 +78,17 @@ def require_fields(record: Any, fields: tuple[str, ...], where: str, path: Path)
             raise InputError(f"{path}: {where}: missing field '{field}'")
 
 
+def require_numbers(record: dict[str, Any], fields: tuple[str, ...], where: str,
+                    path: Path) -> None:
+    """Raises an InputError naming the first of `fields` that is not a finite number."""
+    for field in fields:
+        value = record[field]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or not math.isfinite(value):
+            raise InputError(f"{path}: {where}: field '{field}' is {json.dumps(value)}, "
+                             "expected a finite number")
+
+
 def require_list(record: dict[str, Any], field: str, path: Path) -> list[Any]:
     """record[field] as a non-empty list: an empty sweep would make every table empty."""
     value = record[field]
@@ -92,6 +110,7 @@ def validate_lighting(document: dict[str, Any], path: Path) -> None:
     require_benchmark(document, "lighting_sweep", path)
     for index, row in enumerate(require_list(document, "rows", path)):
         require_fields(row, LIGHTING_ROW_FIELDS, f"rows[{index}]", path)
+        require_numbers(row, LIGHTING_ROW_NUMBERS, f"rows[{index}]", path)
     for index, world in enumerate(require_list(document, "worlds", path)):
         require_fields(world, LIGHTING_WORLD_FIELDS, f"worlds[{index}]", path)
 
@@ -122,6 +141,7 @@ def validate_frames(document: dict[str, Any], path: Path) -> None:
                                  f"{path.parent / relative}")
     for index, row in enumerate(require_list(document, "rows", path)):
         require_fields(row, FRAME_ROW_FIELDS, f"rows[{index}]", path)
+        require_numbers(row, FRAME_ROW_NUMBERS, f"rows[{index}]", path)
 
 
 def read_sweeps(lighting_path: Path, location_path: Path, frames_dir: Path) -> Sweeps:

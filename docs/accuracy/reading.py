@@ -82,8 +82,7 @@ def downsampling(lighting: LightingRows) -> str | None:
 def light_location(location: dict[str, Any]) -> str:
     """How well the default light location finds the known lights of the synthetic maps."""
     cases = [case for case in location["cases"] if case["options"] == "default"]
-    exact = [case for case in cases
-             if case["lights_found"] == len(case["lights"]) and case["extra_lights"] == 0]
+    exact = [case for case in cases if finds_exactly(case)]
     lights = [light for case in exact for light in case["lights"] if light["found"]]
     wrong = sorted({f"{case['case']} ({case['lights_found']} found for {len(case['lights'])})"
                     for case in cases if case not in exact})
@@ -94,7 +93,23 @@ def light_location(location: dict[str, Any]) -> str:
                  f"direction and {100 * max(abs(l['intensity_relative_error']) for l in lights):.1f}"
                  f" % of the true intensity")
     text += "." if not wrong else f"; not so: {', '.join(wrong)}."
+    others = sorted({case["options"] for case in location["cases"]} - {"default"})
+    if others:
+        text += " Cases found exactly with the other options: " + ", ".join(
+            f"{options} {exact_cases(location, options)} of "
+            f"{sum(case['options'] == options for case in location['cases'])}"
+            for options in others) + "."
     return text
+
+
+def exact_cases(location: dict[str, Any], options: str) -> int:
+    """How many cases with `options` find exactly their lights, none split off or merged."""
+    return sum(finds_exactly(case) for case in location["cases"] if case["options"] == options)
+
+
+def finds_exactly(case: dict[str, Any]) -> bool:
+    """Whether a light-location case found as many lights as it painted, none extra."""
+    return case["lights_found"] == len(case["lights"]) and case["extra_lights"] == 0
 
 
 def pipelines(frames: FrameRows) -> str | None:
@@ -113,7 +128,16 @@ def pipelines(frames: FrameRows) -> str | None:
         return (f"{value_range((r['relative_rms'] for r in rows), percent)} at "
                 f"{value_range((r['frame_ms'] for r in rows), milliseconds)} ms")
 
-    return (f"**The three pipelines.** On the {HEADLINE_MESH}'s pixels, against the direct "
+    shadows = sorted({(row["shadow_resolution"], row["shadow_filter"]) for row in default})
+    automatic = [frames.find(HEADLINE_MESH, row["world"], "lights auto") for row in default]
+    picked = all(auto is not None and auto["lights"] == row["lights"]
+                 for auto, row in zip(automatic, default))
+    settings = (f"{value_range((r['lights'] for r in default), str)} lights"
+                + (" (what the auto light count picks)" if picked else "")
+                + f", SH order {value_range((r['order'] for r in default), str)}, "
+                + " or ".join(f"{resolution} {name} shadows" for resolution, name in shadows))
+    return (f"**The three pipelines.** Our default renders with {settings}. "
+            f"On the {HEADLINE_MESH}'s pixels, against the direct "
             f"reference, our default's error is {describe(default)} over {len(default)} worlds; "
             f"plain SH's {describe(figures['plain SH'])}; the thesis's "
             f"{describe(figures['thesis'])}. Our default's object stays at or below "

@@ -107,6 +107,17 @@ class MakeReportTest(unittest.TestCase):
         self.assertIn(f"{broken / 'frame_sweep.json'}: rows[5]: missing field 'relative_rms'",
                       result.stderr)
 
+    def test_null_figure_names_it_and_exits_1(self) -> None:
+        broken = arguments.work / "broken-null"
+        shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
+        document = json.loads((broken / "frame_sweep.json").read_text(encoding="utf-8"))
+        document["rows"][2]["fidelity_db"] = None  # how nlohmann::json writes a NaN
+        (broken / "frame_sweep.json").write_text(json.dumps(document), encoding="utf-8")
+        result = run_report(broken, arguments.work / "broken-report")
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertIn("rows[2]: field 'fidelity_db' is null, expected a finite number",
+                      result.stderr)
+
     def test_missing_image_names_it_and_exits_1(self) -> None:
         broken = arguments.work / "broken-image"
         shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
