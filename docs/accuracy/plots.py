@@ -51,6 +51,7 @@ def draw_front(axes: Any, points: list[tuple[float, float, str]], highlight: set
                  color="tab:orange", zorder=4, label=highlight_label)
     label_points(axes, xs, ys, names)
     log_if_wide(axes, xs)
+    axes.margins(x=0.12, y=0.1)  # room for the outermost points' labels
     axes.grid(True, linewidth=0.3)
     axes.legend(fontsize=7, loc="upper right")
 
