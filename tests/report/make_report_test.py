@@ -11,6 +11,7 @@ ctest runs it as the test `report` (label `report`).
 import argparse
 import json
 import shutil
+import struct
 import subprocess
 import sys
 import unittest
@@ -126,6 +127,45 @@ class MakeReportTest(unittest.TestCase):
         self.assertEqual(result.returncode, 1, result.stderr)
         self.assertIn("scenes[1].images.reference: no file", result.stderr)
         self.assertIn("bunny-night-reference.png", result.stderr)
+
+
+GLMARK2_HORSE = Path("/usr/share/glmark2/models/horse.3ds")
+ASSIMP = shutil.which("assimp")
+UPRIGHT_GLB = SOURCE / "docs" / "accuracy" / "upright_glb.py"
+
+
+@unittest.skipUnless(GLMARK2_HORSE.is_file() and ASSIMP,
+                     "needs glmark2-data and assimp-utils (scripts/setup-debian.sh "
+                     "--with-test-data)")
+class UprightGlbTest(unittest.TestCase):
+    """upright_glb.py on assimp's glTF binary of glmark2's horse, as accuracy-report.sh runs it."""
+
+    def test_removes_the_axis_conversion_and_keeps_the_rest(self) -> None:
+        arguments.work.mkdir(parents=True, exist_ok=True)
+        converted = arguments.work / "horse-assimp.glb"
+        upright = arguments.work / "horse.glb"
+        subprocess.run([ASSIMP, "export", str(GLMARK2_HORSE), str(converted)], check=True,
+                       stdout=subprocess.DEVNULL)
+        subprocess.run([sys.executable, str(UPRIGHT_GLB), str(converted), str(upright)],
+                       check=True)
+        before, after = converted.read_bytes(), upright.read_bytes()
+        header = struct.Struct("<IIIII")
+        _, _, total, json_length, _ = header.unpack_from(after)
+        self.assertEqual(total, len(after))
+        self.assertEqual(json_length % 4, 0)
+        root = json.loads(after[header.size:header.size + json_length])["nodes"][0]
+        self.assertEqual(root["name"], "<3DSDummyRoot>")
+        self.assertNotIn("matrix", root)
+        # The BIN chunk (the geometry) is byte for byte assimp's.
+        _, _, _, old_json_length, _ = header.unpack_from(before)
+        self.assertEqual(after[header.size + json_length:],
+                         before[header.size + old_json_length:])
+        # A second pass finds no conversion to remove: refused, not silently passed through.
+        again = subprocess.run([sys.executable, str(UPRIGHT_GLB), str(upright),
+                                str(arguments.work / "horse-again.glb")],
+                               capture_output=True, text=True, check=False)
+        self.assertEqual(again.returncode, 1)
+        self.assertIn("not assimp's 3ds axis conversion", again.stderr)
 
 
 if __name__ == "__main__":
