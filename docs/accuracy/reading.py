@@ -218,12 +218,12 @@ def light_count(frames: FrameRows) -> str | None:
 def paragraphs(lighting: LightingRows, location: dict[str, Any],
                frames: FrameRows) -> tuple[list[str], list[str]]:
     """The reading's paragraphs, and the names of those the inputs could not support."""
-    writers = {"SH truncation": lambda: sh_truncation(lighting),
+    writers = {"pipelines": lambda: pipelines(frames),
+               "light count": lambda: light_count(frames),
+               "SH truncation": lambda: sh_truncation(lighting),
                "windows": lambda: windows(lighting),
                "downsampling": lambda: downsampling(lighting),
                "light location": lambda: light_location(location),
-               "pipelines": lambda: pipelines(frames),
-               "light count": lambda: light_count(frames),
                "shadow resolution": lambda: shadow_resolution(frames),
                "one bounce": lambda: one_bounce(frames)}
     written, skipped = [], []

@@ -46,6 +46,10 @@ class MakeReportTest(unittest.TestCase):
                             "--csv", str(work / f"{name}.csv")], check=True,
                            stdout=subprocess.DEVNULL)
         cls.out = work / "report"
+        # An earlier run's figure of a world since dropped, which the report must not keep.
+        cls.stale = cls.out / "accuracy" / "figures" / "frames-dropped.png"
+        cls.stale.parent.mkdir(parents=True)
+        cls.stale.write_bytes(PNG_SIGNATURE)
         result = run_report(FIXTURE, cls.out)
         if result.returncode != 0:
             raise AssertionError(f"make_report.py failed: {result.stderr}")
@@ -88,6 +92,7 @@ class MakeReportTest(unittest.TestCase):
             self.assertEqual(data[:8], PNG_SIGNATURE, name)
             self.assertGreater(len(data), 10_000, name)
             self.assertIn(f"(accuracy/figures/{name})", self.markdown)
+        self.assertFalse(self.stale.exists())
 
     def test_side_by_side_images_are_copied(self) -> None:
         copied = self.out / "accuracy" / "images" / "bunny-forest-error-default.png"
