@@ -26,7 +26,8 @@ mkdir -p "$meshes" "$report_dir"
 # does. assimp's conversion would lay them on their side (see upright_glb.py).
 for mesh in horse cat; do
     assimp export "/usr/share/glmark2/models/$mesh.3ds" "$out/$mesh-assimp.glb" >/dev/null
-    /usr/bin/python3 "$root/docs/accuracy/upright_glb.py" "$out/$mesh-assimp.glb" "$meshes/$mesh.glb"
+    /usr/bin/python3 "$root/docs/accuracy/upright_glb.py" "$out/$mesh-assimp.glb" \
+        "$meshes/$mesh.glb"
     rm "$out/$mesh-assimp.glb"
 done
 

@@ -30,7 +30,7 @@ FRAME_ROW_NUMBERS = ("lights", "order", "shadow_resolution", "frame_ms", "shadow
                      "relative_rms", "fidelity_db", "noise_ratio")
 LIGHTING_ROW_NUMBERS = ("order", "downsampling", "projection_ms", "window_ms", "relative_rms",
                         "most_negative")
-LIGHTING_TOP_FIELDS = ("benchmark", "quick", "rows", "worlds")
+LIGHTING_TOP_FIELDS = ("benchmark", "quick", "normals", "rows", "worlds")
 LIGHTING_ROW_FIELDS = ("world", "subset", "lights_on", "order", "window", "downsampling",
                        "projection_ms", "window_ms", "relative_rms", "max_relative_error",
                        "most_negative")

@@ -136,9 +136,10 @@ def lighting_section(lighting: LightingRows, sweeps: Sweeps) -> str:
     """The lighting and light location sweeps' tables."""
     return "\n".join([
         "## Lighting sweep: irradiance over the sphere", "",
-        f"From `{sweeps.lighting_path.name}`: the SH irradiance at {sweeps.lighting.get('normals', 'the')} "
-        "normals against the brute-force irradiance of the full map. Cells: whole map / worst "
-        "on/off subset, relative RMS; the auto order in bold. Window none, full resolution.", "",
+        f"From `{sweeps.lighting_path.name}`: the SH irradiance at "
+        f"{sweeps.lighting['normals']} normals against the brute-force irradiance of the full "
+        "map. Cells: whole map / worst on/off subset, relative RMS; the auto order in bold. "
+        "Window none, full resolution.", "",
         order_table(lighting), "",
         "### Windows at the auto order (worst subset's error, most negative irradiance)", "",
         window_table(lighting), "",

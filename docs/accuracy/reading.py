@@ -22,7 +22,8 @@ def sh_truncation(lighting: LightingRows) -> str | None:
     worlds = list(lighting.worlds)
     at_three = [lighting.whole_map(world, 3) for world in worlds]
     worst_three = [lighting.worst(world, 3) for world in worlds]
-    autos = [lighting.whole_map(world, info["auto_order"]) for world, info in lighting.worlds.items()]
+    autos = [lighting.whole_map(world, info["auto_order"])
+             for world, info in lighting.worlds.items()]
     worst_autos = [lighting.worst(world, info["auto_order"])
                    for world, info in lighting.worlds.items()]
     if None in at_three + worst_three + autos + worst_autos:
@@ -89,9 +90,10 @@ def light_location(location: dict[str, Any]) -> str:
     text = (f"**Light location.** With the default options, {len(exact)} of {len(cases)} "
             f"synthetic cases find exactly their lights")
     if lights:
-        text += (f", within {max(l['angular_error_degrees'] for l in lights):.2f}° of the true "
-                 f"direction and {100 * max(abs(l['intensity_relative_error']) for l in lights):.1f}"
-                 f" % of the true intensity")
+        angle = max(light["angular_error_degrees"] for light in lights)
+        intensity = max(abs(light["intensity_relative_error"]) for light in lights)
+        text += (f", within {angle:.2f}° of the true direction and {percent(intensity)} of the "
+                 "true intensity")
     text += "." if not wrong else f"; not so: {', '.join(wrong)}."
     others = sorted({case["options"] for case in location["cases"]} - {"default"})
     if others:
@@ -182,8 +184,9 @@ def one_bounce(frames: FrameRows) -> str | None:
                  for world in frames.worlds(HEADLINE_MESH)]
         pairs = [pair for pair in pairs if None not in pair]
         if pairs:
-            parts.append(f"on the {surface} {value_range((p[1]['relative_rms'] for p in pairs), percent)}"
-                         f" instead of {value_range((p[0]['relative_rms'] for p in pairs), percent)}")
+            direct = value_range((pair[0]["relative_rms"] for pair in pairs), percent)
+            bounced = value_range((pair[1]["relative_rms"] for pair in pairs), percent)
+            parts.append(f"on the {surface} {bounced} instead of {direct}")
     if not parts:
         return None
     return ("**What one bounce adds.** Against the reference with one diffuse bounce (light OER "
@@ -191,7 +194,7 @@ def one_bounce(frames: FrameRows) -> str | None:
 
 
 def light_count(frames: FrameRows) -> str | None:
-    """The error by light count, and whether the automatic count and the default are on the front."""
+    """The error by light count; whether the automatic count and the default are on the front."""
     by_count: dict[int, list[float]] = {}
     chosen = []
     for world in frames.worlds(HEADLINE_MESH):
