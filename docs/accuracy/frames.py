@@ -7,6 +7,7 @@ from typing import Any
 
 from common import (FIDELITY_BOUND_DB, MISSING, NOISE_RATIO_LIMIT, decibels, dominator,
                     markdown_table, milliseconds, percent)
+from inputs import InputError
 
 Row = dict[str, Any]
 PIPELINES = (("default", "ours (default)"), ("plain SH", "plain SH"), ("thesis", "thesis"))
@@ -142,12 +143,17 @@ def frames_on_front(frames: FrameRows, config: str, surface: str) -> tuple[int, 
 
 
 def image_cell(scene: dict[str, Any], key: str, frames_dir: Path, out_images: Path,
-               link_prefix: str) -> str:
-    """An <img> of one of the scene's images, copied beside the report; a dash when absent."""
+               link_prefix: str, copied: dict[str, Path]) -> str:
+    """An <img> of one of the scene's images, copied beside the report; a dash when absent.
+    `copied` maps the names already copied to their sources: the copies share one folder, so
+    two sources of one name would otherwise show one image twice."""
     relative = scene["images"].get(key)
     if relative is None:
         return MISSING
     source = frames_dir / relative
+    if copied.setdefault(source.name, source) != source:
+        raise InputError(f"{frames_dir / 'frame_sweep.json'}: images {copied[source.name]} and "
+                         f"{source} share the name {source.name}")
     shutil.copyfile(source, out_images / source.name)
     return f'<img src="{link_prefix}/{source.name}" width="{IMAGE_WIDTH}">'
 
@@ -157,7 +163,8 @@ def images_table(scenes: list[dict[str, Any]], frames_dir: Path, out_images: Pat
     """Side by side per scene: both references, the three renderers and the error maps."""
     out_images.mkdir(parents=True, exist_ok=True)
     header = ["scene"] + [name for _, name in IMAGE_COLUMNS]
+    copied: dict[str, Path] = {}
     rows = [[f"{scene['mesh']}, {scene['world']}"]
-            + [image_cell(scene, key, frames_dir, out_images, link_prefix)
+            + [image_cell(scene, key, frames_dir, out_images, link_prefix, copied)
                for key, _ in IMAGE_COLUMNS] for scene in scenes]
     return markdown_table(header, rows)

@@ -124,6 +124,19 @@ class MakeReportTest(unittest.TestCase):
         self.assertIn("rows[2]: field 'fidelity_db' is null, expected a finite number",
                       result.stderr)
 
+    def test_images_sharing_a_name_are_refused(self) -> None:
+        broken = arguments.work / "broken-names"
+        shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
+        (broken / "other").mkdir(exist_ok=True)
+        shutil.copyfile(broken / "images" / "bunny-forest-default.png",
+                        broken / "other" / "bunny-night-default.png")
+        document = json.loads((broken / "frame_sweep.json").read_text(encoding="utf-8"))
+        document["scenes"][1]["images"]["plain_sh"] = "other/bunny-night-default.png"
+        (broken / "frame_sweep.json").write_text(json.dumps(document), encoding="utf-8")
+        result = run_report(broken, arguments.work / "broken-report")
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertIn("share the name bunny-night-default.png", result.stderr)
+
     def test_missing_image_names_it_and_exits_1(self) -> None:
         broken = arguments.work / "broken-image"
         shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
