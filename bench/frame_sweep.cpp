@@ -17,7 +17,8 @@
 //   frame_sweep --out DIR [--quick] [--mesh-dir DIR] [--min-samples N] [--max-samples N]
 // writes DIR/frame_sweep.json, DIR/frame_sweep.csv and DIR/images/*.png (the report's
 // side-by-side images). --mesh-dir holds horse.glb and cat.glb, converted from glmark2's .3ds
-// files by scripts/accuracy-report.sh (assimp export); without it those two are skipped.
+// files and stood upright by scripts/accuracy-report.sh (assimp export, then
+// docs/accuracy/upright_glb.py); without it those two are skipped.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -33,7 +34,8 @@
 #include <tuple>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bench_support.hpp"
@@ -62,8 +64,6 @@ constexpr int kTimedFrames = 3;             // median of these, shadow maps cach
 struct MeshSource {
     std::string name;
     std::string path;
-    // 3DS files are Z-up; glTF and our scenes are Y-up (DESIGN.md section 3).
-    bool z_up = false;
 };
 
 struct Arguments {
@@ -297,6 +297,18 @@ ReferenceImage render_reference(const oer::FrameRequest& request, oer::Bounce bo
         image.surface_mask.push_back(surface != oer::ReferenceSurface::Background ? 1 : 0);
     }
     return image;
+}
+
+double mean_over(const std::vector<double>& values, const std::vector<std::uint8_t>& mask) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (mask[i] != 0) {
+            sum += values[i];
+            ++count;
+        }
+    }
+    return count > 0 ? sum / double(count) : 0.0;
 }
 
 // A frame's luminance as compared with a reference: for a scale-fitted configuration, times
@@ -548,6 +560,7 @@ class Sweep {
                  {"pixels", surface.pixels},
                  {"reference_samples", reference.samples},
                  {"reference_noise", surface.noise},
+                 {"reference_mean_luminance", mean_over(reference.luminance, surface.mask)},
                  {"noise_ratio", surface.noise / error},
                  {"scale_fitted", c.scale_fitted}});
         }
@@ -596,21 +609,21 @@ class Sweep {
 };
 
 std::vector<MeshSource> mesh_sources(const Arguments& arguments) {
-    std::vector<MeshSource> meshes{{"bunny", "/usr/share/glmark2/models/bunny.obj", false}};
+    std::vector<MeshSource> meshes{{"bunny", "/usr/share/glmark2/models/bunny.obj"}};
     if (arguments.quick) {
         return meshes;
     }
     if (arguments.mesh_dir) {
-        meshes.push_back({"horse", (*arguments.mesh_dir / "horse.glb").string(), true});
-        meshes.push_back({"cat", (*arguments.mesh_dir / "cat.glb").string(), true});
+        meshes.push_back({"horse", (*arguments.mesh_dir / "horse.glb").string()});
+        meshes.push_back({"cat", (*arguments.mesh_dir / "cat.glb").string()});
     } else {
         std::printf(
             "frame sweep: no --mesh-dir: horse and cat (glmark2's .3ds converted by "
             "scripts/accuracy-report.sh) are skipped\n");
     }
     meshes.push_back(
-        {"engine", "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
-         false});
+        {"engine",
+         "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"});
     return meshes;
 }
 
@@ -707,11 +720,8 @@ int main(int argc, char** argv) {
                 if (!rendered_under(source.name, name, arguments.quick)) {
                     continue;
                 }
-                const glm::mat4 transform = source.z_up
-                                                ? glm::rotate(glm::mat4(1.0f), glm::radians(-90.0f),
-                                                              glm::vec3(1.0f, 0.0f, 0.0f))
-                                                : glm::mat4(1.0f);
-                sweep.run({source.name, name, map, {{mesh, transform, std::nullopt}}}, rigs, list);
+                sweep.run({source.name, name, map, {{mesh, glm::mat4(1.0f), std::nullopt}}}, rigs,
+                          list);
             }
         }
         const json out = sweep.to_json(sweep.info().renderer);

@@ -17,8 +17,10 @@ build_packages=(
 )
 # Real-world data for tests (DESIGN.md section 5), and the browser the browser test drives
 # (web/tests: /usr/bin/chromium through playwright-core, which downloads no browser of its own);
-# the service itself never needs them.
-test_packages=(blender-data glmark2-data assimp-testmodels chromium)
+# the service itself never needs them. The accuracy report (scripts/accuracy-report.sh) converts
+# glmark2's 3ds meshes to glTF with assimp-utils and draws its plots with python3-matplotlib.
+test_packages=(blender-data glmark2-data assimp-testmodels chromium assimp-utils
+    python3-matplotlib)
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 with_test_data=false

@@ -1,0 +1,195 @@
+#!/usr/bin/python3
+"""The accuracy report (docs/accuracy/make_report.py) on small real inputs: the --quick outputs
+of lighting_sweep and light_location_sweep, run here, and the frame-sweep fixture of
+tests/report/fixtures/ (two scenes, numbers chosen so that each formatted figure is known).
+
+    make_report_test.py --lighting-sweep BIN --location-sweep BIN --work DIR
+
+ctest runs it as the test `report` (label `report`).
+"""
+
+import argparse
+import json
+import shutil
+import struct
+import subprocess
+import sys
+import unittest
+from pathlib import Path
+
+SOURCE = Path(__file__).resolve().parents[2]
+MAKE_REPORT = SOURCE / "docs" / "accuracy" / "make_report.py"
+FIXTURE = SOURCE / "tests" / "report" / "fixtures"
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+arguments = argparse.Namespace()
+
+
+def run_report(frames: Path, out: Path) -> subprocess.CompletedProcess:
+    """make_report.py on the quick sweeps and `frames`, as scripts/accuracy-report.sh runs it."""
+    return subprocess.run(
+        [sys.executable, str(MAKE_REPORT), "--lighting", str(arguments.work / "lighting.json"),
+         "--location", str(arguments.work / "location.json"), "--frames", str(frames),
+         "--out", str(out)], capture_output=True, text=True, check=False)
+
+
+class MakeReportTest(unittest.TestCase):
+    """One report written from the fixture, read back by every test."""
+
+    @classmethod
+    def setUpClass(cls) -> None:
+        work = arguments.work
+        shutil.rmtree(work, ignore_errors=True)
+        work.mkdir(parents=True)
+        for binary, name in ((arguments.lighting_sweep, "lighting"),
+                             (arguments.location_sweep, "location")):
+            subprocess.run([binary, "--quick", "--json", str(work / f"{name}.json"),
+                            "--csv", str(work / f"{name}.csv")], check=True,
+                           stdout=subprocess.DEVNULL)
+        cls.out = work / "report"
+        # An earlier run's figure of a world since dropped, which the report must not keep.
+        cls.stale = cls.out / "accuracy" / "figures" / "frames-dropped.png"
+        cls.stale.parent.mkdir(parents=True)
+        cls.stale.write_bytes(PNG_SIGNATURE)
+        result = run_report(FIXTURE, cls.out)
+        if result.returncode != 0:
+            raise AssertionError(f"make_report.py failed: {result.stderr}")
+        cls.markdown = (cls.out / "accuracy.md").read_text(encoding="utf-8")
+
+    def test_headline_rows_carry_the_fixture_figures(self) -> None:
+        # forest's default: 0.1234 / -24.56 dB, 0.0871 / -27.02 dB, ...; 21.34 ms; noise 0.12.
+        self.assertIn("| forest | ours (default) | 12.3 % / −24.6 dB | 8.7 % / −27.0 dB | "
+                      "15.0 % / −23.1 dB | 11.1 % / −25.4 dB | 21.3 | 0.12 | passes |",
+                      self.markdown)
+        # plain SH's one-bounce object comparison has noise_ratio 0.25: marked, and the footnote.
+        self.assertIn("| forest | plain SH | 31.2 % / −17.2 dB | 28.4 % / −18.1 dB | "
+                      "35.5 % / −16.2 dB † | 30.1 % / −17.5 dB | 6.7 | 0.25 | fails |",
+                      self.markdown)
+        self.assertIn("does not meet the noise requirement", self.markdown)
+        # night has no thesis rows: no line for it rather than a line of dashes.
+        self.assertNotIn("| night | thesis |", self.markdown)
+
+    def test_per_mesh_means_and_front(self) -> None:
+        # means of 0.1234 and 0.0642; of 21.34 and 18.9 ms.
+        self.assertIn("| bunny | ours (default) | 2 | 9.4 % | 7.0 % | −27.2 | 20.1 | 2 of 2 |",
+                      self.markdown)
+        # forest's "lights auto" (21.5 ms, 12.41 %) is beaten by the default (21.34, 12.34 %).
+        self.assertIn("| forest | on the front | on the front | no: default (21.3 ms, 12.3 %) |",
+                      self.markdown)
+
+    def test_lighting_tables_carry_the_sweep_figures(self) -> None:
+        lighting = json.loads((arguments.work / "lighting.json").read_text(encoding="utf-8"))
+        rows = [row for row in lighting["rows"] if row["world"] == "city" and row["order"] == 3
+                and row["window"] == "none" and row["downsampling"] == 1]
+        whole = next(row for row in rows if all(row["lights_on"]))["relative_rms"]
+        worst = max(row["relative_rms"] for row in rows)
+        self.assertIn(f"{100 * whole:.2f} % / {100 * worst:.2f} %", self.markdown)
+        self.assertIn("**SH truncation.** At order 3", self.markdown)
+        self.assertIn("| pair_3deg | default | 1024x512 | 1 for 2 |", self.markdown)
+
+    def test_figures_are_png_files(self) -> None:
+        for name in ("frames-forest.png", "frames-night.png", "lighting-orders.png"):
+            data = (self.out / "accuracy" / "figures" / name).read_bytes()
+            self.assertEqual(data[:8], PNG_SIGNATURE, name)
+            self.assertGreater(len(data), 10_000, name)
+            self.assertIn(f"(accuracy/figures/{name})", self.markdown)
+        self.assertFalse(self.stale.exists())
+
+    def test_side_by_side_images_are_copied(self) -> None:
+        copied = self.out / "accuracy" / "images" / "bunny-forest-error-default.png"
+        self.assertEqual(copied.read_bytes(),
+                         (FIXTURE / "images" / "bunny-forest-error-default.png").read_bytes())
+        self.assertIn('<img src="accuracy/images/bunny-night-default.png"', self.markdown)
+        # night's fixture has no plain SH image: its cell is a dash.
+        self.assertRegex(self.markdown, r"\| bunny, night \| <img[^|]*\| — \| <img")
+
+    def test_missing_field_names_it_and_exits_1(self) -> None:
+        broken = arguments.work / "broken-field"
+        shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
+        document = json.loads((broken / "frame_sweep.json").read_text(encoding="utf-8"))
+        del document["rows"][5]["relative_rms"]
+        (broken / "frame_sweep.json").write_text(json.dumps(document), encoding="utf-8")
+        result = run_report(broken, arguments.work / "broken-report")
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertIn(f"{broken / 'frame_sweep.json'}: rows[5]: missing field 'relative_rms'",
+                      result.stderr)
+
+    def test_null_figure_names_it_and_exits_1(self) -> None:
+        broken = arguments.work / "broken-null"
+        shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
+        document = json.loads((broken / "frame_sweep.json").read_text(encoding="utf-8"))
+        document["rows"][2]["fidelity_db"] = None  # how nlohmann::json writes a NaN
+        (broken / "frame_sweep.json").write_text(json.dumps(document), encoding="utf-8")
+        result = run_report(broken, arguments.work / "broken-report")
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertIn("rows[2]: field 'fidelity_db' is null, expected a finite number",
+                      result.stderr)
+
+    def test_images_sharing_a_name_are_refused(self) -> None:
+        broken = arguments.work / "broken-names"
+        shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
+        (broken / "other").mkdir(exist_ok=True)
+        shutil.copyfile(broken / "images" / "bunny-forest-default.png",
+                        broken / "other" / "bunny-night-default.png")
+        document = json.loads((broken / "frame_sweep.json").read_text(encoding="utf-8"))
+        document["scenes"][1]["images"]["plain_sh"] = "other/bunny-night-default.png"
+        (broken / "frame_sweep.json").write_text(json.dumps(document), encoding="utf-8")
+        result = run_report(broken, arguments.work / "broken-report")
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertIn("share the name bunny-night-default.png", result.stderr)
+
+    def test_missing_image_names_it_and_exits_1(self) -> None:
+        broken = arguments.work / "broken-image"
+        shutil.copytree(FIXTURE, broken, dirs_exist_ok=True)
+        (broken / "images" / "bunny-night-reference.png").unlink()
+        result = run_report(broken, arguments.work / "broken-report")
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertIn("scenes[1].images.reference: no file", result.stderr)
+        self.assertIn("bunny-night-reference.png", result.stderr)
+
+
+GLMARK2_HORSE = Path("/usr/share/glmark2/models/horse.3ds")
+ASSIMP = shutil.which("assimp")
+UPRIGHT_GLB = SOURCE / "docs" / "accuracy" / "upright_glb.py"
+
+
+@unittest.skipUnless(GLMARK2_HORSE.is_file() and ASSIMP,
+                     "needs glmark2-data and assimp-utils (scripts/setup-debian.sh "
+                     "--with-test-data)")
+class UprightGlbTest(unittest.TestCase):
+    """upright_glb.py on assimp's glTF binary of glmark2's horse, as accuracy-report.sh runs it."""
+
+    def test_removes_the_axis_conversion_and_keeps_the_rest(self) -> None:
+        arguments.work.mkdir(parents=True, exist_ok=True)
+        converted = arguments.work / "horse-assimp.glb"
+        upright = arguments.work / "horse.glb"
+        subprocess.run([ASSIMP, "export", str(GLMARK2_HORSE), str(converted)], check=True,
+                       stdout=subprocess.DEVNULL)
+        subprocess.run([sys.executable, str(UPRIGHT_GLB), str(converted), str(upright)],
+                       check=True)
+        before, after = converted.read_bytes(), upright.read_bytes()
+        header = struct.Struct("<IIIII")
+        _, _, total, json_length, _ = header.unpack_from(after)
+        self.assertEqual(total, len(after))
+        self.assertEqual(json_length % 4, 0)
+        root = json.loads(after[header.size:header.size + json_length])["nodes"][0]
+        self.assertEqual(root["name"], "<3DSDummyRoot>")
+        self.assertNotIn("matrix", root)
+        # The BIN chunk (the geometry) is byte for byte assimp's.
+        _, _, _, old_json_length, _ = header.unpack_from(before)
+        self.assertEqual(after[header.size + json_length:],
+                         before[header.size + old_json_length:])
+        # A second pass finds no conversion to remove: refused, not silently passed through.
+        again = subprocess.run([sys.executable, str(UPRIGHT_GLB), str(upright),
+                                str(arguments.work / "horse-again.glb")],
+                               capture_output=True, text=True, check=False)
+        self.assertEqual(again.returncode, 1)
+        self.assertIn("not assimp's 3ds axis conversion", again.stderr)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--lighting-sweep", required=True)
+    parser.add_argument("--location-sweep", required=True)
+    parser.add_argument("--work", type=Path, required=True)
+    arguments, rest = parser.parse_known_args()
+    unittest.main(argv=[sys.argv[0], *rest])
