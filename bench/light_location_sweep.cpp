@@ -3,10 +3,15 @@
 // sky, two lights 3 degrees apart, a large soft box), each on a uniform sky; build_rig with the
 // default options finds the lights (and, to compare, with each departure from the thesis undone:
 // no connected-region growth; the thesis's pixel-space clustering), and each true light is matched
-// with a found one (greedily, smallest angle first). Per true light: the angle between the found
-// and the true direction (the disc's centre), and the found intensity's relative error in luminance
-// against the painted disc's sum(L dOmega). Prints a table; --json / --csv write one row per true
-// light. A benchmark: it reports, the ctest (tests/bench/light_location_sweep_test.cpp) checks.
+// with the found light holding most of its disc's energy. A found light may hold several true
+// lights (a merge): then each of them is measured against the group, the power-weighted centre
+// of their directions and the sum of their intensities, which is what one light standing for
+// them should be. Per true light: the angle between the found and the true direction (the disc's
+// centre, or the group's), and the found intensity's relative error in luminance against the
+// painted discs' sum(L dOmega). For a merge, what it does to a shadow: a pole of height H on the
+// ground, its tip's shadow under each true light against under the merged one (below). Prints a
+// table; --json / --csv write one row per true light. A benchmark: it reports, the ctest
+// (tests/bench/light_location_sweep_test.cpp) checks.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -59,9 +64,27 @@ std::vector<Case> cases() {
 }
 
 struct Match {
-    std::optional<std::size_t> found;    // index into the rig's lights, none when missed
-    double angular_error_degrees = 0.0;  // when found
-    double intensity_relative_error = 0.0;
+    std::optional<std::size_t> found;       // index into the rig's lights, none when missed
+    std::size_t merged_lights = 0;          // true lights the found light holds (1: no merge)
+    double angular_error_degrees = 0.0;     // when found, to the group's power-weighted centre
+    double intensity_relative_error = 0.0;  // against the group's summed luminance
+};
+
+// What a merge does to a shadow, for a vertical pole of height H standing on the ground (the
+// scale of the object: for the bunny, its height): the shadow of its tip falls at
+// -H (d.x, d.z) / d.y for a light towards d (above the horizon), so lights delta apart in
+// elevation e put it H delta / sin^2(e) apart. Between the true lights' tips the truth is
+// partly shadowed (some lights occluded, others not), where one merged light says all or none:
+// that band's width, and its largest error, the irradiance on the ground of the brightest true
+// light of the group over the ground's whole irradiance (sky and lights, normal +Y). Beside it,
+// how far each disc's own extent spreads its tip (cot(e - r) - cot(e + r), the penumbra a light
+// of radius r casts there), which point lights leave out anyway.
+struct MergedShadow {
+    std::vector<std::size_t> lights;  // the true lights (indices) merged into one found light
+    double true_tips_apart = 0.0;     // largest distance between their tips' shadows, in H
+    double merged_tip_offset = 0.0;   // merged tip from their power-weighted mean tip, in H
+    double band_error_share = 0.0;    // largest irradiance error in the band / ground's
+    double own_penumbra = 0.0;        // largest of the discs' own tip spreads, in H
 };
 
 // The light-location options compared: the defaults (what the sweep is about), and each of the
@@ -88,8 +111,27 @@ struct CaseResult {
     std::vector<glm::dvec3> true_intensities;
     std::vector<oer::Light> found;
     std::vector<Match> matches;  // per true light
+    std::vector<MergedShadow> merges;
     std::size_t extra_lights = 0;
 };
+
+// The shadow on the ground of the tip of a pole of height 1 at the origin, for a light towards
+// direction (above the horizon).
+glm::dvec2 tip_shadow(const glm::dvec3& direction) {
+    return -glm::dvec2(direction.x, direction.z) / direction.y;
+}
+
+double cot_degrees(double degrees) {
+    return 1.0 / std::tan(degrees * std::numbers::pi / 180.0);
+}
+
+std::vector<std::uint32_t> all_pixels(int width, int height) {
+    std::vector<std::uint32_t> pixels(std::size_t(width) * std::size_t(height));
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+        pixels[i] = std::uint32_t(i);
+    }
+    return pixels;
+}
 
 double angle_degrees(const glm::dvec3& a, const glm::dvec3& b) {
     return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)) *
@@ -120,33 +162,78 @@ CaseResult run_case(const Case& c, const Variant& variant, int width, int height
     });
     result.found = rig.lights;
 
-    // Greedy matching, smallest angle first: each found light serves at most one true light.
-    struct Pair {
-        double angle;
-        std::size_t truth, found;
-    };
-    std::vector<Pair> pairs;
-    for (std::size_t t = 0; t < result.true_directions.size(); ++t) {
-        for (std::size_t f = 0; f < rig.lights.size(); ++f) {
-            pairs.push_back(
-                {angle_degrees(result.true_directions[t], rig.lights[f].direction), t, f});
+    // Each true light belongs to the found light holding most of its disc's energy (L dOmega
+    // luminance); true lights sharing one are a merge, measured against the group.
+    std::vector<int> owner(std::size_t(width) * std::size_t(height), -1);
+    for (std::size_t f = 0; f < rig.lights.size(); ++f) {
+        for (const std::uint32_t i : rig.lights[f].pixels) {
+            owner[i] = int(f);
         }
     }
-    std::sort(pairs.begin(), pairs.end(),
-              [](const Pair& a, const Pair& b) { return a.angle < b.angle; });
-    result.matches.resize(result.true_directions.size());
+    result.matches.resize(c.discs.size());
     std::vector<bool> used(rig.lights.size(), false);
-    for (const Pair& pair : pairs) {
-        Match& match = result.matches[pair.truth];
-        if (match.found || used[pair.found]) {
+    for (std::size_t t = 0; t < c.discs.size(); ++t) {
+        std::vector<double> held(rig.lights.size(), 0.0);
+        for (const std::uint32_t i : map.disc_pixels[t]) {
+            if (owner[i] >= 0) {
+                held[std::size_t(owner[i])] += oer::luminance(glm::dvec3(map.image.rgb(i))) *
+                                               grid.row_solid_angle[i / std::uint32_t(width)];
+            }
+        }
+        const auto most = std::max_element(held.begin(), held.end());
+        if (most != held.end() && *most > 0.0) {
+            result.matches[t].found = std::size_t(most - held.begin());
+            used[*result.matches[t].found] = true;
+        }
+    }
+    const std::vector<glm::dvec3> ground_irradiance = oer::bench::pixels_irradiance(
+        map.image, all_pixels(width, height), std::vector<glm::dvec3>{{0.0, 1.0, 0.0}});
+    for (std::size_t f = 0; f < rig.lights.size(); ++f) {
+        std::vector<std::size_t> group;
+        glm::dvec3 centre(0.0);
+        glm::dvec2 mean_tip(0.0);
+        double power = 0.0;
+        for (std::size_t t = 0; t < c.discs.size(); ++t) {
+            if (result.matches[t].found == f) {
+                const double luminance = oer::luminance(result.true_intensities[t]);
+                group.push_back(t);
+                centre += luminance * result.true_directions[t];
+                mean_tip += luminance * tip_shadow(result.true_directions[t]);
+                power += luminance;
+            }
+        }
+        if (group.empty()) {
             continue;
         }
-        used[pair.found] = true;
-        match.found = pair.found;
-        match.angular_error_degrees = pair.angle;
-        const double truth = oer::luminance(result.true_intensities[pair.truth]);
-        match.intensity_relative_error =
-            (oer::luminance(rig.lights[pair.found].intensity) - truth) / truth;
+        const oer::Light& found = rig.lights[f];
+        for (const std::size_t t : group) {
+            Match& match = result.matches[t];
+            match.merged_lights = group.size();
+            match.angular_error_degrees = angle_degrees(centre, found.direction);
+            match.intensity_relative_error = (oer::luminance(found.intensity) - power) / power;
+        }
+        if (group.size() < 2 || found.direction.y <= 0.0) {
+            continue;
+        }
+        MergedShadow merge;
+        merge.lights = group;
+        merge.merged_tip_offset = glm::length(tip_shadow(found.direction) - mean_tip / power);
+        for (const std::size_t a : group) {
+            const Disc& disc = c.discs[a];
+            merge.own_penumbra = std::max(
+                merge.own_penumbra, cot_degrees(disc.elevation_degrees - disc.radius_degrees) -
+                                        cot_degrees(disc.elevation_degrees + disc.radius_degrees));
+            merge.band_error_share =
+                std::max(merge.band_error_share, oer::luminance(result.true_intensities[a]) *
+                                                     result.true_directions[a].y /
+                                                     oer::luminance(ground_irradiance[0]));
+            for (const std::size_t b : group) {
+                merge.true_tips_apart = std::max(
+                    merge.true_tips_apart, glm::length(tip_shadow(result.true_directions[a]) -
+                                                       tip_shadow(result.true_directions[b])));
+            }
+        }
+        result.merges.push_back(merge);
     }
     result.extra_lights = std::size_t(std::count(used.begin(), used.end(), false));
     return result;
@@ -160,11 +247,27 @@ void print_case(const CaseResult& result) {
                     (std::to_string(result.width) + "x" + std::to_string(result.height)).c_str(),
                     t + 1, result.found.size(), result.extra_lights, result.rig_ms);
         if (match.found) {
-            std::printf("%10.3f %+11.2f %%\n", match.angular_error_degrees,
-                        100.0 * match.intensity_relative_error);
+            std::printf("%10.3f %+11.2f %% %6zu\n", match.angular_error_degrees,
+                        100.0 * match.intensity_relative_error, match.merged_lights);
         } else {
-            std::printf("%10s %13s\n", "missed", "-");
+            std::printf("%10s %13s %6s\n", "missed", "-", "-");
         }
+    }
+    for (const MergedShadow& merge : result.merges) {
+        std::string lights;
+        for (const std::size_t t : merge.lights) {
+            if (!lights.empty()) {
+                lights += '+';
+            }
+            lights += std::to_string(t + 1);
+        }
+        std::printf(
+            "  lights %s as one: shadow of a pole of height H, the true tips %.3f H apart (the "
+            "band the merge gets wrong,\n  by up to %.1f %% of the ground's irradiance), the "
+            "merged tip %.3f H from their power-weighted mean;\n  each disc's own extent "
+            "spreads its tip over %.3f H (a penumbra point lights leave out too)\n",
+            lights.c_str(), merge.true_tips_apart, 100.0 * merge.band_error_share,
+            merge.merged_tip_offset, merge.own_penumbra);
     }
     std::fflush(stdout);
 }
@@ -190,10 +293,19 @@ nlohmann::json to_json(const std::vector<CaseResult>& results, bool quick) {
                 light["found_index"] = *match.found;
                 light["found_direction"] = vector_json(found.direction);
                 light["found_intensity"] = vector_json(found.intensity);
+                light["merged_lights"] = match.merged_lights;
                 light["angular_error_degrees"] = match.angular_error_degrees;
                 light["intensity_relative_error"] = match.intensity_relative_error;
             }
             lights.push_back(light);
+        }
+        nlohmann::json merges = nlohmann::json::array();
+        for (const MergedShadow& merge : result.merges) {
+            merges.push_back({{"lights", merge.lights},
+                              {"true_tips_apart", merge.true_tips_apart},
+                              {"merged_tip_offset", merge.merged_tip_offset},
+                              {"band_error_share", merge.band_error_share},
+                              {"own_penumbra", merge.own_penumbra}});
         }
         out["cases"].push_back({{"case", result.name},
                                 {"options", result.variant},
@@ -202,23 +314,24 @@ nlohmann::json to_json(const std::vector<CaseResult>& results, bool quick) {
                                 {"rig_ms", result.rig_ms},
                                 {"lights_found", result.found.size()},
                                 {"extra_lights", result.extra_lights},
-                                {"lights", lights}});
+                                {"lights", lights},
+                                {"merged_shadows", merges}});
     }
     return out;
 }
 
 std::string to_csv(const std::vector<CaseResult>& results) {
     std::string csv =
-        "case,options,width,height,light,found,angular_error_degrees,intensity_relative_error,"
-        "lights_found,extra_lights,rig_ms\n";
+        "case,options,width,height,light,found,merged_lights,angular_error_degrees,"
+        "intensity_relative_error,lights_found,extra_lights,rig_ms\n";
     char line[256];
     for (const CaseResult& result : results) {
         for (std::size_t t = 0; t < result.matches.size(); ++t) {
             const Match& match = result.matches[t];
-            char errors[64] = ",";  // a missed light has no errors: two empty fields
+            char errors[64] = ",,";  // a missed light has no figures: three empty fields
             if (match.found) {
-                std::snprintf(errors, sizeof errors, "%.9g,%.9g", match.angular_error_degrees,
-                              match.intensity_relative_error);
+                std::snprintf(errors, sizeof errors, "%zu,%.9g,%.9g", match.merged_lights,
+                              match.angular_error_degrees, match.intensity_relative_error);
             }
             std::snprintf(line, sizeof line, ",%d,%d,%zu,%d,%s,%zu,%zu,%.6g\n", result.width,
                           result.height, t + 1, match.found ? 1 : 0, errors, result.found.size(),
@@ -240,11 +353,13 @@ int main(int argc, char** argv) {
             "oer light-location sweep%s: known lights on a uniform sky of radiance %g, found by "
             "build_rig\nwith the default options, then with connected growth off, then with the "
             "thesis's pixel-space\nclustering (median of %d runs). Per true light: the angle "
-            "to the found light matched with it, and the found intensity's\nrelative error in "
-            "luminance against the painted disc's sum(L dOmega).\n\n",
+            "to the found light holding most of its energy, and the found intensity's\nrelative "
+            "error in luminance against the painted disc's sum(L dOmega); when one found light "
+            "holds several\ntrue lights (merged), against their power-weighted centre and "
+            "summed intensity.\n\n",
             arguments.quick ? " (--quick)" : "", kSky, kRepetitions);
-        std::printf("%-10s %-13s %-9s %5s %6s %6s %9s %10s %13s\n", "case", "options", "map",
-                    "light", "found", "extra", "rig ms", "angle deg", "intensity");
+        std::printf("%-10s %-13s %-9s %5s %6s %6s %9s %10s %13s %6s\n", "case", "options", "map",
+                    "light", "found", "extra", "rig ms", "angle deg", "intensity", "merged");
         std::vector<std::pair<int, int>> sizes = {{1024, 512}};
         if (!arguments.quick) {
             sizes.emplace_back(2048, 1024);

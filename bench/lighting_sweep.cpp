@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -43,8 +44,29 @@ constexpr int kFullRepetitions = 9;
 constexpr int kQuickRepetitions = 3;
 
 enum class WindowMode { None, Hanning, Lanczos, Auto };
-constexpr WindowMode kWindowModes[] = {WindowMode::None, WindowMode::Hanning, WindowMode::Lanczos,
-                                       WindowMode::Auto};
+
+// The cutoffs tried for Hanning and Lanczos, as multiples of the order (the cutoff rule is
+// what build_rig's default must choose: a larger multiple is a weaker window). 1x zeroes
+// nothing but weighs the top band least; 8x is close to no window at orders <= 9.
+constexpr double kCutoffFactors[] = {1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0};
+
+// One window setting of the sweep: a mode and, for Hanning and Lanczos, its cutoff over the
+// order (0 for none and auto).
+struct WindowSetting {
+    WindowMode mode = WindowMode::None;
+    double cutoff_factor = 0.0;
+};
+
+std::vector<WindowSetting> window_settings() {
+    std::vector<WindowSetting> settings{{WindowMode::None, 0.0}};
+    for (const WindowMode mode : {WindowMode::Hanning, WindowMode::Lanczos}) {
+        for (const double factor : kCutoffFactors) {
+            settings.push_back({mode, factor});
+        }
+    }
+    settings.push_back({WindowMode::Auto, 0.0});
+    return settings;
+}
 
 const char* name_of(WindowMode mode) {
     switch (mode) {
@@ -60,18 +82,18 @@ const char* name_of(WindowMode mode) {
     return "?";
 }
 
-// The window a mode means at an order, as build_rig applies it (rig.cpp): Hanning and Lanczos
-// at their default cutoff, twice the order; auto is choose_deringing_window's weakest Hanning
-// window keeping every on/off subset non-negative.
-oer::ShWindow window_for(WindowMode mode, const oer::ShProjection& projection) {
-    const double default_cutoff = 2.0 * projection.all.order;
-    switch (mode) {
+// The window a setting means at an order: Hanning and Lanczos at cutoff factor x order; auto is
+// choose_deringing_window's weakest Hanning window keeping every on/off subset non-negative,
+// as build_rig applies it (rig.cpp).
+oer::ShWindow window_for(const WindowSetting& setting, const oer::ShProjection& projection) {
+    const double cutoff = setting.cutoff_factor * projection.all.order;
+    switch (setting.mode) {
         case WindowMode::None:
             return {};
         case WindowMode::Hanning:
-            return {oer::WindowKind::Hanning, default_cutoff};
+            return {oer::WindowKind::Hanning, cutoff};
         case WindowMode::Lanczos:
-            return {oer::WindowKind::Lanczos, default_cutoff};
+            return {oer::WindowKind::Lanczos, cutoff};
         case WindowMode::Auto:
             return oer::choose_deringing_window(projection, oer::WindowKind::Hanning);
     }
@@ -93,7 +115,7 @@ struct Row {
     std::string world;
     std::vector<bool> on;  // per light of the rig, true = on
     int order = 0;
-    WindowMode window = WindowMode::None;
+    WindowSetting window;
     double window_cutoff = 0.0;  // of the window applied (0 for none)
     int downsampling = 1;
     double projection_ms = 0.0;  // median; whole (downsampled) map plus every light mask
@@ -113,7 +135,8 @@ std::string subset_name(const std::vector<bool>& on) {
 // subset from the same coefficients, so its error is the worst subset's.
 struct Configuration {
     int order = 0;
-    WindowMode window = WindowMode::None;
+    WindowSetting window;
+    double window_cutoff = 0.0;  // of the window applied (0 for none)
     int downsampling = 1;
     double time_ms = 0.0;  // projection + window choice
     double worst_relative_rms = 0.0;
@@ -121,9 +144,15 @@ struct Configuration {
 };
 
 std::string describe(const Configuration& c) {
+    char window[32];
+    if (c.window.cutoff_factor > 0.0) {
+        std::snprintf(window, sizeof window, "%s %gx", name_of(c.window.mode),
+                      c.window.cutoff_factor);
+    } else {
+        std::snprintf(window, sizeof window, "%s", name_of(c.window.mode));
+    }
     char text[64];
-    std::snprintf(text, sizeof text, "order %d, %s, 1/%d", c.order, name_of(c.window),
-                  c.downsampling);
+    std::snprintf(text, sizeof text, "order %d, %s, 1/%d", c.order, window, c.downsampling);
     return text;
 }
 
@@ -138,6 +167,53 @@ struct WorldResult {
     std::vector<Configuration> configurations;
     std::vector<std::size_t> front;  // indices into configurations
 };
+
+// The orders a cutoff rule is judged at: those the auto order picks above 2 (build_rig skips
+// 4, 6 and 8, which add only odd bands, whose irradiance factor is 0). At order 2 (bands 0 and
+// 1) every window above about 1.2 x order rings on studio and sunrise.
+constexpr int kJudgedOrders[] = {3, 5, 7, 9};
+// Ringing no worse than the auto window's: the most negative value at most this far below
+// auto's (which is non-negative on choose_deringing_window's own 2048 normals).
+constexpr double kRingingTolerance = 1e-6;
+
+const Configuration* find_configuration(const WorldResult& world, int order,
+                                        const WindowSetting& setting) {
+    for (const Configuration& c : world.configurations) {
+        if (c.order == order && c.downsampling == 1 && c.window.mode == setting.mode &&
+            c.window.cutoff_factor == setting.cutoff_factor) {
+            return &c;
+        }
+    }
+    return nullptr;
+}
+
+// At full resolution, whether a window setting rings no more than the auto window at an order
+// (nullopt when the sweep did not run that order).
+std::optional<bool> rings_within_auto(const WorldResult& world, int order,
+                                      const WindowSetting& setting) {
+    const Configuration* candidate = find_configuration(world, order, setting);
+    const Configuration* automatic = find_configuration(world, order, {WindowMode::Auto, 0.0});
+    if (candidate == nullptr || automatic == nullptr) {
+        return std::nullopt;
+    }
+    return candidate->most_negative >= automatic->most_negative - kRingingTolerance;
+}
+
+// The cutoff factor of the grid with the lowest worst-subset error among those ringing no more
+// than the auto window, at an order (nullptr when the order was not run).
+const Configuration* best_cutoff(const WorldResult& world, int order, WindowMode mode) {
+    const Configuration* best = nullptr;
+    for (const double factor : kCutoffFactors) {
+        const WindowSetting setting{mode, factor};
+        if (rings_within_auto(world, order, setting).value_or(false)) {
+            const Configuration* c = find_configuration(world, order, setting);
+            if (best == nullptr || c->worst_relative_rms < best->worst_relative_rms) {
+                best = c;
+            }
+        }
+    }
+    return best;
+}
 
 // The values of the order-kMaxOrder basis at each normal, kept so that every configuration
 // evaluates its expansion by dot products: the first order^2 values are the order's basis.
@@ -228,19 +304,20 @@ WorldResult sweep_world(const std::filesystem::path& path, bool quick, std::vect
             oer::ShProjection projection;
             const double projection_ms = oer::bench::median_ms(
                 repetitions, [&] { projection = oer::project_environment(reduced, masks, order); });
-            for (const WindowMode mode : kWindowModes) {
+            for (const WindowSetting& setting : window_settings()) {
                 const auto window_start = Clock::now();
-                const oer::ShWindow window = window_for(mode, projection);
-                const double window_ms = mode == WindowMode::Auto ? ms_since(window_start) : 0.0;
-                Configuration configuration{order, mode, factor, projection_ms + window_ms,
-                                            0.0,   0.0};
+                const oer::ShWindow window = window_for(setting, projection);
+                const double window_ms =
+                    setting.mode == WindowMode::Auto ? ms_since(window_start) : 0.0;
+                const double cutoff = window.kind == oer::WindowKind::None ? 0.0 : window.cutoff;
+                Configuration configuration{
+                    order, setting, cutoff, factor, projection_ms + window_ms, 0.0, 0.0};
                 for (std::size_t s = 0; s < subsets; ++s) {
                     const oer::ShRgb irradiance = oer::irradiance_coefficients(
                         oer::subset_coefficients(projection, subset_flags[s].on()), window);
                     const oer::bench::IrradianceError error = oer::bench::irradiance_error(
                         evaluate(irradiance, basis, normals.size()), subset_truth[s]);
-                    rows.push_back({world.name, subset_flags[s].as_vector(), order, mode,
-                                    window.kind == oer::WindowKind::None ? 0.0 : window.cutoff,
+                    rows.push_back({world.name, subset_flags[s].as_vector(), order, setting, cutoff,
                                     factor, projection_ms, window_ms, error});
                     configuration.worst_relative_rms =
                         std::max(configuration.worst_relative_rms, error.relative_rms);
@@ -263,7 +340,7 @@ WorldResult sweep_world(const std::filesystem::path& path, bool quick, std::vect
 // The configuration build_rig's defaults pick (auto order, full resolution) with a window.
 const Configuration* auto_configuration(const WorldResult& world, WindowMode window) {
     for (const Configuration& c : world.configurations) {
-        if (c.order == world.auto_order && c.window == window && c.downsampling == 1) {
+        if (c.order == world.auto_order && c.window.mode == window && c.downsampling == 1) {
             return &c;
         }
     }
@@ -313,7 +390,64 @@ void print_world(const WorldResult& world) {
                         front_verdict(world, *chosen).c_str());
         }
     }
+    std::printf("  best cutoff / order ringing no more than auto (worst subset's rms):\n");
+    for (const WindowMode mode : {WindowMode::Hanning, WindowMode::Lanczos}) {
+        std::string line;
+        for (const int order : kJudgedOrders) {
+            if (const Configuration* best = best_cutoff(world, order, mode)) {
+                char text[64];
+                std::snprintf(text, sizeof text, "  order %d: %gx (%.2f %%)", order,
+                              best->window.cutoff_factor, 100.0 * best->worst_relative_rms);
+                line += text;
+            }
+        }
+        std::printf("    %-8s%s\n", name_of(mode), line.c_str());
+    }
     std::fflush(stdout);
+}
+
+// A fixed cutoff rule (cutoff = factor x order) for a window kind: the largest factor of the
+// grid that rings no more than the auto window at every judged order of every world, and where
+// the next factor rings (empty when the largest factor passes).
+struct CutoffRule {
+    double factor = 0.0;  // 0 when even the smallest factor rings somewhere
+    std::string next_rings;
+};
+
+CutoffRule fixed_cutoff_rule(const std::vector<WorldResult>& worlds, WindowMode mode) {
+    CutoffRule rule;
+    for (const double factor : kCutoffFactors) {
+        for (const WorldResult& world : worlds) {
+            for (const int order : kJudgedOrders) {
+                const WindowSetting setting{mode, factor};
+                if (rings_within_auto(world, order, setting).value_or(true)) {
+                    continue;
+                }
+                char text[128];
+                std::snprintf(text, sizeof text, "%gx rings on %s at order %d (%.2f %%)", factor,
+                              world.name.c_str(), order,
+                              100.0 * find_configuration(world, order, setting)->most_negative);
+                rule.next_rings = text;
+                return rule;
+            }
+        }
+        rule.factor = factor;
+    }
+    return rule;
+}
+
+void print_cutoff_rules(const std::vector<WorldResult>& worlds) {
+    std::printf(
+        "\nFixed cutoff rules (cutoff = factor x order, full resolution): the largest factor "
+        "ringing no more than the auto window at orders 3, 5, 7, 9 on every world, and "
+        "build_rig's default:\n");
+    for (const auto& [mode, kind] : {std::pair{WindowMode::Hanning, oer::WindowKind::Hanning},
+                                     std::pair{WindowMode::Lanczos, oer::WindowKind::Lanczos}}) {
+        const CutoffRule rule = fixed_cutoff_rule(worlds, mode);
+        std::printf("  %-8s %gx (default %gx)%s%s\n", name_of(mode), rule.factor,
+                    oer::default_window_cutoff(kind, 1), rule.next_rings.empty() ? "" : "; ",
+                    rule.next_rings.c_str());
+    }
 }
 
 // Across the worlds: how often the defaults' choice (auto order, no window, full resolution)
@@ -343,7 +477,9 @@ void print_overview(const std::vector<WorldResult>& worlds) {
 
 nlohmann::json configuration_json(const Configuration& c) {
     return {{"order", c.order},
-            {"window", name_of(c.window)},
+            {"window", name_of(c.window.mode)},
+            {"cutoff_per_order", c.window.cutoff_factor},
+            {"window_cutoff", c.window_cutoff},
             {"downsampling", c.downsampling},
             {"time_ms", c.time_ms},
             {"worst_relative_rms", c.worst_relative_rms},
@@ -379,14 +515,32 @@ nlohmann::json to_json(const std::vector<WorldResult>& worlds, const std::vector
                 entry[std::string("auto_window_") + name_of(window)] = figures;
             }
         }
+        for (const WindowMode mode : {WindowMode::Hanning, WindowMode::Lanczos}) {
+            nlohmann::json best = nlohmann::json::object();
+            for (const int order : kJudgedOrders) {
+                if (const Configuration* c = best_cutoff(world, order, mode)) {
+                    best[std::to_string(order)] = configuration_json(*c);
+                }
+            }
+            entry["best_cutoff"][name_of(mode)] = best;
+        }
         out["worlds"].push_back(entry);
+    }
+    for (const auto& [mode, kind] : {std::pair{WindowMode::Hanning, oer::WindowKind::Hanning},
+                                     std::pair{WindowMode::Lanczos, oer::WindowKind::Lanczos}}) {
+        const CutoffRule rule = fixed_cutoff_rule(worlds, mode);
+        out["fixed_cutoff_rules"][name_of(mode)] = {
+            {"cutoff_per_order", rule.factor},
+            {"default_cutoff_per_order", oer::default_window_cutoff(kind, 1)},
+            {"next_rings", rule.next_rings}};
     }
     for (const Row& row : rows) {
         out["rows"].push_back({{"world", row.world},
                                {"subset", subset_name(row.on)},
                                {"lights_on", row.on},
                                {"order", row.order},
-                               {"window", name_of(row.window)},
+                               {"window", name_of(row.window.mode)},
+                               {"cutoff_per_order", row.window.cutoff_factor},
                                {"window_cutoff", row.window_cutoff},
                                {"downsampling", row.downsampling},
                                {"projection_ms", row.projection_ms},
@@ -405,7 +559,7 @@ std::string to_csv(const std::vector<Row>& rows) {
     char numbers[256];
     for (const Row& row : rows) {
         std::snprintf(numbers, sizeof numbers, ",%d,%s,%.6g,%d,%.6g,%.6g,%.9g,%.9g,%.9g\n",
-                      row.order, name_of(row.window), row.window_cutoff, row.downsampling,
+                      row.order, name_of(row.window.mode), row.window_cutoff, row.downsampling,
                       row.projection_ms, row.window_ms, row.error.relative_rms,
                       row.error.max_relative, row.error.most_negative);
         csv += oer::bench::csv_field(row.world) + "," + oer::bench::csv_field(subset_name(row.on)) +
@@ -454,6 +608,7 @@ int main(int argc, char** argv) {
         if (!arguments.csv_path.empty()) {
             oer::bench::write_text_file(arguments.csv_path, to_csv(rows));
         }
+        print_cutoff_rules(worlds);
         print_overview(worlds);
         std::printf("\n%zu rows; sweep took %.1f s\n", rows.size(), ms_since(start) / 1e3);
         return 0;

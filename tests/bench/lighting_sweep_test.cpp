@@ -31,8 +31,13 @@ std::set<std::string> installed_worlds() {
     return worlds;
 }
 
-// (world, subset, order, window, downsampling)
-using Key = std::tuple<std::string, std::string, int, std::string, int>;
+// The cutoffs over the order the sweep tries for Hanning and Lanczos.
+const std::set<double> kCutoffFactors = {1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0};
+// build_rig's defaults (default_window_cutoff), which the sweep measured.
+constexpr double kHanningDefault = 2.0, kLanczosDefault = 1.5;
+
+// (world, subset, order, window, cutoff over the order (0 for none and auto), downsampling)
+using Key = std::tuple<std::string, std::string, int, std::string, double, int>;
 
 class LightingSweepQuick : public ::testing::Test {
   protected:
@@ -54,13 +59,14 @@ class LightingSweepQuick : public ::testing::Test {
         ASSERT_TRUE(output_->json.is_object());
         for (const auto& row : output_->json.at("rows")) {
             rows_[{row.at("world"), row.at("subset"), row.at("order"), row.at("window"),
-                   row.at("downsampling")}] = row;
+                   row.at("cutoff_per_order"), row.at("downsampling")}] = row;
         }
     }
 
     const nlohmann::json& row(const std::string& world, const std::string& subset, int order,
-                              const std::string& window, int downsampling) const {
-        return rows_.at({world, subset, order, window, downsampling});
+                              const std::string& window, int downsampling,
+                              double cutoff_per_order = 0.0) const {
+        return rows_.at({world, subset, order, window, cutoff_per_order, downsampling});
     }
 
     static SweepOutput* output_;
@@ -120,14 +126,19 @@ TEST_F(LightingSweepQuick, FiguresAreFiniteAndOfTheirSign) {
         EXPECT_LE(negative, 0.0) << r;
         EXPECT_GT(ms, 0.0) << r;
         if (r.at("window") == "hanning" || r.at("window") == "lanczos") {
-            EXPECT_DOUBLE_EQ(r.at("window_cutoff").get<double>(), 2.0 * r.at("order").get<int>());
+            const double factor = r.at("cutoff_per_order");
+            EXPECT_EQ(kCutoffFactors.count(factor), 1u) << r;
+            EXPECT_DOUBLE_EQ(r.at("window_cutoff").get<double>(),
+                             factor * r.at("order").get<int>());
+        } else {
+            EXPECT_EQ(r.at("cutoff_per_order").get<double>(), 0.0) << r;
         }
     }
 }
 
 TEST_F(LightingSweepQuick, ErrorFallsFromOrderOneToThreeOnEveryWorldAndSubset) {
     for (const auto& [key, r] : rows_) {
-        const auto& [world, subset, order, window, downsampling] = key;
+        const auto& [world, subset, order, window, cutoff, downsampling] = key;
         if (order != 1 || window != "none") {
             continue;
         }
@@ -187,5 +198,32 @@ TEST_F(LightingSweepQuick, DownsamplingKeepsTheWholeMapAndProjectsFaster) {
             reduced_ms += reduced.at("projection_ms").get<double>();
         }
         EXPECT_LT(reduced_ms, full_ms) << name;
+    }
+}
+
+// The windows' cutoff rule: a larger cutoff (a weaker window) never costs error, and build_rig's
+// default multiples are the largest of the grid that ring no more than the auto window at the
+// orders judged, on every world (the next one rings somewhere, so neither is needlessly strong).
+TEST_F(LightingSweepQuick, DefaultCutoffsAreTheLargestMultiplesThatDoNotRing) {
+    const nlohmann::json& rules = output_->json.at("fixed_cutoff_rules");
+    for (const auto& [window, expected] :
+         {std::pair{"hanning", kHanningDefault}, std::pair{"lanczos", kLanczosDefault}}) {
+        const nlohmann::json& rule = rules.at(window);
+        EXPECT_EQ(rule.at("default_cutoff_per_order").get<double>(), expected) << window;
+        EXPECT_EQ(rule.at("cutoff_per_order").get<double>(), expected) << rule;
+        EXPECT_NE(rule.at("next_rings").get<std::string>(), "") << rule;
+    }
+    for (const auto& world : output_->json.at("worlds")) {
+        const std::string name = world.at("world");
+        const std::string all_on(world.at("lights").get<std::size_t>(), '1');
+        for (const char* window : {"hanning", "lanczos"}) {
+            double weaker_error = 0.0;
+            for (auto factor = kCutoffFactors.rbegin(); factor != kCutoffFactors.rend(); ++factor) {
+                const double error =
+                    row(name, all_on, 3, window, 1, *factor).at("relative_rms").get<double>();
+                EXPECT_GE(error, weaker_error - 1e-4) << name << " " << window << " " << *factor;
+                weaker_error = error;
+            }
+        }
     }
 }

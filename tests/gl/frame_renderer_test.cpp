@@ -1365,3 +1365,84 @@ TEST_F(FrameRendererTest, ATinySunAtExtremeRadianceStaysFiniteAndWhite) {
         }
     }
 }
+
+TEST_F(FrameRendererTest, ALightBelowTheHorizonLightsTheBoxButNotTheGround) {
+    // A light 5 degrees below the horizon (azimuth 30 degrees), a box on the ground: the ground's
+    // top faces away from it (cos = -0.087), so its irradiance from the light is 0 and the light
+    // can cast no shadow on it; the order-3 SH of the light still has a lobe there (the clamped
+    // cosine's truncation, about 5 % of its facing irradiance), which the ground, whose own
+    // plane hides the light, must not show. The box's faces towards the light are lit (the
+    // ground is a shadow catcher, not in the shadow maps) and keep all of the light (no
+    // self-shadowing). Checked on the light's own contribution: the frame with the light on
+    // less the frame with its weight 0, with and without shadows; no NaN or Inf anywhere.
+    const std::vector<Box> boxes = {{{-0.3, 0.0, -0.3}, {0.3, 0.5, 0.3}}};
+    const double e = glm::radians(-5.0), azimuth = glm::radians(30.0);
+    const glm::dvec3 direction{std::cos(e) * std::cos(azimuth), std::sin(e),
+                               std::cos(e) * std::sin(azimuth)};
+    const auto rig = one_light_rig(direction);
+    ASSERT_EQ(rig->lights.size(), 1u);
+    ASSERT_LT(rig->lights[0].direction.y, -0.08);
+    Camera camera;
+    camera.eye = {2.5f, 1.8f, 1.5f};
+    camera.target = {0.0f, 0.2f, 0.0f};
+    camera.fov_y = 45.0f;
+    FrameRequest request = box_on_ground_request(rig, boxes[0].low, boxes[0].high, camera, 256);
+    const Frame shadowed = render(request);
+    request.shadows.enabled = false;
+    const Frame unshadowed = render(request);
+    request.shadows.enabled = true;
+    request.lights = {0.0f};
+    const Frame off = render(request);
+    for (const Frame* frame : {&shadowed, &unshadowed, &off}) {
+        EXPECT_TRUE(std::all_of(frame->linear.begin(), frame->linear.end(),
+                                [](float v) { return std::isfinite(v); }));
+    }
+    const ShRgb light_irradiance = irradiance_coefficients(rig->sh.per_light[0], rig->window);
+    // What the ground would show of the light's SH lobe (0.8 / pi E_k(+Y)), against which the
+    // ground's measured change is judged.
+    const double lobe = 0.8 / kPi * light_irradiance.evaluate({0, 1, 0}).g;
+    const glm::dvec3 eye(camera.eye);
+    int ground_pixels = 0, face_pixels = 0;
+    double ground_change = 0.0, face_loss = 0.0, least_face_part = HUGE_VAL;
+    for (int y = 0; y < request.height; ++y) {
+        for (int x = 0; x < request.width; ++x) {
+            const glm::dvec3 ray = pixel_ray(camera, request.width, request.height, x, y);
+            const glm::dvec3 light_on = linear_rgb(shadowed, x, y),
+                             light_off = linear_rgb(off, x, y);
+            if (const auto face = box_face_hit(eye, ray, boxes[0])) {
+                const double facing = glm::dot(*face, rig->lights[0].direction);
+                if (facing < 0.3) {
+                    continue;
+                }
+                // A face towards the light: the light's SH irradiance there, all of it, with
+                // shadows as without.
+                const double part = 0.5 / kPi * light_irradiance.evaluate(*face).g;
+                least_face_part = std::min(least_face_part, part);
+                face_loss = std::max(face_loss, std::abs((light_on - light_off).g - part) / part);
+                face_loss = std::max(face_loss,
+                                     std::abs((linear_rgb(unshadowed, x, y) - light_on).g) / part);
+                ++face_pixels;
+                continue;
+            }
+            if (ray.y >= 0.0 || linear_alpha(off, x, y) < 1.0f) {
+                continue;  // the sky, or beyond the ground's edge
+            }
+            // Green, as the lobe (the light is white).
+            ground_change =
+                std::max({ground_change, std::abs((light_on - light_off).g) / lobe,
+                          std::abs((linear_rgb(unshadowed, x, y) - light_off).g) / lobe});
+            ++ground_pixels;
+        }
+    }
+    std::printf(
+        "[ measured ] light 5 degrees below the horizon: SH lobe on the ground %.4g (%.1f %% of "
+        "a face's %.4g); over %d ground pixels the light changes the ground by at most %.3g of "
+        "the lobe; over %d box pixels facing it the faces keep its part within %.3g\n",
+        lobe, 100.0 * lobe / least_face_part, least_face_part, ground_pixels, ground_change,
+        face_pixels, face_loss);
+    EXPECT_GT(lobe, 0.02 * least_face_part);  // so that a ground lit by the lobe fails below
+    EXPECT_GT(ground_pixels, 20000);
+    EXPECT_LT(ground_change, 1e-3);
+    EXPECT_GT(face_pixels, 2000);
+    EXPECT_LT(face_loss, 0.02);
+}

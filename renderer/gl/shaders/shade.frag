@@ -86,7 +86,12 @@ vec4 shade(ivec2 pixel) {
 #endif
     for (int k = 0; k < LIGHTS_ON; ++k) {
 #if SURFACE == 2
-        float v = ground_visibility(k, position);
+        // The ground's own plane hides a light below its horizon from its top (the true
+        // irradiance there is 0, cos < 0), shadows on or off: visibility 0, so that none of the
+        // light's SH is left, whose truncated clamped cosine still reaches above the horizon
+        // (order 3, 5 degrees below: 0.05 of the light's facing irradiance, f(t) = 1/4 + t/2 +
+        // 5/32 (3 t^2 - 1) at t = -0.087; Ramamoorthi and Hanrahan 2001, eq. 8).
+        float v = u_light_direction[k].y < 0.0 ? 0.0 : ground_visibility(k, position);
         vec3 light_irradiance = u_flat_irradiance[k + 1];
 #else
         float v = visibility(k, position, n, rotation);

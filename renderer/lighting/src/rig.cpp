@@ -214,6 +214,24 @@ OrderChoice choose_order(const HdrImage& image, const ShProjection& order3,
 
 }  // namespace
 
+double default_window_cutoff(WindowKind kind, int order) {
+    if (order < 1) {
+        throw Error(ErrorKind::InvalidInput,
+                    "default_window_cutoff: SH order " + std::to_string(order) + " is below 1");
+    }
+    // The figures behind the factors are in rig.hpp and bench/README.md (lighting_sweep).
+    switch (kind) {
+        case WindowKind::Hanning:
+            return 2.0 * order;
+        case WindowKind::Lanczos:
+            return 1.5 * order;
+        case WindowKind::None:
+            break;
+    }
+    throw Error(ErrorKind::InvalidInput,
+                "default_window_cutoff: a window of kind none has no cutoff");
+}
+
 Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOptions& options) {
     validate(options);
     if (image.width < 1 || image.height < 1) {
@@ -276,8 +294,9 @@ Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOpti
         case WindowChoice::Lanczos:
             rig.window.kind =
                 options.window == WindowChoice::Hanning ? WindowKind::Hanning : WindowKind::Lanczos;
-            rig.window.cutoff =
-                options.window_cutoff > 0.0 ? options.window_cutoff : 2.0 * rig.order;
+            rig.window.cutoff = options.window_cutoff > 0.0
+                                    ? options.window_cutoff
+                                    : default_window_cutoff(rig.window.kind, rig.order);
             rig.window_reason = "requested " + to_string(rig.window.kind);
             break;
         case WindowChoice::Auto:
