@@ -56,7 +56,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const char* const kWorldDirectory = "/usr/share/blender/datafiles/studiolights/world";
 constexpr double kNoiseFraction = 0.2;      // the reference's noise at most this share of an error
 constexpr double kErrorMapFullScale = 0.5;  // error maps saturate at +-50 % of the mean
 constexpr int kTimedFrames = 3;             // median of these, shadow maps cached
@@ -297,18 +296,6 @@ ReferenceImage render_reference(const oer::FrameRequest& request, oer::Bounce bo
         image.surface_mask.push_back(surface != oer::ReferenceSurface::Background ? 1 : 0);
     }
     return image;
-}
-
-double mean_over(const std::vector<double>& values, const std::vector<std::uint8_t>& mask) {
-    double sum = 0.0;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        if (mask[i] != 0) {
-            sum += values[i];
-            ++count;
-        }
-    }
-    return count > 0 ? sum / double(count) : 0.0;
 }
 
 // A frame's luminance as compared with a reference: for a scale-fitted configuration, times
@@ -560,7 +547,8 @@ class Sweep {
                  {"pixels", surface.pixels},
                  {"reference_samples", reference.samples},
                  {"reference_noise", surface.noise},
-                 {"reference_mean_luminance", mean_over(reference.luminance, surface.mask)},
+                 {"reference_mean_luminance",
+                  oer::bench::masked_mean(reference.luminance, surface.mask)},
                  {"noise_ratio", surface.noise / error},
                  {"scale_fitted", c.scale_fitted}});
         }
@@ -675,19 +663,7 @@ void print_summary(const json& rows) {
 int main(int argc, char** argv) {
     try {
         const Arguments arguments = parse_arguments(argc, argv);
-        std::vector<fs::path> worlds;
-        std::error_code error;
-        for (const auto& entry : fs::directory_iterator(kWorldDirectory, error)) {
-            if (entry.path().extension() == ".exr") {
-                worlds.push_back(entry.path());
-            }
-        }
-        if (worlds.empty()) {
-            std::fprintf(stderr, "frame_sweep: no worlds in %s (install blender-data)\n",
-                         kWorldDirectory);
-            return 1;
-        }
-        std::sort(worlds.begin(), worlds.end());
+        const std::vector<fs::path> worlds = oer::bench::blender_worlds();
         std::vector<std::pair<MeshSource, std::shared_ptr<const oer::Mesh>>> meshes;
         for (const MeshSource& source : mesh_sources(arguments)) {
             meshes.emplace_back(

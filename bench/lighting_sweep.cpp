@@ -34,7 +34,6 @@ namespace {
 using oer::bench::Clock;
 using oer::bench::ms_since;
 
-const char* const kWorldDirectory = "/usr/share/blender/datafiles/studiolights/world";
 // Normals the error is measured on: enough that a light's ringing lobe (a few tens of degrees
 // wide at order <= 9) is sampled, few enough that the brute-force truth over every pixel stays
 // well under a second a map.
@@ -574,19 +573,7 @@ int main(int argc, char** argv) {
     try {
         const oer::bench::SweepArguments arguments = oer::bench::parse_sweep_arguments(argc, argv);
         const auto start = Clock::now();
-        std::vector<std::filesystem::path> paths;
-        std::error_code error;
-        for (const auto& entry : std::filesystem::directory_iterator(kWorldDirectory, error)) {
-            if (entry.path().extension() == ".exr") {
-                paths.push_back(entry.path());
-            }
-        }
-        if (paths.empty()) {
-            std::fprintf(stderr, "lighting_sweep: no worlds in %s (install blender-data)\n",
-                         kWorldDirectory);
-            return 1;
-        }
-        std::sort(paths.begin(), paths.end());
+        const std::vector<std::filesystem::path> paths = oer::bench::blender_worlds();
         std::printf(
             "oer lighting sweep%s: SH order x window x downsampling on %zu worlds, every on/off "
             "subset of the lights build_rig finds with its defaults.\n"

@@ -45,6 +45,19 @@ std::vector<double> frame_luminance(std::span<const float> rgba) {
     return out;
 }
 
+double masked_mean(std::span<const double> values, std::span<const std::uint8_t> mask) {
+    check_sizes(values.size(), values.size(), mask.size(), "masked_mean");
+    double sum = 0.0;
+    std::size_t selected = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (mask[i] != 0) {
+            sum += values[i];
+            ++selected;
+        }
+    }
+    return selected > 0 ? sum / double(selected) : 0.0;
+}
+
 double relative_rms_error(std::span<const double> luminance, std::span<const double> reference,
                           std::span<const std::uint8_t> mask) {
     check_sizes(luminance.size(), reference.size(), mask.size(), "relative_rms_error");
@@ -135,15 +148,7 @@ Rgba8Image display_image(std::span<const float> rgba, int width, int height, dou
 Rgba8Image error_map(std::span<const double> luminance, std::span<const double> reference,
                      std::span<const std::uint8_t> mask, int width, int height, double full_scale) {
     check_sizes(luminance.size(), reference.size(), mask.size(), "error_map");
-    double sum = 0.0;
-    std::size_t selected = 0;
-    for (std::size_t i = 0; i < mask.size(); ++i) {
-        if (mask[i] != 0) {
-            sum += reference[i];
-            ++selected;
-        }
-    }
-    const double mean = selected > 0 ? sum / double(selected) : 0.0;
+    const double mean = masked_mean(reference, mask);
     Rgba8Image out{width, height, std::vector<std::uint8_t>(mask.size() * 4, 255)};
     for (std::size_t i = 0; i < mask.size(); ++i) {
         std::uint8_t* pixel = &out.pixels[4 * i];

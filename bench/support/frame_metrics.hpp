@@ -17,6 +17,10 @@ namespace oer::bench {
 // linear frame (Frame::linear's layout).
 std::vector<double> frame_luminance(std::span<const float> rgba);
 
+// The mean of the values whose mask entry is set; 0 when none is (sizes must match, else
+// oer::Error InvalidInput).
+double masked_mean(std::span<const double> values, std::span<const std::uint8_t> mask);
+
 // sqrt(sum (Y - Y_ref)^2 / sum Y_ref^2) over the pixels whose mask entry is set: the reference
 // renderer's noise measure (ReferenceNoise), so that noise and error compare directly. Sizes
 // must match, at least one pixel must be selected and the reference must not be black there

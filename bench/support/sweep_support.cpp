@@ -234,6 +234,22 @@ void write_text_file(const std::string& path, const std::string& text) {
     }
 }
 
+std::vector<std::filesystem::path> blender_worlds() {
+    std::vector<std::filesystem::path> paths;
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator(kBlenderWorldDirectory, error)) {
+        if (entry.path().extension() == ".exr") {
+            paths.push_back(entry.path());
+        }
+    }
+    if (paths.empty()) {
+        throw Error(ErrorKind::Io, std::string("no worlds in ") + kBlenderWorldDirectory +
+                                       " (install blender-data)");
+    }
+    std::sort(paths.begin(), paths.end());
+    return paths;
+}
+
 std::string csv_field(const std::string& text) {
     if (text.find_first_of(",\"\n\r") == std::string::npos) {
         return text;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <span>
 #include <string>
 #include <utility>
@@ -84,6 +85,13 @@ IrradianceError irradiance_error(std::span<const glm::dvec3> approx,
 // is at most as slow and at most as wrong and better in one. Sorted by time, then error; of
 // equal points the first is kept. Sizes must match (else oer::Error InvalidInput).
 std::vector<std::size_t> pareto_front(std::span<const double> time, std::span<const double> error);
+
+// Blender's studio-light worlds (Debian's blender-data, DESIGN.md section 5), the real maps of
+// the sweeps: the .exr files of kBlenderWorldDirectory, sorted by name. Throws oer::Error (Io)
+// saying to install blender-data when there are none.
+inline constexpr const char* kBlenderWorldDirectory =
+    "/usr/share/blender/datafiles/studiolights/world";
+std::vector<std::filesystem::path> blender_worlds();
 
 // The command line both sweeps take: [--quick] [--json FILE] [--csv FILE]. Throws oer::Error
 // (InvalidInput) naming an unknown flag or a missing file name.
