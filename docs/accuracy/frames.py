@@ -121,9 +121,17 @@ def mesh_summary_table(frames: FrameRows) -> str:
     return markdown_table(header, rows)
 
 
-def front_verdict(frames: FrameRows, world: str, config: str, surface: str) -> str:
-    """Whether one configuration of the bunny is on the world's front, and if not what beats it."""
-    points = frames.configs(HEADLINE_MESH, world, "none", surface)
+def front_verdict(frames: FrameRows, world: str, config: str, surface: str,
+                  family: str | None = None) -> str:
+    """Whether one configuration of the bunny is on the world's front, and if not what beats it.
+
+    The front is over the configurations with an absolute scale (a scale-fitted one, the
+    thesis's, is compared at its best exposure: no setting a user could choose); with `family`,
+    over that family's configurations and the default only, so that one choice (the light
+    count, the shadow maps, the SH order) is judged with everything else at its default."""
+    points = [row for row in frames.configs(HEADLINE_MESH, world, "none", surface)
+              if not row["scale_fitted"]
+              and (family is None or row["family"] == family or row["config"] == "default")]
     point = next((row for row in points if row["config"] == config), None)
     if point is None:
         return MISSING
@@ -134,9 +142,10 @@ def front_verdict(frames: FrameRows, world: str, config: str, surface: str) -> s
             f"{percent(better['relative_rms'])})")
 
 
-def frames_on_front(frames: FrameRows, config: str, surface: str) -> tuple[int, int]:
+def frames_on_front(frames: FrameRows, config: str, surface: str,
+                    family: str | None = None) -> tuple[int, int]:
     """On how many of the bunny's worlds `config` is on the front, and of how many it ran in."""
-    verdicts = [front_verdict(frames, world, config, surface)
+    verdicts = [front_verdict(frames, world, config, surface, family)
                 for world in frames.worlds(HEADLINE_MESH)]
     ran = [verdict for verdict in verdicts if verdict != MISSING]
     return sum(verdict == "on the front" for verdict in ran), len(ran)

@@ -62,7 +62,7 @@ def frame_figure(frames: FrameRows, world: str, path: Path) -> None:
     for axes, surface in zip(panels, ("object", "ground")):
         rows = frames.configs(HEADLINE_MESH, world, "none", surface)
         points = [(row["frame_ms"], 100.0 * row["relative_rms"], row["config"]) for row in rows]
-        draw_front(axes, points, {"default", "lights auto"}, "default, lights auto")
+        draw_front(axes, points, {"default"}, "default (auto lights and order, 2048 pcf)")
         axes.set_title(f"{HEADLINE_MESH}, {world}: {surface} pixels", fontsize=10)
         axes.set_xlabel("frame time at the time size (ms)")
         axes.set_ylabel("relative RMS of luminance vs direct reference (%)")

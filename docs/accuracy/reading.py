@@ -131,12 +131,9 @@ def pipelines(frames: FrameRows) -> str | None:
                 f"{value_range((r['frame_ms'] for r in rows), milliseconds)} ms")
 
     shadows = sorted({(row["shadow_resolution"], row["shadow_filter"]) for row in default})
-    automatic = [frames.find(HEADLINE_MESH, row["world"], "lights auto") for row in default]
-    picked = all(auto is not None and auto["lights"] == row["lights"]
-                 for auto, row in zip(automatic, default))
-    settings = (f"{value_range((r['lights'] for r in default), str)} lights"
-                + (" (what the auto light count picks)" if picked else "")
-                + f", SH order {value_range((r['order'] for r in default), str)}, "
+    settings = (f"{value_range((r['lights'] for r in default), str)} lights (the automatic "
+                f"light count), SH order {value_range((r['order'] for r in default), str)} (the "
+                "automatic order), "
                 + " or ".join(f"{resolution} {name} shadows" for resolution, name in shadows))
     return (f"**The three pipelines.** Our default renders with {settings}. "
             f"On the {HEADLINE_MESH}'s pixels, against the direct "
@@ -187,9 +184,18 @@ def one_bounce(frames: FrameRows) -> str | None:
             direct = value_range((pair[0]["relative_rms"] for pair in pairs), percent)
             bounced = value_range((pair[1]["relative_rms"] for pair in pairs), percent)
             parts.append(f"on the {surface} {bounced} instead of {direct}")
+    brighter = []
+    for surface in ("object", "ground"):
+        ratios = [bounced["reference_mean_luminance"] / direct["reference_mean_luminance"] - 1.0
+                  for world in frames.worlds(HEADLINE_MESH)
+                  if (direct := frames.find(HEADLINE_MESH, world, "default", "none", surface))
+                  and (bounced := frames.find(HEADLINE_MESH, world, "default", "one", surface))]
+        if ratios:
+            brighter.append(f"the {surface} {value_range(ratios, percent)}")
     if not parts:
         return None
-    return ("**What one bounce adds.** Against the reference with one diffuse bounce (light OER "
+    return ("**What one bounce adds.** One diffuse bounce makes the reference brighter by "
+            + " and ".join(brighter) + ". Against the reference with one diffuse bounce (light OER "
             "leaves out), our default's error is " + ", and ".join(parts) + ".")
 
 
@@ -199,22 +205,23 @@ def light_count(frames: FrameRows) -> str | None:
     chosen = []
     for world in frames.worlds(HEADLINE_MESH):
         for row in frames.configs(HEADLINE_MESH, world, "none", "object"):
-            if row["family"] == "lights" and row["config"] != "lights auto":
+            if row["family"] == "lights":
                 by_count.setdefault(row["lights"], []).append(row["relative_rms"])
-            if row["config"] == "lights auto":
+            if row["config"] == "default":
                 chosen.append(row["lights"])
     if not by_count or not chosen:
         return None
-    auto_object, ran = frames_on_front(frames, "lights auto", "object")
-    auto_ground, _ = frames_on_front(frames, "lights auto", "ground")
+    auto_object, ran = frames_on_front(frames, "default", "object", "lights")
+    auto_ground, _ = frames_on_front(frames, "default", "ground", "lights")
     default_object, default_ran = frames_on_front(frames, "default", "object")
     default_ground, _ = frames_on_front(frames, "default", "ground")
     counts = ", ".join(f"{percent(mean(errors))} with {count}"
                        for count, errors in sorted(by_count.items()))
     return (f"**Light count.** The {HEADLINE_MESH}'s object error, averaged over worlds, is "
-            f"{counts} lights. The auto light count picks {value_range(chosen, str)} and lands on "
-            f"the front in {auto_object} of {ran} worlds for the object and {auto_ground} for "
-            f"the ground; the default configuration is on it in {default_object} of "
+            f"{counts} lights. The auto light count (the default's) picks "
+            f"{value_range(chosen, str)} and lands on the front of the light counts in "
+            f"{auto_object} of {ran} worlds for the object and {auto_ground} for "
+            f"the ground; the default configuration is on the front of every configuration in {default_object} of "
             f"{default_ran} worlds for the object and {default_ground} for the ground.")
 
 
