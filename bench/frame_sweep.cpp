@@ -15,6 +15,7 @@
 // ratio, so that a comparison that stays noisy is marked, never hidden.
 //
 //   frame_sweep --out DIR [--quick] [--mesh-dir DIR] [--min-samples N] [--max-samples N]
+//               [--worlds NAME,NAME] (only those worlds: to look again at one)
 // writes DIR/frame_sweep.json, DIR/frame_sweep.csv and DIR/images/*.png (the report's
 // side-by-side images). --mesh-dir holds horse.glb and cat.glb, converted from glmark2's .3ds
 // files and stood upright by scripts/accuracy-report.sh (assimp export, then
@@ -73,7 +74,18 @@ struct Arguments {
     int max_samples = 4096;
     int compare_size = 128;
     int time_size = 512;
+    std::vector<std::string> worlds;  // empty: every world
 };
+
+std::vector<std::string> split_names(const std::string& text) {
+    std::vector<std::string> names;
+    for (std::size_t start = 0; start <= text.size();) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        names.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    return names;
+}
 
 Arguments parse_arguments(int argc, char** argv) {
     Arguments arguments;
@@ -109,11 +121,13 @@ Arguments parse_arguments(int argc, char** argv) {
             arguments.min_samples = positive(flag, value(i));
         } else if (flag == "--max-samples") {
             arguments.max_samples = positive(flag, value(i));
+        } else if (flag == "--worlds") {
+            arguments.worlds = split_names(value(i));
         } else {
             throw oer::Error(oer::ErrorKind::InvalidInput,
                              "unknown argument '" + flag +
                                  "' (takes --out DIR, --quick, --mesh-dir DIR, --min-samples N, "
-                                 "--max-samples N)");
+                                 "--max-samples N, --worlds NAME,NAME)");
         }
     }
     if (arguments.out.empty()) {
@@ -617,8 +631,12 @@ std::vector<MeshSource> mesh_sources(const Arguments& arguments) {
 
 // The worlds each mesh is rendered under: the bunny under every one; the other meshes under the
 // three of issue 13's table (overcast, studio lights, a sunlit forest), which bound the range.
-bool rendered_under(const std::string& mesh, const std::string& world, bool quick) {
-    if (quick) {
+bool rendered_under(const std::string& mesh, const std::string& world, const Arguments& arguments) {
+    if (!arguments.worlds.empty() && std::find(arguments.worlds.begin(), arguments.worlds.end(),
+                                               world) == arguments.worlds.end()) {
+        return false;
+    }
+    if (arguments.quick) {
         return world == "forest" || world == "studio";
     }
     return mesh == "bunny" || world == "courtyard" || world == "studio" || world == "forest";
@@ -681,7 +699,7 @@ int main(int argc, char** argv) {
         for (const fs::path& world : worlds) {
             const std::string name = world.stem().string();
             if (std::none_of(meshes.begin(), meshes.end(), [&](const auto& mesh) {
-                    return rendered_under(mesh.first.name, name, arguments.quick);
+                    return rendered_under(mesh.first.name, name, arguments);
                 })) {
                 continue;
             }
@@ -693,7 +711,7 @@ int main(int argc, char** argv) {
             }
             const auto map = std::make_shared<const oer::HdrImage>(loaded.image);
             for (const auto& [source, mesh] : meshes) {
-                if (!rendered_under(source.name, name, arguments.quick)) {
+                if (!rendered_under(source.name, name, arguments)) {
                     continue;
                 }
                 sweep.run({source.name, name, map, {{mesh, glm::mat4(1.0f), std::nullopt}}}, rigs,

@@ -13,8 +13,8 @@
 
 namespace oer::bench {
 
-// Luminance (Rec. 709 weights, as light_location.hpp's luminance) of each pixel of an RGBA
-// linear frame (Frame::linear's layout).
+// Luminance (DESIGN.md section 2's, light_location.hpp's luminance, as the reference renderer's
+// noise estimate uses) of each pixel of an RGBA linear frame (Frame::linear's layout).
 std::vector<double> frame_luminance(std::span<const float> rgba);
 
 // The mean of the values whose mask entry is set; 0 when none is (sizes must match, else

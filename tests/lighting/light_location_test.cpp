@@ -13,6 +13,11 @@
 #include "oer/core/image.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/light_location.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/lighting/sh_projection.hpp"
+#include "oer/image/image_io.hpp"
+#include <filesystem>
+#include <glm/trigonometric.hpp>
 
 using namespace oer;
 using std::numbers::pi;
@@ -648,4 +653,73 @@ TEST(LightLocation, Slow8192x4096) {
     ASSERT_EQ(found.lights.size(), 3u) << found.note;
     expect_consistent(found, scene.image);
     expect_discs_found(scene, found, three_discs, disc_names);
+}
+
+namespace {
+
+// A map lit by a core disc (half-angle core_degrees, radiance core) inside a halo disc
+// (halo_degrees, radiance halo) about direction d, black elsewhere; the SH (order 3) of the
+// halo's pixels (core included): a light's own SH, as Rig::sh.per_light holds it.
+ShRgb disc_light_sh(const glm::dvec3& d, double core_degrees, double core, double halo_degrees,
+                    double halo) {
+    const int width = 1024, height = 512;
+    HdrImage image(width, height);
+    std::vector<std::uint32_t> pixels;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const double angle =
+                std::acos(std::clamp(glm::dot(equirect::pixel_direction(x, y, width, height), d),
+                                     -1.0, 1.0));
+            const auto index = std::uint32_t(y * width + x);
+            if (angle <= glm::radians(halo_degrees)) {
+                const double radiance = angle <= glm::radians(core_degrees) ? core : halo;
+                image.set(index, glm::vec3(float(radiance)));
+                pixels.push_back(index);
+            }
+        }
+    }
+    const std::vector<std::vector<std::uint32_t>> lights{pixels};
+    return project_environment(image, lights, 3).per_light[0];
+}
+
+}  // namespace
+
+TEST(EnergyAngularRadius, AUniformDiscHasItsOwnHalfAngle) {
+    const glm::dvec3 d = glm::normalize(glm::dvec3(0.3, 0.8, -0.5));
+    for (const double degrees : {5.0, 10.0, 25.0}) {
+        const double radius =
+            glm::degrees(energy_angular_radius(disc_light_sh(d, degrees, 1.0, degrees, 1.0), d));
+        EXPECT_NEAR(radius, degrees, 0.05 * degrees + 0.3) << degrees << " degree disc";
+    }
+}
+
+TEST(EnergyAngularRadius, ASunInItsGlowIsTheSunsSizeNotTheGlows) {
+    // A 1-degree core 1000 times brighter than its 20-degree glow: the core holds 0.71 of the
+    // energy (1000 x 1^2 against 20^2 - 1), so the mean cosine is nearly the core's.
+    const glm::dvec3 d = glm::normalize(glm::dvec3(-0.6, 0.2, 0.7));
+    const double radius =
+        glm::degrees(energy_angular_radius(disc_light_sh(d, 1.0, 1000.0, 20.0, 1.0), d));
+    std::printf("[ measured ] 1-degree sun in a 20-degree glow: energy radius %.2f degrees\n",
+                radius);
+    // <cos> = 0.7147 (1 + cos 1 deg) / 2 + 0.2853 (1 + cos 20 deg) / 2: a disc of 10.7 degrees,
+    // against the glow's 20.
+    EXPECT_NEAR(radius, 10.7, 0.7);
+    EXPECT_EQ(energy_angular_radius(ShRgb(3), d), 0.0);
+}
+
+TEST(EnergyAngularRadius, BlenderWorldsLightsAgainstTheirExtent) {
+    const std::string directory = "/usr/share/blender/datafiles/studiolights/world/";
+    for (const std::string world : {"sunrise", "city", "studio"}) {
+        if (!std::filesystem::exists(directory + world + ".exr")) {
+            GTEST_SKIP() << "no Blender worlds: install blender-data";
+        }
+        const LoadedImage loaded = load_image_file(directory + world + ".exr");
+        const Rig rig = build_rig(loaded.image, loaded.repaired, {});
+        for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+            const double energy = energy_angular_radius(rig.sh.per_light[k], rig.lights[k].direction);
+            std::printf("[ measured ] %s light %zu: extent %.1f, energy radius %.1f degrees\n",
+                        world.c_str(), k, glm::degrees(rig.lights[k].angular_radius),
+                        glm::degrees(energy));
+        }
+    }
 }

@@ -1,16 +1,24 @@
 // Shadow tests of the lights that are on, shared by the deferred shading pass and the
 // ground-visibility bake. Shadow maps of the lights that are on are the layers of one depth
 // array (texture unit 4), so that any number of lights needs two texture units, not one per
-// light. SHADOWS 0: every light reaches every point; PCF 0: the thesis's hard test, 1: filtered.
+// light. SHADOWS 0: every light reaches every point; PCF 0: the thesis's hard test, 1: soft
+// shadows whose penumbra grows with the distance from the blockers (PCSS).
 #include "math_constants.glsl"
 
 #if LIGHTS_ON > 0
 uniform mat4 u_light_matrix[LIGHTS_ON];
 uniform int u_light_layer[LIGHTS_ON];      // the light's layer in the shadow arrays
-uniform float u_light_kernel[LIGHTS_ON];   // PCF radius in shadow-map uv
+// tan of the light's energy angular radius: a blocker's penumbra radius, in shadow-map uv, per
+// unit of depth between it and the receiver (the light's orthographic view is as deep as it is
+// wide, frame_context.cpp's light_matrix, so uv and depth share their unit).
+uniform float u_light_spread[LIGHTS_ON];
 uniform float u_normal_offset[LIGHTS_ON];  // receiver offset against acne, world units
 #if SHADOWS
 layout(binding = 4) uniform sampler2DArrayShadow u_shadow_maps;
+#if PCF
+layout(binding = 6) uniform sampler2DArray u_shadow_depths;  // the same layers, as depths
+uniform float u_shadow_texel;                                // one texel, in uv
+#endif
 #endif
 
 // 16 points of a Poisson disc of radius 1.
@@ -36,13 +44,35 @@ float visibility(int k, vec3 position, vec3 normal, mat2 rotation) {
     }
     float reference = clamp(uvz.z, 0.0, 1.0);
 #if PCF
+    // Percentage-closer soft shadows (R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH
+    // 2005 sketch): the blockers' mean depth, searched over the widest penumbra a blocker could
+    // cast here (one at the light's near plane), sizes the filter, so that a contact shadow or
+    // a self-shadow stays sharp while a shadow far from its caster spreads as the light's size
+    // says. Eight taps of the disc for the search.
+    float layer = float(u_light_layer[k]);
+    float search = max(u_shadow_texel, reference * u_light_spread[k]);
+    float blocker_depth = 0.0;
+    float blockers = 0.0;
+    for (int i = 0; i < 16; i += 2) {
+        float depth = texture(u_shadow_depths, vec3(uvz.xy + rotation * POISSON[i] * search,
+                                                     layer)).r;
+        if (depth < reference) {
+            blocker_depth += depth;
+            blockers += 1.0;
+        }
+    }
+    if (blockers == 0.0) {
+        return 1.0;
+    }
+    float kernel = clamp((reference - blocker_depth / blockers) * u_light_spread[k],
+                         u_shadow_texel, search);
     // One bilinear comparison per tap (2x2 texels). Four spread taps first: where they agree
     // the point is fully lit or fully in shadow, as nearly every point is; only penumbrae pay
     // for the other twelve.
     const int EARLY[4] = int[](0, 1, 5, 7);
     float sum = 0.0;
     for (int i = 0; i < 4; ++i) {
-        vec2 uv = uvz.xy + rotation * POISSON[EARLY[i]] * u_light_kernel[k];
+        vec2 uv = uvz.xy + rotation * POISSON[EARLY[i]] * kernel;
         sum += texture(u_shadow_maps, vec4(uv, float(u_light_layer[k]), reference));
     }
     if (sum == 0.0 || sum == 4.0) {
@@ -52,7 +82,7 @@ float visibility(int k, vec3 position, vec3 normal, mat2 rotation) {
         if (i == 0 || i == 1 || i == 5 || i == 7) {
             continue;
         }
-        vec2 uv = uvz.xy + rotation * POISSON[i] * u_light_kernel[k];
+        vec2 uv = uvz.xy + rotation * POISSON[i] * kernel;
         sum += texture(u_shadow_maps, vec4(uv, float(u_light_layer[k]), reference));
     }
     return sum / 16.0;

@@ -9,6 +9,7 @@
 
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
+#include "oer/lighting/light_location.hpp"
 #include "sh_shader_constants.hpp"
 
 namespace oer {
@@ -91,10 +92,16 @@ void add_shadow_views(FrameContext& frame) {
             equirect::rotate_yaw(frame.rig.lights[k].direction, request.environment_yaw)));
         frame.light_directions.push_back(direction);
         frame.light_matrices.push_back(light_matrix(direction, frame.scene));
-        // PCF radius: a penumbra about half the scene's radius from its occluder, seen through
-        // the light's angular radius; at least one texel.
-        frame.light_kernels.push_back(std::max(
-            1.0f / float(resolution), 0.25f * float(std::tan(frame.rig.lights[k].angular_radius))));
+        // The penumbra per unit of blocker distance: the light's energy radius
+        // (energy_angular_radius), not its pixels' extent, which a sun's glow makes wide
+        // (Blender's sunrise: 11.1 against 25.7 degrees). The frame sweep measured the filter
+        // this replaced, a fixed kernel of a quarter of the extent's tangent (a penumbra half
+        // the scene's radius from its caster): it blurred the bunny's self-shadows away, 13.9 %
+        // error on the bunny under sunrise against 6.9 % with hard shadows (docs/accuracy.md).
+        const double radius = std::min(
+            frame.rig.lights[k].angular_radius,
+            energy_angular_radius(frame.rig.sh.per_light[k], frame.rig.lights[k].direction));
+        frame.light_spreads.push_back(float(std::tan(std::min(radius, 1.2))));
     }
     frame.normal_offset = 1.5f * 2.0f * frame.scene.radius / float(resolution);
     frame.lighting_defines = "#define SH_ORDER " + std::to_string(frame.rig.sh.all.order) +
@@ -128,9 +135,10 @@ void set_light_uniforms(gl::Program& program, const FrameContext& frame) {
         glUniformMatrix4fv(program.uniform(element("u_light_matrix", i)), 1, GL_FALSE,
                            glm::value_ptr(frame.light_matrices[i]));
         glUniform1i(program.uniform(element("u_light_layer", i)), GLint(frame.lit[i]));
-        glUniform1f(program.uniform(element("u_light_kernel", i)), frame.light_kernels[i]);
+        glUniform1f(program.uniform(element("u_light_spread", i)), frame.light_spreads[i]);
         glUniform1f(program.uniform(element("u_normal_offset", i)), frame.normal_offset);
     }
+    glUniform1f(program.uniform("u_shadow_texel"), 1.0f / float(frame.shadow_resolution));
 }
 
 void set_display_uniforms(gl::Program& program, const FrameRequest& request) {

@@ -57,8 +57,9 @@ struct FrameContext {
     int shadow_resolution = 0;
     std::vector<glm::vec3> light_directions;  // turned by the yaw
     std::vector<glm::mat4> light_matrices;
-    std::vector<float> light_kernels;  // PCF radius in shadow-map uv
-    float normal_offset = 0.0f;        // receiver offset against acne, world units
+    // tan of each light's energy angular radius: PCSS's penumbra per unit of blocker distance
+    std::vector<float> light_spreads;
+    float normal_offset = 0.0f;  // receiver offset against acne, world units
     // SH_ORDER, LIGHTS_ON, SHADOWS and PCF for every program that lights (frame_programs.cpp).
     std::string lighting_defines;
 

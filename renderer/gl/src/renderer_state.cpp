@@ -45,6 +45,12 @@ RendererState::RendererState(const FrameLimits& limits_)
         glSamplerParameteri(sampler->get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
         glSamplerParameteri(sampler->get(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     }
+    depth_nearest = gl::create_sampler();
+    glSamplerParameteri(depth_nearest.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glSamplerParameteri(depth_nearest.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(depth_nearest.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(depth_nearest.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(depth_nearest.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
     bake_framebuffer = gl::create_framebuffer();
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size);
     check_gl_errors("FrameRenderer set-up");

@@ -49,6 +49,7 @@ struct RendererState {
     gl::Object empty_vertex_array;  // the full-screen triangle's: its vertices come from ids
     gl::Object compare_linear;      // depth-comparison samplers for the shadow layers: PCF
     gl::Object compare_nearest;     // and the hard test
+    gl::Object depth_nearest;       // the layers' depths as values: PCSS's blocker search
     gl::Object irradiance_buffer;   // the frame's SH irradiance sets (shader storage)
     int max_texture_size = 0;
 

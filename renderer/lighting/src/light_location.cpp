@@ -24,6 +24,17 @@ double luminance(const glm::dvec3& rgb) {
     return 179.0 * (0.265 * rgb.r + 0.670 * rgb.g + 0.065 * rgb.b);
 }
 
+double energy_angular_radius(const ShRgb& light_sh, const glm::dvec3& direction) {
+    const ShRgb band0 = light_sh.truncated(1);
+    const double total = luminance(band0.evaluate(direction));
+    if (!(total > 0.0) || light_sh.order < 2) {
+        return 0.0;
+    }
+    const double band1 = luminance(light_sh.truncated(2).evaluate(direction)) - total;
+    const double mean_cosine = std::clamp(band1 / (3.0 * total), 0.0, 1.0);
+    return std::acos(2.0 * mean_cosine - 1.0);
+}
+
 namespace {
 
 using std::numbers::pi;

@@ -3,10 +3,11 @@
 // the light's visibility over the ground plane, kept with the map in the cache; leaves
 // state.bake_framebuffer bound.
 //
-// A filtered shadow has no detail finer than its kernel, so the bake is made with about two
-// texels per kernel radius (at most the shadow map's resolution): there the fixed 16-tap disc
-// covers the kernel densely, and the bake costs a few thousand texels for a soft light instead
-// of millions.
+// A soft shadow is sharp where it touches its caster (PCSS: the penumbra grows from zero at the
+// contact), so the bake keeps half the shadow map's resolution: two shadow texels per bake
+// texel, finer than the one-texel kernel of a contact shadow's filter taps spread.
+#include <algorithm>
+
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
@@ -16,14 +17,8 @@ namespace oer {
 
 void bake_ground_visibility(const FrameContext& frame, RendererState& state, ShadowMap& map,
                             int light, float ground_height) {
-    int resolution = frame.shadow_resolution;
-    if (frame.pcf) {
-        resolution = 64;
-        while (resolution < frame.shadow_resolution &&
-               float(resolution) * frame.light_kernels[std::size_t(light)] < 4.0f) {
-            resolution *= 2;
-        }
-    }
+    const int resolution =
+        frame.pcf ? std::max(64, frame.shadow_resolution / 2) : frame.shadow_resolution;
     const glm::mat4 inverse_light_matrix = glm::inverse(frame.light_matrices[std::size_t(light)]);
     map.ground_visibility = gl::create_texture(GL_TEXTURE_2D);
     glTextureStorage2D(map.ground_visibility.get(), 1, GL_R8, resolution, resolution);

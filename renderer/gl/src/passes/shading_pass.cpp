@@ -102,6 +102,7 @@ void shade_surfaces(const FrameContext& frame, RendererState& state) {
     }
     glDisable(GL_STENCIL_TEST);
     glBindSampler(4, 0);
+    glBindSampler(6, 0);
 }
 
 }  // namespace oer

@@ -36,13 +36,17 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
         state.shadow_layers.reserve(int(frame.rig.lights.size()), resolution);
         glBindTextureUnit(4, state.shadow_layers.depth());
         glBindSampler(4, frame.pcf ? state.compare_linear.get() : state.compare_nearest.get());
+        if (frame.pcf) {
+            glBindTextureUnit(6, state.shadow_layers.depth());
+            glBindSampler(6, state.depth_nearest.get());
+        }
     }
     gl::Program& depth = state.program("depth", "");
     for (std::size_t i = 0; frame.shadows && i < frame.lit.size(); ++i) {
         std::string key = scene;
         key.append(reinterpret_cast<const char*>(glm::value_ptr(frame.light_directions[i])),
                    3 * sizeof(float));
-        key.append(reinterpret_cast<const char*>(&frame.light_kernels[i]), sizeof(float));
+        key.append(reinterpret_cast<const char*>(&frame.light_spreads[i]), sizeof(float));
         key.append(reinterpret_cast<const char*>(&resolution), sizeof resolution);
         key.push_back(frame.pcf ? 'p' : 'h');
         bool rendered = false;

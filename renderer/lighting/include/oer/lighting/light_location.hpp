@@ -15,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include "oer/core/image.hpp"
+#include "oer/lighting/sh.hpp"
 
 namespace oer {
 
@@ -68,6 +69,15 @@ struct LightLocation {
 // Luminance of DESIGN.md section 2 and the thesis's eq. 3.1: 179 (0.265 R + 0.670 G + 0.065 B),
 // 179 lm/W being the luminous efficacy of equal-energy white light.
 double luminance(const glm::dvec3& rgb);
+
+// The half-angle of the uniform disc about `direction` whose luminance has the same mean cosine
+// as the light's own radiance `light_sh` (the SH of its pixels alone, Rig::sh.per_light), from
+// its bands 0 and 1: by the addition theorem, sum_m Y_1m(a) Y_1m(b) = 3/(4 pi) a.b, so the
+// band-1 part at d over the band-0 part is 3 <cos(angle to d)>; a disc of half-angle a has
+// <cos> = (1 + cos a) / 2. A light whose energy sits in a bright core inside a dim halo (a sun
+// and its glow) has a far smaller one than its pixels' extent (Light::angular_radius): it is
+// what sizes the light's penumbrae. In [0, pi]; 0 when the light's luminance is not positive.
+double energy_angular_radius(const ShRgb& light_sh, const glm::dvec3& direction);
 
 // Gaussian blur, separable, wrapping horizontally across the seam, clamped at the poles
 // (sigma = radius / 2, half-width ceil(radius), radius 0 copies). Throws oer::Error
