@@ -25,11 +25,13 @@
 
 #include "bench_support.hpp"
 #include "literal_thesis.hpp"
+#include "oer/core/error.hpp"
 #include "oer/core/image.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/lighting/sh_projection.hpp"
+#include "sweep_support.hpp"
 #include "targets.hpp"
 
 namespace {
@@ -48,7 +50,6 @@ constexpr int kOursRepetitions = 5;
 constexpr int kLiteralMaxRepetitions = 3;
 constexpr double kLiteralBudgetMs = 4000.0;  // no further repetition once this much is spent
 constexpr int kProjectionRepetitions = 20;
-const char* const kRealMapDirectory = "/usr/share/blender/datafiles/studiolights/world";
 
 // How many of the first `discs` discs have a light direction inside them.
 int discs_hit(const std::vector<glm::dvec3>& directions, int discs) {
@@ -255,22 +256,16 @@ double projection_throughput() {
 
 void real_maps() {
     std::vector<std::filesystem::path> paths;
-    std::error_code error;
-    for (const auto& entry : std::filesystem::directory_iterator(kRealMapDirectory, error)) {
-        if (entry.path().extension() == ".exr") {
-            paths.push_back(entry.path());
-        }
-    }
-    if (paths.empty()) {
-        std::printf("\nReal maps: none in %s (install blender-data); skipped.\n",
-                    kRealMapDirectory);
+    try {
+        paths = oer::bench::blender_worlds();
+    } catch (const oer::Error& error) {
+        std::printf("\nReal maps: %s; skipped.\n", error.what());
         return;
     }
-    std::sort(paths.begin(), paths.end());
     std::printf(
         "\nReal maps (%s):\nours with the defaults (auto light count and SH order), "
         "literal at the number of lights ours found (at least 1):\n",
-        kRealMapDirectory);
+        oer::bench::kBlenderWorldDirectory);
     std::printf("%-10s %-9s %9s %-7s %10s %-15s %9s %12s\n", "map", "size", "auto ms", "auto",
                 "literal ms", "(locate + OEMs)", "lit/ours", "max rel diff");
     for (const auto& path : paths) {

@@ -1187,6 +1187,23 @@ std::shared_ptr<const Rig> one_light_rig(glm::dvec3 direction) {
                     1, 3);
 }
 
+// The frames that isolate a one-light request's light: as asked, without shadows, and with the
+// light's weight at 0 (its contribution is the difference with the last).
+struct LightContributionFrames {
+    Frame shadowed, unshadowed, off;
+};
+LightContributionFrames light_contribution_frames(
+    const std::function<Frame(const FrameRequest&)>& render, FrameRequest request) {
+    LightContributionFrames frames;
+    frames.shadowed = render(request);
+    request.shadows.enabled = false;
+    frames.unshadowed = render(request);
+    request.shadows.enabled = true;
+    request.lights = {0.0f};
+    frames.off = render(request);
+    return frames;
+}
+
 // Renders the boxes under rig's light with and without shadows (box albedo 0.5, 256 pixels) and
 // expects no ground pixel misplaced and no acne, over at least the given numbers of shadowed
 // ground pixels and lit box pixels (so that a frame without the shadow or the box fails);
@@ -1392,12 +1409,7 @@ TEST_F(FrameRendererTest, ALightBelowTheHorizonLightsTheBoxButNotTheGround) {
     camera.target = {0.0f, 0.2f, 0.0f};
     camera.fov_y = 45.0f;
     FrameRequest request = box_on_ground_request(rig, boxes[0].low, boxes[0].high, camera, 256);
-    const Frame shadowed = render(request);
-    request.shadows.enabled = false;
-    const Frame unshadowed = render(request);
-    request.shadows.enabled = true;
-    request.lights = {0.0f};
-    const Frame off = render(request);
+    const auto [shadowed, unshadowed, off] = light_contribution_frames(render, request);
     for (const Frame* frame : {&shadowed, &unshadowed, &off}) {
         EXPECT_TRUE(std::all_of(frame->linear.begin(), frame->linear.end(),
                                 [](float v) { return std::isfinite(v); }));
@@ -1479,12 +1491,7 @@ TEST_F(FrameRendererTest, SoftShadowsAreSharpAtTheCasterAndSpreadAwayFromIt) {
         box_on_ground_request(rig, {-0.05, 0.0, -0.05}, {0.05, 1.0, 0.05}, camera, 256);
     request.shadows.filter = ShadowFilter::Pcf;
     request.shadows.resolution = 2048;
-    const Frame shadowed = render(request);
-    request.shadows.enabled = false;
-    const Frame unshadowed = render(request);
-    request.shadows.enabled = true;
-    request.lights = {0.0f};
-    const Frame off = render(request);
+    const auto [shadowed, unshadowed, off] = light_contribution_frames(render, request);
     // The least visibility across the shadow (over z) at two distances from the foot.
     const glm::dvec3 eye(camera.eye);
     double foot = 1.0, tip = 1.0;
