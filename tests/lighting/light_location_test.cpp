@@ -9,15 +9,15 @@
 #include <string>
 #include <vector>
 
+#include <filesystem>
+#include <glm/trigonometric.hpp>
 #include "oer/core/error.hpp"
 #include "oer/core/image.hpp"
+#include "oer/image/image_io.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/light_location.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/lighting/sh_projection.hpp"
-#include "oer/image/image_io.hpp"
-#include <filesystem>
-#include <glm/trigonometric.hpp>
 
 using namespace oer;
 using std::numbers::pi;
@@ -667,9 +667,8 @@ ShRgb disc_light_sh(const glm::dvec3& d, double core_degrees, double core, doubl
     std::vector<std::uint32_t> pixels;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            const double angle =
-                std::acos(std::clamp(glm::dot(equirect::pixel_direction(x, y, width, height), d),
-                                     -1.0, 1.0));
+            const double angle = std::acos(
+                std::clamp(glm::dot(equirect::pixel_direction(x, y, width, height), d), -1.0, 1.0));
             const auto index = std::uint32_t(y * width + x);
             if (angle <= glm::radians(halo_degrees)) {
                 const double radiance = angle <= glm::radians(core_degrees) ? core : halo;
@@ -684,7 +683,7 @@ ShRgb disc_light_sh(const glm::dvec3& d, double core_degrees, double core, doubl
 
 }  // namespace
 
-TEST(EnergyAngularRadius, AUniformDiscHasItsOwnHalfAngle) {
+TEST(LightLocationEnergyAngularRadius, AUniformDiscHasItsOwnHalfAngle) {
     const glm::dvec3 d = glm::normalize(glm::dvec3(0.3, 0.8, -0.5));
     for (const double degrees : {5.0, 10.0, 25.0}) {
         const double radius =
@@ -693,7 +692,7 @@ TEST(EnergyAngularRadius, AUniformDiscHasItsOwnHalfAngle) {
     }
 }
 
-TEST(EnergyAngularRadius, ASunInItsGlowIsTheSunsSizeNotTheGlows) {
+TEST(LightLocationEnergyAngularRadius, ASunInItsGlowIsTheSunsSizeNotTheGlows) {
     // A 1-degree core 1000 times brighter than its 20-degree glow: the core holds 0.71 of the
     // energy (1000 x 1^2 against 20^2 - 1), so the mean cosine is nearly the core's.
     const glm::dvec3 d = glm::normalize(glm::dvec3(-0.6, 0.2, 0.7));
@@ -707,7 +706,7 @@ TEST(EnergyAngularRadius, ASunInItsGlowIsTheSunsSizeNotTheGlows) {
     EXPECT_EQ(energy_angular_radius(ShRgb(3), d), 0.0);
 }
 
-TEST(EnergyAngularRadius, BlenderWorldsLightsAgainstTheirExtent) {
+TEST(LightLocationEnergyAngularRadius, BlenderWorldsLightsAgainstTheirExtent) {
     const std::string directory = "/usr/share/blender/datafiles/studiolights/world/";
     for (const std::string world : {"sunrise", "city", "studio"}) {
         if (!std::filesystem::exists(directory + world + ".exr")) {
@@ -716,7 +715,8 @@ TEST(EnergyAngularRadius, BlenderWorldsLightsAgainstTheirExtent) {
         const LoadedImage loaded = load_image_file(directory + world + ".exr");
         const Rig rig = build_rig(loaded.image, loaded.repaired, {});
         for (std::size_t k = 0; k < rig.lights.size(); ++k) {
-            const double energy = energy_angular_radius(rig.sh.per_light[k], rig.lights[k].direction);
+            const double energy =
+                energy_angular_radius(rig.sh.per_light[k], rig.lights[k].direction);
             std::printf("[ measured ] %s light %zu: extent %.1f, energy radius %.1f degrees\n",
                         world.c_str(), k, glm::degrees(rig.lights[k].angular_radius),
                         glm::degrees(energy));
