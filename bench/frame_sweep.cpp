@@ -10,9 +10,10 @@
 // metric in dB (frame_metrics.hpp).
 //
 // The reference's Monte Carlo noise must stay below a fifth of every error it measures: each
-// reference starts at --min-samples and quadruples its samples while its noise is above a fifth
-// of the smallest error measured against it, up to --max-samples; every row records its noise
-// ratio, so that a comparison that stays noisy is marked, never hidden.
+// reference starts at --min-samples (1024) and is rendered again, with the samples its measured
+// noise predicts, while that noise is above a fifth of the smallest error measured against it,
+// up to --max-samples (32768); every row records its noise ratio, so that a comparison that
+// stays noisy is marked, never hidden.
 //
 //   frame_sweep --out DIR [--quick] [--mesh-dir DIR] [--min-samples N] [--max-samples N]
 //               [--worlds NAME,NAME] (only those worlds: to look again at one)
@@ -71,7 +72,7 @@ struct Arguments {
     bool quick = false;
     std::optional<fs::path> mesh_dir;
     int min_samples = 1024;
-    int max_samples = 4096;
+    int max_samples = 32768;
     int compare_size = 128;
     int time_size = 512;
     std::vector<std::string> worlds;  // empty: every world
@@ -349,15 +350,19 @@ std::vector<Surface> surfaces_of(const ReferenceImage& reference) {
     return list;
 }
 
-// The reference for `request`, its samples quadrupled while its noise on a surface exceeds
-// kNoiseFraction of the smallest error any of `frames` makes there.
+// The reference for `request`, rendered again with more samples while its noise on a surface
+// exceeds kNoiseFraction of the smallest error any of `frames` makes there. Monte Carlo noise
+// falls as 1 / sqrt(samples), so the next count is the one that measured noise predicts, with
+// a margin (the noise is itself an estimate), in steps of kSampleStep.
 ReferenceImage converged_reference(const oer::FrameRequest& request, oer::Bounce bounce,
                                    const std::vector<OurFrame>& frames,
                                    const Arguments& arguments) {
-    for (int samples = arguments.min_samples;; samples *= 4) {
-        samples = std::min(samples, arguments.max_samples);
+    constexpr double kMargin = 1.25;
+    constexpr int kSampleStep = 1024;
+    int samples = arguments.min_samples;
+    for (;;) {
         ReferenceImage reference = render_reference(request, bounce, samples);
-        bool quiet = true;
+        double needed = 0.0;  // the sample factor that the noisiest surface needs
         for (const Surface& surface : surfaces_of(reference)) {
             double smallest = 1e30;
             for (const OurFrame& frame : frames) {
@@ -365,11 +370,14 @@ ReferenceImage converged_reference(const oer::FrameRequest& request, oer::Bounce
                     smallest, oer::bench::relative_rms_error(compared(frame, reference).luminance,
                                                              reference.luminance, surface.mask));
             }
-            quiet = quiet && surface.noise < kNoiseFraction * smallest;
+            const double ratio = surface.noise / (kNoiseFraction * smallest);
+            needed = std::max(needed, ratio * ratio);
         }
-        if (quiet || samples >= arguments.max_samples) {
+        if (needed < 1.0 || samples >= arguments.max_samples) {
             return reference;
         }
+        const double predicted = std::ceil(samples * needed * kMargin / kSampleStep) * kSampleStep;
+        samples = int(std::min(predicted, double(arguments.max_samples)));
     }
 }
 

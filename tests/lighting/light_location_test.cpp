@@ -683,30 +683,43 @@ ShRgb disc_light_sh(const glm::dvec3& d, double core_degrees, double core, doubl
 
 }  // namespace
 
-TEST(LightLocationEnergyAngularRadius, AUniformDiscHasItsOwnHalfAngle) {
+TEST(LightLocationLightProfile, AUniformDiscIsAllGlowOfItsOwnHalfAngle) {
     const glm::dvec3 d = glm::normalize(glm::dvec3(0.3, 0.8, -0.5));
     for (const double degrees : {5.0, 10.0, 25.0}) {
-        const double radius =
-            glm::degrees(energy_angular_radius(disc_light_sh(d, degrees, 1.0, degrees, 1.0), d));
-        EXPECT_NEAR(radius, degrees, 0.05 * degrees + 0.3) << degrees << " degree disc";
+        const LightProfile profile = light_profile(disc_light_sh(d, degrees, 1.0, degrees, 1.0), d);
+        EXPECT_NEAR(profile.core_share, 0.0, 0.05) << degrees << " degree disc";
+        EXPECT_NEAR(glm::degrees(profile.glow_angular_radius), degrees, 0.05 * degrees + 0.3)
+            << degrees << " degree disc";
     }
 }
 
-TEST(LightLocationEnergyAngularRadius, ASunInItsGlowIsTheSunsSizeNotTheGlows) {
+TEST(LightLocationLightProfile, ASunInItsGlowIsACoreAndTheGlow) {
     // A 1-degree core 1000 times brighter than its 20-degree glow: the core holds 0.71 of the
-    // energy (1000 x 1^2 against 20^2 - 1), so the mean cosine is nearly the core's.
+    // energy (1000 x 1^2 against 20^2 - 1). One disc of the light's mean cosine would be 10.7
+    // degrees wide, the penumbra of neither.
     const glm::dvec3 d = glm::normalize(glm::dvec3(-0.6, 0.2, 0.7));
-    const double radius =
-        glm::degrees(energy_angular_radius(disc_light_sh(d, 1.0, 1000.0, 20.0, 1.0), d));
-    std::printf("[ measured ] 1-degree sun in a 20-degree glow: energy radius %.2f degrees\n",
-                radius);
-    // <cos> = 0.7147 (1 + cos 1 deg) / 2 + 0.2853 (1 + cos 20 deg) / 2: a disc of 10.7 degrees,
-    // against the glow's 20.
-    EXPECT_NEAR(radius, 10.7, 0.7);
-    EXPECT_EQ(energy_angular_radius(ShRgb(3), d), 0.0);
+    const LightProfile profile = light_profile(disc_light_sh(d, 1.0, 1000.0, 20.0, 1.0), d);
+    std::printf(
+        "[ measured ] 1-degree sun in a 20-degree glow: core share %.3f, glow %.2f "
+        "degrees\n",
+        profile.core_share, glm::degrees(profile.glow_angular_radius));
+    EXPECT_NEAR(profile.core_share, 1000.0 / (1000.0 + 20.0 * 20.0 - 1.0), 0.03);
+    EXPECT_NEAR(glm::degrees(profile.glow_angular_radius), 20.0, 1.0);
 }
 
-TEST(LightLocationEnergyAngularRadius, BlenderWorldsLightsAgainstTheirExtent) {
+TEST(LightLocationLightProfile, AnUnlitLightIsAPointAndALowOrderOneDisc) {
+    const glm::dvec3 d(0.0, 1.0, 0.0);
+    const LightProfile unlit = light_profile(ShRgb(3), d);
+    EXPECT_EQ(unlit.core_share, 1.0);
+    EXPECT_EQ(unlit.glow_angular_radius, 0.0);
+    // Bands 0 and 1 alone cannot tell a core from a glow: the one disc of the mean cosine.
+    const LightProfile two_bands =
+        light_profile(disc_light_sh(d, 1.0, 1000.0, 20.0, 1.0).truncated(2), d);
+    EXPECT_EQ(two_bands.core_share, 0.0);
+    EXPECT_NEAR(glm::degrees(two_bands.glow_angular_radius), 10.7, 0.7);
+}
+
+TEST(LightLocationLightProfile, BlenderWorldsLightsAgainstTheirExtent) {
     const std::string directory = "/usr/share/blender/datafiles/studiolights/world/";
     for (const std::string world : {"sunrise", "city", "studio"}) {
         if (!std::filesystem::exists(directory + world + ".exr")) {
@@ -715,11 +728,22 @@ TEST(LightLocationEnergyAngularRadius, BlenderWorldsLightsAgainstTheirExtent) {
         const LoadedImage loaded = load_image_file(directory + world + ".exr");
         const Rig rig = build_rig(loaded.image, loaded.repaired, {});
         for (std::size_t k = 0; k < rig.lights.size(); ++k) {
-            const double energy =
-                energy_angular_radius(rig.sh.per_light[k], rig.lights[k].direction);
-            std::printf("[ measured ] %s light %zu: extent %.1f, energy radius %.1f degrees\n",
-                        world.c_str(), k, glm::degrees(rig.lights[k].angular_radius),
-                        glm::degrees(energy));
+            const LightProfile profile =
+                light_profile(rig.sh.per_light[k], rig.lights[k].direction);
+            std::printf(
+                "[ measured ] %s light %zu: extent %.1f degrees, core share %.2f, glow "
+                "%.1f degrees\n",
+                world.c_str(), k, glm::degrees(rig.lights[k].angular_radius), profile.core_share,
+                glm::degrees(profile.glow_angular_radius));
+            // sunrise's one light is a sun in its haze: most of its energy in the core. The
+            // studio's are soft boxes, lit across their whole extent: most of it in the glow.
+            if (world == "sunrise") {
+                EXPECT_GT(profile.core_share, 0.7) << world << " light " << k;
+            } else if (world == "studio") {
+                EXPECT_LT(profile.core_share, 0.5) << world << " light " << k;
+                EXPECT_LT(profile.glow_angular_radius, rig.lights[k].angular_radius)
+                    << world << " light " << k;
+            }
         }
     }
 }

@@ -57,8 +57,10 @@ struct FrameContext {
     int shadow_resolution = 0;
     std::vector<glm::vec3> light_directions;  // turned by the yaw
     std::vector<glm::mat4> light_matrices;
-    // tan of each light's energy angular radius: PCSS's penumbra per unit of blocker distance
+    // tan of each light's glow angular radius (light_profile): PCSS's penumbra per unit of
+    // blocker distance; and the share of its energy in a core, whose shadows are hard
     std::vector<float> light_spreads;
+    std::vector<float> light_core_shares;
     float normal_offset = 0.0f;  // receiver offset against acne, world units
     // SH_ORDER, LIGHTS_ON, SHADOWS and PCF for every program that lights (frame_programs.cpp).
     std::string lighting_defines;

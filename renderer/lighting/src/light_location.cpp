@@ -24,15 +24,33 @@ double luminance(const glm::dvec3& rgb) {
     return 179.0 * (0.265 * rgb.r + 0.670 * rgb.g + 0.065 * rgb.b);
 }
 
-double energy_angular_radius(const ShRgb& light_sh, const glm::dvec3& direction) {
-    const ShRgb band0 = light_sh.truncated(1);
-    const double total = luminance(band0.evaluate(direction));
-    if (!(total > 0.0) || light_sh.order < 2) {
-        return 0.0;
+LightProfile light_profile(const ShRgb& light_sh, const glm::dvec3& direction) {
+    const double band0 = luminance(light_sh.truncated(1).evaluate(direction));
+    if (!(band0 > 0.0) || light_sh.order < 2) {
+        return {1.0, 0.0};
     }
-    const double band1 = luminance(light_sh.truncated(2).evaluate(direction)) - total;
-    const double mean_cosine = std::clamp(band1 / (3.0 * total), 0.0, 1.0);
-    return std::acos(2.0 * mean_cosine - 1.0);
+    // Legendre moment l: band l at the direction over (2l + 1) times band 0.
+    const auto moment = [&](int l) {
+        const double band = luminance(light_sh.truncated(l + 1).evaluate(direction)) -
+                            luminance(light_sh.truncated(l).evaluate(direction));
+        return std::clamp(band / ((2.0 * l + 1.0) * band0), -1.0, 1.0);
+    };
+    const double mean_cosine = std::max(moment(1), 0.0);
+    const LightProfile one_disc{0.0, std::acos(2.0 * mean_cosine - 1.0)};
+    const double spread1 = 1.0 - mean_cosine;
+    if (light_sh.order < 3 || spread1 <= 1e-12) {
+        return spread1 <= 1e-12 ? LightProfile{1.0, 0.0} : one_disc;
+    }
+    const double ratio = (1.0 - moment(2)) / spread1;
+    if (!(ratio >= 1.0 && ratio < 3.0)) {
+        return one_disc;
+    }
+    const double glow_cosine = ratio - 2.0;
+    const double core_share = 1.0 - 2.0 * spread1 / (1.0 - glow_cosine);
+    if (!(core_share >= 0.0)) {
+        return one_disc;
+    }
+    return {core_share, std::acos(glow_cosine)};
 }
 
 namespace {

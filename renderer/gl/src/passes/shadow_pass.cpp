@@ -47,6 +47,7 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
         key.append(reinterpret_cast<const char*>(glm::value_ptr(frame.light_directions[i])),
                    3 * sizeof(float));
         key.append(reinterpret_cast<const char*>(&frame.light_spreads[i]), sizeof(float));
+        key.append(reinterpret_cast<const char*>(&frame.light_core_shares[i]), sizeof(float));
         key.append(reinterpret_cast<const char*>(&resolution), sizeof resolution);
         key.push_back(frame.pcf ? 'p' : 'h');
         bool rendered = false;

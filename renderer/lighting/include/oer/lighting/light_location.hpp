@@ -70,14 +70,24 @@ struct LightLocation {
 // 179 lm/W being the luminous efficacy of equal-energy white light.
 double luminance(const glm::dvec3& rgb);
 
-// The half-angle of the uniform disc about `direction` whose luminance has the same mean cosine
-// as the light's own radiance `light_sh` (the SH of its pixels alone, Rig::sh.per_light), from
-// its bands 0 and 1: by the addition theorem, sum_m Y_1m(a) Y_1m(b) = 3/(4 pi) a.b, so the
-// band-1 part at d over the band-0 part is 3 <cos(angle to d)>; a disc of half-angle a has
-// <cos> = (1 + cos a) / 2. A light whose energy sits in a bright core inside a dim halo (a sun
-// and its glow) has a far smaller one than its pixels' extent (Light::angular_radius): it is
-// what sizes the light's penumbrae. In [0, pi]; 0 when the light's luminance is not positive.
-double energy_angular_radius(const ShRgb& light_sh, const glm::dvec3& direction);
+// How a light's energy spreads about its direction, as its shadows need it: a share in a core
+// small enough to cast hard shadows, and the rest in a uniform disc (the glow) that softens
+// them. A sun and its glow have most of their energy in the core; a soft box has none there.
+struct LightProfile {
+    double core_share = 0.0;           // in [0, 1]
+    double glow_angular_radius = 0.0;  // the glow's half-angle, radians, in [0, pi]
+};
+
+// The profile fitted to the light's own radiance `light_sh` (the SH of its pixels alone,
+// Rig::sh.per_light) from its bands 0 to 2 about `direction`. By the addition theorem,
+// sum_m Y_lm(a) Y_lm(b) = (2l + 1) / (4 pi) P_l(a.b), so band l at d over band 0 there is
+// (2l + 1) times the light's Legendre moment <P_l(cos)>. A point core of share f inside a
+// uniform disc of cap cosine c has 1 - <P_1> = (1 - f)(1 - c)/2 and 1 - <P_2> =
+// (1 - f)(1 - c)(2 + c)/2 (a disc's <P_1> = (1 + c)/2, <P_2> = c(1 + c)/2): their ratio is
+// 2 + c, and f follows. A light whose moments no core fits (the ratio outside [1, 3], or f
+// below 0) is all glow: the one disc of its mean cosine. Light with no band 2 (order below 3)
+// is that disc too; a light whose luminance is not positive is all core, of radius 0.
+LightProfile light_profile(const ShRgb& light_sh, const glm::dvec3& direction);
 
 // Gaussian blur, separable, wrapping horizontally across the seam, clamped at the poles
 // (sigma = radius / 2, half-width ceil(radius), radius 0 copies). Throws oer::Error
