@@ -172,6 +172,33 @@ def shadow_resolution(frames: FrameRows) -> str | None:
     return f"**Shadow-map resolution.** On the {HEADLINE_MESH}, " + "; ".join(sentences) + "."
 
 
+def shadow_filter(frames: FrameRows) -> str | None:
+    """What hard shadows in place of the default's soft ones change, at the same resolution."""
+    changes: dict[str, list[float]] = {"object": [], "ground": []}
+    times = []
+    for world in frames.worlds(HEADLINE_MESH):
+        for surface, deltas in changes.items():
+            default = frames.find(HEADLINE_MESH, world, "default", "none", surface)
+            if default is None or default["shadow_filter"] != "pcf":
+                continue
+            hard = frames.find(HEADLINE_MESH, world,
+                               f"shadows {default['shadow_resolution']} hard", "none", surface)
+            if hard is None:
+                continue
+            deltas.append(hard["relative_rms"] - default["relative_rms"])
+            if surface == "object":
+                times.append(hard["frame_ms"] - default["frame_ms"])
+    if not changes["object"]:
+        return None
+    parts = [f"by {points(min(deltas))} to {points(max(deltas))} (mean {points(mean(deltas))}) "
+             f"on the {surface}" for surface, deltas in changes.items() if deltas]
+    return (f"**Hard against soft shadows.** Hard shadows in place of the default's soft ones, "
+            f"at the default's resolution, change the {HEADLINE_MESH}'s error "
+            + " and ".join(parts) + f" over {len(changes['object'])} worlds (positive: hard "
+            f"shadows are further from the reference), and its frame time by "
+            f"{minus(f'{min(times):+.1f}')} to {minus(f'{max(times):+.1f}')} ms.")
+
+
 def one_bounce(frames: FrameRows) -> str | None:
     """How much further our default is from a reference that adds one diffuse bounce."""
     parts = []
@@ -235,6 +262,7 @@ def paragraphs(lighting: LightingRows, location: dict[str, Any],
                "downsampling": lambda: downsampling(lighting),
                "light location": lambda: light_location(location),
                "shadow resolution": lambda: shadow_resolution(frames),
+               "shadow filter": lambda: shadow_filter(frames),
                "one bounce": lambda: one_bounce(frames)}
     written, skipped = [], []
     for name, write in writers.items():

@@ -85,6 +85,11 @@ class MakeReportTest(unittest.TestCase):
         worst = max(row["relative_rms"] for row in rows)
         self.assertIn(f"{100 * whole:.2f} % / {100 * worst:.2f} %", self.markdown)
         self.assertIn("**SH truncation.** At order 3", self.markdown)
+        # The fixture's hard shadows: forest +0.67 / +0.41 points, night +0.08 / +0.11.
+        self.assertIn("change the bunny's error by +0.1 points to +0.7 points (mean +0.4 points) "
+                      "on the object and by +0.1 points to +0.4 points (mean +0.3 points) on the "
+                      "ground over 2 worlds", self.markdown)
+        self.assertIn("its frame time by −2.3 to −1.7 ms.", self.markdown)
         self.assertIn("| pair_3deg | default | 1024x512 | 1 for 2 |", self.markdown)
 
     def test_figures_are_png_files(self) -> None:
