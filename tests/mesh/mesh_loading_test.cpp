@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <random>
@@ -759,7 +760,7 @@ TEST(MeshLoadingGltf, ZeroAndMissingNormalsAreComputedAndCounted) {
     }
 }
 
-TEST(MeshLoadingGltf, ExternalFilesAreNeverRead) {
+TEST(MeshLoadingGltf, ExternalFilesAreNeverReadFromMemory) {
     // A real, valid buffer file: if the loader read it, the asset would load.
     const fs::path dir =
         fs::temp_directory_path() / ("oer-mesh-test-" + std::to_string(::getpid()));
@@ -792,6 +793,86 @@ TEST(MeshLoadingGltf, ExternalFilesAreNeverRead) {
     webp["images"] = {{{"uri", "data:image/webp;base64,UklGRg=="}}};
     expect_error([&] { load_gltf_text(webp.dump()); }, ErrorKind::Unsupported,
                  {"unsupported data: URI 'data:image/webp;base64,UklGRg=='"});
+}
+
+// A folder of its own under the temporary directory, removed with everything in it.
+struct TemporaryFolder {
+    explicit TemporaryFolder(const std::string& name)
+        : path(fs::temp_directory_path() /
+               ("oer-mesh-test-" + name + "-" + std::to_string(::getpid()))) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TemporaryFolder() { fs::remove_all(path); }
+    fs::path path;
+};
+
+void write_file(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary).write(text.data(), std::streamsize(text.size()));
+}
+
+TEST(MeshLoadingGltf, ALocalGltfReadsItsFilesInsideItsFolderOnly) {
+    TemporaryFolder root("local");
+    const fs::path folder = root.path / "asset";
+    fs::create_directories(folder / "buffers");
+    GltfBuilder b;
+    b.positions(kTriangle);
+    b.mesh(json::array({{{"attributes", {{"POSITION", 0}}}}}));
+    b.node({{"mesh", 0}});
+    const std::string bin(reinterpret_cast<const char*>(b.bin.data()), b.bin.size());
+    write_file(folder / "buffers" / "triangle.bin", bin);
+    write_file(root.path / "outside.bin", bin);  // a valid buffer, but outside the folder
+    json d = json::parse(b.gltf());
+    const auto load_with_uri = [&](const std::string& uri, const MeshLimits& limits = {}) {
+        d["buffers"][0]["uri"] = uri;
+        write_file(folder / "triangle.gltf", d.dump());
+        return load_mesh_file((folder / "triangle.gltf").string(), limits);
+    };
+
+    // Beside it, in a subfolder: read.
+    const Mesh mesh = load_with_uri("buffers/triangle.bin");
+    expect_valid(mesh);
+    EXPECT_EQ(mesh.triangle_count, 1u);
+    EXPECT_EQ(mesh.primitives[0].positions[2], kTriangle[2]);
+    // The same bytes as an upload: nothing is read (uploads stay self-contained).
+    const std::string text = d.dump();
+    expect_error(
+        [&] {
+            load_mesh_memory(std::as_bytes(std::span(text.data(), text.size())), "upload.gltf",
+                             MeshFormat::Gltf);
+        },
+        ErrorKind::Unsupported, {"external file 'buffers/triangle.bin'"});
+
+    // Out of the folder by "..", by an absolute path, and by a symbolic link inside it.
+    const std::string outside = fs::canonical(folder).string();
+    expect_error([&] { load_with_uri("../outside.bin"); }, ErrorKind::InvalidInput,
+                 {"triangle.gltf: the file '../outside.bin' it references lies outside " + outside +
+                  " (no file outside"});
+    expect_error([&] { load_with_uri((root.path / "outside.bin").string()); },
+                 ErrorKind::InvalidInput,
+                 {"the file '" + (root.path / "outside.bin").string() +
+                  "' it references is an absolute path: files are named relative to " + outside});
+    fs::create_symlink(root.path / "outside.bin", folder / "link.bin");
+    expect_error([&] { load_with_uri("link.bin"); }, ErrorKind::InvalidInput,
+                 {"the file 'link.bin' it references lies outside " + outside});
+    // A link that stays inside the folder is followed.
+    fs::create_symlink(folder / "buffers" / "triangle.bin", folder / "inside-link.bin");
+    EXPECT_EQ(load_with_uri("inside-link.bin").triangle_count, 1u);
+    // Missing, and a URI with a scheme.
+    expect_error([&] { load_with_uri("missing.bin"); }, ErrorKind::Io,
+                 {"the file 'missing.bin' it references does not exist in " + outside});
+    expect_error([&] { load_with_uri("file:///etc/passwd"); }, ErrorKind::InvalidInput,
+                 {"the file 'file:///etc/passwd' it references is a URL, not a file name"});
+    // Its files count against the limit on bytes, and none is read past it.
+    MeshLimits small;
+    small.max_bytes = 1024;
+    ASSERT_LT(d.dump().size(), small.max_bytes);
+    write_file(folder / "buffers" / "large.bin", std::string(4096, '\0'));
+    d["buffers"][0]["byteLength"] = 4096;
+    expect_error([&] { load_with_uri("buffers/large.bin", small); }, ErrorKind::LimitExceeded,
+                 {"the file '",
+                  "large.bin' it references would take the asset's files over the "
+                  "limit of 1024 bytes"});
 }
 
 TEST(MeshLoadingGltf, GlbLoadsLikeGltfAndCorruptContainersAreRejected) {
@@ -940,25 +1021,35 @@ TEST(MeshLoadingAssimpSamples, BoxTexturedEmbeddedLoadsTheSame) {
     EXPECT_EQ(gltf.primitives[0].texcoords, glb.primitives[0].texcoords);
 }
 
-TEST(MeshLoadingAssimpSamples, ExternalFilesAreRejectedNamingTheUri) {
+TEST(MeshLoadingAssimpSamples, ALocalGltfLoadsItsBufferAndImageBesideIt) {
     REQUIRE_ASSIMP_SAMPLES();
-    expect_error([] { load_sample("BoxTextured-glTF/BoxTextured.gltf"); }, ErrorKind::Unsupported,
-                 {"BoxTextured.gltf: external file 'BoxTextured0.bin' referenced by the asset is "
-                  "not allowed: embed buffers as data: URIs or use .glb"});
-    // MissingBin: the .bin it names does not even exist; the message is the same.
-    expect_error([] { load_sample("MissingBin/BoxTextured.gltf"); }, ErrorKind::Unsupported,
-                 {"external file 'BoxTextured0.bin'"});
-    // Embedded by hand, the same asset loads.
+    // BoxTextured-glTF: a .bin and a .png beside the .gltf, read from its folder; the same as
+    // the asset with both embedded.
+    const Mesh local = load_sample("BoxTextured-glTF/BoxTextured.gltf");
     const Mesh mesh =
         load_gltf_text(embedded("BoxTextured-glTF/BoxTextured.gltf", {"BoxTextured-glTF"}));
-    EXPECT_EQ(mesh.triangle_count, 12u);
-    EXPECT_EQ(mesh.textures.size(), 1u);
+    EXPECT_EQ(local.triangle_count, 12u);
+    ASSERT_EQ(local.textures.size(), 1u);
+    EXPECT_EQ(local.textures[0].rgba, mesh.textures[0].rgba);
+    EXPECT_EQ(local.primitives[0].positions, mesh.primitives[0].positions);
+    // MissingBin: the .bin it names does not exist.
+    expect_error([] { load_sample("MissingBin/BoxTextured.gltf"); }, ErrorKind::Io,
+                 {"BoxTextured.gltf: the file 'BoxTextured0.bin' it references does not exist"});
+    // Uploaded as bytes, the local asset names its first external file.
+    const std::string text = [] {
+        std::ifstream file(kAssimpGltf / "BoxTextured-glTF/BoxTextured.gltf");
+        return std::string(std::istreambuf_iterator<char>(file), {});
+    }();
+    expect_error([&] { load_gltf_text(text); }, ErrorKind::Unsupported,
+                 {"external file 'BoxTextured0.bin' referenced by the asset is not allowed: "
+                  "embed buffers as data: URIs or use .glb"});
 }
 
 TEST(MeshLoadingAssimpSamples, IndexOutOfRangeIsRejectedNamingThePrimitive) {
     REQUIRE_ASSIMP_SAMPLES();
     expect_error([] { load_sample("IndexOutOfRange/IndexOutOfRange.gltf"); },
-                 ErrorKind::Unsupported, {"external file 'IndexOutOfRange.bin'"});
+                 ErrorKind::InvalidInput,
+                 {"mesh 'Mesh' primitive 0: index 255 out of range (24 vertices)"});
     expect_error(
         [] {
             load_gltf_text(embedded("IndexOutOfRange/IndexOutOfRange.gltf", {"IndexOutOfRange"}));
@@ -1006,9 +1097,10 @@ TEST(MeshLoadingAssimpSamples, RecursiveNodesIsRejectedAsACycle) {
 
 TEST(MeshLoadingAssimpSamples, IncorrectVertexArraysIsRejected) {
     REQUIRE_ASSIMP_SAMPLES();
-    expect_error([] { load_sample("IncorrectVertexArrays/Cube.gltf"); }, ErrorKind::Unsupported,
-                 {"external file 'Cube.bin'"});
-    // Node 1's mesh has 35 vertices in mode TRIANGLES (node 0's cube is fine).
+    // Node 1's mesh has 35 vertices in mode TRIANGLES (node 0's cube is fine); read from its
+    // folder or embedded, the same error.
+    expect_error([] { load_sample("IncorrectVertexArrays/Cube.gltf"); }, ErrorKind::InvalidInput,
+                 {"mesh 'TruncatedCube' primitive 0: vertex count 35 is not a multiple of 3"});
     expect_error(
         [] {
             load_gltf_text(embedded("IncorrectVertexArrays/Cube.gltf", {"IncorrectVertexArrays"}));

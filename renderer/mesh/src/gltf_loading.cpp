@@ -555,8 +555,9 @@ class GltfConverter {
 }  // namespace
 
 Mesh load_gltf(std::span<const std::byte> bytes, const std::string& name, bool binary,
-               const MeshLimits& limits) {
+               const MeshLimits& limits, const std::optional<std::filesystem::path>& folder) {
     ParseContext context;
+    context.folder = folder;
     const tinygltf::Model model = parse_gltf(bytes, name, binary, limits, context);
     Mesh mesh = GltfConverter(model, context, limits).convert();
     finish_mesh(mesh, name, limits);

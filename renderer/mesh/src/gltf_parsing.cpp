@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <cstring>
 #include <exception>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <new>
+#include <optional>
 
 #include "gltf_schema.hpp"
 #include "mesh_errors.hpp"
@@ -23,7 +26,33 @@ void refuse(const std::string& path, void* user) {
     }
 }
 
-bool refuse_file_exists(const std::string& path, void* user) {
+// The file's canonical path when it lies inside the context's folder, or nothing: no folder,
+// a scheme or an absolute path, a path that leaves the folder (by "..", or by a symbolic link
+// whose target is outside it), or no such file.
+std::optional<std::filesystem::path> confined(const std::string& path,
+                                              const ParseContext& context) {
+    if (!context.folder || path.empty() || path.rfind("data:", 0) == 0 ||
+        path.find("://") != std::string::npos) {
+        return std::nullopt;
+    }
+    std::error_code error;
+    const std::filesystem::path file = std::filesystem::canonical(path, error);
+    if (error || !std::filesystem::is_regular_file(file, error)) {
+        return std::nullopt;
+    }
+    const auto [end, rest] =
+        std::mismatch(context.folder->begin(), context.folder->end(), file.begin(), file.end());
+    if (end != context.folder->end()) {
+        return std::nullopt;
+    }
+    return file;
+}
+
+bool file_exists(const std::string& path, void* user) {
+    auto& context = *static_cast<ParseContext*>(user);
+    if (confined(path, context)) {
+        return true;
+    }
     refuse(path, user);
     return false;
 }
@@ -32,13 +61,37 @@ std::string keep_path(const std::string& path, void*) {
     return path;
 }
 
-bool refuse_read(std::vector<unsigned char>*, std::string* err, const std::string& path,
-                 void* user) {
-    refuse(path, user);
-    if (err != nullptr) {
-        *err += "reading files is not allowed\n";
+bool read_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+               void* user) {
+    auto& context = *static_cast<ParseContext*>(user);
+    const std::optional<std::filesystem::path> file = confined(path, context);
+    if (!file) {
+        refuse(path, user);
+        if (err != nullptr) {
+            *err += "reading files is not allowed\n";
+        }
+        return false;
     }
-    return false;
+    std::error_code error;
+    const std::uintmax_t size = std::filesystem::file_size(*file, error);
+    if (error || size > context.limits->max_bytes - context.file_bytes_read) {
+        context.oversized_file = path;
+        if (err != nullptr) {
+            *err += "the file is over the limit\n";
+        }
+        return false;
+    }
+    std::ifstream stream(*file, std::ios::binary);
+    out->resize(std::size_t(size));
+    stream.read(reinterpret_cast<char*>(out->data()), std::streamsize(size));
+    if (!stream || stream.gcount() != std::streamsize(size)) {
+        if (err != nullptr) {
+            *err += "the file could not be read whole\n";
+        }
+        return false;
+    }
+    context.file_bytes_read += size;
+    return true;
 }
 
 bool refuse_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -171,6 +224,30 @@ std::span<const std::byte> check_glb(std::span<const std::byte> bytes, const std
     return bytes.subspan(20, std::size_t(json_length));
 }
 
+// The error for a local asset's file that is not read: tinygltf names it as the folder joined
+// with the URI, which the message gives back as the URI.
+[[noreturn]] void refuse_outside_file(const std::string& path, const std::filesystem::path& folder,
+                                      const std::string& asset) {
+    const std::string prefix = folder.string() + "/";
+    const std::string uri = path.rfind(prefix, 0) == 0 ? path.substr(prefix.size()) : path;
+    const std::string named = "the file '" + one_line(uri, 200) + "' it references ";
+    std::error_code error;
+    if (uri.find("://") != std::string::npos) {
+        fail(ErrorKind::InvalidInput, asset, named + "is a URL, not a file name");
+    }
+    if (!uri.empty() && uri.front() == '/') {
+        fail(ErrorKind::InvalidInput, asset,
+             named + "is an absolute path: files are named relative to " + folder.string());
+    }
+    if (std::filesystem::exists(path, error)) {
+        fail(ErrorKind::InvalidInput, asset,
+             named + "lies outside " + folder.string() +
+                 " (no file outside the asset's own folder is read, whether named by '..' or "
+                 "reached by a symbolic link)");
+    }
+    fail(ErrorKind::Io, asset, named + "does not exist in " + folder.string());
+}
+
 }  // namespace
 
 std::string image_label(const std::string& asset, int index, const std::string& name) {
@@ -191,8 +268,8 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
     context.limits = &limits;
     context.model = &model;
     tinygltf::TinyGLTF loader;
-    loader.SetFsCallbacks(tinygltf::FsCallbacks{&refuse_file_exists, &keep_path, &refuse_read,
-                                                &refuse_write, &context});
+    loader.SetFsCallbacks(
+        tinygltf::FsCallbacks{&file_exists, &keep_path, &read_file, &refuse_write, &context});
     loader.SetImageLoader(&keep_encoded_image, &context);
     std::string err;
     std::string warn;
@@ -200,9 +277,10 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
     try {
         const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
         const auto size = static_cast<unsigned int>(bytes.size());
-        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, size, "")
+        const std::string base = context.folder ? context.folder->string() : std::string();
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, size, base)
                     : loader.LoadASCIIFromString(&model, &err, &warn,
-                                                 reinterpret_cast<const char*>(data), size, "");
+                                                 reinterpret_cast<const char*>(data), size, base);
     } catch (const std::bad_alloc&) {
         fail(ErrorKind::LimitExceeded, asset, "out of memory while parsing the glTF");
     } catch (const std::exception& error) {
@@ -219,6 +297,15 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
              "unsupported data: URI '" + one_line(context.refused_uris.front(), 60) +
                  "': buffers must be application/octet-stream or application/gltf-buffer, images "
                  "image/png or image/jpeg, all base64");
+    }
+    if (context.oversized_file) {
+        fail(ErrorKind::LimitExceeded, asset,
+             "the file '" + one_line(*context.oversized_file, 200) +
+                 "' it references would take the asset's files over the limit of " +
+                 std::to_string(limits.max_bytes) + " bytes");
+    }
+    if (!context.refused_uris.empty() && context.folder) {
+        refuse_outside_file(context.refused_uris.front(), *context.folder, asset);
     }
     if (!context.refused_uris.empty()) {
         fail(ErrorKind::Unsupported, asset,

@@ -1,12 +1,17 @@
 #pragma once
-// Private to the glTF loader: tinygltf run on bytes only. Its file-system callbacks refuse
-// (and remember) every URI that is not a data: URI, so that nothing is ever read from disk;
+// Private to the glTF loader: tinygltf run on bytes, and on files only inside one folder. Its
+// file-system callbacks refuse (and remember) every URI that is not a data: URI, so that
+// nothing is ever read from disk, unless the context names a folder: then a file whose
+// canonical path (symbolic links followed) lies inside that folder's is read, up to the
+// limit on bytes, and every other one is refused;
 // its image callback checks each image's bufferView and header against the limits and keeps
 // the encoded bytes, so that only the base-color textures are decoded, later. The JSON is
 // checked first: its nesting, a .glb's container, and the schema (gltf_schema.hpp).
 #include <tiny_gltf.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <span>
@@ -23,7 +28,11 @@ struct ParseContext {
     std::string asset;
     const MeshLimits* limits = nullptr;
     const tinygltf::Model* model = nullptr;  // as tinygltf fills it
+    // Canonical; when set, files inside it may be read (a local .gltf's buffers and images).
+    std::optional<std::filesystem::path> folder;
     std::vector<std::string> refused_uris;
+    std::uint64_t file_bytes_read = 0;          // by every file read, against limits->max_bytes
+    std::optional<std::string> oversized_file;  // the URI that would have passed that limit
     std::optional<Error> image_error;
     std::map<int, std::vector<std::byte>> encoded_images;  // image index -> PNG or JPEG bytes
     std::string warnings;                                  // tinygltf's

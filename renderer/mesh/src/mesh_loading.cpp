@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <system_error>
 #include <utility>
 
@@ -248,8 +249,10 @@ MeshFormat mesh_format_from_name(const std::string& name) {
                     ": expected .glb, .gltf (with data: URIs) or .obj");
 }
 
-Mesh load_mesh_memory(std::span<const std::byte> bytes, const std::string& name, MeshFormat format,
-                      const MeshLimits& limits) {
+namespace {
+
+Mesh load_bytes(std::span<const std::byte> bytes, const std::string& name, MeshFormat format,
+                const MeshLimits& limits, const std::optional<std::filesystem::path>& folder) {
     if (bytes.size() > limits.max_bytes) {
         mesh_detail::fail(ErrorKind::LimitExceeded, name,
                           std::to_string(bytes.size()) + " bytes, more than the limit of " +
@@ -260,13 +263,20 @@ Mesh load_mesh_memory(std::span<const std::byte> bytes, const std::string& name,
     }
     switch (format) {
         case MeshFormat::Glb:
-            return mesh_detail::load_gltf(bytes, name, true, limits);
+            return mesh_detail::load_gltf(bytes, name, true, limits, folder);
         case MeshFormat::Gltf:
-            return mesh_detail::load_gltf(bytes, name, false, limits);
+            return mesh_detail::load_gltf(bytes, name, false, limits, folder);
         case MeshFormat::Obj:
             return mesh_detail::load_obj(bytes, name, limits);
     }
     mesh_detail::fail(ErrorKind::Internal, name, "unknown mesh format");
+}
+
+}  // namespace
+
+Mesh load_mesh_memory(std::span<const std::byte> bytes, const std::string& name, MeshFormat format,
+                      const MeshLimits& limits) {
+    return load_bytes(bytes, name, format, limits, std::nullopt);
 }
 
 Mesh load_mesh_file(const std::string& path, const MeshLimits& limits) {
@@ -290,7 +300,16 @@ Mesh load_mesh_file(const std::string& path, const MeshLimits& limits) {
     if (file.gcount() != std::streamsize(bytes.size())) {
         mesh_detail::fail(ErrorKind::Io, path, "the file could not be read whole");
     }
-    return load_mesh_memory(bytes, path, format, limits);
+    // A local .gltf may name files beside it; the folder is resolved once, links followed, so
+    // that every URI is judged against where its files really are.
+    std::optional<std::filesystem::path> folder;
+    if (format == MeshFormat::Gltf) {
+        folder = std::filesystem::canonical(std::filesystem::absolute(path).parent_path(), error);
+        if (error) {
+            mesh_detail::fail(ErrorKind::Io, path, "cannot resolve its folder: " + error.message());
+        }
+    }
+    return load_bytes(bytes, path, format, limits, folder);
 }
 
 }  // namespace oer

@@ -1,6 +1,6 @@
 #pragma once
-// Loading meshes from bytes: glTF 2.0 (.glb, and .gltf whose buffers and images are data:
-// URIs; a URI naming a file is never read) through tinygltf, and OBJ through tinyobjloader.
+// Loading meshes: glTF 2.0 (.glb, and .gltf whose buffers and images are data: URIs, or, from a
+// local file, files inside its own folder) through tinygltf, and OBJ through tinyobjloader.
 // Every failure is an oer::Error naming the asset, the primitive and the reason.
 #include <cstddef>
 #include <cstdint>
@@ -33,6 +33,11 @@ struct MeshLimits {
 // a data: URI is an error naming it. Safe to call from several threads at once.
 Mesh load_mesh_memory(std::span<const std::byte> bytes, const std::string& name, MeshFormat format,
                       const MeshLimits& limits = {});
+// The file at `path`, as load_mesh_memory would load its bytes, except that a .gltf's URIs may
+// also name files inside the .gltf's own folder (its buffers and images beside it): a URI
+// whose file lies outside that folder, by ".." or an absolute path or a symbolic link leading
+// out, is an error naming it, and nothing outside is read. The referenced files count against
+// limits.max_bytes together.
 Mesh load_mesh_file(const std::string& path, const MeshLimits& limits = {});
 
 }  // namespace oer
