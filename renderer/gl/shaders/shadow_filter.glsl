@@ -38,7 +38,7 @@ const vec2 POISSON[16] = vec2[](
 // GDC 2006). A tap of the filter away from the point compares against the receiver's plane
 // there, not against the point's own depth, or a lit surface that slopes away from the light
 // shadows itself wherever the slope times the kernel exceeds the normal offset (the frame sweep
-// measured that: the bunny under sunrise 9.1 % from the reference with the filter, 6.6 % hard).
+// measured that: the bunny's ground under city 8.6 % from the reference before, 7.2 % after).
 // uv and depth share their unit (light_matrix's view is as deep as it is wide), so the
 // matrix's linear part, a rotation times one scale, carries the normal into that space as it
 // carries positions. Slopes steeper than 4 (the light within 14 degrees of grazing, where the
@@ -119,14 +119,19 @@ float visibility(int k, vec3 position, vec3 normal, mat2 rotation) {
         return 1.0;
     }
     float reference = clamp(uvz.z, 0.0, 1.0);
-#if PCF
-    // The light's core casts the hard test's shadow, its glow a soft one.
     float layer = float(u_light_layer[k]);
-    float core = u_light_core_share[k];
     float hard = texture(u_shadow_maps, vec4(uvz.xy, layer, reference));
-    return core * hard + (1.0 - core) * soft_visibility(k, vec3(uvz.xy, reference), normal, rotation, layer);
+#if PCF
+    // The light's core casts the hard test's shadow, its glow a soft one; a light that is all
+    // core (a point) pays for no filter.
+    float core = u_light_core_share[k];
+    if (core >= 1.0) {
+        return hard;
+    }
+    vec3 receiver = vec3(uvz.xy, reference);
+    return core * hard + (1.0 - core) * soft_visibility(k, receiver, normal, rotation, layer);
 #else
-    return texture(u_shadow_maps, vec4(uvz.xy, float(u_light_layer[k]), reference));
+    return hard;
 #endif
 #endif
 }
