@@ -47,10 +47,10 @@ nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
     for (const Material& material : mesh.materials) {
         materials.push_back({{"name", material.name},
                              {"base_color", floats_json(material.base_color)},
-                             {"has_texture", material.base_color_texture >= 0},
+                             {"has_texture", material.base_color_texture.present()},
                              {"metallic", shortest(material.metallic)},
                              {"roughness", shortest(material.roughness)},
-                             {"specular", material.specular}});
+                             {"specular", material.glossy()}});
     }
     nlohmann::json json = {
         {"id", id},

@@ -24,11 +24,11 @@ Mesh two_material_mesh() {
     Material plain;
     plain.name = "plain";
     plain.base_color = {0.8f, 0.8f, 0.8f, 1.0f};
-    plain.specular = false;
+    plain.model = ShadingModel::Lambertian;
     Material textured;
     textured.name = "label";
     textured.base_color = {1.0f, 0.5f, 0.25f, 0.5f};
-    textured.base_color_texture = 0;
+    textured.base_color_texture.texture = 0;
     textured.metallic = 0.0f;
     textured.roughness = 0.3f;
     mesh.materials = {plain, textured};

@@ -113,8 +113,8 @@ TEST(DefaultProduct, TwoMaterialsFabricAndDarkStandNoTextures) {
     EXPECT_NEAR(fabric.base_color.g, 0.80f, 1e-6f);
     EXPECT_NEAR(fabric.base_color.b, 0.75f, 1e-6f);
     EXPECT_NEAR(stand.base_color.r, 0.10f, 1e-6f);
-    EXPECT_EQ(fabric.base_color_texture, -1);
-    EXPECT_EQ(stand.base_color_texture, -1);
+    EXPECT_FALSE(fabric.base_color_texture.present());
+    EXPECT_FALSE(stand.base_color_texture.present());
     EXPECT_NE(&fabric, &stand);
 }
 

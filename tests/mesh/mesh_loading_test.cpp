@@ -616,14 +616,14 @@ TEST(MeshLoadingGltf, MaterialsFollowTheGltfDefaults) {
     EXPECT_EQ(paint.base_color, glm::vec4(0.5f, 0.25f, 1.0f, 0.75f));
     EXPECT_EQ(paint.metallic, 0.0f);
     EXPECT_FLOAT_EQ(paint.roughness, 0.3f);
-    EXPECT_TRUE(paint.specular);
-    EXPECT_EQ(paint.base_color_texture, -1);
+    EXPECT_TRUE(paint.glossy());
+    EXPECT_FALSE(paint.base_color_texture.present());
     const Material& fallback = mesh.materials[std::size_t(mesh.primitives[1].material)];
     EXPECT_EQ(fallback.name, "default (glTF)");
     EXPECT_EQ(fallback.base_color, glm::vec4(1.0f));
     EXPECT_EQ(fallback.metallic, 1.0f);
     EXPECT_EQ(fallback.roughness, 1.0f);
-    EXPECT_TRUE(fallback.specular);
+    EXPECT_TRUE(fallback.glossy());
 }
 
 TEST(MeshLoadingGltf, BaseColorTextureIsDecodedToRgba8) {
@@ -647,7 +647,7 @@ TEST(MeshLoadingGltf, BaseColorTextureIsDecodedToRgba8) {
     EXPECT_EQ(t.height, 2);
     EXPECT_EQ(t.rgba, (std::vector<std::uint8_t>{255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255,
                                                  255, 255, 255, 128}));
-    EXPECT_EQ(mesh.materials[0].base_color_texture, 0);
+    EXPECT_EQ(mesh.materials[0].base_color_texture.texture, 0);
     EXPECT_EQ(mesh.primitives[0].texcoords, uv);
     // Without TEXCOORD_0 under a textured material: (0, 0) everywhere.
     EXPECT_EQ(mesh.primitives[1].texcoords, std::vector<glm::vec2>(3, glm::vec2(0.0f)));
@@ -987,7 +987,7 @@ TEST(MeshLoadingAssimpSamples, BoxTexturedBinaryLoadsWithItsTexture) {
     EXPECT_EQ(mesh.textures[0].rgba.size(), 211u * 211u * 4u);
     ASSERT_EQ(mesh.materials.size(), 1u);
     EXPECT_EQ(mesh.materials[0].name, "Texture");
-    EXPECT_EQ(mesh.materials[0].base_color_texture, 0);
+    EXPECT_EQ(mesh.materials[0].base_color_texture.texture, 0);
     EXPECT_EQ(mesh.materials[0].metallic, 0.0f);
     EXPECT_EQ(mesh.primitives[0].texcoords.size(), 24u);
     // The root node turns the Z-up box Y-up; the box stays the unit cube.
@@ -1213,8 +1213,8 @@ TEST(MeshLoadingObj, QuadIsTriangulatedWithTheDefaultLambertianMaterial) {
     const Material& m = mesh.materials[0];
     EXPECT_EQ(m.name, "default (OBJ)");
     EXPECT_EQ(m.base_color, glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
-    EXPECT_FALSE(m.specular);
-    EXPECT_EQ(m.base_color_texture, -1);
+    EXPECT_FALSE(m.glossy());
+    EXPECT_FALSE(m.base_color_texture.present());
     const Primitive& p = mesh.primitives[0];
     for (std::size_t t = 0; t < 2; ++t) {
         EXPECT_GT(geometric_normal(p, t).z, 0.0f);

@@ -13,7 +13,8 @@ inline Material lambertian(glm::vec3 albedo) {
     Material material;
     material.name = "lambertian";
     material.base_color = glm::vec4(albedo, 1.0f);
-    material.specular = false;
+    material.model = ShadingModel::Lambertian;
+    material.double_sided = true;
     return material;
 }
 

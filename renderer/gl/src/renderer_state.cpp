@@ -23,7 +23,7 @@ Mesh unit_ground() {
     Material material;
     material.name = "ground";
     material.base_color = {0.8f, 0.8f, 0.8f, 1.0f};
-    material.specular = false;
+    material.model = ShadingModel::Lambertian;
     mesh.materials.push_back(material);
     return mesh;
 }

@@ -244,13 +244,15 @@ Mesh make_default_product() {
     fabric.base_color = glm::vec4(0.85f, 0.80f, 0.75f, 1.0f);
     fabric.metallic = 0.0f;
     fabric.roughness = 0.9f;
-    fabric.specular = false;
+    fabric.model = ShadingModel::Lambertian;
+    fabric.double_sided = true;
     Material stand;
     stand.name = "dress form stand";
     stand.base_color = glm::vec4(0.10f, 0.10f, 0.10f, 1.0f);
     stand.metallic = 0.0f;
     stand.roughness = 0.35f;
-    stand.specular = true;
+    stand.model = ShadingModel::MetallicRoughness;
+    stand.double_sided = true;
     mesh.materials = {fabric, stand};
 
     Primitive torso;

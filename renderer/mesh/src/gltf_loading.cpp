@@ -479,8 +479,7 @@ class GltfConverter {
         }
         material.metallic = factor(pbr.metallicFactor, name + ": metallicFactor");
         material.roughness = factor(pbr.roughnessFactor, name + ": roughnessFactor");
-        material.specular = true;
-        material.base_color_texture = base_color_texture(pbr.baseColorTexture, name);
+        material.base_color_texture.texture = base_color_texture(pbr.baseColorTexture, name);
         return material;
     }
 

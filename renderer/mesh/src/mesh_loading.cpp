@@ -213,12 +213,12 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
             high = glm::max(high, position);
         }
         const Material& material = mesh.materials[std::size_t(primitive.material)];
-        if (material.base_color_texture >= 0 && primitive.texcoords.empty()) {
+        if (material.base_color_texture.present() && primitive.texcoords.empty()) {
             primitive.texcoords.assign(primitive.positions.size(), glm::vec2(0.0f));
         }
     }
     for (const Material& material : mesh.materials) {
-        if (material.base_color_texture >= int(mesh.textures.size())) {
+        if (material.base_color_texture.texture >= int(mesh.textures.size())) {
             fail(ErrorKind::Internal, asset,
                  "material '" + material.name + "' uses a texture that does not exist");
         }

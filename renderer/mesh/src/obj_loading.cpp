@@ -209,7 +209,9 @@ Material default_obj_material() {
     material.base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
     material.metallic = 0.0f;
     material.roughness = 1.0f;
-    material.specular = false;
+    material.model = ShadingModel::Lambertian;
+    // OBJ has no face orientation to trust: both sides are seen and lit.
+    material.double_sided = true;
     return material;
 }
 

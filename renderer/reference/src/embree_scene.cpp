@@ -90,8 +90,9 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) 
                 geometry.base_color = glm::dvec3(*object.base_color);
             } else {
                 geometry.base_color = glm::dvec3(glm::vec3(material.base_color));
-                if (material.base_color_texture >= 0) {
-                    geometry.texture = &mesh.textures.at(std::size_t(material.base_color_texture));
+                if (material.base_color_texture.present()) {
+                    geometry.texture =
+                        &mesh.textures.at(std::size_t(material.base_color_texture.texture));
                     geometry.texcoords = primitive.texcoords;
                 }
             }

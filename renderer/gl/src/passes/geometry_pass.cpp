@@ -69,13 +69,13 @@ void render_geometry(FrameContext& frame, RendererState& state) {
             const glm::vec4 base =
                 base_override ? glm::vec4(*base_override, 1.0f) : material.base_color;
             glUniform4fv(geometry.uniform("u_base_color"), 1, glm::value_ptr(base));
-            const bool textured = !base_override && material.base_color_texture >= 0;
+            const bool textured = !base_override && material.base_color_texture.present();
             glUniform1i(geometry.uniform("u_has_texture"), textured ? 1 : 0);
             if (textured) {
-                glBindTextureUnit(0,
-                                  gpu.textures.at(std::size_t(material.base_color_texture)).get());
+                glBindTextureUnit(
+                    0, gpu.textures.at(std::size_t(material.base_color_texture.texture)).get());
             }
-            glUniform1f(geometry.uniform("u_specular_weight"), material.specular ? 0.04f : 0.0f);
+            glUniform1f(geometry.uniform("u_specular_weight"), material.glossy() ? 0.04f : 0.0f);
             // Blinn-Phong exponent of a GGX roughness (alpha = roughness^2): 2 / alpha^2 - 2.
             const float alpha = std::max(0.02f, material.roughness * material.roughness);
             glUniform1f(geometry.uniform("u_shininess"),

@@ -12,6 +12,7 @@
 
 #include "oer/core/image.hpp"
 #include "oer/lighting/rig.hpp"
+#include "oer/lighting/specular_environment.hpp"
 #include "oer/lighting/tonemap.hpp"
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/mesh.hpp"
@@ -49,6 +50,10 @@ struct FrameRequest {
     // The map the rig was made from, for the background; may be null unless the background is
     // the environment.
     std::shared_ptr<const HdrImage> environment_map;
+    // The rig's residual map prefiltered (specular_environment.hpp): needed when an object has
+    // a glossy material (Material::glossy) and the rig's model is Hdr, else unused and best
+    // left null, so that a scene without glossy materials costs no specular memory.
+    std::shared_ptr<const PrefilteredCube> specular;
     std::vector<SceneObject> objects;
     std::optional<Camera> camera;  // empty: frame the scene's bounds automatically
     // One weight per rig light (DESIGN.md section 2, dimmable lights): 0 off, 1 as captured, up

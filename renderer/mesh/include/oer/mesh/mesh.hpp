@@ -1,7 +1,7 @@
 #pragma once
 // Meshes ready for drawing: every glTF node transform baked into the positions and normals
 // (world space of the file, no rescaling), every primitive as an indexed triangle list, with
-// the materials and base-color textures they use. Produced by the loaders (mesh_loading.hpp)
+// the materials and textures they use. Produced by the loaders (mesh_loading.hpp)
 // and by code (default_product.hpp); validated before anything reaches GL.
 #include <cstdint>
 #include <string>
@@ -13,24 +13,92 @@
 
 namespace oer {
 
-// An 8-bit sRGB RGBA image (a base-color texture), row 0 at the top.
+// How a texture's 8-bit values map to shading values: sRGB-encoded colour (base colour,
+// emissive) or linear data (metallic-roughness, normal, occlusion), per the glTF 2.0
+// specification, section 3.9.
+enum class TextureEncoding { Srgb, Linear };
+
+// An 8-bit RGBA image, row 0 at the top. One image read with both encodings is two textures.
 struct Texture {
     int width = 0;
     int height = 0;
     std::vector<std::uint8_t> rgba;  // width * height * 4
+    TextureEncoding encoding = TextureEncoding::Srgb;
 };
+
+// glTF 2.0 samplers (section 5.26), with its defaults when a texture has none: repeat, and
+// linear filtering with linear mipmaps.
+enum class TextureWrap { Repeat, ClampToEdge, MirroredRepeat };
+enum class TextureFilter {
+    Nearest,
+    Linear,
+    NearestMipmapNearest,
+    LinearMipmapNearest,
+    NearestMipmapLinear,
+    LinearMipmapLinear,
+};
+struct TextureSampler {
+    TextureWrap wrap_s = TextureWrap::Repeat;
+    TextureWrap wrap_t = TextureWrap::Repeat;
+    TextureFilter mag_filter = TextureFilter::Linear;  // Nearest or Linear only
+    TextureFilter min_filter = TextureFilter::LinearMipmapLinear;
+    bool operator==(const TextureSampler&) const = default;
+};
+
+// A material's use of a texture: which one, how it is sampled, and KHR_texture_transform's
+// uv transform, applied as uv' = T * (u, v, 1) with T = translation(offset) * rotation(rotation)
+// * scale(scale) (the extension's own order). Only TEXCOORD_0 is read: a reference to another
+// set is dropped with a warning.
+struct TextureReference {
+    int texture = -1;  // index into Mesh::textures, or -1: none
+    TextureSampler sampler;
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f;  // radians, counter-clockwise in uv
+    glm::vec2 scale{1.0f};
+    bool present() const { return texture >= 0; }
+};
+
+enum class ShadingModel {
+    // Albedo only: E * albedo / pi, no specular term. An OBJ without a material (albedo 0.8,
+    // DESIGN.md section 3) and the default product's fabric.
+    Lambertian,
+    // The glTF 2.0 metallic-roughness BRDF (specification, Appendix B): GGX, height-correlated
+    // Smith visibility, Schlick Fresnel, Lambertian diffuse, lit by the split-sum specular
+    // image-based lighting of the environment and its lights.
+    MetallicRoughness,
+};
+
+// glTF 2.0 alpha modes (section 3.9.4).
+enum class AlphaMode { Opaque, Mask, Blend };
 
 struct Material {
     std::string name;
+    ShadingModel model = ShadingModel::MetallicRoughness;
     // Linear RGBA multiplier of the base color (glTF baseColorFactor).
     glm::vec4 base_color{1.0f, 1.0f, 1.0f, 1.0f};
-    int base_color_texture = -1;  // index into Mesh::textures, or -1
-    // Kept for later shading models (glTF defaults: metallic 1, roughness 1).
+    TextureReference base_color_texture;  // sRGB; its alpha multiplies base_color's
+    // glTF defaults: metallic 1, roughness 1 (perceptual roughness; the GGX alpha is its
+    // square). Their texture holds roughness in G and metallic in B, linear.
     float metallic = 1.0f;
     float roughness = 1.0f;
-    // Whether the Blinn-Phong specular term applies. An OBJ without a material is pure
-    // Lambertian with albedo 0.8 and no specular term (DESIGN.md section 3).
-    bool specular = true;
+    TextureReference metallic_roughness_texture;
+    // Tangent-space normal map (linear, (0.5, 0.5, 1) flat); its xy are scaled by normal_scale.
+    TextureReference normal_texture;
+    float normal_scale = 1.0f;
+    // Ambient occlusion in R (linear), blended as 1 + strength * (ao - 1).
+    TextureReference occlusion_texture;
+    float occlusion_strength = 1.0f;
+    // Emitted radiance: emissive * emissive_strength (KHR_materials_emissive_strength) times
+    // the emissive texture (sRGB), in the units of the environment's radiance.
+    glm::vec3 emissive{0.0f};
+    float emissive_strength = 1.0f;
+    TextureReference emissive_texture;
+    AlphaMode alpha_mode = AlphaMode::Opaque;
+    float alpha_cutoff = 0.5f;  // Mask only
+    bool double_sided = false;
+
+    // Whether the material has a specular term, so that its scene needs the specular maps.
+    bool glossy() const { return model == ShadingModel::MetallicRoughness; }
 };
 
 struct Primitive {
@@ -40,6 +108,11 @@ struct Primitive {
     // Empty, or one per position; never empty when the material has a texture (a glTF
     // primitive without TEXCOORD_0 whose material has one gets (0, 0) everywhere).
     std::vector<glm::vec2> texcoords;
+    // Empty, or one per position: xyz the unit tangent (the direction of increasing u), w the
+    // bitangent's sign (bitangent = w * cross(normal, tangent)), as glTF's TANGENT. Never empty
+    // when the material has a normal texture: read from the file, or generated with MikkTSpace
+    // (M. Mikkelsen, "Simulation of Wrinkled Surfaces Revisited", 2008) when it has none.
+    std::vector<glm::vec4> tangents;
     std::vector<std::uint32_t> indices;  // triangle list, 3 per triangle, all < positions.size()
     int material = 0;                    // index into Mesh::materials
 };
