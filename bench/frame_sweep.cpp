@@ -618,6 +618,17 @@ class Sweep {
     json rows_ = json::array();
 };
 
+// The reference renderer shades every surface as Lambertian with the material's base colour
+// (reference_renderer.hpp): the frames compared with it are shaded so too, so that the sweep
+// measures the lighting, not a BRDF the reference does not have (a glTF's metallic-roughness
+// material would add a specular term to ours alone).
+std::shared_ptr<const oer::Mesh> lambertian(oer::Mesh mesh) {
+    for (oer::Material& material : mesh.materials) {
+        material.model = oer::ShadingModel::Lambertian;
+    }
+    return std::make_shared<const oer::Mesh>(std::move(mesh));
+}
+
 std::vector<MeshSource> mesh_sources(const Arguments& arguments) {
     std::vector<MeshSource> meshes{{"bunny", "/usr/share/glmark2/models/bunny.obj"}};
     if (arguments.quick) {
@@ -692,8 +703,7 @@ int main(int argc, char** argv) {
         const std::vector<fs::path> worlds = oer::bench::blender_worlds();
         std::vector<std::pair<MeshSource, std::shared_ptr<const oer::Mesh>>> meshes;
         for (const MeshSource& source : mesh_sources(arguments)) {
-            meshes.emplace_back(
-                source, std::make_shared<const oer::Mesh>(oer::load_mesh_file(source.path)));
+            meshes.emplace_back(source, lambertian(oer::load_mesh_file(source.path)));
         }
         const std::vector<Configuration> list = configurations(arguments.quick);
         Sweep sweep(arguments);
