@@ -80,14 +80,17 @@ glm::vec3 perpendicular(const glm::vec3& n) {
     return glm::vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
 }
 
-// The corner's tangent, or a perpendicular to its normal when MikkTSpace had none to give.
+// The corner's tangent made perpendicular to its normal (MikkTSpace's already is, except its
+// default (1, 0, 0) for a corner whose triangles have no uv area), or a perpendicular to the
+// normal when nothing of it is left.
 glm::vec4 usable(const glm::vec4& tangent, const glm::vec3& normal) {
-    const glm::vec3 xyz(tangent);
+    const glm::vec3 xyz = glm::vec3(tangent) - glm::dot(glm::vec3(tangent), normal) * normal;
     const float length = glm::length(xyz);
-    if (length > 0.5f && std::isfinite(length)) {
-        return glm::vec4(xyz / length, tangent.w < 0.0f ? -1.0f : 1.0f);
+    const float sign = tangent.w < 0.0f ? -1.0f : 1.0f;
+    if (length > 1e-3f && std::isfinite(length)) {
+        return glm::vec4(xyz / length, sign);
     }
-    return glm::vec4(perpendicular(normal), 1.0f);
+    return glm::vec4(perpendicular(normal), sign);
 }
 
 }  // namespace
