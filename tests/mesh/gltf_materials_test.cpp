@@ -416,7 +416,8 @@ TEST(GltfMaterials, SamplersAreReadAndUnknownEnumsRejectedNamingThem) {
     json d = json::parse(quad_asset(textured, 1, json::object(), json::array({json::object()})));
     d["textures"][0]["sampler"] = 3;
     expect_error([&] { load_gltf_text(d.dump()); }, ErrorKind::InvalidInput,
-                 {"texture 0 refers to sampler 3, which does not exist"});
+                 {"test.gltf: material 0: baseColorTexture: texture 0 refers to sampler 3, which "
+                  "does not exist"});
 }
 
 TEST(GltfMaterials, TexturesCountOncePerImageAndEncodingAgainstTheLimits) {

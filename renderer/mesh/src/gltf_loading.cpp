@@ -716,7 +716,8 @@ class GltfConverter {
                  what + ": texture " + std::to_string(use.index) + " refers to image " +
                      std::to_string(image) + ", which does not exist");
         }
-        reference.sampler = sampler(texture.sampler, use.index);
+        reference.sampler =
+            sampler(texture.sampler, what + ": texture " + std::to_string(use.index));
         reference.texture = decoded_texture(image, encoding);
         return reference;
     }
@@ -730,15 +731,16 @@ class GltfConverter {
     }
 
     // glTF 2.0 samplers (section 5.26): the WebGL enums; an absent filter keeps the default.
-    TextureSampler sampler(int index, int texture) const {
+    // `texture` names the user in messages ("material 'M': normalTexture: texture 2").
+    TextureSampler sampler(int index, const std::string& texture) const {
         TextureSampler result;
         if (index < 0) {
             return result;
         }
         if (std::size_t(index) >= model_.samplers.size()) {
-            fail(ErrorKind::InvalidInput, asset_,
-                 "texture " + std::to_string(texture) + " refers to sampler " +
-                     std::to_string(index) + ", which does not exist");
+            fail(
+                ErrorKind::InvalidInput, asset_,
+                texture + " refers to sampler " + std::to_string(index) + ", which does not exist");
         }
         const tinygltf::Sampler& source = model_.samplers[std::size_t(index)];
         const std::string what = "sampler " + std::to_string(index) + ": ";
