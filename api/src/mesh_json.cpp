@@ -2,6 +2,7 @@
 
 #include <array>
 #include <charconv>
+#include <utility>
 
 #include "oer/core/enum_names.hpp"
 
@@ -11,6 +12,11 @@ namespace {
 
 constexpr EnumNames<MeshFormat, 3> kMeshFormatNames = {
     {{MeshFormat::Glb, "glb"}, {MeshFormat::Gltf, "gltf"}, {MeshFormat::Obj, "obj"}}};
+constexpr EnumNames<ShadingModel, 2> kShadingModelNames = {
+    {{ShadingModel::Lambertian, "lambertian"},
+     {ShadingModel::MetallicRoughness, "metallic_roughness"}}};
+constexpr EnumNames<AlphaMode, 3> kAlphaModeNames = {
+    {{AlphaMode::Opaque, "opaque"}, {AlphaMode::Mask, "mask"}, {AlphaMode::Blend, "blend"}}};
 
 // A float as the double with its shortest decimal text: 0.8f shows as 0.8, not as
 // 0.800000011920929 (the double nearest the float).
@@ -45,12 +51,27 @@ nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
                             std::optional<MeshFormat> format) {
     nlohmann::json materials = nlohmann::json::array();
     for (const Material& material : mesh.materials) {
-        materials.push_back({{"name", material.name},
-                             {"base_color", floats_json(material.base_color)},
-                             {"has_texture", material.base_color_texture.present()},
-                             {"metallic", shortest(material.metallic)},
-                             {"roughness", shortest(material.roughness)},
-                             {"specular", material.glossy()}});
+        nlohmann::json entry = {
+            {"name", material.name},
+            {"model", name_of(material.model, kShadingModelNames)},
+            {"base_color", floats_json(material.base_color)},
+            {"has_texture", material.base_color_texture.present()},
+            {"metallic", shortest(material.metallic)},
+            {"roughness", shortest(material.roughness)},
+            {"emissive", floats_json(material.emissive * material.emissive_strength)},
+            {"alpha_mode", name_of(material.alpha_mode, kAlphaModeNames)},
+            {"double_sided", material.double_sided},
+            {"textures",
+             {{"base_color", material.base_color_texture.present()},
+              {"metallic_roughness", material.metallic_roughness_texture.present()},
+              {"normal", material.normal_texture.present()},
+              {"occlusion", material.occlusion_texture.present()},
+              {"emissive", material.emissive_texture.present()}}},
+            {"specular", material.glossy()}};
+        if (material.alpha_mode == AlphaMode::Mask) {
+            entry["alpha_cutoff"] = shortest(material.alpha_cutoff);
+        }
+        materials.push_back(std::move(entry));
     }
     nlohmann::json json = {
         {"id", id},

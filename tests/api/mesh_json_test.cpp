@@ -1,8 +1,12 @@
 // The description of a stored mesh (GET /v1/meshes/{id}).
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
+#include "json_schema.hpp"
 #include "oer/api/mesh_json.hpp"
 #include "oer/core/error.hpp"
 #include "oer/mesh/default_product.hpp"
@@ -31,6 +35,12 @@ Mesh two_material_mesh() {
     textured.base_color_texture.texture = 0;
     textured.metallic = 0.0f;
     textured.roughness = 0.3f;
+    textured.normal_texture.texture = 0;
+    textured.emissive = {0.5f, 0.25f, 0.0f};
+    textured.emissive_strength = 3.0f;
+    textured.alpha_mode = AlphaMode::Mask;
+    textured.alpha_cutoff = 0.3f;
+    textured.double_sided = true;
     mesh.materials = {plain, textured};
     mesh.textures = {Texture{1, 1, {255, 0, 0, 255}}};
     mesh.bounds = {{-1.0f, 0.0f, -0.5f}, {1.0f, 2.0f, 0.25f}};
@@ -55,22 +65,71 @@ TEST(MeshJson, DescribesCountsBoundsMaterialsAndRepairs) {
         {"bounds", {{"min", {-1.0, 0.0, -0.5}}, {"max", {1.0, 2.0, 0.25}}}},
         {"materials",
          {{{"name", "plain"},
+           {"model", "lambertian"},
            {"base_color", {0.8, 0.8, 0.8, 1.0}},
            {"has_texture", false},
            {"metallic", 1.0},
            {"roughness", 1.0},
+           {"emissive", {0.0, 0.0, 0.0}},
+           {"alpha_mode", "opaque"},
+           {"double_sided", false},
+           {"textures",
+            {{"base_color", false},
+             {"metallic_roughness", false},
+             {"normal", false},
+             {"occlusion", false},
+             {"emissive", false}}},
            {"specular", false}},
           {{"name", "label"},
+           {"model", "metallic_roughness"},
            {"base_color", {1.0, 0.5, 0.25, 0.5}},
            {"has_texture", true},
            {"metallic", 0.0},
            {"roughness", 0.3},
+           {"emissive", {1.5, 0.75, 0.0}},
+           {"alpha_mode", "mask"},
+           {"alpha_cutoff", 0.3},
+           {"double_sided", true},
+           {"textures",
+            {{"base_color", true},
+             {"metallic_roughness", false},
+             {"normal", true},
+             {"occlusion", false},
+             {"emissive", false}}},
            {"specular", true}}}},
         {"repairs", {{"normals_replaced", 3}, {"normals_renormalised", 1}}},
         {"warnings", {"mtllib ignored"}}};
     EXPECT_EQ(json, expected) << json.dump(2);
     // Floats print as their shortest text, not as the double nearest them.
     EXPECT_NE(json.dump().find("\"roughness\":0.3,"), std::string::npos) << json.dump();
+    // And the description is what api/openapi.yaml publishes.
+    Json upload = json;
+    upload["cached"] = false;
+    EXPECT_EQ(oer::testing::openapi_schema_errors(upload, "#/components/schemas/MeshUpload"),
+              std::vector<std::string>{});
+}
+
+TEST(MeshJson, EveryTextureKindAndAlphaModeIsNamed) {
+    Mesh mesh = two_material_mesh();
+    Material& m = mesh.materials[1];
+    m.base_color_texture = TextureReference{};
+    m.normal_texture = TextureReference{};
+    m.metallic_roughness_texture.texture = 0;
+    m.occlusion_texture.texture = 0;
+    m.emissive_texture.texture = 0;
+    m.alpha_mode = AlphaMode::Blend;
+    const Json json = api::mesh_to_json(mesh, "default");
+    const Json& material = json.at("materials").at(1);
+    EXPECT_EQ(material.at("textures"), (Json{{"base_color", false},
+                                             {"metallic_roughness", true},
+                                             {"normal", false},
+                                             {"occlusion", true},
+                                             {"emissive", true}}));
+    EXPECT_FALSE(material.at("has_texture"));
+    EXPECT_EQ(material.at("alpha_mode"), "blend");
+    EXPECT_FALSE(material.contains("alpha_cutoff"));  // mask only
+    EXPECT_EQ(oer::testing::openapi_schema_errors(json, "#/components/schemas/Mesh"),
+              std::vector<std::string>{});
 }
 
 TEST(MeshJson, TheBuiltInProductHasNoFormat) {

@@ -186,6 +186,17 @@ std::vector<glm::vec3> AccessorReader::vec3(int index, const std::string& what,
     return values;
 }
 
+std::vector<glm::vec4> AccessorReader::vec4(int index, const std::string& what,
+                                            std::uint64_t max_count, const char* limit_name) const {
+    const AccessorData data = locate(index, what, TINYGLTF_TYPE_VEC4,
+                                     {TINYGLTF_COMPONENT_TYPE_FLOAT}, max_count, limit_name);
+    std::vector<glm::vec4> values(data.count);
+    for (std::size_t i = 0; i < data.count; ++i) {
+        std::memcpy(&values[i], data.first + i * data.stride, sizeof(glm::vec4));
+    }
+    return values;
+}
+
 std::vector<glm::vec2> AccessorReader::texcoords(int index, const std::string& what,
                                                  std::uint64_t max_count,
                                                  const char* limit_name) const {

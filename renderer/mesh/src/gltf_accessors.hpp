@@ -11,6 +11,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace oer::mesh_detail {
 
@@ -37,6 +38,10 @@ class AccessorReader {
 
     // POSITION, NORMAL: VEC3 of FLOAT.
     std::vector<glm::vec3> vec3(int index, const std::string& what, std::uint64_t max_count,
+                                const char* limit_name) const;
+
+    // TANGENT: VEC4 of FLOAT.
+    std::vector<glm::vec4> vec4(int index, const std::string& what, std::uint64_t max_count,
                                 const char* limit_name) const;
 
     // TEXCOORD_0: VEC2 of FLOAT, or of normalized UNSIGNED_BYTE or UNSIGNED_SHORT.

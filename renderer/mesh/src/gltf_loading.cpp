@@ -1,12 +1,20 @@
 // glTF 2.0 (see oer/mesh_loading.hpp): the model parsed by tinygltf (gltf_parsing.hpp)
 // becomes an oer::Mesh. The scene's node graph is walked (cycles, shared nodes and excessive
-// depth refused), every node's transform baked into positions and normals (a mirroring one
-// flips the winding back), strips and fans become lists, lines and points are refused, and
-// the materials used are converted, decoding their base-color textures within the limits.
+// depth refused), every node's transform baked into positions, normals and tangents (a
+// mirroring one flips the winding back), strips and fans become lists, lines and points are
+// refused, and the materials used are converted to the glTF 2.0 metallic-roughness model
+// (specification, section 3.9): factors, the five textures (each image decoded once per
+// encoding it is used with, within the limits), their samplers (section 5.26) and
+// KHR_texture_transform, KHR_materials_emissive_strength, alpha modes and double-sidedness.
+// TANGENT is read only where a normal texture needs it; finish_mesh generates it where the
+// file has none.
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -90,6 +98,13 @@ std::vector<std::uint32_t> to_triangle_list(int mode, const std::vector<std::uin
 // ---------------------------------------------------------------------------------------------
 // The conversion.
 
+// A number as its shortest decimal text, for messages.
+std::string number_text(double value) {
+    std::array<char, 32> buffer{};
+    const auto written = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+    return std::string(buffer.data(), written.ptr);
+}
+
 bool finite_matrix(const glm::dmat4& m) {
     for (int c = 0; c < 4; ++c) {
         for (int r = 0; r < 4; ++r) {
@@ -110,7 +125,8 @@ class GltfConverter {
           asset_(context.asset),
           reader_(model, context.asset),
           material_slot_(model.materials.size(), -1),
-          image_slot_(model.images.size(), -1) {}
+          material_without_normal_slot_(model.materials.size(), -1),
+          image_slot_(model.images.size(), {-1, -1}) {}
 
     Mesh convert() {
         std::vector<int> roots = root_nodes();
@@ -392,7 +408,74 @@ class GltfConverter {
 
         bake(primitive, world);
         primitive.material = material(source.material, name);
+        if (mesh_.materials[std::size_t(primitive.material)].normal_texture.present()) {
+            const auto tangent = source.attributes.find("TANGENT");
+            if (primitive.texcoords.empty()) {
+                primitive.material =
+                    material_without_normal_texture(source.material, primitive.material, name);
+            } else if (tangent != source.attributes.end()) {
+                primitive.tangents = file_tangents(tangent->second, name, n, vertex_budget);
+                bake_tangents(primitive.tangents, world);
+            }
+        }
         return primitive;
+    }
+
+    // TANGENT (read only where a normal texture needs it): VEC4 of FLOAT, one per position,
+    // finite; xyz made unit; w, the bitangent's sign, must be +1 or -1 (within 1e-3, then
+    // made exact).
+    std::vector<glm::vec4> file_tangents(int accessor, const std::string& name, std::size_t n,
+                                         std::uint64_t vertex_budget) const {
+        std::vector<glm::vec4> tangents =
+            reader_.vec4(accessor, name + ": TANGENT", vertex_budget, "vertices");
+        if (tangents.size() != n) {
+            fail(ErrorKind::InvalidInput, asset_,
+                 name + ": TANGENT has " + std::to_string(tangents.size()) +
+                     " elements, POSITION " + std::to_string(n));
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            glm::vec4& t = tangents[i];
+            const std::string vertex = name + ": vertex " + std::to_string(i);
+            if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) ||
+                !std::isfinite(t.w)) {
+                fail(ErrorKind::InvalidInput, asset_, vertex + " has a non-finite TANGENT");
+            }
+            const float length = glm::length(glm::vec3(t));
+            if (!(length > 1e-6f) || !std::isfinite(length)) {
+                fail(ErrorKind::InvalidInput, asset_, vertex + " has a zero-length TANGENT");
+            }
+            if (std::abs(std::abs(t.w) - 1.0f) > 1e-3f) {
+                fail(ErrorKind::InvalidInput, asset_,
+                     vertex + " has TANGENT w = " + number_text(t.w) +
+                         ", not +1 or -1 (the bitangent's sign)");
+            }
+            t = glm::vec4(glm::vec3(t) / length, t.w < 0.0f ? -1.0f : 1.0f);
+        }
+        return tangents;
+    }
+
+    // Tangents by the node's linear part (a tangent is a difference of positions, so not by
+    // the inverse transpose), made unit. The frame (tangent, bitangent, normal) transformed by
+    // M changes handedness with the sign of det(M) (the transformed normal stays on the side of
+    // M n), so a mirroring transform flips w. A flattening transform leaves no tangent: they
+    // are dropped, for finish_mesh to generate.
+    static void bake_tangents(std::vector<glm::vec4>& tangents, const glm::dmat4& world) {
+        const glm::dmat3 linear(world);
+        const double determinant = glm::determinant(linear);
+        if (determinant == 0.0 || !std::isfinite(determinant)) {
+            tangents.clear();
+            return;
+        }
+        const float sign = determinant < 0.0 ? -1.0f : 1.0f;
+        for (glm::vec4& tangent : tangents) {
+            const glm::dvec3 turned = linear * glm::dvec3(glm::vec3(tangent));
+            const double length = glm::length(turned);
+            if (!(length > 0.0) || !std::isfinite(length)) {
+                tangents.clear();
+                return;
+            }
+            tangent = glm::vec4(glm::vec3(turned / length), sign * tangent.w);
+        }
     }
 
     // Positions by the node's world matrix, normals by its inverse transpose; a mirroring
@@ -431,7 +514,7 @@ class GltfConverter {
     static Material default_material() {
         Material material;
         material.name = "default (glTF)";
-        return material;  // glTF defaults: white, metallic 1, roughness 1, specular
+        return material;  // glTF defaults: white, metallic 1, roughness 1, opaque, one-sided
     }
 
     int material(int index, const std::string& primitive) {
@@ -455,12 +538,64 @@ class GltfConverter {
         return slot;
     }
 
-    float factor(double value, const std::string& what) const {
+    // The glTF material `index` (already converted, at `slot`) without its normal texture, for
+    // a primitive that has no TEXCOORD_0 to map it with.
+    int material_without_normal_texture(int index, int slot, const std::string& primitive) {
+        const Material& with = mesh_.materials[std::size_t(slot)];
+        mesh_.warnings.push_back(primitive + " has no TEXCOORD_0 for the normal texture of " +
+                                 "material '" + one_line(with.name, 80) +
+                                 "': normal texture ignored on it");
+        int& variant = material_without_normal_slot_[std::size_t(index)];
+        if (variant < 0) {
+            Material without = with;
+            without.name += " (without its normal texture)";
+            without.normal_texture = TextureReference{};
+            without.normal_scale = 1.0f;
+            variant = int(mesh_.materials.size());
+            mesh_.materials.push_back(std::move(without));
+        }
+        return variant;
+    }
+
+    // A factor the specification bounds to [0, 1]: clamped, as before.
+    float unit_factor(double value, const std::string& what) const {
         if (!std::isfinite(value)) {
             fail(ErrorKind::InvalidInput, asset_, what + " is not finite");
         }
         return float(std::clamp(value, 0.0, 1.0));
     }
+
+    // Any other number: it must be finite as the float it is stored in.
+    float finite_float(double value, const std::string& what) const {
+        const auto stored = float(value);
+        if (!std::isfinite(value) || !std::isfinite(stored)) {
+            fail(ErrorKind::InvalidInput, asset_,
+                 what + " " + number_text(value) + " is not finite as a 32-bit float");
+        }
+        return stored;
+    }
+
+    float non_negative_float(double value, const std::string& what) const {
+        const float stored = finite_float(value, what);
+        if (stored < 0.0f) {
+            fail(ErrorKind::InvalidInput, asset_,
+                 what + " " + number_text(value) + " is negative (it must be at least 0)");
+        }
+        return stored;
+    }
+
+    // A textureInfo of any of its three kinds (the normal and occlusion ones add a number).
+    struct TextureUse {
+        const char* property;  // "baseColorTexture", ...
+        int index = -1;
+        int tex_coord = 0;
+        const tinygltf::ExtensionMap* extensions = nullptr;
+
+        template <typename Info>
+        static TextureUse of(const Info& info, const char* property) {
+            return TextureUse{property, info.index, info.texCoord, &info.extensions};
+        }
+    };
 
     Material convert_material(int index) {
         const tinygltf::Material& source = model_.materials[std::size_t(index)];
@@ -470,49 +605,209 @@ class GltfConverter {
         const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
         Material material;
         material.name = source.name.empty() ? name : source.name;
+        material.model = ShadingModel::MetallicRoughness;
         if (pbr.baseColorFactor.size() != 4) {
             fail(ErrorKind::InvalidInput, asset_, name + ": baseColorFactor needs 4 numbers");
         }
         for (int c = 0; c < 4; ++c) {
             material.base_color[c] =
-                factor(pbr.baseColorFactor[std::size_t(c)], name + ": baseColorFactor");
+                unit_factor(pbr.baseColorFactor[std::size_t(c)], name + ": baseColorFactor");
         }
-        material.metallic = factor(pbr.metallicFactor, name + ": metallicFactor");
-        material.roughness = factor(pbr.roughnessFactor, name + ": roughnessFactor");
-        material.base_color_texture.texture = base_color_texture(pbr.baseColorTexture, name);
+        material.metallic = unit_factor(pbr.metallicFactor, name + ": metallicFactor");
+        material.roughness = unit_factor(pbr.roughnessFactor, name + ": roughnessFactor");
+        material.base_color_texture = texture_reference(
+            TextureUse::of(pbr.baseColorTexture, "baseColorTexture"), TextureEncoding::Srgb, name);
+        material.metallic_roughness_texture = texture_reference(
+            TextureUse::of(pbr.metallicRoughnessTexture, "metallicRoughnessTexture"),
+            TextureEncoding::Linear, name);
+        material.normal_texture = texture_reference(
+            TextureUse::of(source.normalTexture, "normalTexture"), TextureEncoding::Linear, name);
+        material.normal_scale =
+            finite_float(source.normalTexture.scale, name + ": normalTexture.scale");
+        material.occlusion_texture =
+            texture_reference(TextureUse::of(source.occlusionTexture, "occlusionTexture"),
+                              TextureEncoding::Linear, name);
+        material.occlusion_strength =
+            unit_factor(source.occlusionTexture.strength, name + ": occlusionTexture.strength");
+        if (source.emissiveFactor.size() != 3) {
+            fail(ErrorKind::InvalidInput, asset_, name + ": emissiveFactor needs 3 numbers");
+        }
+        for (int c = 0; c < 3; ++c) {
+            material.emissive[c] =
+                unit_factor(source.emissiveFactor[std::size_t(c)], name + ": emissiveFactor");
+        }
+        material.emissive_texture = texture_reference(
+            TextureUse::of(source.emissiveTexture, "emissiveTexture"), TextureEncoding::Srgb, name);
+        if (const auto strength = source.extensions.find("KHR_materials_emissive_strength");
+            strength != source.extensions.end() && strength->second.Has("emissiveStrength")) {
+            material.emissive_strength =
+                non_negative_float(strength->second.Get("emissiveStrength").GetNumberAsDouble(),
+                                   name + ": KHR_materials_emissive_strength.emissiveStrength");
+        }
+        material.alpha_mode = alpha_mode(source.alphaMode, name);
+        material.alpha_cutoff = non_negative_float(source.alphaCutoff, name + ": alphaCutoff");
+        material.double_sided = source.doubleSided;
         return material;
     }
 
-    int base_color_texture(const tinygltf::TextureInfo& info, const std::string& material) {
-        if (info.index < 0) {
-            return -1;
+    AlphaMode alpha_mode(const std::string& mode, const std::string& material) const {
+        if (mode == "OPAQUE") {
+            return AlphaMode::Opaque;
         }
-        if (std::size_t(info.index) >= model_.textures.size()) {
+        if (mode == "MASK") {
+            return AlphaMode::Mask;
+        }
+        if (mode == "BLEND") {
+            return AlphaMode::Blend;
+        }
+        fail(ErrorKind::InvalidInput, asset_,
+             material + ": alphaMode '" + one_line(mode, 40) +
+                 "' is not one of OPAQUE, MASK and BLEND");
+    }
+
+    TextureReference texture_reference(const TextureUse& use, TextureEncoding encoding,
+                                       const std::string& material) {
+        TextureReference reference;
+        if (use.index < 0) {
+            return reference;
+        }
+        const std::string what = material + ": " + use.property;
+        if (std::size_t(use.index) >= model_.textures.size()) {
             fail(ErrorKind::InvalidInput, asset_,
-                 material + ": baseColorTexture refers to texture " + std::to_string(info.index) +
+                 what + " refers to texture " + std::to_string(use.index) +
                      ", which does not exist");
         }
-        if (info.texCoord != 0) {
-            mesh_.warnings.push_back(material + ": the base color texture uses TEXCOORD_" +
-                                     std::to_string(info.texCoord) +
-                                     ", only TEXCOORD_0 is supported: texture ignored");
-            return -1;
+        int tex_coord = use.tex_coord;
+        std::string override_note;
+        if (const auto transform = use.extensions->find("KHR_texture_transform");
+            transform != use.extensions->end()) {
+            const tinygltf::Value& t = transform->second;
+            const std::string at = what + ".extensions.KHR_texture_transform.";
+            if (t.Has("offset")) {
+                reference.offset = vec2_of(t.Get("offset"), at + "offset");
+            }
+            if (t.Has("rotation")) {
+                reference.rotation =
+                    finite_float(t.Get("rotation").GetNumberAsDouble(), at + "rotation");
+            }
+            if (t.Has("scale")) {
+                reference.scale = vec2_of(t.Get("scale"), at + "scale");
+            }
+            if (t.Has("texCoord")) {
+                tex_coord = t.Get("texCoord").GetNumberAsInt();
+                override_note = " (KHR_texture_transform's texCoord)";
+            }
         }
-        const int image = model_.textures[std::size_t(info.index)].source;
+        if (tex_coord != 0) {
+            mesh_.warnings.push_back(what + " uses TEXCOORD_" + std::to_string(tex_coord) +
+                                     override_note +
+                                     ", only TEXCOORD_0 is supported: texture ignored");
+            return TextureReference{};
+        }
+        const tinygltf::Texture& texture = model_.textures[std::size_t(use.index)];
+        const int image = texture.source;
         if (image < 0) {
-            mesh_.warnings.push_back(material +
-                                     ": the base color texture has no PNG or JPEG source: "
-                                     "texture ignored");
-            return -1;
+            mesh_.warnings.push_back(what + " (texture " + std::to_string(use.index) +
+                                     ") has no PNG or JPEG source: texture ignored");
+            return TextureReference{};
         }
         if (std::size_t(image) >= model_.images.size()) {
             fail(ErrorKind::InvalidInput, asset_,
-                 material + ": texture " + std::to_string(info.index) + " refers to image " +
+                 what + ": texture " + std::to_string(use.index) + " refers to image " +
                      std::to_string(image) + ", which does not exist");
         }
-        int& slot = image_slot_[std::size_t(image)];
-        if (slot >= 0) {
-            return slot;
+        reference.sampler =
+            sampler(texture.sampler, what + ": texture " + std::to_string(use.index));
+        reference.texture = decoded_texture(image, encoding);
+        return reference;
+    }
+
+    glm::vec2 vec2_of(const tinygltf::Value& value, const std::string& what) const {
+        if (!value.IsArray() || value.ArrayLen() != 2) {
+            fail(ErrorKind::InvalidInput, asset_, what + " needs 2 numbers");
+        }
+        return glm::vec2(finite_float(value.Get(0).GetNumberAsDouble(), what),
+                         finite_float(value.Get(1).GetNumberAsDouble(), what));
+    }
+
+    // glTF 2.0 samplers (section 5.26): the WebGL enums; an absent filter keeps the default.
+    // `texture` names the user in messages ("material 'M': normalTexture: texture 2").
+    TextureSampler sampler(int index, const std::string& texture) const {
+        TextureSampler result;
+        if (index < 0) {
+            return result;
+        }
+        if (std::size_t(index) >= model_.samplers.size()) {
+            fail(
+                ErrorKind::InvalidInput, asset_,
+                texture + " refers to sampler " + std::to_string(index) + ", which does not exist");
+        }
+        const tinygltf::Sampler& source = model_.samplers[std::size_t(index)];
+        const std::string what = "sampler " + std::to_string(index) + ": ";
+        result.wrap_s = wrap(source.wrapS, what + "wrapS");
+        result.wrap_t = wrap(source.wrapT, what + "wrapT");
+        if (source.magFilter >= 0) {
+            result.mag_filter = filter(source.magFilter, false, what + "magFilter");
+        }
+        if (source.minFilter >= 0) {
+            result.min_filter = filter(source.minFilter, true, what + "minFilter");
+        }
+        return result;
+    }
+
+    TextureWrap wrap(int value, const std::string& what) const {
+        switch (value) {
+            case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+                return TextureWrap::ClampToEdge;
+            case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+                return TextureWrap::MirroredRepeat;
+            case TINYGLTF_TEXTURE_WRAP_REPEAT:
+                return TextureWrap::Repeat;
+            default:
+                fail(ErrorKind::InvalidInput, asset_,
+                     what + " " + std::to_string(value) +
+                         " is not one of CLAMP_TO_EDGE (33071), MIRRORED_REPEAT (33648) and "
+                         "REPEAT (10497)");
+        }
+    }
+
+    TextureFilter filter(int value, bool minification, const std::string& what) const {
+        switch (value) {
+            case TINYGLTF_TEXTURE_FILTER_NEAREST:
+                return TextureFilter::Nearest;
+            case TINYGLTF_TEXTURE_FILTER_LINEAR:
+                return TextureFilter::Linear;
+            default:
+                break;
+        }
+        if (minification) {
+            switch (value) {
+                case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+                    return TextureFilter::NearestMipmapNearest;
+                case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
+                    return TextureFilter::LinearMipmapNearest;
+                case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+                    return TextureFilter::NearestMipmapLinear;
+                case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR:
+                    return TextureFilter::LinearMipmapLinear;
+                default:
+                    break;
+            }
+        }
+        fail(ErrorKind::InvalidInput, asset_,
+             what + " " + std::to_string(value) +
+                 (minification ? " is not one of NEAREST (9728), LINEAR (9729) and the mipmap "
+                                 "filters 9984 to 9987"
+                               : " is not one of NEAREST (9728) and LINEAR (9729)"));
+    }
+
+    // One texture per image and encoding: an image read both as colour and as data is
+    // decoded once and stored twice, and counts twice against the limit on texture pixels.
+    int decoded_texture(int image, TextureEncoding encoding) {
+        std::array<int, 2>& slots = image_slot_[std::size_t(image)];
+        const std::size_t kind = encoding == TextureEncoding::Srgb ? 0 : 1;
+        if (slots[kind] >= 0) {
+            return slots[kind];
         }
         const auto encoded = context_.encoded_images.find(image);
         if (encoded == context_.encoded_images.end()) {
@@ -526,14 +821,19 @@ class GltfConverter {
         const std::uint64_t pixels = std::uint64_t(header.width) * std::uint64_t(header.height);
         if (pixels > limits_.max_total_texture_pixels - texture_pixels_) {
             fail(ErrorKind::LimitExceeded, asset_,
-                 "the base color textures together have more than the limit of " +
+                 "the textures together (an image used both as colour and as data counting "
+                 "twice) have more than the limit of " +
                      std::to_string(limits_.max_total_texture_pixels) + " pixels");
         }
-        mesh_.textures.push_back(
-            decode_texture(encoded->second, limits_.max_texture_pixels, label));
+        const int other = slots[1 - kind];
+        Texture texture = other >= 0
+                              ? mesh_.textures[std::size_t(other)]
+                              : decode_texture(encoded->second, limits_.max_texture_pixels, label);
+        texture.encoding = encoding;
+        mesh_.textures.push_back(std::move(texture));
         texture_pixels_ += pixels;
-        slot = int(mesh_.textures.size()) - 1;
-        return slot;
+        slots[kind] = int(mesh_.textures.size()) - 1;
+        return slots[kind];
     }
 
     const tinygltf::Model& model_;
@@ -544,7 +844,10 @@ class GltfConverter {
     Mesh mesh_;
     std::vector<Mark> marks_;
     std::vector<int> material_slot_;  // glTF material -> index in mesh_.materials, or -1
-    std::vector<int> image_slot_;     // glTF image -> index in mesh_.textures, or -1
+    // glTF material -> its copy without the normal texture in mesh_.materials, or -1
+    std::vector<int> material_without_normal_slot_;
+    // glTF image -> index in mesh_.textures as sRGB [0] and as linear [1], or -1
+    std::vector<std::array<int, 2>> image_slot_;
     int default_slot_ = -1;
     std::uint64_t vertices_ = 0;
     std::uint64_t triangles_ = 0;

@@ -324,7 +324,8 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
             "glTF version '" + one_line(model.asset.version, 40) + "' is not supported (only 2.0)");
     }
     for (const std::string& extension : model.extensionsRequired) {
-        if (extension != "KHR_texture_transform") {
+        if (extension != "KHR_texture_transform" &&
+            extension != "KHR_materials_emissive_strength") {
             fail(ErrorKind::Unsupported, asset,
                  "the asset requires the extension " + one_line(extension, 80) +
                      ", which is not supported");

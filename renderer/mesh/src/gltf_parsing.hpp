@@ -5,7 +5,7 @@
 // canonical path (symbolic links followed) lies inside that folder's is read, up to the
 // limit on bytes, and every other one is refused;
 // its image callback checks each image's bufferView and header against the limits and keeps
-// the encoded bytes, so that only the base-color textures are decoded, later. The JSON is
+// the encoded bytes, so that only the images the materials use are decoded, later. The JSON is
 // checked first: its nesting, a .glb's container, and the schema (gltf_schema.hpp).
 #include <tiny_gltf.h>
 

@@ -91,6 +91,14 @@ class SchemaChecker {
             texture_info(material, "normalTexture", path);
             texture_info(material, "occlusionTexture", path);
             texture_info(material, "emissiveTexture", path);
+            number_array(material, "emissiveFactor", path, 3);
+            optional_string(material, "alphaMode", path);
+            optional_number(material, "alphaCutoff", path);
+            optional_boolean(material, "doubleSided", path);
+            if (const Json* strength = extension(material, "KHR_materials_emissive_strength")) {
+                optional_number(*strength, "emissiveStrength",
+                                path + ".extensions.KHR_materials_emissive_strength");
+            }
         });
         each(root, "textures", [&](const Json& texture, const std::string& path) {
             optional_index(texture, "source", path);
@@ -108,9 +116,7 @@ class SchemaChecker {
             optional_index(accessor, "count", path);
             optional_string(accessor, "type", path);
             optional_object(accessor, "sparse", path);
-            if (const Json* normalized = checked_json::find(accessor, "normalized")) {
-                read_.boolean(*normalized, read_.child(path, "normalized"));
-            }
+            optional_boolean(accessor, "normalized", path);
         });
         each(root, "bufferViews", [&](const Json& view, const std::string& path) {
             optional_index(view, "buffer", path);
@@ -122,8 +128,13 @@ class SchemaChecker {
             optional_index(buffer, "byteLength", path);
             optional_string(buffer, "uri", path);
         });
+        each(root, "samplers", [&](const Json& sampler, const std::string& path) {
+            for (const char* key : {"magFilter", "minFilter", "wrapS", "wrapT"}) {
+                optional_index(sampler, key, path);
+            }
+        });
         // Names of everything else too.
-        for (const char* section : {"animations", "cameras", "samplers", "skins"}) {
+        for (const char* section : {"animations", "cameras", "skins"}) {
             each(root, section, [](const Json&, const std::string&) {});
         }
     }
@@ -166,6 +177,18 @@ class SchemaChecker {
         if (const Json* value = checked_json::find(object, key)) {
             read_.number(*value, read_.child(path, key));
         }
+    }
+
+    void optional_boolean(const Json& object, const char* key, const std::string& path) const {
+        if (const Json* value = checked_json::find(object, key)) {
+            read_.boolean(*value, read_.child(path, key));
+        }
+    }
+
+    // The object of one extension (check_common has checked that it is an object), or null.
+    static const Json* extension(const Json& object, const char* name) {
+        const Json* extensions = checked_json::find(object, "extensions");
+        return extensions == nullptr ? nullptr : checked_json::find(*extensions, name);
     }
 
     void optional_string(const Json& object, const char* key, const std::string& path) const {
@@ -214,7 +237,8 @@ class SchemaChecker {
         }
     }
 
-    // A textureInfo: an object with a non-negative integer "index" (required) and "texCoord".
+    // A textureInfo: an object with a non-negative integer "index" (required) and "texCoord",
+    // and KHR_texture_transform's offset and scale (2 numbers), rotation and texCoord.
     const Json* texture_info(const Json& object, const char* key, const std::string& path) const {
         const Json* info = optional_object(object, key, path);
         if (info == nullptr) {
@@ -225,6 +249,13 @@ class SchemaChecker {
         optional_number(*info, "strength", at);  // occlusionTexture
         read_.index(read_.member(*info, at, "index"), read_.child(at, "index"));
         optional_index(*info, "texCoord", at);
+        if (const Json* transform = extension(*info, "KHR_texture_transform")) {
+            const std::string transform_path = at + ".extensions.KHR_texture_transform";
+            number_array(*transform, "offset", transform_path, 2);
+            optional_number(*transform, "rotation", transform_path);
+            number_array(*transform, "scale", transform_path, 2);
+            optional_index(*transform, "texCoord", transform_path);
+        }
         return info;
     }
 

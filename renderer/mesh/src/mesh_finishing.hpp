@@ -1,6 +1,7 @@
 #pragma once
 // Private to the mesh loading: what every loader does last (mesh_loading.cpp). Normals are
-// made unit or computed, every invariant of oer::Mesh is checked, counts, limits and bounds.
+// made unit or computed, tangents generated where a normal texture needs them, every invariant of
+// oer::Mesh is checked, counts, limits and bounds.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -25,10 +26,15 @@ std::vector<glm::vec3> angle_weighted_normals(std::span<const glm::vec3> positio
 std::uint64_t normalise_file_normals(std::vector<glm::vec3>& normals);
 
 // Checks indices (a multiple of 3, each < positions.size()), finite positions and texture
-// coordinates, attribute sizes and material indices; computes normals where missing (an empty
-// vector) or (0, 0, 0) (counted in mesh.repairs.normals_replaced); drops primitives without
-// triangles; checks limits; fills bounds and counts. Throws oer::Error naming `asset` and
-// the primitive.
+// coordinates, attribute sizes (tangents: none or one per position, finite, w = +1 or -1),
+// material indices and every texture reference of every material (each < textures.size(): an
+// Internal error otherwise); computes normals where missing (an empty vector) or (0, 0, 0)
+// (counted in mesh.repairs.normals_replaced); gives a primitive whose material uses any texture
+// but which has no texture coordinates (0, 0) everywhere; generates tangents with MikkTSpace
+// (tangent_generation.hpp) for a primitive whose material has a normal texture and which has
+// none, splitting vertices where needed; drops primitives without triangles; checks limits
+// (vertices counted after those splits); fills bounds and counts. Throws oer::Error naming
+// `asset` and the primitive.
 void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits);
 
 }  // namespace oer::mesh_detail

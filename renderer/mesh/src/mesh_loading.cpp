@@ -1,8 +1,10 @@
 // Mesh loading (see oer/mesh_loading.hpp): the format from the name, the size check, the file
-// read, and what every loader does last (mesh_finishing.hpp): normals, validation, bounds.
+// read, and what every loader does last (mesh_finishing.hpp): normals, tangents, validation,
+// bounds.
 #include "oer/mesh/mesh_loading.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -19,6 +21,7 @@
 #include "mesh_finishing.hpp"
 #include "mesh_loaders.hpp"
 #include "oer/core/error.hpp"
+#include "tangent_generation.hpp"
 
 namespace oer {
 
@@ -32,6 +35,25 @@ bool finite(const glm::vec3& v) {
 
 bool finite(const glm::vec2& v) {
     return std::isfinite(v.x) && std::isfinite(v.y);
+}
+
+// Every texture a material may use, with the glTF property it comes from, for messages.
+std::array<std::pair<const char*, const TextureReference*>, 5> texture_references(
+    const Material& material) {
+    return {{{"base color", &material.base_color_texture},
+             {"metallic-roughness", &material.metallic_roughness_texture},
+             {"normal", &material.normal_texture},
+             {"occlusion", &material.occlusion_texture},
+             {"emissive", &material.emissive_texture}}};
+}
+
+bool uses_a_texture(const Material& material) {
+    for (const auto& [kind, reference] : texture_references(material)) {
+        if (reference->present()) {
+            return true;
+        }
+    }
+    return false;
 }
 
 std::string describe(const glm::vec3& v) {
@@ -85,6 +107,19 @@ void check_primitive(const Primitive& primitive, std::size_t material_count,
             if (!finite(primitive.texcoords[i])) {
                 fail(ErrorKind::InvalidInput, asset,
                      p + ": vertex " + std::to_string(i) + " has non-finite texture coordinates");
+            }
+        }
+    }
+    if (!primitive.tangents.empty()) {
+        if (primitive.tangents.size() != n) {
+            fail(ErrorKind::Internal, asset, p + ": tangents and positions differ in number");
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::vec4& t = primitive.tangents[i];
+            if (!finite(glm::vec3(t)) || std::abs(t.w) != 1.0f) {
+                fail(ErrorKind::Internal, asset,
+                     p + ": vertex " + std::to_string(i) +
+                         " has a non-finite tangent or a bitangent sign other than +1 or -1");
             }
         }
     }
@@ -187,9 +222,35 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
              std::to_string(mesh.primitives.size()) + " primitives, more than the limit of " +
                  std::to_string(limits.max_primitives));
     }
+    for (const Material& material : mesh.materials) {
+        for (const auto& [kind, reference] : texture_references(material)) {
+            if (reference->texture < -1 || reference->texture >= int(mesh.textures.size())) {
+                fail(ErrorKind::Internal, asset,
+                     "material '" + material.name + "': its " + kind + " texture " +
+                         std::to_string(reference->texture) + " does not exist");
+            }
+        }
+    }
+    glm::vec3 low(std::numeric_limits<float>::infinity());
+    glm::vec3 high(-std::numeric_limits<float>::infinity());
     std::uint64_t triangles = 0;
     std::uint64_t vertices = 0;
-    for (const Primitive& primitive : mesh.primitives) {
+    std::uint64_t split_for_tangents = 0;
+    for (Primitive& primitive : mesh.primitives) {
+        check_primitive(primitive, mesh.materials.size(), asset);
+        complete_normals(primitive, mesh.repairs);
+        const Material& material = mesh.materials[std::size_t(primitive.material)];
+        if (uses_a_texture(material) && primitive.texcoords.empty()) {
+            primitive.texcoords.assign(primitive.positions.size(), glm::vec2(0.0f));
+        }
+        // After baking (the loaders' transforms are applied) and before any level of detail.
+        if (material.normal_texture.present() && primitive.tangents.empty()) {
+            split_for_tangents += generate_tangents(primitive, asset);
+        }
+        for (const glm::vec3& position : primitive.positions) {
+            low = glm::min(low, position);
+            high = glm::max(high, position);
+        }
         triangles += primitive.indices.size() / 3;
         vertices += primitive.positions.size();
     }
@@ -201,27 +262,10 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
     if (vertices > limits.max_vertices) {
         fail(ErrorKind::LimitExceeded, asset,
              std::to_string(vertices) + " vertices, more than the limit of " +
-                 std::to_string(limits.max_vertices));
-    }
-    glm::vec3 low(std::numeric_limits<float>::infinity());
-    glm::vec3 high(-std::numeric_limits<float>::infinity());
-    for (Primitive& primitive : mesh.primitives) {
-        check_primitive(primitive, mesh.materials.size(), asset);
-        complete_normals(primitive, mesh.repairs);
-        for (const glm::vec3& position : primitive.positions) {
-            low = glm::min(low, position);
-            high = glm::max(high, position);
-        }
-        const Material& material = mesh.materials[std::size_t(primitive.material)];
-        if (material.base_color_texture.present() && primitive.texcoords.empty()) {
-            primitive.texcoords.assign(primitive.positions.size(), glm::vec2(0.0f));
-        }
-    }
-    for (const Material& material : mesh.materials) {
-        if (material.base_color_texture.texture >= int(mesh.textures.size())) {
-            fail(ErrorKind::Internal, asset,
-                 "material '" + material.name + "' uses a texture that does not exist");
-        }
+                 std::to_string(limits.max_vertices) +
+                 (split_for_tangents == 0 ? ""
+                                          : " (" + std::to_string(split_for_tangents) +
+                                                " of them copies made for their tangents)"));
     }
     mesh.bounds = Bounds{low, high};
     mesh.triangle_count = triangles;

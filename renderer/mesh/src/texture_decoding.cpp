@@ -1,4 +1,4 @@
-// Base-color textures: PNG and JPEG through stb_image, size-checked on the header first
+// Textures: PNG and JPEG through stb_image, size-checked on the header first
 // (see texture_decoding.hpp).
 #include "texture_decoding.hpp"
 

@@ -1,5 +1,5 @@
 #pragma once
-// Private to the glTF loader: base-color images (PNG or JPEG) to 8-bit RGBA, with their size
+// Private to the glTF loader: texture images (PNG or JPEG) to 8-bit RGBA, with their size
 // checked on the header before any pixel memory is allocated.
 #include <cstddef>
 #include <cstdint>
@@ -21,7 +21,8 @@ struct ImageHeader {
 ImageHeader check_image_header(std::span<const std::byte> encoded, std::uint64_t max_pixels,
                                const std::string& what);
 
-// check_image_header, then decodes to RGBA8 (row 0 at the top).
+// check_image_header, then decodes to RGBA8 (row 0 at the top), encoding Srgb: the caller sets
+// the encoding of its use.
 Texture decode_texture(std::span<const std::byte> encoded, std::uint64_t max_pixels,
                        const std::string& what);
 

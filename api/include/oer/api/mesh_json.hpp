@@ -15,9 +15,13 @@ std::string to_string(MeshFormat format);                     // "glb", "gltf", 
 MeshFormat mesh_format_from_string(const std::string& name);  // throws oer::Error
 
 // { id, format (when known: the built-in product has none), counts {triangles, vertices,
-// primitives, materials, textures}, bounds {min, max}, materials [{name, base_color (linear
-// RGBA), has_texture, metallic, roughness, specular}], repairs {normals_replaced,
-// normals_renormalised}, warnings [...] }. Floats appear as their shortest decimal form.
+// primitives, materials, textures}, bounds {min, max}, materials [{name, model ("lambertian",
+// "metallic_roughness"), base_color (linear RGBA), has_texture (= textures.base_color, kept for
+// older clients), metallic, roughness, emissive (linear RGB, times the emissive strength),
+// alpha_mode ("opaque", "mask", "blend"), alpha_cutoff (mask only), double_sided, textures
+// {base_color, metallic_roughness, normal, occlusion, emissive} (whether it has each), specular
+// (whether it has a specular term)}], repairs {normals_replaced, normals_renormalised},
+// warnings [...] }. Floats appear as their shortest decimal form.
 nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
                             std::optional<MeshFormat> format = std::nullopt);
 

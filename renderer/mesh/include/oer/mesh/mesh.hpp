@@ -1,7 +1,7 @@
 #pragma once
-// Meshes ready for drawing: every glTF node transform baked into the positions and normals
-// (world space of the file, no rescaling), every primitive as an indexed triangle list, with
-// the materials and textures they use. Produced by the loaders (mesh_loading.hpp)
+// Meshes ready for drawing: every glTF node transform baked into the positions, normals and
+// tangents (world space of the file, no rescaling), every primitive as an indexed triangle
+// list, with the materials and textures they use. Produced by the loaders (mesh_loading.hpp)
 // and by code (default_product.hpp); validated before anything reaches GL.
 #include <cstdint>
 #include <string>
