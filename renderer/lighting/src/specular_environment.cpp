@@ -197,10 +197,10 @@ inline glm::vec3 bilinear_face(int size, float s, float t, const Fetch& fetch) {
 // Bilinear read of the equirect at its continuous position (u, v), u in [0, 2 W), wrapping in
 // u (phi) and clamped in v (theta) at the poles' rows.
 inline glm::vec3 sample_equirect(const HdrImage& map, float u, float v) {
-    const float x = u - 0.5f;
-    const float x_floor = std::floor(x);
-    const float fx = x - x_floor;
-    int x0 = int(x_floor);
+    // u - 0.5 is at least -0.5: truncating u + 0.5 floors it, plus 1 (cheaper than std::floor).
+    const float x = u + 0.5f;
+    int x0 = int(x) - 1;
+    const float fx = x - float(x0 + 1);
     x0 = x0 < 0 ? x0 + map.width : (x0 >= map.width ? x0 - map.width : x0);
     const int x1 = x0 + 1 == map.width ? 0 : x0 + 1;
     const float y = std::clamp(v - 0.5f, 0.0f, float(map.height - 1));
@@ -383,17 +383,17 @@ void downsample_faces(Pyramid& pyramid, int face_begin, int face_end) {
 // Bilinear read of a level with its border at (s, t) of a face: across the face's edges.
 inline glm::vec3 sample_level(const FloatLevel& level,
                               const detail::CubeFaceCoordinates<float>& c) {
-    const float x = std::clamp(c.s, 0.0f, 1.0f) * float(level.size) - 0.5f;
-    const float y = std::clamp(c.t, 0.0f, 1.0f) * float(level.size) - 0.5f;
-    const float x_floor = std::floor(x), y_floor = std::floor(y);
-    const int x0 = int(x_floor), y0 = int(y_floor);
-    const float fx = x - x_floor, fy = y - y_floor;
-    const auto at = [&](int i, int j) {
-        const float* p = level.texel(c.face, i, j);
-        return glm::vec3(p[0], p[1], p[2]);
-    };
-    const glm::vec3 top = glm::mix(at(x0, y0), at(x0 + 1, y0), fx);
-    const glm::vec3 bottom = glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx);
+    // s n - 0.5 is at least -0.5: truncating s n + 0.5 floors it, plus 1 (cheaper than
+    // std::floor without SSE4.1); likewise t.
+    const float x = std::clamp(c.s, 0.0f, 1.0f) * float(level.size) + 0.5f;
+    const float y = std::clamp(c.t, 0.0f, 1.0f) * float(level.size) + 0.5f;
+    const int x0 = int(x) - 1, y0 = int(y) - 1;
+    const float fx = x - float(x0 + 1), fy = y - float(y0 + 1);
+    const float* p00 = level.texel(c.face, x0, y0);
+    const float* p01 = p00 + std::size_t(level.stride) * 3;
+    const auto at = [](const float* p) { return glm::vec3(p[0], p[1], p[2]); };
+    const glm::vec3 top = glm::mix(at(p00), at(p00 + 3), fx);
+    const glm::vec3 bottom = glm::mix(at(p01), at(p01 + 3), fx);
     return glm::mix(top, bottom, fy);
 }
 
