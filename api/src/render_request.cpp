@@ -808,4 +808,18 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
     return request;
 }
 
+bool needs_specular(const FrameRequest& request) {
+    if (!request.rig || request.rig->model != LightingModel::Hdr) {
+        return false;
+    }
+    for (const SceneObject& object : request.objects) {
+        for (const Primitive& primitive : object.mesh->primitives) {
+            if (object.mesh->materials.at(std::size_t(primitive.material)).glossy()) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 }  // namespace oer::api

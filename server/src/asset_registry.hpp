@@ -44,12 +44,21 @@ class AssetRegistry {
         if (!api::is_content_id(id)) {
             return nullptr;
         }
+        if (auto known = cached(id)) {
+            return known;
+        }
+        return read_stored();
+    }
+
+    // The asset remembered under id (any id, the preset's too), counted as a cache hit, or
+    // nullptr, counted as a miss.
+    Pointer cached(const std::string& id) {
         if (auto known = assets_.get(id)) {
             metrics_.cache(cache_, true);
             return known;
         }
         metrics_.cache(cache_, false);
-        return read_stored();
+        return nullptr;
     }
 
     // known(): the asset when id is there already (cached), else nullptr. make(): decodes,

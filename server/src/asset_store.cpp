@@ -31,7 +31,15 @@ std::string_view folder_name(SourceKind kind) {
 }
 
 std::string_view folder_name(DerivedKind kind) {
-    return kind == DerivedKind::Rig ? "rigs" : "rig-sources";
+    switch (kind) {
+        case DerivedKind::Rig:
+            return "rigs";
+        case DerivedKind::RigSource:
+            return "rig-sources";
+        case DerivedKind::Specular:
+            return "specular";
+    }
+    throw Error(ErrorKind::Internal, "asset store: unknown derived kind");
 }
 
 std::string_view kind_name(SourceKind kind) {
@@ -206,7 +214,8 @@ AssetStore::AssetStore(fs::path folder, Log log)
     : folder_(std::move(folder)), log_(std::move(log)) {
     for (const std::string_view name :
          {folder_name(SourceKind::Environment), folder_name(SourceKind::Mesh),
-          folder_name(DerivedKind::Rig), folder_name(DerivedKind::RigSource)}) {
+          folder_name(DerivedKind::Rig), folder_name(DerivedKind::RigSource),
+          folder_name(DerivedKind::Specular)}) {
         const fs::path kind_folder = folder_ / name;
         std::error_code error;
         fs::create_directories(kind_folder, error);

@@ -3,7 +3,9 @@
 // rigs kept in memory (LRU by bytes) in front of the asset store, stored rigs read back after a
 // restart without recomputation, a damaged stored rig recomputed from its source, and the
 // decoded maps (for backgrounds and previews) in an LRU of their own. The preset `default` is
-// the built-in studio with its rig at default options, made once at start-up.
+// the built-in studio with its rig at default options, made once at start-up. Each rig's
+// specular cube (its residual map prefiltered, specular_environment.hpp) is made only when a
+// frame needs it, then kept like the rig: in memory (LRU by bytes) and in the store by rig id.
 #include <functional>
 #include <memory>
 #include <string>
@@ -14,6 +16,7 @@
 #include "asset_registry.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/rig.hpp"
+#include "oer/lighting/specular_environment.hpp"
 #include "oer/server/asset_store.hpp"
 #include "oer/server/shared_lru_cache.hpp"
 #include "service_metrics.hpp"
@@ -49,6 +52,14 @@ class EnvironmentRegistry {
     // The map the rig was made from, decoded; nullptr when its source is no longer stored.
     std::shared_ptr<const HdrImage> source_image(const Environment& environment);
 
+    // The rig's residual map prefiltered at default SpecularOptions: from memory, else from the
+    // store (a damaged entry is logged, dropped and recomputed), else computed from
+    // source_image() and the rig, stored (the preset's is kept in memory only) and remembered.
+    // Concurrent calls for one rig compute it once (AssetRegistry): the later ones wait. nullptr
+    // for a Thesis rig (no specular term), or when it must be computed and the source is no
+    // longer stored.
+    std::shared_ptr<const PrefilteredCube> specular(const Environment& environment);
+
   private:
     std::shared_ptr<const Environment> load_stored(const std::string& id);
     std::shared_ptr<const Environment> compute(const HdrImage& image, const RepairCounts& repaired,
@@ -56,6 +67,8 @@ class EnvironmentRegistry {
                                                const std::string& source_id,
                                                const std::string& rig_id);
     void remember(const std::shared_ptr<const Environment>& environment);
+    std::shared_ptr<const PrefilteredCube> load_stored_specular(const std::string& id);
+    std::shared_ptr<const PrefilteredCube> compute_specular(const Environment& environment);
     std::shared_ptr<const Environment> preprocess(std::string_view bytes,
                                                   const std::string& extension,
                                                   const RigOptions& options,
@@ -69,6 +82,7 @@ class EnvironmentRegistry {
     std::shared_ptr<const HdrImage> preset_image_;
     AssetRegistry<Environment> rigs_;
     SharedLruCache<HdrImage> images_;
+    AssetRegistry<PrefilteredCube> specular_;
 };
 
 }  // namespace oer::server

@@ -71,8 +71,17 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                             "environment");
         }
     }
-    auto request = std::make_shared<const FrameRequest>(
-        api::to_frame_request(spec, environment->rig, map, meshes));
+    FrameRequest frame_request = api::to_frame_request(spec, environment->rig, map, meshes);
+    if (api::needs_specular(frame_request)) {
+        frame_request.specular = environments_.specular(*environment);
+        if (!frame_request.specular) {
+            throw not_found("the map of environment '" + spec.environment +
+                                "' is no longer stored, and its glossy materials need it; "
+                                "upload it again",
+                            "environment");
+        }
+    }
+    auto request = std::make_shared<const FrameRequest>(std::move(frame_request));
 
     std::future<Frame> pending = pool_.submit([this, request](FrameRenderer& renderer) {
         const auto start = Clock::now();

@@ -19,6 +19,8 @@ const char* name_of(CacheName cache) {
             return "mesh";
         case CacheName::Environment:
             return "environment";
+        case CacheName::Specular:
+            return "specular";
     }
     return "unknown";
 }
@@ -33,6 +35,12 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
                                             kLatencyBucketsSeconds)),
       rigs_computed(registry.counter("oer_rigs_computed_total",
                                      "Rigs computed (preprocessing runs; cache hits excluded)")),
+      specular_seconds(registry.histogram(
+          "oer_specular_seconds", "Time to prefilter a rig's residual map into its specular cube",
+          kLatencyBucketsSeconds)),
+      specular_computed(registry.counter(
+          "oer_specular_computed_total",
+          "Specular cubes computed (prefiltering runs; memory and store hits excluded)")),
       meshes_loaded(
           registry.counter("oer_meshes_loaded_total",
                            "Meshes decoded from uploads or from the store (cache hits excluded)")),
@@ -41,8 +49,8 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
       render_workers_ready(registry.gauge(
           "oer_render_workers_ready", "Render workers with a GL context and a test frame done")),
       registry_(registry) {
-    for (const CacheName cache :
-         {CacheName::Frame, CacheName::Rig, CacheName::Mesh, CacheName::Environment}) {
+    for (const CacheName cache : {CacheName::Frame, CacheName::Rig, CacheName::Mesh,
+                                  CacheName::Environment, CacheName::Specular}) {
         registry.counter("oer_cache_hits_total", kHitsHelp, {{"cache", name_of(cache)}});
         registry.counter("oer_cache_misses_total", kMissesHelp, {{"cache", name_of(cache)}});
     }

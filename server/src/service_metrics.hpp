@@ -9,7 +9,7 @@
 namespace oer::server {
 
 // The caches whose hits and misses are counted.
-enum class CacheName { Frame, Rig, Mesh, Environment };
+enum class CacheName { Frame, Rig, Mesh, Environment, Specular };
 
 class ServiceMetrics {
   public:
@@ -25,6 +25,8 @@ class ServiceMetrics {
     Histogram& render_seconds;      // GL time of one frame
     Histogram& preprocess_seconds;  // decoding a map and building its rig
     Counter& rigs_computed;         // each rig actually computed, never a cache hit
+    Histogram& specular_seconds;    // prefiltering a rig's residual map (specular cube)
+    Counter& specular_computed;     // each specular cube actually computed, never a hit
     Counter& meshes_loaded;         // each mesh actually decoded (upload or store), never a hit
     Gauge& render_queue_depth;      // frames waiting for a render worker
     Gauge& render_workers_ready;    // workers with a GL context that rendered a test frame

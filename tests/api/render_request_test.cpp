@@ -945,3 +945,31 @@ TEST(RenderRequest, ToFrameRequestPassesTheWeights) {
     EXPECT_EQ(api::to_frame_request(spec, rig_with_lights(3), nullptr, meshes(1)).lights,
               (std::vector<float>{1.0f, 0.25f, 4.0f}));
 }
+
+// The specular cube is needed by a glossy material that a primitive draws, under an hdr rig:
+// not by a Lambertian mesh, an unused glossy material, or a thesis rig.
+TEST(RenderRequest, NeedsSpecularOnlyForADrawnGlossyMaterialUnderAnHdrRig) {
+    Mesh lambertian;
+    lambertian.materials.resize(2);
+    lambertian.materials[0].model = ShadingModel::Lambertian;
+    lambertian.materials[1].model = ShadingModel::MetallicRoughness;  // unused
+    lambertian.primitives.resize(1);
+    lambertian.primitives[0].material = 0;
+    Mesh glossy = lambertian;
+    glossy.primitives.resize(2);
+    glossy.primitives[1].material = 1;
+
+    FrameRequest request;
+    request.rig = std::make_shared<const Rig>();
+    request.objects.push_back({std::make_shared<const Mesh>(lambertian), glm::mat4(1.0f), {}});
+    EXPECT_FALSE(api::needs_specular(request));
+    request.objects.push_back({std::make_shared<const Mesh>(glossy), glm::mat4(1.0f), {}});
+    EXPECT_TRUE(api::needs_specular(request));
+    Rig thesis;
+    thesis.model = LightingModel::Thesis;
+    request.rig = std::make_shared<const Rig>(thesis);
+    EXPECT_FALSE(api::needs_specular(request));
+    request.rig = std::make_shared<const Rig>();
+    request.objects = {{std::make_shared<const Mesh>(make_default_product()), glm::mat4(1.0f), {}}};
+    EXPECT_TRUE(api::needs_specular(request)) << "the default product's stand is glossy";
+}

@@ -87,8 +87,8 @@ class AssetStoreTest : public ::testing::Test {
 TEST_F(AssetStoreTest, CreatesTheFolderAndOneSubFolderPerKind) {
     ASSERT_FALSE(fs::exists(folder_));
     const AssetStore store = open();
-    EXPECT_EQ(file_names(folder_),
-              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs"}));
+    EXPECT_EQ(file_names(folder_), (std::vector<std::string>{"environments", "meshes",
+                                                             "rig-sources", "rigs", "specular"}));
     EXPECT_EQ(store.folder(), folder_);
 }
 
@@ -130,6 +130,21 @@ TEST_F(AssetStoreTest, DerivedEntryRoundTripsInsideASealedFile) {
     EXPECT_TRUE(store.contains(DerivedKind::Rig, kRigId));
     EXPECT_EQ(read_bytes(folder_ / "rigs" / (kRigId + ".sealed")),
               "oer-sealed-v1 " + api::sha256_hex(rig) + " 22\n" + rig);
+}
+
+// A rig's specular cube is binary (half floats, zero bytes included) and lives under its rig's
+// id in a folder of its own, apart from the rig.
+TEST_F(AssetStoreTest, SpecularEntryIsKeptByRigIdBesideTheRig) {
+    AssetStore store = open();
+    const std::string cube = std::string("OERSPEC1\0\x01\0\0", 12) + std::string(1, '\xff');
+    store.put_derived(DerivedKind::Rig, kRigId, "rig");
+    store.put_derived(DerivedKind::Specular, kRigId, cube);
+    EXPECT_EQ(store.get_derived(DerivedKind::Specular, kRigId), cube);
+    EXPECT_EQ(store.get_derived(DerivedKind::Rig, kRigId), "rig");
+    EXPECT_EQ(file_names(folder_ / "specular"), std::vector<std::string>{kRigId + ".sealed"});
+    EXPECT_TRUE(store.remove(DerivedKind::Specular, kRigId));
+    EXPECT_FALSE(store.contains(DerivedKind::Specular, kRigId));
+    EXPECT_TRUE(store.contains(DerivedKind::Rig, kRigId));
 }
 
 TEST_F(AssetStoreTest, EmptyPayloadsRoundTrip) {
@@ -302,8 +317,8 @@ TEST_F(AssetStoreTest, InvalidIdsAreRejectedBeforeAnyPathIsBuilt) {
         }
     }
     EXPECT_EQ(file_names(folder_.parent_path()), std::vector<std::string>{"data"});
-    EXPECT_EQ(file_names(folder_),
-              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs"}));
+    EXPECT_EQ(file_names(folder_), (std::vector<std::string>{"environments", "meshes",
+                                                             "rig-sources", "rigs", "specular"}));
     for (const char* kind : {"environments", "meshes", "rig-sources", "rigs"}) {
         EXPECT_TRUE(file_names(folder_ / kind).empty()) << kind;
     }

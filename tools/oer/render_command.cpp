@@ -7,9 +7,11 @@
 #include "command_line.hpp"
 #include "commands.hpp"
 #include "oer/api/frame_encoding.hpp"
+#include "oer/api/render_request.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
+#include "oer/lighting/specular_environment.hpp"
 #include "render_inputs.hpp"
 
 namespace oer::cli {
@@ -32,11 +34,20 @@ int render_command(const std::vector<std::string>& arguments) {
     }
 
     const auto total_start = std::chrono::steady_clock::now();
-    const RenderScene scene =
+    RenderScene scene =
         read_render_scene(inputs, extension == "jpg" ? std::string("jpeg") : extension);
     const api::RenderSpec& spec = scene.spec;
     const std::shared_ptr<const Rig>& rig = scene.rig;
-    const FrameRequest& request = scene.request;
+    FrameRequest& request = scene.request;
+    double specular_ms = -1.0;
+    if (api::needs_specular(request)) {
+        const auto specular_start = std::chrono::steady_clock::now();
+        request.specular = std::make_shared<const PrefilteredCube>(
+            prefilter_residual(*request.environment_map, *rig));
+        specular_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                                specular_start)
+                          .count();
+    }
 
     RenderThread thread;
     const Frame frame = thread
@@ -59,6 +70,10 @@ int render_command(const std::vector<std::string>& arguments) {
               << frame.width << "x" << frame.height << ", " << rig->lights.size()
               << " light(s), SH order " << rig->order << "\n";
     std::cerr << "  preprocess " << rig->timings_ms.at("total") << " ms";
+    if (specular_ms >= 0.0) {
+        std::cerr << ", specular cube " << specular_ms << " ms (" << request.specular->byte_size()
+                  << " bytes)";
+    }
     for (const auto& [pass, ms] : frame.timings_ms) {
         std::cerr << ", " << pass << " " << ms << " ms";
     }

@@ -158,4 +158,10 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
                               std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes);
 
+// Whether the frame needs FrameRequest::specular, the rig's prefiltered residual: some
+// object's mesh draws a primitive with a glossy material (Material::glossy) and the rig's model
+// is Hdr (the thesis model has no specular term). A Lambertian scene never computes, loads or
+// uploads the cube.
+bool needs_specular(const FrameRequest& request);
+
 }  // namespace oer::api
