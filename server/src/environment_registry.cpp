@@ -49,6 +49,7 @@ EnvironmentRegistry::EnvironmentRegistry(AssetStore& store, ServiceMetrics& metr
     const std::string id(api::kDefaultPresetId);
     rigs_.set_preset(
         std::make_shared<const Environment>(Environment{id, rig, api::rig_to_json(*rig, id), ""}));
+    preset_specular_ = std::make_shared<const PrefilteredCube>(prefilter_residual(*image, *rig));
     preset_image_ = std::move(image);
 }
 
@@ -191,6 +192,9 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::specular(
         return nullptr;
     }
     const std::string& id = environment.id;
+    if (id == api::kDefaultPresetId) {
+        return preset_specular_;
+    }
     return specular_
         .upload(
             id,
@@ -198,7 +202,7 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::specular(
                 if (auto cached = specular_.cached(id)) {
                     return cached;
                 }
-                return api::is_content_id(id) ? load_stored_specular(id) : nullptr;
+                return load_stored_specular(id);
             },
             [&] { return compute_specular(environment); })
         .asset;
@@ -241,9 +245,7 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::compute_specular(
     log_("environments: specular cube of rig " + environment.id + " computed in " +
          std::to_string(int(std::lround(seconds * 1000.0))) + " ms, " +
          std::to_string(cube->byte_size()) + " bytes");
-    if (api::is_content_id(environment.id)) {
-        store_.put_derived(DerivedKind::Specular, environment.id, encode_prefiltered_cube(*cube));
-    }
+    store_.put_derived(DerivedKind::Specular, environment.id, encode_prefiltered_cube(*cube));
     specular_.remember(environment.id, cube, cube->byte_size());
     return cube;
 }

@@ -3,9 +3,11 @@
 // rigs kept in memory (LRU by bytes) in front of the asset store, stored rigs read back after a
 // restart without recomputation, a damaged stored rig recomputed from its source, and the
 // decoded maps (for backgrounds and previews) in an LRU of their own. The preset `default` is
-// the built-in studio with its rig at default options, made once at start-up. Each rig's
-// specular cube (its residual map prefiltered, specular_environment.hpp) is made only when a
-// frame needs it, then kept like the rig: in memory (LRU by bytes) and in the store by rig id.
+// the built-in studio with its rig and its specular cube at default options, made once at
+// start-up (the default product is glossy: the first frame and the readiness check need it).
+// Each uploaded rig's specular cube (its residual map prefiltered, specular_environment.hpp) is
+// made only when a frame needs it, then kept like the rig: in memory (LRU by bytes) and in the
+// store by rig id.
 #include <functional>
 #include <memory>
 #include <string>
@@ -54,7 +56,7 @@ class EnvironmentRegistry {
 
     // The rig's residual map prefiltered at default SpecularOptions: from memory, else from the
     // store (a damaged entry is logged, dropped and recomputed), else computed from
-    // source_image() and the rig, stored (the preset's is kept in memory only) and remembered.
+    // source_image() and the rig, stored and remembered; the preset's is made at start-up.
     // Concurrent calls for one rig compute it once (AssetRegistry): the later ones wait. nullptr
     // for a Thesis rig (no specular term), or when it must be computed and the source is no
     // longer stored.
@@ -80,6 +82,7 @@ class EnvironmentRegistry {
     const Log log_;
     const ImageLimits limits_;
     std::shared_ptr<const HdrImage> preset_image_;
+    std::shared_ptr<const PrefilteredCube> preset_specular_;
     AssetRegistry<Environment> rigs_;
     SharedLruCache<HdrImage> images_;
     AssetRegistry<PrefilteredCube> specular_;

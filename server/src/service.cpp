@@ -101,6 +101,7 @@ Frame Service::Impl::test_frame(FrameRenderer& renderer) {
     FrameRequest request;
     request.rig = environment->rig;
     request.environment_map = environments.source_image(*environment);
+    request.specular = environments.specular(*environment);  // the default product is glossy
     request.objects.push_back(
         {meshes.find(std::string(api::kDefaultPresetId))->mesh, glm::mat4(1.0f), std::nullopt});
     request.width = kTestFrameSize;
