@@ -1,6 +1,7 @@
 // Frame benchmark (DESIGN.md section 8): the Stanford bunny on a ground plane lit by rigs of 0
 // to 4 lights, per-pass frame times at several sizes and shadow-map resolutions, with shadow
-// maps cached (camera moves) and not (the lights move every frame), and JPEG encoding.
+// maps cached (camera moves) and not (the lights move every frame), the colour pass with glTF
+// PBR materials against the same bunny Lambertian (issue 12), and JPEG encoding.
 // Prints plain text; a missed target is reported, never an error.
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "oer/gl/render_thread.hpp"
 #include "oer/image/image_encoding.hpp"
 #include "oer/lighting/rig.hpp"
+#include "oer/lighting/specular_environment.hpp"
 #include "oer/mesh/mesh_loading.hpp"
 #include "targets.hpp"
 
@@ -81,12 +83,32 @@ class Bench {
     std::shared_ptr<oer::FrameRenderer> renderer_;
 };
 
-std::shared_ptr<const oer::Rig> rig_with(int lights) {
+struct Lighting {
+    std::shared_ptr<const oer::Rig> rig;
+    std::shared_ptr<const oer::PrefilteredCube> specular;  // for the glossy materials
+};
+
+Lighting lighting_with(int lights) {
     oer::RigOptions options;
     options.light_count = lights;
     options.sh_order = 3;
-    return std::make_shared<const oer::Rig>(
-        oer::build_rig(oer::bench::make_synthetic_map(1024, 512, lights), {}, options));
+    const oer::HdrImage map = oer::bench::make_synthetic_map(1024, 512, lights);
+    auto rig = std::make_shared<const oer::Rig>(oer::build_rig(map, {}, options));
+    auto specular =
+        std::make_shared<const oer::PrefilteredCube>(oer::prefilter_residual(map, *rig));
+    return {std::move(rig), std::move(specular)};
+}
+
+// The bunny with its material made glossy: a dielectric or a metal of the given roughness.
+std::shared_ptr<const oer::Mesh> with_material(const oer::Mesh& mesh, float metallic,
+                                               float roughness) {
+    auto glossy = std::make_shared<oer::Mesh>(mesh);
+    for (oer::Material& material : glossy->materials) {
+        material.model = oer::ShadingModel::MetallicRoughness;
+        material.metallic = metallic;
+        material.roughness = roughness;
+    }
+    return glossy;
 }
 
 oer::FrameRequest bunny_request(std::shared_ptr<const oer::Mesh> bunny,
@@ -146,9 +168,17 @@ int main(int argc, char** argv) {
     std::printf("best of up to %d frames; passes of that frame in ms\n\n", kRepetitions);
 
     std::vector<std::shared_ptr<const oer::Rig>> rigs;
+    std::vector<std::shared_ptr<const oer::PrefilteredCube>> specular_cubes;
     for (int lights = 0; lights <= 4; ++lights) {
-        rigs.push_back(rig_with(lights));
+        Lighting lighting = lighting_with(lights);
+        rigs.push_back(std::move(lighting.rig));
+        specular_cubes.push_back(std::move(lighting.specular));
     }
+    const std::pair<const char*, std::shared_ptr<const oer::Mesh>> material_variants[] = {
+        {"Lambertian (as loaded)", bunny},
+        {"dielectric, roughness 0.5", with_material(*bunny, 0.0f, 0.5f)},
+        {"metal, roughness 0.2", with_material(*bunny, 1.0f, 0.2f)},
+    };
 
     std::printf(
         "size        lights  shadow  aa    cache    frame ms  cpu ms  shadow  geometry  shading  "
@@ -204,6 +234,26 @@ int main(int argc, char** argv) {
                                                                 : "pcf",
                             color_and_readback(m) - pass(m, "readback"), m.frame_cpu_ms);
             }
+        }
+    }
+    std::printf(
+        "\nmaterials (issue 12), 2 lights, cached shadow maps, 1 sample per pixel: the bunny's "
+        "color pass ms with its Lambertian material and with glossy PBR ones (split-sum IBL and "
+        "the lights' lobes), same run; target <= %.1fx Lambertian\n",
+        targets::kPbrColorPassRatio);
+    for (const auto& [width, height] : {std::pair{512, 512}, std::pair{1366, 768}}) {
+        double lambertian_ms = 0.0;
+        for (const auto& [name, mesh] : material_variants) {
+            oer::FrameRequest request = bunny_request(mesh, rigs[2], width, height);
+            request.samples = 1;
+            request.specular = specular_cubes[2];
+            const Measurement m = bench.measure(request, true);
+            const double color_ms = color_and_readback(m) - pass(m, "readback");
+            if (lambertian_ms == 0.0) {
+                lambertian_ms = color_ms;
+            }
+            std::printf("  %4dx%-4d  %-28s %7.1f  %5.2fx\n", width, height, name, color_ms,
+                        color_ms / lambertian_ms);
         }
     }
     if (quick) {

@@ -21,6 +21,8 @@ inline constexpr double kProjectionGpixelsPerSecond = 2.0;  // at least
 // (frame_benchmark).
 inline constexpr double kFrameMs512 = 10.0;  // at most, at 512x512
 inline constexpr double kFps1366 = 30.0;     // at least, at 1366x768
+// Issue 12: the colour pass with glTF PBR materials against the same scene Lambertian.
+inline constexpr double kPbrColorPassRatio = 1.5;  // at most
 
 // Over HTTP (http_benchmark), medians.
 inline constexpr double kPreviewP50Ms = 15.0;   // preview frame while dragging
