@@ -75,6 +75,7 @@ void render_geometry(FrameContext& frame, RendererState& state) {
                 glDisable(GL_CULL_FACE);
             } else {
                 glEnable(GL_CULL_FACE);
+                glCullFace(GL_BACK);  // the shadow pass culls front faces
             }
             draw_primitive(primitive, max_error);
         }

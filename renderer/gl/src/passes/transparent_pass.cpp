@@ -75,6 +75,7 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
             glDisable(GL_CULL_FACE);
         } else {
             glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);  // the shadow pass culls front faces
         }
         draw_primitive(*surface.primitive, sample_lod_error(frame, mesh, object.transform));
     }
