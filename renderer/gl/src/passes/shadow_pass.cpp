@@ -79,8 +79,14 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
                                            glm::value_ptr(object.transform));
                         if (alpha_test) {
                             set_material_uniforms(program, state, gpu, material, object.base_color);
+                            // Cut-outs are cards, leaves, decals: thin, often one quad, which
+                            // would cast nothing with its face to the light culled.
+                            glDisable(GL_CULL_FACE);
                         }
                         draw_primitive(primitive, max_error);
+                        if (alpha_test) {
+                            glEnable(GL_CULL_FACE);
+                        }
                     }
                 }
                 unbind_material_samplers();
