@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -22,10 +23,12 @@
 #include "frame_test_support.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
+#include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/lighting/split_sum.hpp"
 #include "oer/lighting/tonemap.hpp"
+#include "oer/mesh/mesh_loading.hpp"
 #include "prefiltered_cubes.hpp"
 #include "synthetic_maps.hpp"
 #include "test_meshes.hpp"
@@ -853,4 +856,51 @@ TEST_F(MaterialShadingTest, AMaskCutsItsCellsInTheFrameAndInItsShadow) {
     EXPECT_GT(in_shadow, 500);
     EXPECT_GT(in_light, 500);
     EXPECT_EQ(misplaced, 0);
+}
+
+// The glTF samples Debian ships (assimp-testmodels) render through every pass with their
+// materials: each model covers its automatic framing, every pixel is finite, and its shading
+// varies over it (faces, textures, highlights).
+TEST_F(MaterialShadingTest, DebiansGltfSamplesRender) {
+    const std::string root = "/usr/share/assimp/models/glTF2/";
+    if (!std::filesystem::exists(root)) {
+        GTEST_SKIP() << "assimp-testmodels is not installed: " << root << " is missing";
+    }
+    const auto rig = make_rig(
+        small_light_map({glm::normalize(glm::dvec3(0.3, 1.0, 0.5)), 0.1, 50.0f, 0.3f}), 1, 3);
+    const auto cube = oer::testing::constant_cube(glm::vec3(0.3f));
+    for (const char* sample :
+         {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb",
+          "BoxTextured-glTF-Embedded/BoxTextured.gltf", "ClearCoat-glTF/ClearCoatTest.gltf",
+          "2CylinderEngine-glTF-Binary/2CylinderEngine.glb"}) {
+        const std::string path = root + sample;
+        ASSERT_TRUE(std::filesystem::exists(path)) << path;
+        const auto mesh = shared(load_mesh_file(path));
+        FrameRequest request = linear_request(rig, Camera{}, 128);
+        request.camera.reset();  // framed automatically
+        request.objects.push_back({mesh, glm::mat4(1.0f), std::nullopt});
+        request.specular = cube;
+        const Frame frame = render(request);
+        int covered = 0;
+        bool finite = true;
+        double low = HUGE_VAL, high = 0.0;
+        for (int y = 0; y < 128; ++y) {
+            for (int x = 0; x < 128; ++x) {
+                const glm::dvec3 c = linear_rgb(frame, x, y);
+                finite = finite && std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
+                if (linear_alpha(frame, x, y) == 1.0f) {
+                    ++covered;
+                    low = std::min(low, c.g);
+                    high = std::max(high, c.g);
+                }
+            }
+        }
+        std::printf(
+            "[ measured ] %s: %zu materials, %zu textures, %d pixels covered, green "
+            "%.3f to %.3f\n",
+            sample, mesh->materials.size(), mesh->textures.size(), covered, low, high);
+        EXPECT_TRUE(finite) << sample;
+        EXPECT_GT(covered, 2000) << sample;
+        EXPECT_GT(high, 1.5 * low) << sample;
+    }
 }
