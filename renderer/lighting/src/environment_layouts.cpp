@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "cube_faces.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
 
@@ -58,35 +59,6 @@ void sample_bilinear(const HdrImage& image, double u, double v, float* out) {
     }
 }
 
-// The OpenGL cube-map table: face index and (s, t) in [0, 1] for a direction.
-struct FaceCoordinates {
-    int face;
-    double s, t;
-};
-
-FaceCoordinates cube_lookup(const glm::dvec3& d) {
-    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
-    int face;
-    double sc, tc, ma;
-    if (ax >= ay && ax >= az) {
-        ma = ax;
-        face = d.x >= 0.0 ? 0 : 1;
-        sc = d.x >= 0.0 ? -d.z : d.z;
-        tc = -d.y;
-    } else if (ay >= az) {
-        ma = ay;
-        face = d.y >= 0.0 ? 2 : 3;
-        sc = d.x;
-        tc = d.y >= 0.0 ? d.z : -d.z;
-    } else {
-        ma = az;
-        face = d.z >= 0.0 ? 4 : 5;
-        sc = d.z >= 0.0 ? d.x : -d.x;
-        tc = -d.y;
-    }
-    return {face, (sc / ma + 1.0) * 0.5, (tc / ma + 1.0) * 0.5};
-}
-
 // Copies an n x n cell of the cross, rotated by 180 degrees if asked.
 HdrImage extract_face(const HdrImage& cross, int cell_x, int cell_y, int n, bool rotate_180) {
     HdrImage face(n, n);
@@ -125,7 +97,7 @@ HdrImage equirect_from_cube_faces(const std::array<const HdrImage*, 6>& faces, i
     const double n = faces[0]->width;
     for (int y = 0; y < out.height; ++y) {
         for (int x = 0; x < out.width; ++x) {
-            const FaceCoordinates c = cube_lookup(grid.direction(x, y));
+            const auto c = detail::cube_lookup(grid.direction(x, y));
             sample_bilinear(*faces[c.face], c.s * n, c.t * n, out.at(x, y));
         }
     }
