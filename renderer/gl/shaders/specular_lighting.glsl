@@ -17,11 +17,13 @@ uniform vec3 u_glow_energy[LIGHTS_ON];
 #endif
 
 // A normalised SG of this sharpness and energy about axis, convolved with GGX of alpha:
-// sharpness lambda / (1 + 2 alpha^2 lambda), the product form of lambda lambda_D / (lambda +
-// lambda_D) with lambda_D = 1 / (2 alpha^2); d.a - 1 as -|d - a|^2 / 2, which keeps the
-// precision that 1 - d.a loses for sharp lobes.
+// sharpness lambda / (1 + 2 alpha^2 (Z / 4) lambda), the product form of lambda lambda_D /
+// (lambda + lambda_D) with lambda_D = 1 / (2 alpha^2 (Z / 4)), Z the GGX lobe's normalisation
+// over the hemisphere by its fit (renderer/lighting/include/oer/lighting/light_lobe.hpp);
+// d.a - 1 as -|d - a|^2 / 2, which keeps the precision that 1 - d.a loses for sharp lobes.
 vec3 prefiltered_lobe(vec3 axis, float sharpness, vec3 energy, vec3 r, float alpha) {
-    float lambda = sharpness / (1.0 + 2.0 * alpha * alpha * sharpness);
+    float quarter_z = 1.0 / (1.0 + 0.6247 * alpha + 2.4241 * alpha * alpha);
+    float lambda = sharpness / (1.0 + 2.0 * alpha * alpha * quarter_z * sharpness);
     vec3 offset = r - axis;
     float normalisation = lambda / (2.0 * PI * (1.0 - exp(-2.0 * lambda)));
     return energy * (normalisation * exp(-0.5 * lambda * dot(offset, offset)));

@@ -42,11 +42,12 @@ LightLobes light_lobes(const Light& light, const ShRgb& light_sh, int map_width)
 }
 
 double prefiltered_sharpness(double sharpness, double roughness) {
-    // GGX's lobe about r has sharpness 1 / (2 alpha^2); the convolution's sharpness
-    // lambda lambda_D / (lambda + lambda_D) written without lambda_D, which roughness 0 makes
-    // infinite.
+    // GGX's lobe about r has sharpness lambda_D = 2 / (alpha^2 Z) = 1 / (2 alpha^2 (Z / 4))
+    // (light_lobe.hpp, Z / 4 by its fit); the convolution's sharpness lambda lambda_D / (lambda +
+    // lambda_D) written without lambda_D, which roughness 0 makes infinite.
     const double alpha = roughness * roughness;
-    return sharpness / (1.0 + 2.0 * alpha * alpha * sharpness);
+    const double quarter_z = 1.0 / (1.0 + 0.6247 * alpha + 2.4241 * alpha * alpha);
+    return sharpness / (1.0 + 2.0 * alpha * alpha * quarter_z * sharpness);
 }
 
 glm::dvec3 prefiltered_lobe(const SphericalGaussian& lobe, const glm::dvec3& r, double roughness) {
