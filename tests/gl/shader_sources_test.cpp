@@ -324,9 +324,9 @@ TEST(ShaderSourcesGlslang, EveryVariantOfEveryFrameProgramCompiles) {
         }
     }
     // The shading pass's 3 SH orders x 3 light counts x 96 switch combinations, the
-    // transparent pass's 3 x 3 x 8, the bake's 3 x 3 x 2, the resolve's 2, depth's and
-    // geometry's 2.
-    EXPECT_EQ(variants.size(), 864u + 72u + 18u + 2u + 2u + 2u);
+    // transparent pass's 3 x 3 x 8, the bake's 3 x 3 x 2, the resolve's 2, depth's 2 and
+    // geometry's 4.
+    EXPECT_EQ(variants.size(), 864u + 72u + 18u + 2u + 2u + 4u);
 
     // Each distinct error once, with the variants that have it.
     std::map<std::string, std::vector<const Compiled*>> errors;

@@ -3,7 +3,8 @@
 // G-buffer of the opaque and alpha-masked primitives (BLEND ones are the transparent pass's):
 // world position and ambient occlusion, shading normal and perceptual roughness, linear base
 // colour and metallic (-1 for a Lambertian material), emitted radiance. ALPHA_TEST 1 (MASK
-// materials) discards the fragments whose alpha is under the cutoff (glTF 2.0 section 3.9.4).
+// materials) discards the fragments whose alpha is under the cutoff (glTF 2.0 section 3.9.4);
+// MATERIAL_TEXTURES 0 is a material without textures (material.glsl).
 #include "material.glsl"
 uniform vec3 u_eye;
 layout(location = 0) out vec4 o_position;  // world position, ao

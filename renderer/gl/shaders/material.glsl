@@ -1,11 +1,15 @@
 // A glTF 2.0 material at a mesh fragment (specification, section 3.9): its factors times its
 // five textures, each read through its own uv transform (KHR_texture_transform, built on the
 // CPU as translation * rotation * scale) and sampler. Shared by the geometry pass, the shadow
-// pass's alpha test and the transparent pass.
+// pass's alpha test and the transparent pass. MATERIAL_TEXTURES 0 (a material without
+// textures, as an OBJ's): the factors alone, with no uv or tangent read, so that the program
+// interpolates neither (llvmpipe interpolates every input a fragment shader reads).
 in vec3 v_world_position;
 in vec3 v_normal;
+#if MATERIAL_TEXTURES
 in vec2 v_texcoord;
 in vec4 v_tangent;
+#endif
 
 // The texture references, in this order, at texture units 10 to 14.
 const int BASE_COLOR_TEXTURE = 0;
@@ -32,18 +36,22 @@ uniform float u_occlusion_strength;
 uniform vec3 u_emissive;  // emissive factor times KHR_materials_emissive_strength
 uniform float u_alpha_cutoff;
 
+#if MATERIAL_TEXTURES
 bool has_texture(int reference) { return (u_textures & (1 << reference)) != 0; }
 
 vec2 material_uv(int reference) {
     return (u_uv_transform[reference] * vec3(v_texcoord, 1.0)).xy;
 }
+#endif
 
 vec4 material_base_color() {
     vec4 base = u_base_color;
+#if MATERIAL_TEXTURES
     if (has_texture(BASE_COLOR_TEXTURE)) {
         vec4 texel = texture(u_base_color_texture, material_uv(BASE_COLOR_TEXTURE));
         base *= vec4(mix(vec3(1.0), texel.rgb, u_base_texture_color), texel.a);
     }
+#endif
     return base;
 }
 
@@ -62,6 +70,11 @@ MaterialSample sample_material(vec3 eye) {
     // normals also face away. A back face whose normals face the eye is a fold, such as
     // simplification leaves in slivers, and keeps them.
     bool flip = !gl_FrontFacing && dot(n, eye - v_world_position) < 0.0;
+    m.metallic = u_metallic;
+    m.roughness = u_roughness;
+    m.ao = 1.0;
+    m.emissive = u_emissive;
+#if MATERIAL_TEXTURES
     if (has_texture(NORMAL_TEXTURE)) {
         // The tangent frame (glTF 2.0 section 3.7.2.1): bitangent = w cross(n, t), the map's xy
         // scaled by normal_scale (section 3.9.3); t made orthogonal to the interpolated n.
@@ -74,23 +87,20 @@ MaterialSample sample_material(vec3 eye) {
             n = normalize(t * mapped.x + b * mapped.y + n * mapped.z);
         }
     }
-    m.normal = flip ? -n : n;
-    m.metallic = u_metallic;
-    m.roughness = u_roughness;
     if (u_metallic >= 0.0 && has_texture(METALLIC_ROUGHNESS_TEXTURE)) {
         vec4 texel =
             texture(u_metallic_roughness_texture, material_uv(METALLIC_ROUGHNESS_TEXTURE));
         m.roughness *= texel.g;
         m.metallic *= texel.b;
     }
-    m.ao = 1.0;
     if (has_texture(OCCLUSION_TEXTURE)) {
         float occlusion = texture(u_occlusion_texture, material_uv(OCCLUSION_TEXTURE)).r;
         m.ao = 1.0 + u_occlusion_strength * (occlusion - 1.0);
     }
-    m.emissive = u_emissive;
     if (has_texture(EMISSIVE_TEXTURE)) {
         m.emissive *= texture(u_emissive_texture, material_uv(EMISSIVE_TEXTURE)).rgb;
     }
+#endif
+    m.normal = flip ? -n : n;
     return m;
 }

@@ -4,6 +4,7 @@
 // surface shading as the deferred pass, over the shaded frame: premultiplied radiance, blended
 // "over" (T. Porter and T. Duff, "Compositing Digital Images", SIGGRAPH 1984) as
 // src + (1 - src alpha) dst by the pass's blend state, alpha being coverage.
+#define MATERIAL_TEXTURES 1
 #include "material.glsl"
 #include "surface_shading.glsl"
 out vec4 o_color;

@@ -22,7 +22,7 @@ const DefineRange kLightsOn{"LIGHTS_ON", 0, kMaxFrameLights};
 
 const std::vector<FrameProgram> kPrograms{
     {"depth", "mesh.vert", "depth.frag", {kAlphaTest}},
-    {"geometry", "mesh.vert", "geometry.frag", {kAlphaTest}},
+    {"geometry", "mesh.vert", "geometry.frag", {kAlphaTest, {"MATERIAL_TEXTURES", 0, 1}}},
     // Baked only for a light that is on and casts shadows.
     {"ground visibility",
      "fullscreen.vert",

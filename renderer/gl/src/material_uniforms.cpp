@@ -68,6 +68,12 @@ void unbind_material_samplers() {
     }
 }
 
+bool has_textures(const Material& material) {
+    return material.base_color_texture.present() || material.metallic_roughness_texture.present() ||
+           material.normal_texture.present() || material.occlusion_texture.present() ||
+           material.emissive_texture.present();
+}
+
 bool alpha_tested(const Material& material) {
     return material.alpha_mode != AlphaMode::Opaque &&
            (material.base_color_texture.present() || material.base_color.a < 1.0f);

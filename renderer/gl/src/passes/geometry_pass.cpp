@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -59,7 +60,9 @@ void render_geometry(FrameContext& frame, RendererState& state) {
             const bool alpha_test =
                 material.alpha_mode == AlphaMode::Mask && alpha_tested(material);
             gl::Program& geometry = state.program(
-                "geometry", alpha_test ? "#define ALPHA_TEST 1\n" : "#define ALPHA_TEST 0\n");
+                "geometry", std::string("#define ALPHA_TEST ") + (alpha_test ? "1" : "0") +
+                                "\n#define MATERIAL_TEXTURES " +
+                                (has_textures(material) ? "1" : "0") + "\n");
             if (current != &geometry) {
                 current = &geometry;
                 glUseProgram(geometry.id());
