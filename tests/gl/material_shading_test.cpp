@@ -610,7 +610,8 @@ TEST_F(MaterialShadingTest, ANormalMapTiltsTheReflectionAsTheGeometryWould) {
 // and L (FssEss + Fms Ems) on green and blue, from the split sum's table). Listed nearest first,
 // they are drawn farthest first, "over": 0.5 red + 0.5 white where the red covers the white
 // alone, 0.5 blue + 0.5 white for the blue, 0.5 red + 0.25 blue + 0.25 white where both do,
-// within 2 %; the display frame goes through a float target and its tone map of the same.
+// within 2 %, at one sample per pixel and at four; the display frame goes through a float
+// target and its tone map of the same.
 TEST_F(MaterialShadingTest, BlendedSurfacesComposeOverWhatIsBehindThem) {
     const glm::vec3 radiance{0.2f, 0.4f, 0.8f};
     const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);
@@ -643,6 +644,9 @@ TEST_F(MaterialShadingTest, BlendedSurfacesComposeOverWhatIsBehindThem) {
     request.linear = false;
     request.tonemap = ToneMapper::None;
     const Frame display = render(request);
+    request.linear = true;
+    request.samples = 4;  // blended at 2 x 2 samples per pixel, then resolved
+    const Frame supersampled = render(request);
 
     const DfgTable table = dfg_table(32, 1024);
     const glm::dvec3 eye(camera.eye), white(radiance);
@@ -688,8 +692,10 @@ TEST_F(MaterialShadingTest, BlendedSurfacesComposeOverWhatIsBehindThem) {
             }
             const glm::dvec3 got = linear_rgb(frame, x, y);
             const std::uint8_t* shown = &display.display.pixels[(std::size_t(y) * size + x) * 4];
+            const glm::dvec3 resolved = linear_rgb(supersampled, x, y);
             for (int c = 0; c < 3; ++c) {
                 worst = std::max(worst, std::abs(got[c] / want[c] - 1.0));
+                worst = std::max(worst, std::abs(resolved[c] / want[c] - 1.0));
                 worst_display =
                     std::max(worst_display,
                              std::abs(shown[c] / 255.0 - double(srgb_encode(float(want[c])))));
@@ -950,5 +956,174 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
             roughness, sum_split / sum_reference, peak_split, peak_reference);
         EXPECT_NEAR(sum_split / sum_reference, 1.0, 0.02) << roughness;
         EXPECT_NEAR(peak_split / peak_reference, 1.0, 0.12) << roughness;
+    }
+}
+
+namespace {
+
+// A w x h texture of the given RGBA texels, row 0 at the top.
+Texture texture_of(int width, int height, const std::vector<glm::u8vec4>& texels,
+                   TextureEncoding encoding) {
+    Texture texture;
+    texture.width = width;
+    texture.height = height;
+    texture.encoding = encoding;
+    for (const glm::u8vec4& t : texels) {
+        texture.rgba.insert(texture.rgba.end(), {t.r, t.g, t.b, t.a});
+    }
+    return texture;
+}
+
+// The quad of oer::testing::quad (x, y in [-1, 1] at z = 0) seen through pixel (x, y): its uv,
+// or nothing off it.
+std::optional<glm::dvec2> quad_uv(const Camera& camera, int size, int x, int y) {
+    const glm::dvec3 eye(camera.eye);
+    const glm::dvec3 ray = pixel_ray(camera, size, size, x, y);
+    const glm::dvec3 p = eye + (-eye.z / ray.z) * ray;
+    if (std::abs(p.x) >= 0.98 || std::abs(p.y) >= 0.98) {
+        return std::nullopt;
+    }
+    return glm::dvec2(0.5 * (p.x + 1.0), 0.5 * (1.0 - p.y));
+}
+
+}  // namespace
+
+// The packed textures scale their factors (glTF 2.0 section 3.9): one linear texture as
+// occlusion (R), roughness (G) and metallic (B), on a white dielectric quad under a constant
+// map, where the split sum gives the radiance exactly: L (FssEss so + (1 - FssEss) ao) with
+// ao = 1 + strength (R - 1), roughness = factor G, metallic = factor B and Lagarde's specular
+// occlusion so; and the emission adds emissive * strength * texture.
+TEST_F(MaterialShadingTest, PackedTexturesScaleTheirFactorsAndEmissionAdds) {
+    const glm::vec3 radiance{1.0f};
+    const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);
+    const Camera camera = front_camera();
+    const int size = 96;
+    Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
+    Material& material = mesh.materials[0];
+    material = oer::testing::metallic_roughness(glm::vec3(1.0f), 1.0f, 0.9f);
+    material.occlusion_texture.texture = 0;
+    material.occlusion_strength = 0.8f;
+    material.metallic_roughness_texture.texture = 0;
+    material.emissive = {0.1f, 0.2f, 0.3f};
+    material.emissive_strength = 2.0f;
+    material.emissive_texture.texture = 1;
+    mesh.textures.push_back(texture_of(1, 1, {{102, 153, 0, 255}}, TextureEncoding::Linear));
+    mesh.textures.push_back(texture_of(1, 1, {{255, 255, 255, 255}}, TextureEncoding::Srgb));
+    FrameRequest request = linear_request(rig, camera, size);
+    request.objects.push_back({shared(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
+    request.specular = oer::testing::constant_cube(radiance);
+    const Frame frame = render(request);
+
+    const DfgTable table = dfg_table(32, 1024);
+    const double ao = 1.0 + 0.8 * (102.0 / 255.0 - 1.0);
+    const double roughness = 0.9 * 153.0 / 255.0, alpha = roughness * roughness;
+    const glm::dvec3 emitted(0.2, 0.4, 0.6);
+    double worst = 0.0;
+    int checked = 0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            if (!quad_uv(camera, size, x, y)) {
+                continue;
+            }
+            const double n_dot_v = -pixel_ray(camera, size, size, x, y).z;
+            const glm::dvec2 ab = sample_dfg(table, n_dot_v, roughness);
+            const double single = 0.04 * ab.x + ab.y;
+            const double occlusion = std::clamp(
+                std::pow(n_dot_v + ao, std::exp2(-16.0 * alpha - 1.0)) - 1.0 + ao, 0.0, 1.0);
+            const double want = single * occlusion + (1.0 - single) * ao;
+            const glm::dvec3 got = linear_rgb(frame, x, y) - emitted;
+            for (int c = 0; c < 3; ++c) {
+                worst = std::max(worst, std::abs(got[c] / want - 1.0));
+            }
+            ++checked;
+        }
+    }
+    std::printf(
+        "[ measured ] packed textures and emission: %d pixels within %.4f (ao %.3f, "
+        "roughness %.3f, metallic 0)\n",
+        checked, worst, ao, roughness);
+    EXPECT_GT(checked, 3000);
+    EXPECT_LT(worst, 0.02);
+}
+
+// KHR_texture_transform and the samplers: a 2 x 2 texture of four colours (nearest) on the
+// quad, offset, turned and scaled in the extension's order, repeated or clamped, each pixel
+// showing the texel that uv' = offset + R(rotation) (scale * uv) names (the extension's GLSL:
+// mat3 columns (cos, sin), (-sin, cos)).
+TEST_F(MaterialShadingTest, TextureTransformsAndSamplersPlaceTheTexels) {
+    const glm::vec3 radiance{1.0f};
+    const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);
+    const Camera camera = front_camera();
+    const int size = 96;
+    const std::vector<glm::u8vec4> texels{
+        {255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 255, 255}};
+    struct Case {
+        glm::vec2 offset;
+        float rotation;
+        glm::vec2 scale;
+        TextureWrap wrap;
+    };
+    for (const Case& c : {Case{{0.0f, 0.0f}, 0.0f, {1.0f, 1.0f}, TextureWrap::Repeat},
+                          Case{{0.25f, 0.0f}, 0.0f, {2.0f, 2.0f}, TextureWrap::Repeat},
+                          Case{{0.0f, 0.0f}, 0.0f, {2.0f, 1.0f}, TextureWrap::ClampToEdge},
+                          Case{{0.1f, 0.3f}, 1.1f, {1.5f, 0.7f}, TextureWrap::Repeat},
+                          Case{{0.0f, 0.0f}, 2.0f, {1.0f, 1.0f}, TextureWrap::MirroredRepeat}}) {
+        Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
+        TextureReference& reference = mesh.materials[0].base_color_texture;
+        reference.texture = 0;
+        reference.offset = c.offset;
+        reference.rotation = c.rotation;
+        reference.scale = c.scale;
+        reference.sampler.wrap_s = reference.sampler.wrap_t = c.wrap;
+        reference.sampler.mag_filter = TextureFilter::Nearest;
+        reference.sampler.min_filter = TextureFilter::Nearest;
+        mesh.textures.push_back(texture_of(2, 2, texels, TextureEncoding::Srgb));
+        FrameRequest request = linear_request(rig, camera, size);
+        request.objects.push_back({shared(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
+        const Frame frame = render(request);
+        const auto wrap = [&](double t) {
+            switch (c.wrap) {
+                case TextureWrap::Repeat:
+                    return t - std::floor(t);
+                case TextureWrap::ClampToEdge:  // beyond [0, 1] the edge texel, nearest: its centre
+                    return t > 1.0 ? 0.75 : t < 0.0 ? 0.25 : t;
+                case TextureWrap::MirroredRepeat: {
+                    const double m = t - 2.0 * std::floor(t / 2.0);
+                    return m < 1.0 ? m : 2.0 - m;
+                }
+            }
+            return t;
+        };
+        int checked = 0, wrong = 0;
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                const auto uv = quad_uv(camera, size, x, y);
+                if (!uv) {
+                    continue;
+                }
+                const double su = c.scale.x * uv->x, sv = c.scale.y * uv->y;
+                const double cr = std::cos(c.rotation), sr = std::sin(c.rotation);
+                const glm::dvec2 t(c.offset.x + cr * su - sr * sv, c.offset.y + sr * su + cr * sv);
+                const glm::dvec2 wrapped(wrap(t.x), wrap(t.y));
+                // Away from texel edges, where nearest sampling's rounding could go either way.
+                const glm::dvec2 cell = wrapped * 2.0;
+                if (std::abs(cell.x - std::round(cell.x)) < 0.06 ||
+                    std::abs(cell.y - std::round(cell.y)) < 0.06) {
+                    continue;
+                }
+                const glm::u8vec4 want = texels[std::size_t(int(cell.y) * 2 + int(cell.x))];
+                const glm::dvec3 got = linear_rgb(frame, x, y);
+                ++checked;
+                for (int k = 0; k < 3; ++k) {
+                    wrong += std::abs(got[k] - want[k] / 255.0) > 0.01;
+                }
+            }
+        }
+        std::printf(
+            "[ measured ] uv transform offset (%.2f, %.2f) rotation %.2f scale (%.1f, "
+            "%.1f) wrap %d: %d pixels, %d channels off\n",
+            c.offset.x, c.offset.y, c.rotation, c.scale.x, c.scale.y, int(c.wrap), checked, wrong);
+        EXPECT_GT(checked, 2000);
+        EXPECT_EQ(wrong, 0);
     }
 }
