@@ -139,12 +139,13 @@ TEST(ShaderSources, EachFileIsIncludedOnceWhateverIncludesIt) {
     EXPECT_EQ(source.text.find("#include"), std::string::npos) << source.text;
     EXPECT_EQ(source.text.find("GL_GOOGLE_include_directive"), std::string::npos);
 
-    // The frame's shading program: math_constants.glsl comes through shade.frag and
-    // shadow_filter.glsl, and is there once.
+    // The frame's shading program: math_constants.glsl comes through surface_shading.glsl,
+    // shadow_filter.glsl and specular_lighting.glsl, and is there once.
     const ShaderSource shade = program_source("shade.frag", "");
     EXPECT_EQ(shade.files,
-              (std::vector<std::string>{"shade.frag", "math_constants.glsl", "sh_lighting.glsl",
-                                        "shadow_filter.glsl", "display.glsl"}));
+              (std::vector<std::string>{"shade.frag", "surface_shading.glsl", "math_constants.glsl",
+                                        "sh_lighting.glsl", "shadow_filter.glsl", "brdf.glsl",
+                                        "specular_lighting.glsl", "display.glsl"}));
     const std::size_t pi = shade.text.find("const float PI");
     ASSERT_NE(pi, std::string::npos);
     EXPECT_EQ(shade.text.find("const float PI", pi + 1), std::string::npos);
@@ -243,11 +244,12 @@ TEST(ShaderSourcesDefines, TheRenderersDefineStringsPassAndOthersAreErrors) {
     const FrameProgram& resolve = frame_program("resolve");
     EXPECT_EQ(resolve.fragment, "resolve.frag");
     EXPECT_NO_THROW(check_defines(resolve, "#define DISPLAY_OUTPUT 1\n"));
-    EXPECT_NO_THROW(check_defines(frame_program("depth"), ""));
+    EXPECT_NO_THROW(check_defines(frame_program("depth"), "#define ALPHA_TEST 1\n"));
     EXPECT_NO_THROW(check_defines(frame_program("shade"),
                                   "#define SH_ORDER 16\n#define LIGHTS_ON 64\n#define SHADOWS 1\n"
                                   "#define PCF 0\n#define ENVIRONMENT_BACKGROUND 1\n"
-                                  "#define DISPLAY_OUTPUT 0\n#define SURFACE 2\n"));
+                                  "#define DISPLAY_OUTPUT 0\n#define SPECULAR 1\n"
+                                  "#define SURFACE 2\n"));
     const std::map<std::string, std::string> wrong{
         {"#define DISPLAY_OUTPUT 2\n", "DISPLAY_OUTPUT = 2 is outside 0..1"},
         {"#define DISPLAY_OUTPUT -1\n", "DISPLAY_OUTPUT = -1 is outside 0..1"},
@@ -321,9 +323,10 @@ TEST(ShaderSourcesGlslang, EveryVariantOfEveryFrameProgramCompiles) {
                                            std::move(source)});
         }
     }
-    // The shading pass's 3 SH orders x 3 light counts x 48 switch combinations, the bake's
-    // 3 x 3 x 2, the resolve's 2, depth and geometry.
-    EXPECT_EQ(variants.size(), 432u + 18u + 2u + 1u + 1u);
+    // The shading pass's 3 SH orders x 3 light counts x 96 switch combinations, the
+    // transparent pass's 3 x 3 x 8, the bake's 3 x 3 x 2, the resolve's 2, depth's 2 and
+    // geometry's 4.
+    EXPECT_EQ(variants.size(), 864u + 72u + 18u + 2u + 2u + 4u);
 
     // Each distinct error once, with the variants that have it.
     std::map<std::string, std::vector<const Compiled*>> errors;

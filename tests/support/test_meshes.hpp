@@ -18,6 +18,16 @@ inline Material lambertian(glm::vec3 albedo) {
     return material;
 }
 
+// The glTF metallic-roughness material of these factors, single-sided.
+inline Material metallic_roughness(glm::vec3 base, float metallic, float roughness) {
+    Material material;
+    material.name = "metallic-roughness";
+    material.base_color = glm::vec4(base, 1.0f);
+    material.metallic = metallic;
+    material.roughness = roughness;
+    return material;
+}
+
 inline void finish(Mesh& mesh) {
     mesh.bounds = {mesh.primitives[0].positions[0], mesh.primitives[0].positions[0]};
     for (const Primitive& primitive : mesh.primitives) {
@@ -78,6 +88,27 @@ inline Mesh box(glm::vec3 low, glm::vec3 high, glm::vec3 albedo) {
                              {base, base + 1, base + 2, base, base + 2, base + 3});
     }
     mesh.primitives.push_back(std::move(faces));
+    mesh.materials.push_back(lambertian(albedo));
+    finish(mesh);
+    return mesh;
+}
+
+// A square in the plane z = centre.z facing +Z, 2 half_size wide, as two counter-clockwise
+// triangles, uv (0, 0) at its top left (-x, +y) and (1, 1) at its bottom right, with tangents
+// along +x (increasing u) and bitangent sign 1 (cross(+z, +x) = +y, the image's up).
+inline Mesh quad(glm::vec3 centre, float half_size, glm::vec3 albedo) {
+    Mesh mesh;
+    Primitive square;
+    square.name = "quad";
+    for (const auto& [x, y] :
+         {std::pair{-1.0f, 1.0f}, {1.0f, 1.0f}, {1.0f, -1.0f}, {-1.0f, -1.0f}}) {
+        square.positions.push_back(centre + half_size * glm::vec3(x, y, 0.0f));
+        square.normals.emplace_back(0.0f, 0.0f, 1.0f);
+        square.texcoords.emplace_back(0.5f * (x + 1.0f), 0.5f * (1.0f - y));
+        square.tangents.emplace_back(1.0f, 0.0f, 0.0f, 1.0f);
+    }
+    square.indices = {0, 3, 2, 0, 2, 1};
+    mesh.primitives.push_back(std::move(square));
     mesh.materials.push_back(lambertian(albedo));
     finish(mesh);
     return mesh;

@@ -1,30 +1,26 @@
 #version 450 core
-// G-buffer: world position, normal and shininess, linear albedo and specular weight.
-in vec3 v_world_position;
-in vec3 v_normal;
-in vec2 v_texcoord;
-uniform vec4 u_base_color;
-uniform int u_has_texture;
-layout(binding = 0) uniform sampler2D u_base_texture;
-uniform float u_specular_weight;  // 0: Lambertian only
-uniform float u_shininess;
+#extension GL_GOOGLE_include_directive : require
+// G-buffer of the opaque and alpha-masked primitives (BLEND ones are the transparent pass's):
+// world position and ambient occlusion, shading normal and perceptual roughness, linear base
+// colour and metallic (-1 for a Lambertian material), emitted radiance. ALPHA_TEST 1 (MASK
+// materials) discards the fragments whose alpha is under the cutoff (glTF 2.0 section 3.9.4);
+// MATERIAL_TEXTURES 0 is a material without textures (material.glsl).
+#include "material.glsl"
 uniform vec3 u_eye;
-layout(location = 0) out vec4 o_position;  // world position
-layout(location = 1) out vec4 o_normal;    // world normal on the side seen, shininess
-layout(location = 2) out vec4 o_albedo;    // linear albedo, specular weight
+layout(location = 0) out vec4 o_position;  // world position, ao
+layout(location = 1) out vec4 o_normal;    // shading normal on the side seen, roughness
+layout(location = 2) out vec4 o_albedo;    // linear base colour, metallic or -1
+layout(location = 3) out vec4 o_emissive;  // emitted radiance
 void main() {
-    vec3 n = normalize(v_normal);
-    // Open meshes (the bunny's base) show their inside, lit as a surface: a back face whose
-    // normals also face away. A back face whose normals face the eye is a fold, such as
-    // simplification leaves in slivers, and keeps them.
-    if (!gl_FrontFacing && dot(n, u_eye - v_world_position) < 0.0) {
-        n = -n;
+    vec4 base = material_base_color();
+#if ALPHA_TEST
+    if (base.a < u_alpha_cutoff) {
+        discard;
     }
-    vec3 albedo = u_base_color.rgb;
-    if (u_has_texture != 0) {
-        albedo *= texture(u_base_texture, v_texcoord).rgb;
-    }
-    o_position = vec4(v_world_position, 1.0);
-    o_normal = vec4(n, u_shininess);
-    o_albedo = vec4(albedo, u_specular_weight);
+#endif
+    MaterialSample m = sample_material(u_eye);
+    o_position = vec4(v_world_position, m.ao);
+    o_normal = vec4(m.normal, m.roughness);
+    o_albedo = vec4(base.rgb, m.metallic);
+    o_emissive = vec4(m.emissive, 1.0);
 }

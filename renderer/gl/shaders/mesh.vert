@@ -1,18 +1,27 @@
 #version 450 core
-// Mesh vertices to clip space, with their world position, world normal and uv.
+// Mesh vertices to clip space, with their world position, world normal, uv and world tangent.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
+// xyz the direction of increasing u, w the bitangent's sign (glTF's TANGENT); a primitive
+// without tangents leaves the attribute disabled, (1, 0, 0, 1), and no material of it reads it.
+layout(location = 3) in vec4 a_tangent;
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
 uniform mat4 u_view_projection;
 out vec3 v_world_position;
 out vec3 v_normal;
 out vec2 v_texcoord;
+out vec4 v_tangent;
 void main() {
     vec4 world = u_model * vec4(a_position, 1.0);
     v_world_position = world.xyz;
     v_normal = u_normal_matrix * a_normal;
     v_texcoord = a_texcoord;
+    // Tangents are carried as directions on the surface (by the model matrix, not its inverse
+    // transpose); a mirroring transform turns the bitangent cross(n, t) around, so the sign
+    // follows the determinant.
+    mat3 linear = mat3(u_model);
+    v_tangent = vec4(linear * a_tangent.xyz, a_tangent.w * sign(determinant(linear)));
     gl_Position = u_view_projection * world;
 }

@@ -44,6 +44,13 @@ struct FrameContext {
     // Thesis model: 1 - sum_k (1 - w_k) luminance_share_k, split as the irradiance is.
     double attenuation_base = 1.0;
 
+    // Materials. specular: some object has a glossy material (Material::glossy) and the rig's
+    // model is hdr (the thesis's has no specular BRDF): the frame reads FrameRequest::specular
+    // and the DFG table, and its object programs are the SPECULAR 1 variants. blending: some
+    // primitive is alpha mode BLEND, for the transparent pass.
+    bool specular = false;
+    bool blending = false;
+
     // Scene and camera.
     SceneBounds scene;
     Camera camera;
@@ -62,8 +69,15 @@ struct FrameContext {
     std::vector<float> light_spreads;
     std::vector<float> light_core_shares;
     float normal_offset = 0.0f;  // receiver offset against acne, world units
+    // Specular frames only, per light that is on: its lobes (light_lobe.hpp) about
+    // light_directions, sharpness (core, glow) and energies times the light's weight.
+    std::vector<glm::vec2> lobe_sharpness;
+    std::vector<glm::vec3> core_energies;
+    std::vector<glm::vec3> glow_energies;
     // SH_ORDER, LIGHTS_ON, SHADOWS and PCF for every program that lights (frame_programs.cpp).
     std::string lighting_defines;
+    // "#define SPECULAR 0|1\n" for the programs that shade objects (frame.specular).
+    std::string specular_define;
 
     // Supersampling: the G-buffer is scale times the frame's size on each side.
     int scale = 1;
@@ -74,6 +88,10 @@ struct FrameContext {
 
 // The request must have passed validate_frame_request.
 FrameContext make_frame_context(const FrameRequest& request);
+
+// Whether any object of the request has a glossy material, and whether any primitive blends.
+bool has_glossy_material(const FrameRequest& request);
+bool has_blending(const FrameRequest& request);
 
 // Supersamples per pixel side for `samples` samples per pixel (FrameRequest::samples).
 int supersampling_scale(int samples);
@@ -87,6 +105,10 @@ void set_display_uniforms(gl::Program& program, const FrameRequest& request);
 
 // The name of element i of a uniform array: "name[i]".
 std::string element(const char* name, std::size_t i);
+
+// The level-of-detail error (draw_primitive's max_error, in the mesh's units) of a mesh drawn
+// with `model` into the frame: one sample at its bounding sphere's nearest point.
+float sample_lod_error(const FrameContext& frame, const Mesh& mesh, const glm::mat4& model);
 
 // The largest factor by which a transform stretches a length: a mesh-space error times it bounds
 // the world-space error.

@@ -16,10 +16,13 @@ const DefineRange kShOrder{"SH_ORDER", 1, kMaxShOrder};
 const DefineRange kShadows{"SHADOWS", 0, 1};
 const DefineRange kPcf{"PCF", 0, 1};
 const DefineRange kDisplayOutput{"DISPLAY_OUTPUT", 0, 1};
+const DefineRange kSpecular{"SPECULAR", 0, 1};
+const DefineRange kAlphaTest{"ALPHA_TEST", 0, 1};
+const DefineRange kLightsOn{"LIGHTS_ON", 0, kMaxFrameLights};
 
 const std::vector<FrameProgram> kPrograms{
-    {"depth", "mesh.vert", "depth.frag", {}},
-    {"geometry", "mesh.vert", "geometry.frag", {}},
+    {"depth", "mesh.vert", "depth.frag", {kAlphaTest}},
+    {"geometry", "mesh.vert", "geometry.frag", {kAlphaTest, {"MATERIAL_TEXTURES", 0, 1}}},
     // Baked only for a light that is on and casts shadows.
     {"ground visibility",
      "fullscreen.vert",
@@ -29,12 +32,17 @@ const std::vector<FrameProgram> kPrograms{
      "fullscreen.vert",
      "shade.frag",
      {kShOrder,
-      {"LIGHTS_ON", 0, kMaxFrameLights},
+      kLightsOn,
       kShadows,
       kPcf,
       {"ENVIRONMENT_BACKGROUND", 0, 1},
       kDisplayOutput,
+      kSpecular,
       {"SURFACE", 0, 2}}},
+    {"transparent",
+     "mesh.vert",
+     "transparent.frag",
+     {kShOrder, kLightsOn, kShadows, kPcf, kSpecular}},
     {"resolve", "fullscreen.vert", "resolve.frag", {kDisplayOutput}},
 };
 

@@ -8,8 +8,11 @@
 // The defines: SH_ORDER (bands 0 .. SH_ORDER-1), LIGHTS_ON (lights of weight above 0 this frame),
 // SHADOWS (0: no shadow maps, every light reaches every point), PCF (0: the thesis's hard test,
 // 1: filtered), ENVIRONMENT_BACKGROUND (1: the map behind the scene, 0: nothing, alpha 0),
-// DISPLAY_OUTPUT (1: tone-mapped sRGB, 0: linear radiance) and SURFACE (the shading pass's
-// surface: 0 background, 1 objects, 2 ground plane).
+// DISPLAY_OUTPUT (1: tone-mapped sRGB, 0: linear radiance), SURFACE (the shading pass's
+// surface: 0 background, 1 objects, 2 ground plane), SPECULAR (1: glossy materials, with the
+// specular cube, DFG table and lights' lobes; 0: every material Lambertian), ALPHA_TEST
+// (1: fragments under the material's alpha cutoff are discarded) and MATERIAL_TEXTURES (0: a
+// material without textures, whose program reads no uv or tangent).
 #include <span>
 #include <string_view>
 #include <vector>

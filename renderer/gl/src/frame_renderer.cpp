@@ -31,6 +31,10 @@ std::size_t FrameRenderer::cached_shadow_maps() const {
     return state_->shadows.size();
 }
 
+std::size_t FrameRenderer::specular_uploads() const {
+    return state_->specular_uploads;
+}
+
 // The passes in order (passes/frame_passes.hpp). GL runs commands asynchronously (llvmpipe on
 // its rasterizer threads), so each pass's timing waits for them (glFinish) before it stops.
 Frame FrameRenderer::render(const FrameRequest& request) {
@@ -58,7 +62,10 @@ Frame FrameRenderer::render(const FrameRequest& request) {
 
     start = Clock::now();
     shade_surfaces(frame, state);
-    if (frame.scale > 1) {
+    if (frame.blending) {
+        blend_transparent_surfaces(frame, state);
+    }
+    if (frame.scale > 1 || frame.blending) {
         resolve_supersamples(frame, state);
     }
     glFinish();

@@ -36,6 +36,37 @@ bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// The cube's sizes as GL will read them: a texture of face_size texels square per face and
+// `levels` levels, each of its six faces' RGB half floats.
+void validate_cube(const PrefilteredCube& cube, int max_texture_size) {
+    if (cube.face_size < 1 || cube.face_size > max_texture_size) {
+        fail("specular", "the cube's face size must be in 1.." + std::to_string(max_texture_size) +
+                             ", got " + std::to_string(cube.face_size));
+    }
+    int largest_levels = 1;
+    while ((cube.face_size >> largest_levels) > 0) {
+        ++largest_levels;
+    }
+    if (cube.levels < 1 || cube.levels > largest_levels) {
+        fail("specular", "a cube of face size " + std::to_string(cube.face_size) + " has 1.." +
+                             std::to_string(largest_levels) + " levels, got " +
+                             std::to_string(cube.levels));
+    }
+    if (cube.rgb_half.size() != std::size_t(cube.levels)) {
+        fail("specular", "the cube has " + std::to_string(cube.levels) + " levels but " +
+                             std::to_string(cube.rgb_half.size()) + " level buffers");
+    }
+    for (int level = 0; level < cube.levels; ++level) {
+        const std::size_t side = std::size_t(cube.face_size >> level);
+        const std::size_t expected = 6 * side * side * 3;
+        if (cube.rgb_half[std::size_t(level)].size() != expected) {
+            fail("specular", "level " + std::to_string(level) + " of the cube holds " +
+                                 std::to_string(cube.rgb_half[std::size_t(level)].size()) +
+                                 " half floats, its six faces need " + std::to_string(expected));
+        }
+    }
+}
+
 }  // namespace
 
 void validate_frame_request(const FrameRequest& request, const FrameLimits& limits,
@@ -118,6 +149,16 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
             !(finite(*object.base_color) &&
               glm::all(glm::greaterThanEqual(*object.base_color, glm::vec3(0.0f))))) {
             fail(member + ".base_color", "must be finite and non-negative");
+        }
+    }
+    if (request.rig->model == LightingModel::Hdr && has_glossy_material(request)) {
+        if (!request.specular) {
+            fail("specular",
+                 "the scene has glossy materials but no prefiltered environment was given");
+        }
+        validate_cube(*request.specular, max_texture_size);
+        if (request.rig->source_width < 1) {
+            fail("environment", "the rig's source width is needed for its lights' reflections");
         }
     }
     // A color outside [0, 1] is clamped by the 8-bit output; only a NaN would spread.

@@ -262,6 +262,8 @@ std::optional<Created> try_platform(const ClientEgl& client, EGLenum platform, v
                 gl_string(GL_RENDERER) + "), 4.5 is needed";
         return std::nullopt;
     }
+    // Prefiltered cube maps (the specular lighting) are filtered across their faces' edges.
+    glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     guard.created = nullptr;
     created.egl_vendor = egl_string(display, EGL_VENDOR);
     created.egl_version = egl_string(display, EGL_VERSION);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <glm/common.hpp>
+
 namespace oer {
 
 namespace {
@@ -25,19 +27,20 @@ void attach(GLuint vertex_array, GLuint buffer, GLuint location, GLint component
     glEnableVertexArrayAttrib(vertex_array, location);
 }
 
+// Filtering and wrapping come from the sampler object of each use (RendererState::sampler),
+// which overrides the texture's own parameters; every texture has its mipmaps, whatever its
+// samplers ask for.
 gl::Object upload_texture(const Texture& texture) {
     gl::Object name = gl::create_texture(GL_TEXTURE_2D);
     const int levels =
         1 + int(std::floor(std::log2(double(std::max(texture.width, texture.height)))));
-    glTextureStorage2D(name.get(), levels, GL_SRGB8_ALPHA8, texture.width, texture.height);
+    glTextureStorage2D(name.get(), levels,
+                       texture.encoding == TextureEncoding::Srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8,
+                       texture.width, texture.height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage2D(name.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA,
                         GL_UNSIGNED_BYTE, texture.rgba.data());
     glGenerateTextureMipmap(name.get());
-    glTextureParameteri(name.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(name.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(name.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(name.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
     return name;
 }
 
@@ -64,6 +67,18 @@ GpuMesh upload_mesh(const Mesh& mesh) {
         if (primitive.texcoords.size() == primitive.positions.size()) {
             out.buffers.push_back(upload_buffer(primitive.texcoords));
             attach(vao, out.buffers.back().get(), 2, 2);
+        }
+        if (primitive.tangents.size() == primitive.positions.size()) {
+            out.buffers.push_back(upload_buffer(primitive.tangents));
+            attach(vao, out.buffers.back().get(), 3, 4);
+        }
+        if (!primitive.positions.empty()) {
+            glm::vec3 low = primitive.positions.front(), high = low;
+            for (const glm::vec3& p : primitive.positions) {
+                low = glm::min(low, p);
+                high = glm::max(high, p);
+            }
+            out.centre = 0.5f * (low + high);
         }
         LodIndices lods = build_lods(primitive);
         out.buffers.push_back(upload_buffer(lods.indices));

@@ -1,9 +1,12 @@
 #pragma once
-// A Mesh uploaded to GL: one vertex array per primitive (positions, normals, uv at attribute
-// locations 0, 1, 2; 32-bit indices) and its base-color textures as sRGB textures.
+// A Mesh uploaded to GL: one vertex array per primitive (positions, normals, uv, tangents at
+// attribute locations 0, 1, 2, 3, each only when the primitive has it; 32-bit indices) and its
+// textures, sRGB or linear by their encoding, with their mipmaps.
 #include <GL/glcorearb.h>
 
 #include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "gl_objects.hpp"
 #include "oer/mesh/mesh.hpp"
@@ -16,6 +19,7 @@ struct GpuPrimitive {
     std::vector<gl::Object> buffers;
     std::vector<LodLevel> lods;  // finest first; their indices share one element buffer
     int material = 0;
+    glm::vec3 centre{0.0f};  // of the primitive's bounds, in the mesh's space: the blend order
 };
 
 // Draws the coarsest level of the primitive (its vertex array bound) whose error is at most

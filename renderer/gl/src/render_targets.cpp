@@ -40,8 +40,9 @@ gl::Object make_framebuffer(std::initializer_list<GLuint> colors, GLuint depth, 
 
 }  // namespace
 
-RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool linear) {
-    const auto key = std::make_tuple(width, height, scale, linear);
+RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool linear,
+                                      bool blending) {
+    const auto key = std::make_tuple(width, height, scale, linear, blending);
     auto found = targets_.find(key);
     if (found != targets_.end()) {
         return found->second;
@@ -58,15 +59,20 @@ RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool lin
     const GLenum attribute_format = linear ? GL_RGBA32F : GL_RGBA16F;
     t.normals = make_texture(attribute_format, samples_wide, samples_high);
     t.albedos = make_texture(attribute_format, samples_wide, samples_high);
+    t.emissive = make_texture(GL_RGBA16F, samples_wide, samples_high);
     t.depth = gl::create_renderbuffer();
     glNamedRenderbufferStorage(t.depth.get(), GL_DEPTH24_STENCIL8, samples_wide, samples_high);
-    t.geometry_framebuffer = make_framebuffer({t.positions.get(), t.normals.get(), t.albedos.get()},
-                                              t.depth.get(), "geometry");
-    const GLenum shaded_format = linear ? GL_RGBA32F : scale == 1 ? GL_RGBA8 : GL_RGBA16F;
+    t.geometry_framebuffer =
+        make_framebuffer({t.positions.get(), t.normals.get(), t.albedos.get(), t.emissive.get()},
+                         t.depth.get(), "geometry");
+    // Blending needs radiance, not display values: a frame with transparent surfaces shades
+    // into floats and resolves even at one sample per pixel.
+    const bool resolves = scale > 1 || blending;
+    const GLenum shaded_format = linear ? GL_RGBA32F : resolves ? GL_RGBA16F : GL_RGBA8;
     t.shaded = make_texture(shaded_format, samples_wide, samples_high);
     // The shading pass tests the geometry pass's stencil (the surface kind of each sample).
     t.shaded_framebuffer = make_framebuffer({t.shaded.get()}, t.depth.get(), "shading");
-    if (scale > 1) {
+    if (resolves) {
         t.output = make_texture(linear ? GL_RGBA32F : GL_RGBA8, width, height);
         t.output_framebuffer = make_framebuffer({t.output.get()}, 0, "output");
     }

@@ -3,8 +3,9 @@
 // a page fault per 4 KiB on first touch, several milliseconds a frame on llvmpipe.
 //
 // Deferred shading: the geometry pass fills the G-buffer at the supersampled size (width and
-// height times the anti-aliasing scale), the shading pass shades it into `shaded`, and when
-// the scale is above 1 the resolve pass averages the supersamples into `output`.
+// height times the anti-aliasing scale), the shading pass shades it into `shaded`, the
+// transparent pass blends the BLEND primitives over it, and when the scale is above 1 or
+// there was blending the resolve pass averages the supersamples into `output`.
 #include <GL/glcorearb.h>
 
 #include <map>
@@ -15,14 +16,17 @@
 namespace oer {
 
 struct RenderTargets {
-    gl::Object positions;  // RGBA32F: world position
-    gl::Object normals;    // RGBA16F (RGBA32F for linear output): world normal, shininess
-    gl::Object albedos;    // RGBA16F (RGBA32F for linear output): albedo, specular weight
+    gl::Object positions;  // RGBA32F: world position, ambient occlusion
+    gl::Object normals;    // RGBA16F (RGBA32F for linear output): shading normal, roughness
+    gl::Object albedos;    // RGBA16F (RGBA32F for linear output): base colour, metallic or -1
+    gl::Object emissive;   // RGBA16F: emitted radiance
     gl::Object depth;      // and stencil: the surface kind of each sample (0 background)
     gl::Object geometry_framebuffer;
-    gl::Object shaded;  // linear: RGBA32F; display: RGBA8 at scale 1, RGBA16F above
+    // linear: RGBA32F; display: RGBA8 at scale 1 without blending, RGBA16F otherwise
+    gl::Object shaded;
     gl::Object shaded_framebuffer;
-    gl::Object output;  // scale above 1 only: RGBA32F (linear) or RGBA8 (display)
+    // scale above 1 or blending only: RGBA32F (linear) or RGBA8 (display)
+    gl::Object output;
     gl::Object output_framebuffer;
 
     // The texture holding the finished frame.
@@ -32,11 +36,12 @@ struct RenderTargets {
 class RenderTargetCache {
   public:
     // The targets of a width x height frame supersampled scale x scale, with linear (float)
-    // or display (8-bit sRGB) output; at most a few sizes are kept.
-    RenderTargets& get(int width, int height, int scale, bool linear);
+    // or display (8-bit sRGB) output, and transparent surfaces blended over it or not; at most
+    // a few sizes are kept.
+    RenderTargets& get(int width, int height, int scale, bool linear, bool blending);
 
   private:
-    std::map<std::tuple<int, int, int, bool>, RenderTargets> targets_;
+    std::map<std::tuple<int, int, int, bool, bool>, RenderTargets> targets_;
 };
 
 }  // namespace oer

@@ -3,7 +3,9 @@
 #include <utility>
 
 #include "frame_programs.hpp"
+#include "oer/core/error.hpp"
 #include "oer/gl/gl_context.hpp"
+#include "oer/lighting/split_sum.hpp"
 #include "shader_sources.hpp"
 
 namespace oer {
@@ -24,6 +26,7 @@ Mesh unit_ground() {
     material.name = "ground";
     material.base_color = {0.8f, 0.8f, 0.8f, 1.0f};
     material.model = ShadingModel::Lambertian;
+    material.double_sided = true;  // seen from below, lit with its normal flipped, as ever
     mesh.materials.push_back(material);
     return mesh;
 }
@@ -53,6 +56,9 @@ RendererState::RendererState(const FrameLimits& limits_)
     glSamplerParameteri(depth_nearest.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
     bake_framebuffer = gl::create_framebuffer();
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size);
+    // What mesh.vert reads for a primitive without tangents (its attribute 3 disabled): the
+    // generic attribute, context state that no vertex array keeps.
+    glVertexAttrib4f(3, 1.0f, 0.0f, 0.0f, 1.0f);
     check_gl_errors("FrameRenderer set-up");
 }
 
@@ -107,6 +113,105 @@ GLuint RendererState::environment(const std::shared_ptr<const HdrImage>& owner) 
             environments_.emplace(owner.get(), CachedEnvironment{owner, std::move(texture)}).first;
     }
     return found->second.texture.get();
+}
+
+GLuint RendererState::specular(const std::shared_ptr<const PrefilteredCube>& owner) {
+    auto found = speculars_.find(owner.get());
+    if (found != speculars_.end() && found->second.owner.expired()) {
+        speculars_.erase(found);
+        found = speculars_.end();
+    }
+    if (found == speculars_.end()) {
+        release_unowned_speculars();
+        const PrefilteredCube& cube = *owner;
+        gl::Object texture = gl::create_texture(GL_TEXTURE_CUBE_MAP);
+        glTextureStorage2D(texture.get(), cube.levels, GL_RGB16F, cube.face_size, cube.face_size);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+        for (int level = 0; level < cube.levels; ++level) {
+            const int size = cube.face_size >> level;
+            // A cube map's faces are the layers of its storage (GL 4.5 section 8.6), in the
+            // order of specular_environment.hpp.
+            glTextureSubImage3D(texture.get(), level, 0, 0, 0, size, size, 6, GL_RGB, GL_HALF_FLOAT,
+                                cube.rgb_half[std::size_t(level)].data());
+        }
+        glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(texture.get(), GL_TEXTURE_MAX_LEVEL, cube.levels - 1);
+        ++specular_uploads;
+        found = speculars_.emplace(owner.get(), CachedSpecular{owner, std::move(texture)}).first;
+    }
+    return found->second.texture.get();
+}
+
+void RendererState::release_unowned_speculars() {
+    std::erase_if(speculars_, [](const auto& entry) { return entry.second.owner.expired(); });
+}
+
+GLuint RendererState::dfg() {
+    if (!dfg_) {
+        const DfgTable table = dfg_table(32, 1024);
+        dfg_ = gl::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(dfg_.get(), 1, GL_RG32F, table.size, table.size);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage2D(dfg_.get(), 0, 0, 0, table.size, table.size, GL_RG, GL_FLOAT,
+                            table.scale_bias.data());
+        glTextureParameteri(dfg_.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(dfg_.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(dfg_.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(dfg_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    return dfg_.get();
+}
+
+namespace {
+
+GLint gl_wrap(TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::Repeat:
+            return GL_REPEAT;
+        case TextureWrap::ClampToEdge:
+            return GL_CLAMP_TO_EDGE;
+        case TextureWrap::MirroredRepeat:
+            return GL_MIRRORED_REPEAT;
+    }
+    throw Error(ErrorKind::Internal, "a texture wrap mode the renderer does not know");
+}
+
+// glTF's filters are GL's (specification, section 5.26). A magnification filter has no mipmaps:
+// a *_MIPMAP_* value there (which the loaders do not give) means its texel filter, its first word.
+GLint gl_filter(TextureFilter filter, bool magnification) {
+    switch (filter) {
+        case TextureFilter::Nearest:
+            return GL_NEAREST;
+        case TextureFilter::Linear:
+            return GL_LINEAR;
+        case TextureFilter::NearestMipmapNearest:
+            return magnification ? GL_NEAREST : GL_NEAREST_MIPMAP_NEAREST;
+        case TextureFilter::LinearMipmapNearest:
+            return magnification ? GL_LINEAR : GL_LINEAR_MIPMAP_NEAREST;
+        case TextureFilter::NearestMipmapLinear:
+            return magnification ? GL_NEAREST : GL_NEAREST_MIPMAP_LINEAR;
+        case TextureFilter::LinearMipmapLinear:
+            return magnification ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
+    }
+    throw Error(ErrorKind::Internal, "a texture filter the renderer does not know");
+}
+
+}  // namespace
+
+GLuint RendererState::sampler(const TextureSampler& sampler) {
+    for (const auto& [known, object] : samplers_) {
+        if (known == sampler) {
+            return object.get();
+        }
+    }
+    gl::Object object = gl::create_sampler();
+    glSamplerParameteri(object.get(), GL_TEXTURE_WRAP_S, gl_wrap(sampler.wrap_s));
+    glSamplerParameteri(object.get(), GL_TEXTURE_WRAP_T, gl_wrap(sampler.wrap_t));
+    glSamplerParameteri(object.get(), GL_TEXTURE_MAG_FILTER, gl_filter(sampler.mag_filter, true));
+    glSamplerParameteri(object.get(), GL_TEXTURE_MIN_FILTER, gl_filter(sampler.min_filter, false));
+    samplers_.emplace_back(sampler, std::move(object));
+    return samplers_.back().second.get();
 }
 
 }  // namespace oer

@@ -1,7 +1,9 @@
 #pragma once
-// What a FrameRenderer keeps between frames: its programs, the GL copies of meshes and
-// environment maps (dropped once their owners are gone), the shadow-map cache and its array
-// layers, the render targets, and the fixed objects every frame uses. The frame passes
+// What a FrameRenderer keeps between frames: its programs, the GL copies of meshes, environment
+// maps and prefiltered specular cubes (dropped once their owners are gone), the texture
+// samplers of the materials, the split sum's DFG table (made on the first glossy frame), the
+// shadow-map cache and its array layers, the render targets, and the fixed objects every frame
+// uses. The frame passes
 // (passes/frame_passes.hpp) read and fill it; it belongs to the thread of the GL context.
 #include <GL/glcorearb.h>
 
@@ -9,6 +11,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gl_objects.hpp"
 #include "gl_program.hpp"
@@ -37,6 +41,17 @@ struct RendererState {
     CachedMesh& mesh(const std::shared_ptr<const Mesh>& owner);
     // The map as a linear RGB32F texture, repeating in x, uploaded likewise.
     GLuint environment(const std::shared_ptr<const HdrImage>& owner);
+    // The prefiltered cube (specular_environment.hpp) as a seamless RGB16F cube map with its
+    // levels, trilinear, uploaded likewise; counted in specular_uploads.
+    GLuint specular(const std::shared_ptr<const PrefilteredCube>& owner);
+    // The split sum's DFG table (dfg_table(32, 1024)) as an RG32F texture, bilinear and
+    // clamped, computed and uploaded on first use.
+    GLuint dfg();
+    // The sampler object of a glTF sampler, made on first use.
+    GLuint sampler(const TextureSampler& sampler);
+    // Deletes the GL copies of cubes whose owners are gone (run once per frame), so that a
+    // renderer holds no specular memory beyond the requests that still hold their cubes.
+    void release_unowned_speculars();
 
     FrameLimits limits;
     ShadowMapCache shadows;
@@ -52,6 +67,7 @@ struct RendererState {
     gl::Object depth_nearest;       // the layers' depths as values: PCSS's blocker search
     gl::Object irradiance_buffer;   // the frame's SH irradiance sets (shader storage)
     int max_texture_size = 0;
+    std::size_t specular_uploads = 0;  // cubes uploaded over the renderer's life, for tests
 
   private:
     struct CachedEnvironment {
@@ -62,6 +78,13 @@ struct RendererState {
     std::map<const Mesh*, CachedMesh> meshes_;
     std::uint64_t next_mesh_id_ = 1;
     std::map<const HdrImage*, CachedEnvironment> environments_;
+    struct CachedSpecular {
+        std::weak_ptr<const PrefilteredCube> owner;
+        gl::Object texture;
+    };
+    std::map<const PrefilteredCube*, CachedSpecular> speculars_;
+    gl::Object dfg_;
+    std::vector<std::pair<TextureSampler, gl::Object>> samplers_;
 };
 
 }  // namespace oer

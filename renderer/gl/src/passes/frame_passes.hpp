@@ -24,21 +24,27 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
 void bake_ground_visibility(const FrameContext& frame, RendererState& state, ShadowMap& map,
                             int light, float ground_height);
 
-// Geometry pass: chooses frame.targets and fills their G-buffer (positions, normals with
-// shininess, albedos with specular weight) at the supersampled size, the stencil holding each
+// Geometry pass: chooses frame.targets and fills their G-buffer (positions with ambient
+// occlusion, shading normals with roughness, base colours with metallic, emitted radiance) at
+// the supersampled size from the primitives that do not blend, the stencil holding each
 // sample's surface kind.
 void render_geometry(FrameContext& frame, RendererState& state);
 
 // Shading pass: each G-buffer sample shaded once by its surface's program, routed by the
-// stencil, into frame.targets->shaded (display-encoded at one sample per pixel).
+// stencil, into frame.targets->shaded (display-encoded at one sample per pixel without
+// blending).
 void shade_surfaces(const FrameContext& frame, RendererState& state);
 
-// Resolve pass, above one sample per pixel: the mean of each pixel's supersamples, then the
-// display transform, into frame.targets->output.
+// Transparent pass, for frames with BLEND primitives: each blended over frame.targets->shaded,
+// farthest first, shaded as the shading pass shades objects.
+void blend_transparent_surfaces(const FrameContext& frame, RendererState& state);
+
+// Resolve pass, above one sample per pixel or after blending: the mean of each pixel's
+// supersamples, then the display transform, into frame.targets->output.
 void resolve_supersamples(const FrameContext& frame, RendererState& state);
 
 // Readback: the finished frame into result.display or result.linear, top row first; leaves
-// the default framebuffer and no program bound.
+// the default framebuffer, no program and no shadow sampler bound.
 void read_back(const FrameContext& frame, Frame& result);
 
 }  // namespace oer

@@ -1,7 +1,7 @@
 // Readback. Reads: frame.targets->result(), the finished frame, bottom row first as GL keeps
 // it. Writes: result.linear (RGBA float radiance) or result.display (RGBA8 sRGB), top row
 // first. Leaves GL as a frame found it: the default framebuffer, depth writes on, no vertex
-// array or program bound.
+// array, program or shadow samplers (units 4 and 6) bound.
 #include <cstring>
 #include <vector>
 
@@ -40,6 +40,8 @@ void read_back(const FrameContext& frame, Frame& result) {
     glDepthMask(GL_TRUE);
     glBindVertexArray(0);
     glUseProgram(0);
+    glBindSampler(4, 0);
+    glBindSampler(6, 0);
 }
 
 }  // namespace oer

@@ -1,12 +1,15 @@
 // Shadow pass. Reads: the scene's objects and the lights that are on (frame), the mesh cache.
 // Writes: state.shadows (a depth map per scene, light, filter and resolution, rendered only
-// when missing), state.shadow_layers (layer k: rig light k's depth and ground visibility),
-// texture unit 4 (the depth layers, with the PCF or hard comparison sampler).
+// when missing; MASK and BLEND primitives whose alpha can cut them alpha tested, BLEND ones
+// casting where they are at least half opaque), state.shadow_layers (layer k: rig light k's depth
+// and ground visibility), texture unit 4 (the depth layers, with the PCF or hard comparison
+// sampler).
 #include <cstdint>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "material_uniforms.hpp"
 #include "passes/frame_passes.hpp"
 
 namespace oer {
@@ -41,7 +44,7 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
             glBindSampler(6, state.depth_nearest.get());
         }
     }
-    gl::Program& depth = state.program("depth", "");
+    gl::Program& depth = state.program("depth", "#define ALPHA_TEST 0\n");
     for (std::size_t i = 0; frame.shadows && i < frame.lit.size(); ++i) {
         std::string key = scene;
         key.append(reinterpret_cast<const char*>(glm::value_ptr(frame.light_directions[i])),
@@ -54,19 +57,39 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
         ShadowMap& map = state.shadows.get(
             key, resolution,
             [&] {
-                glUseProgram(depth.id());
-                glUniformMatrix4fv(depth.uniform("u_view_projection"), 1, GL_FALSE,
-                                   glm::value_ptr(frame.light_matrices[i]));
                 // Detail down to half a shadow-map texel.
                 const float texel = 2.0f * frame.scene.radius / float(resolution);
+                gl::Program* current = nullptr;
                 for (const SceneObject& object : request.objects) {
-                    glUniformMatrix4fv(depth.uniform("u_model"), 1, GL_FALSE,
-                                       glm::value_ptr(object.transform));
                     const float max_error = 0.5f * texel / largest_scale(object.transform);
-                    for (const GpuPrimitive& primitive : state.mesh(object.mesh).gpu.primitives) {
+                    const GpuMesh& gpu = state.mesh(object.mesh).gpu;
+                    for (const GpuPrimitive& primitive : gpu.primitives) {
+                        const Material& material =
+                            object.mesh->materials.at(std::size_t(primitive.material));
+                        const bool alpha_test = alpha_tested(material);
+                        gl::Program& program =
+                            alpha_test ? state.program("depth", "#define ALPHA_TEST 1\n") : depth;
+                        if (current != &program) {
+                            current = &program;
+                            glUseProgram(program.id());
+                            glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE,
+                                               glm::value_ptr(frame.light_matrices[i]));
+                        }
+                        glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE,
+                                           glm::value_ptr(object.transform));
+                        if (alpha_test) {
+                            set_material_uniforms(program, state, gpu, material, object.base_color);
+                            // Cut-outs are cards, leaves, decals: thin, often one quad, which
+                            // would cast nothing with its face to the light culled.
+                            glDisable(GL_CULL_FACE);
+                        }
                         draw_primitive(primitive, max_error);
+                        if (alpha_test) {
+                            glEnable(GL_CULL_FACE);
+                        }
                     }
                 }
+                unbind_material_samplers();
             },
             rendered);
         result.shadow_maps_rendered += rendered ? 1 : 0;

@@ -25,6 +25,9 @@ class FrameRenderer {
     Frame render(const FrameRequest& request);
 
     std::size_t cached_shadow_maps() const;
+    // Prefiltered cubes (FrameRequest::specular) uploaded so far: only frames with glossy
+    // materials under the hdr model upload one, once per cube while its owner lives.
+    std::size_t specular_uploads() const;
 
   private:
     std::unique_ptr<RendererState> state_;

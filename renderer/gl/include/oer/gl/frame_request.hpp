@@ -86,7 +86,7 @@ struct FrameLimits {
     int max_width = 4096;
     int max_height = 4096;
     int max_shadow_resolution = 8192;
-    // Pixels times samples: the G-buffer costs about 48 bytes per sample.
+    // Pixels times samples: the G-buffer costs about 56 bytes per sample.
     std::int64_t max_samples_total = 4096LL * 4096LL;
     std::size_t max_cached_shadow_maps = 32;
 };

@@ -1,0 +1,17 @@
+#version 450 core
+#extension GL_GOOGLE_include_directive : require
+// Transparent pass: BLEND primitives (glTF 2.0 section 3.9.4), forward shaded by the same
+// surface shading as the deferred pass, over the shaded frame: premultiplied radiance, blended
+// "over" (T. Porter and T. Duff, "Compositing Digital Images", SIGGRAPH 1984) as
+// src + (1 - src alpha) dst by the pass's blend state, alpha being coverage.
+#define MATERIAL_TEXTURES 1
+#include "material.glsl"
+#include "surface_shading.glsl"
+out vec4 o_color;
+void main() {
+    vec4 base = material_base_color();
+    MaterialSample m = sample_material(u_eye);
+    vec3 radiance =
+        shade_object(v_world_position, m.normal, base.rgb, m.metallic, m.roughness, m.ao, m.emissive);
+    o_color = vec4(radiance * base.a, base.a);
+}

@@ -1,0 +1,38 @@
+#pragma once
+// A primitive's material as material.glsl reads it (the geometry pass, the shadow pass's alpha
+// test and the transparent pass): its factors as uniforms, its textures bound to units 10 to
+// 14 with the sampler object of each reference, and each reference's uv transform.
+#include <optional>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+
+#include "gl_program.hpp"
+#include "gpu_mesh.hpp"
+#include "oer/mesh/mesh.hpp"
+#include "renderer_state.hpp"
+
+namespace oer {
+
+// KHR_texture_transform's matrix, translation(offset) * rotation(rotation) * scale(scale), as
+// the extension's own GLSL builds it (mesh.hpp, TextureReference).
+glm::mat3 uv_transform(const TextureReference& reference);
+
+// Sets the material's uniforms on `program` (in use) and binds its textures. base_override
+// (SceneObject::base_color) replaces the base colour and the texture's RGB, keeping the
+// material's alpha and the texture's, so that its MASK and BLEND cut-outs stay where they are.
+void set_material_uniforms(gl::Program& program, RendererState& state, const GpuMesh& gpu,
+                           const Material& material, const std::optional<glm::vec3>& base_override);
+
+// Unbinds the samplers of units 10 to 14 (a pass that set materials leaves none behind).
+void unbind_material_samplers();
+
+// Whether the material has any texture (MATERIAL_TEXTURES of material.glsl).
+bool has_textures(const Material& material);
+
+// Whether the material's alpha can cut its surface: MASK and BLEND materials with a base-colour
+// texture or an alpha under 1. The geometry pass tests MASK ones at alpha_cutoff, the shadow
+// pass both (BLEND at 0.5, u_alpha_cutoff as set_material_uniforms sets it).
+bool alpha_tested(const Material& material);
+
+}  // namespace oer

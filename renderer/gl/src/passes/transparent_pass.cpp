@@ -1,0 +1,90 @@
+// Transparent pass, for frames with BLEND primitives (glTF 2.0 section 3.9.4). Reads: those
+// primitives and their materials (texture units 10 to 14), the depth of the geometry pass,
+// everything the shading pass bound for objects (irradiance sets, shadow layers, specular
+// cube and DFG table) and the lights (frame). Writes: frame.targets->shaded, a float target
+// in such frames (render_targets.hpp), each primitive blended over it in premultiplied form,
+// farthest first by the distance from the eye to its bounds' centre: the usual sorting of
+// transparent geometry, exact between separate primitives and approximate where they
+// interpenetrate. Depth is tested against the opaque surfaces and not written. Leaves
+// blending, depth test and culling off, depth writes on, and units 10 to 14 without samplers.
+#include <algorithm>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/matrix.hpp>
+
+#include "material_uniforms.hpp"
+#include "passes/frame_passes.hpp"
+#include "surface_shading.hpp"
+
+namespace oer {
+
+void blend_transparent_surfaces(const FrameContext& frame, RendererState& state) {
+    const FrameRequest& request = frame.request;
+    struct Transparent {
+        const SceneObject* object;
+        const GpuMesh* gpu;
+        const GpuPrimitive* primitive;
+        float distance;
+    };
+    std::vector<Transparent> surfaces;
+    for (const SceneObject& object : request.objects) {
+        const GpuMesh& gpu = state.mesh(object.mesh).gpu;
+        for (const GpuPrimitive& primitive : gpu.primitives) {
+            if (object.mesh->materials.at(std::size_t(primitive.material)).alpha_mode !=
+                AlphaMode::Blend) {
+                continue;
+            }
+            const glm::vec3 centre =
+                glm::vec3(object.transform * glm::vec4(primitive.centre, 1.0f));
+            surfaces.push_back({&object, &gpu, &primitive, glm::length(centre - frame.camera.eye)});
+        }
+    }
+    std::stable_sort(
+        surfaces.begin(), surfaces.end(),
+        [](const Transparent& a, const Transparent& b) { return a.distance > b.distance; });
+
+    glBindFramebuffer(GL_FRAMEBUFFER, frame.targets->shaded_framebuffer.get());
+    glViewport(0, 0, frame.samples_wide, frame.samples_high);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    // Porter and Duff's "over" on premultiplied colour: src + (1 - src alpha) dst.
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    gl::Program& program =
+        state.program("transparent", frame.lighting_defines + frame.specular_define);
+    glUseProgram(program.id());
+    set_surface_shading_uniforms(program, frame);
+    glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE,
+                       glm::value_ptr(frame.view_projection));
+    for (const Transparent& surface : surfaces) {
+        const SceneObject& object = *surface.object;
+        const Mesh& mesh = *object.mesh;
+        const Material& material = mesh.materials.at(std::size_t(surface.primitive->material));
+        glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE,
+                           glm::value_ptr(object.transform));
+        const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(object.transform));
+        glUniformMatrix3fv(program.uniform("u_normal_matrix"), 1, GL_FALSE,
+                           glm::value_ptr(normal_matrix));
+        set_material_uniforms(program, state, *surface.gpu, material, object.base_color);
+        glFrontFace(glm::determinant(glm::mat3(object.transform)) < 0.0f ? GL_CW : GL_CCW);
+        if (material.double_sided) {
+            glDisable(GL_CULL_FACE);
+        } else {
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);  // the shadow pass culls front faces
+        }
+        draw_primitive(*surface.primitive, sample_lod_error(frame, mesh, object.transform));
+    }
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
+    unbind_material_samplers();
+}
+
+}  // namespace oer

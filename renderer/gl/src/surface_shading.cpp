@@ -1,0 +1,47 @@
+#include "surface_shading.hpp"
+
+#include <numbers>
+
+#include <glm/gtc/type_ptr.hpp>
+
+namespace oer {
+
+void bind_specular_textures(const FrameContext& frame, RendererState& state) {
+    if (!frame.specular) {
+        return;
+    }
+    glBindTextureUnit(8, state.specular(frame.request.specular));
+    glBindTextureUnit(9, state.dfg());
+}
+
+void set_surface_shading_uniforms(gl::Program& program, const FrameContext& frame) {
+    const Rig& rig = frame.rig;
+    const bool thesis = rig.model == LightingModel::Thesis;
+    set_light_uniforms(program, frame);
+    glUniform2f(program.uniform("u_yaw"), frame.yaw_cos_sin.x, frame.yaw_cos_sin.y);
+    glUniform3fv(program.uniform("u_eye"), 1, glm::value_ptr(frame.camera.eye));
+    glUniform1f(program.uniform("u_albedo_scale"), thesis ? 1.0f : float(1.0 / std::numbers::pi));
+    glUniform1f(program.uniform("u_attenuation_base"), float(frame.attenuation_base));
+    for (std::size_t i = 0; i < frame.lit.size(); ++i) {
+        const std::size_t k = frame.lit[i];
+        glUniform3fv(program.uniform(element("u_light_direction", i)), 1,
+                     glm::value_ptr(frame.light_directions[i]));
+        // The share is weighted as its irradiance set is (frame_context.hpp).
+        glUniform1f(program.uniform(element("u_light_share", i)),
+                    thesis ? float(frame.weights[k] * rig.lights[k].luminance_share) : 0.0f);
+    }
+    if (!frame.specular) {
+        return;
+    }
+    glUniform1f(program.uniform("u_specular_max_lod"), float(frame.request.specular->levels - 1));
+    for (std::size_t i = 0; i < frame.lit.size(); ++i) {
+        glUniform2fv(program.uniform(element("u_lobe_sharpness", i)), 1,
+                     glm::value_ptr(frame.lobe_sharpness[i]));
+        glUniform3fv(program.uniform(element("u_core_energy", i)), 1,
+                     glm::value_ptr(frame.core_energies[i]));
+        glUniform3fv(program.uniform(element("u_glow_energy", i)), 1,
+                     glm::value_ptr(frame.glow_energies[i]));
+    }
+}
+
+}  // namespace oer

@@ -1,0 +1,19 @@
+#pragma once
+// The uniforms and textures of surface_shading.glsl, which shades objects in the deferred
+// shading pass and the transparent pass alike: the lights (set_light_uniforms), the yaw, the
+// eye, the lighting model's scales, and in a specular frame the prefiltered cube, the DFG
+// table and the lights' lobes.
+#include "frame_context.hpp"
+#include "gl_program.hpp"
+#include "renderer_state.hpp"
+
+namespace oer {
+
+// Binds the specular frame's cube (FrameRequest::specular, unit 8) and the DFG table (unit 9);
+// a frame that is not specular binds neither, so that neither is uploaded.
+void bind_specular_textures(const FrameContext& frame, RendererState& state);
+
+// Sets the uniforms of surface_shading.glsl on `program` (in use).
+void set_surface_shading_uniforms(gl::Program& program, const FrameContext& frame);
+
+}  // namespace oer

@@ -1,0 +1,117 @@
+// The split sum's DFG table (split_sum.hpp). Each entry integrates the glTF specular BRDF over
+// the hemisphere by GGX importance sampling of the half vector (B. Karis, "Real Shading in
+// Unreal Engine 4", SIGGRAPH 2013, the listing of its section "Environment BRDF"): a half vector
+// h drawn with pdf D(h) (n.h), the light l = reflect(-v, h) then has pdf D (n.h) / (4 v.h), so
+// each sample weighs f_spec / F (n.l) / pdf = V (4 (n.l) (v.h) / (n.h)), where V is glTF's
+// height-correlated Smith visibility, the microfacet denominator 4 (n.l)(n.v) included
+// (E. Heitz, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", JCGT
+// 3(2), 2014, eq. 99; glTF 2.0 Appendix B.3.2). The samples are a Hammersley set (radical
+// inverse in base 2), the same for every entry.
+#include "oer/lighting/split_sum.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include "oer/core/error.hpp"
+
+namespace oer {
+
+namespace {
+
+// Van der Corput's radical inverse in base 2 of i: the second coordinate of Hammersley point i.
+double radical_inverse(std::uint32_t i) {
+    i = (i << 16u) | (i >> 16u);
+    i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
+    i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
+    i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
+    i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
+    return double(i) * 0x1p-32;
+}
+
+// glTF 2.0 Appendix B.3.2: V = 0.5 / (n.l sqrt(n.v^2 (1 - a^2) + a^2) + n.v sqrt(n.l^2 (1 -
+// a^2) + a^2)), a = alpha.
+double smith_visibility(double n_dot_v, double n_dot_l, double alpha) {
+    const double a2 = alpha * alpha;
+    const double view = n_dot_l * std::sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2);
+    const double light = n_dot_v * std::sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
+    return 0.5 / (view + light);
+}
+
+// (A, B) of one entry, n = +z, v in the xz plane.
+glm::dvec2 integrate(double n_dot_v, double roughness, int samples) {
+    const double alpha = roughness * roughness;
+    const glm::dvec3 v(std::sqrt(1.0 - n_dot_v * n_dot_v), 0.0, n_dot_v);
+    glm::dvec2 sum(0.0);
+    for (int i = 0; i < samples; ++i) {
+        // GGX's half-vector distribution inverted (Karis 2013, ImportanceSampleGGX).
+        const double phi = 2.0 * std::numbers::pi * (double(i) + 0.5) / double(samples);
+        const double u = radical_inverse(std::uint32_t(i));
+        const double cos_theta = std::sqrt((1.0 - u) / (1.0 + (alpha * alpha - 1.0) * u));
+        const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+        const glm::dvec3 h(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+        const double v_dot_h = glm::dot(v, h);
+        const glm::dvec3 l = 2.0 * v_dot_h * h - v;
+        const double n_dot_l = l.z;
+        if (n_dot_l <= 0.0 || v_dot_h <= 0.0) {
+            continue;
+        }
+        const double weight =
+            smith_visibility(n_dot_v, n_dot_l, alpha) * 4.0 * n_dot_l * v_dot_h / cos_theta;
+        const double fresnel = std::pow(1.0 - v_dot_h, 5.0);
+        sum += glm::dvec2((1.0 - fresnel) * weight, fresnel * weight);
+    }
+    return sum / double(samples);
+}
+
+}  // namespace
+
+DfgTable dfg_table(int size, int samples) {
+    if (size < 2 || size > 256) {
+        throw Error(ErrorKind::InvalidInput,
+                    "dfg_table: size must be in [2, 256], got " + std::to_string(size));
+    }
+    if (samples < 1 || samples > 65536) {
+        throw Error(ErrorKind::InvalidInput,
+                    "dfg_table: samples must be in [1, 65536], got " + std::to_string(samples));
+    }
+    DfgTable table;
+    table.size = size;
+    table.scale_bias.resize(std::size_t(size) * std::size_t(size));
+    for (int j = 0; j < size; ++j) {
+        const double roughness = (j + 0.5) / size;
+        for (int i = 0; i < size; ++i) {
+            const double n_dot_v = (i + 0.5) / size;
+            table.scale_bias[std::size_t(j) * std::size_t(size) + std::size_t(i)] =
+                glm::vec2(integrate(n_dot_v, roughness, samples));
+        }
+    }
+    return table;
+}
+
+glm::dvec2 sample_dfg(const DfgTable& table, double n_dot_v, double roughness) {
+    const int size = table.size;
+    const auto coordinate = [size](double t, int& low, double& fraction) {
+        const double x = std::clamp(t * size - 0.5, 0.0, double(size - 1));
+        low = std::min(int(x), size - 2);
+        fraction = x - low;
+    };
+    int i = 0, j = 0;
+    double fx = 0.0, fy = 0.0;
+    coordinate(n_dot_v, i, fx);
+    coordinate(roughness, j, fy);
+    const auto at = [&](int column, int row) {
+        return glm::dvec2(
+            table.scale_bias[std::size_t(row) * std::size_t(size) + std::size_t(column)]);
+    };
+    const glm::dvec2 bottom = glm::mix(at(i, j), at(i + 1, j), fx);
+    const glm::dvec2 top = glm::mix(at(i, j + 1), at(i + 1, j + 1), fx);
+    return glm::mix(bottom, top, fy);
+}
+
+}  // namespace oer
