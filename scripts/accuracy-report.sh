@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The one command of issue 11's report: installs what is missing, builds the three sweeps, runs
+# The one command of issue 11's report: installs what is missing, builds the three sweeps and issue 12's material gallery, runs
 # them into build/accuracy/ and writes docs/accuracy.md from what they measured
 # (docs/accuracy/make_report.py).
 # --quick: every sweep with --quick, and the report into build/accuracy/report/ rather than
@@ -35,6 +35,8 @@ bin="$root/build/bin"
 "$bin/lighting_sweep" "${quick[@]}" --json "$out/lighting.json" --csv "$out/lighting.csv"
 "$bin/light_location_sweep" "${quick[@]}" --json "$out/location.json" --csv "$out/location.csv"
 "$bin/frame_sweep" "${quick[@]}" --mesh-dir "$meshes" --out "$out/frames"
+"$bin/material_gallery" --out "$out/gallery"
 
 /usr/bin/python3 "$root/docs/accuracy/make_report.py" --lighting "$out/lighting.json" \
-    --location "$out/location.json" --frames "$out/frames" --out "$report_dir"
+    --location "$out/location.json" --frames "$out/frames" --materials "$out/gallery" \
+    --out "$report_dir"

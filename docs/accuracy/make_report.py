@@ -46,6 +46,8 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--frames", type=Path, required=True, help="frame_sweep --out folder")
     parser.add_argument("--out", type=Path, required=True,
                         help="folder of accuracy.md (docs for the published report)")
+    parser.add_argument("--materials", type=Path,
+                        help="bench/material_gallery --out folder (materials.md, materials/)")
     return parser.parse_args(argv)
 
 
@@ -168,14 +170,27 @@ def reading_section(lighting: LightingRows, sweeps: Sweeps, frames: FrameRows) -
     return "\n".join(text)
 
 
-def write_report(sweeps: Sweeps, out: Path) -> Path:
+def materials_section(gallery: Path, assets: Path) -> str:
+    """Issue 12's gallery, as bench/material_gallery wrote it, its frames copied beside the report."""
+    page = gallery / "materials.md"
+    if not page.is_file():
+        raise InputError(f"{page}: missing (bench/material_gallery --out {gallery} writes it)")
+    text = page.read_text(encoding="utf-8")
+    if not text.startswith("# "):
+        raise InputError(f"{page}: does not start with its title")
+    shutil.copytree(gallery / "materials", assets / "materials")
+    body = text.split("\n", 1)[1].replace("](materials/", "](accuracy/materials/")
+    return "## Materials: glTF PBR under every Blender world\n" + body.rstrip("\n")
+
+
+def write_report(sweeps: Sweeps, out: Path, gallery: Path | None = None) -> Path:
     """Writes OUT/accuracy.md with its figures and images; returns the md's path."""
     frames = FrameRows(sweeps.frames["rows"])
     lighting = LightingRows(sweeps.lighting)
     assets = out / "accuracy"
     # Both folders hold only what this writes: emptied, so that no figure or image of an earlier
     # run (a world or scene since dropped) stays beside the report.
-    for generated in (assets / "figures", assets / "images"):
+    for generated in (assets / "figures", assets / "images", assets / "materials"):
         shutil.rmtree(generated, ignore_errors=True)
     sections = [
         header(sweeps),
@@ -188,6 +203,8 @@ def write_report(sweeps: Sweeps, out: Path) -> Path:
                        "accuracy/images"),
         lighting_section(lighting, sweeps),
     ]
+    if gallery is not None:
+        sections.insert(-1, materials_section(gallery, assets))
     report = out / "accuracy.md"
     report.write_text("\n\n".join(sections) + "\n", encoding="utf-8")
     return report
@@ -198,7 +215,7 @@ def main(argv: list[str]) -> int:
     arguments = parse_arguments(argv)
     try:
         sweeps = read_sweeps(arguments.lighting, arguments.location, arguments.frames)
-        report = write_report(sweeps, arguments.out)
+        report = write_report(sweeps, arguments.out, arguments.materials)
     except InputError as error:
         print(f"make_report.py: {error}", file=sys.stderr)
         return 1
