@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_renderer.hpp"
 #include "bench_support.hpp"
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
@@ -38,14 +39,7 @@ struct Measurement {
 
 class Bench {
   public:
-    Bench() : thread_(std::make_unique<oer::RenderThread>()) {
-        renderer_ = thread_->submit([] { return std::make_shared<oer::FrameRenderer>(); }).get();
-    }
-    ~Bench() {
-        thread_->submit([this] { renderer_.reset(); }).get();
-    }
-
-    const oer::GlInfo& info() const { return thread_->info(); }
+    const oer::GlInfo& info() const { return renderer_.info(); }
 
     // cached: the camera orbits between frames; otherwise the environment's yaw changes by a
     // thousandth of a degree per frame, so every shadow map is rendered again.
@@ -73,14 +67,11 @@ class Bench {
         return best;
     }
 
-    oer::Frame render(const oer::FrameRequest& request) {
-        return thread_->submit([&] { return renderer_->render(request); }).get();
-    }
+    oer::Frame render(const oer::FrameRequest& request) { return renderer_.render(request); }
 
   private:
     int yaw_step_ = 0;
-    std::unique_ptr<oer::RenderThread> thread_;
-    std::shared_ptr<oer::FrameRenderer> renderer_;
+    oer::bench::BenchRenderer renderer_;
 };
 
 struct Lighting {

@@ -40,6 +40,7 @@
 #include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench_renderer.hpp"
 #include "bench_support.hpp"
 #include "frame_metrics.hpp"
 #include "oer/core/error.hpp"
@@ -245,24 +246,6 @@ struct OurFrame {
     std::vector<double> luminance;
     double frame_ms = 0.0;   // time size, shadow maps cached: median of kTimedFrames
     double shadow_ms = 0.0;  // time size, the shadow pass when the maps are new
-};
-
-class Renderer {
-  public:
-    Renderer() : thread_(std::make_unique<oer::RenderThread>()) {
-        renderer_ = thread_->submit([] { return std::make_shared<oer::FrameRenderer>(); }).get();
-    }
-    ~Renderer() {
-        thread_->submit([this] { renderer_.reset(); }).get();
-    }
-    const oer::GlInfo& info() const { return thread_->info(); }
-    oer::Frame render(const oer::FrameRequest& request) {
-        return thread_->submit([&] { return renderer_->render(request); }).get();
-    }
-
-  private:
-    std::unique_ptr<oer::RenderThread> thread_;
-    std::shared_ptr<oer::FrameRenderer> renderer_;
 };
 
 struct Scene {
@@ -611,7 +594,7 @@ class Sweep {
     }
 
     const Arguments& arguments_;
-    Renderer renderer_;
+    oer::bench::BenchRenderer renderer_;
     int yaw_step_ = 0;
     std::map<std::string, std::pair<double, double>> timings_;  // all on, per configuration
     json scenes_ = json::array();

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_renderer.hpp"
 #include "bench_support.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
@@ -38,24 +39,6 @@ namespace {
 
 constexpr const char* kBunny = "/usr/share/glmark2/models/bunny.obj";
 constexpr int kSize = 512;
-
-class Renderer {
-  public:
-    Renderer() : thread_(std::make_unique<oer::RenderThread>()) {
-        renderer_ = thread_->submit([] { return std::make_shared<oer::FrameRenderer>(); }).get();
-    }
-    ~Renderer() {
-        thread_->submit([this] { renderer_.reset(); }).get();
-    }
-    const oer::GlInfo& info() const { return thread_->info(); }
-    oer::Frame render(const oer::FrameRequest& request) {
-        return thread_->submit([&] { return renderer_->render(request); }).get();
-    }
-
-  private:
-    std::unique_ptr<oer::RenderThread> thread_;
-    std::shared_ptr<oer::FrameRenderer> renderer_;
-};
 
 struct GalleryScene {
     std::string name;   // file stem
@@ -103,7 +86,7 @@ int run(const fs::path& out) {
     };
     const fs::path images = out / "materials";
     fs::create_directories(images);
-    Renderer renderer;
+    oer::bench::BenchRenderer renderer;
     std::ostringstream page;
     page << "# Materials: glTF PBR under every Blender world\n\n"
          << "Made by bench/material_gallery.cpp (run by `scripts/accuracy-report.sh`); do not edit "
