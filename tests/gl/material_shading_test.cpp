@@ -29,6 +29,7 @@
 #include "oer/lighting/specular_environment.hpp"
 #include "oer/lighting/split_sum.hpp"
 #include "oer/lighting/tonemap.hpp"
+#include "oer/mesh/material_spheres.hpp"
 #include "oer/mesh/mesh_loading.hpp"
 #include "prefiltered_cubes.hpp"
 #include "synthetic_maps.hpp"
@@ -332,8 +333,9 @@ TEST_F(MaterialShadingTest, AMirrorReflectsTheLightWhereItIsAndLosesItWithTheLig
     EXPECT_EQ(wrong, 0);
 }
 
-// Khronos's MetalRoughSpheres made in code: a row of dielectrics over a row of metals,
-// roughness 0 to 1 from left to right, one mesh of ten primitives, under one small light. Each
+// Khronos's MetalRoughSpheres as a glTF made by code (material_spheres.hpp) and read through
+// the loader: a row of dielectrics over a row of metals, roughness 0 to 1 from left to right,
+// ten primitives, under one small light. Each
 // sphere's highlight (the frame minus the frame with the light off: the light's own reflection,
 // and the multiple scattering's share of its diffuse) has a peak that falls and an area above
 // half its peak that grows with roughness. The dielectrics are black, as glossy black plastic:
@@ -343,25 +345,25 @@ TEST_F(MaterialShadingTest, HighlightsDimAndWidenWithRoughness) {
     const HdrImage map = small_light_map(light);
     const auto rig = make_rig(map, 1, 3);
     ASSERT_EQ(rig->lights.size(), 1u);
-    constexpr int kColumns = 5;
-    constexpr float kRadius = 0.4f;
-    Mesh grid;
+    MaterialSpheresOptions options;
+    options.columns = 5;
+    options.rings = 64;
+    options.dielectric_color = glm::vec3(0.0f);
+    const std::vector<std::byte> glb = material_spheres_glb(options);
+    Mesh grid = load_mesh_memory(glb, "material-spheres.glb", MeshFormat::Glb);
+    const int kColumns = options.columns;
+    const float kRadius = kMaterialSphereRadius;
+    // Row 0 the dielectrics, above; centres as material_spheres.hpp places them.
     std::vector<glm::dvec3> centres;
     for (int row = 0; row < 2; ++row) {
         for (int column = 0; column < kColumns; ++column) {
-            const glm::vec3 centre(float(column - 2), row == 0 ? 0.5f : -0.5f, 0.0f);
-            Mesh sphere = oer::testing::uv_sphere(centre, kRadius, 128, 64, glm::vec3(1.0f));
-            sphere.primitives[0].material = int(grid.materials.size());
-            grid.primitives.push_back(std::move(sphere.primitives[0]));
-            grid.materials.push_back(oer::testing::metallic_roughness(
-                row == 0 ? glm::vec3(0.0f) : glm::vec3(1.0f, 0.78f, 0.34f), row == 0 ? 0.0f : 1.0f,
-                float(column) / float(kColumns - 1)));
-            centres.push_back(glm::dvec3(centre));
+            centres.push_back({(column - (kColumns - 1) / 2.0) * kMaterialSphereSpacing,
+                               (1 - row) * kMaterialSphereSpacing + kRadius, 0.0});
         }
     }
-    oer::testing::finish(grid);
     Camera camera;
-    camera.eye = {0.0f, 0.0f, 12.0f};
+    camera.eye = {0.0f, kMaterialSphereSpacing, 12.0f};
+    camera.target = {0.0f, kMaterialSphereSpacing, 0.0f};
     camera.fov_y = 28.0f;
     const int size = 512;
     FrameRequest request = linear_request(rig, camera, size);

@@ -70,6 +70,17 @@ int reference_command(const std::vector<std::string>& arguments) {
                          std::to_string(samples));
     }
     const RenderScene scene = read_render_scene(inputs, "exr");
+    // The reference has no specular BRDF (reference_renderer.hpp): say so rather than let a
+    // glossy product's reference pass for what oer render draws.
+    for (const SceneObject& object : scene.request.objects) {
+        for (const Material& material : object.mesh->materials) {
+            if (material.glossy()) {
+                std::cerr << "reference: material '" << material.name
+                          << "' is metallic-roughness; the reference shades every surface as "
+                             "Lambertian with its base colour\n";
+            }
+        }
+    }
     ReferenceOptions options;
     options.bounce = bounce == "one" ? Bounce::One : Bounce::None;
     options.samples = samples;
