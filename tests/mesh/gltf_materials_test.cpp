@@ -206,7 +206,7 @@ TEST(GltfMaterials, AlphaModesAreReadAndAnyOtherIsRejectedNamingIt) {
 }
 
 TEST(GltfMaterials, BoundedFactorsAreClampedAndOtherNumbersMustBeFiniteFloats) {
-    const Material& clamped = material_of(load_gltf_text(
+    const Material clamped = material_of(load_gltf_text(
         quad_asset({{"pbrMetallicRoughness", {{"metallicFactor", 2.0}, {"roughnessFactor", -1.0}}},
                     {"emissiveFactor", {-1.0, 2.0, 0.5}},
                     {"occlusionTexture", {{"index", 0}, {"strength", 3.0}}}})));
@@ -305,7 +305,7 @@ TEST(GltfMaterials, OtherTexCoordSetsAreDroppedWithAWarning) {
 TEST(GltfMaterials, TextureTransformIsReadOnEveryTextureInfo) {
     const json transform = {{"offset", {0.25, -0.5}}, {"rotation", 0.75}, {"scale", {2.0, 3.0}}};
     const json info = {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}};
-    const Material& m = material_of(load_gltf_text(quad_asset(
+    const Material m = material_of(load_gltf_text(quad_asset(
         {{"pbrMetallicRoughness", {{"baseColorTexture", info}, {"metallicRoughnessTexture", info}}},
          {"normalTexture", info},
          {"occlusionTexture", info},
@@ -318,7 +318,7 @@ TEST(GltfMaterials, TextureTransformIsReadOnEveryTextureInfo) {
         EXPECT_EQ(r->scale, glm::vec2(2.0f, 3.0f));
     }
     // Absent: the identity.
-    const Material& plain = material_of(load_gltf_text(
+    const Material plain = material_of(load_gltf_text(
         quad_asset({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}})));
     EXPECT_EQ(plain.base_color_texture.offset, glm::vec2(0.0f));
     EXPECT_EQ(plain.base_color_texture.rotation, 0.0f);
@@ -672,6 +672,11 @@ TEST(GltfMaterialsSamples, ClearCoatTestHasItsNormalRoughnessAndEmissiveTextures
     const std::string file = "ClearCoat-glTF/ClearCoatTest.gltf";
     const Mesh mesh = load_sample(file);
     expect_valid(mesh);
+    // Its clear coat is an extension the loader does not implement: said, not silently dropped.
+    EXPECT_NE(std::find(mesh.warnings.begin(), mesh.warnings.end(),
+                        "the asset uses the extension KHR_materials_clearcoat, which is not "
+                        "supported: ignored"),
+              mesh.warnings.end());
     const json d = sample_document(file);
     // Every material the file gives a core texture gets it, in the encoding of its kind.
     std::size_t normal_mapped = 0;

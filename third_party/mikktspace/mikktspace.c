@@ -1457,7 +1457,9 @@ static void QuickSort(int* pSortBuffer, int iLeft, int iRight, unsigned int uSee
 
 	// Random
 	unsigned int t=uSeed&31;
-	t=(uSeed<<t)|(uSeed>>(32-t));
+	// Altered for oer: (32-t)&31, since a shift by 32 (t = 0) is undefined behaviour in C
+	// (UBSan reports it); the rotation it computes is unchanged.
+	t=(uSeed<<t)|(uSeed>>((32-t)&31));
 	uSeed=uSeed+t+3;
 	// Random end
 
@@ -1664,7 +1666,8 @@ static void QuickSortEdges(SEdge * pSortBuffer, int iLeft, int iRight, const int
 
 	// Random
 	t=uSeed&31;
-	t=(uSeed<<t)|(uSeed>>(32-t));
+	// Altered for oer: (32-t)&31, as in QuickSortEdges above.
+	t=(uSeed<<t)|(uSeed>>((32-t)&31));
 	uSeed=uSeed+t+3;
 	// Random end
 

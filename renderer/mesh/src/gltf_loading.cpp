@@ -137,6 +137,12 @@ class GltfConverter {
         if (mesh_.materials.empty()) {
             mesh_.materials.push_back(default_material());
         }
+        for (const std::string& extension : model_.extensionsUsed) {
+            if (!supported_extension(extension)) {
+                mesh_.warnings.push_back("the asset uses the extension " + one_line(extension, 80) +
+                                         ", which is not supported: ignored");
+            }
+        }
         if (!context_.warnings.empty()) {
             mesh_.warnings.push_back("tinygltf: " + one_line(context_.warnings));
         }

@@ -254,6 +254,10 @@ std::string image_label(const std::string& asset, int index, const std::string& 
     return asset + ": image " + std::to_string(index) + (name.empty() ? "" : " '" + name + "'");
 }
 
+bool supported_extension(const std::string& name) {
+    return name == "KHR_texture_transform" || name == "KHR_materials_emissive_strength";
+}
+
 tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& asset, bool binary,
                            const MeshLimits& limits, ParseContext& context) {
     if (bytes.size() > std::size_t(std::numeric_limits<unsigned int>::max())) {
@@ -324,8 +328,7 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
             "glTF version '" + one_line(model.asset.version, 40) + "' is not supported (only 2.0)");
     }
     for (const std::string& extension : model.extensionsRequired) {
-        if (extension != "KHR_texture_transform" &&
-            extension != "KHR_materials_emissive_strength") {
+        if (!supported_extension(extension)) {
             fail(ErrorKind::Unsupported, asset,
                  "the asset requires the extension " + one_line(extension, 80) +
                      ", which is not supported");

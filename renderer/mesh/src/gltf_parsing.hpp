@@ -43,6 +43,11 @@ struct ParseContext {
 tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& asset, bool binary,
                            const MeshLimits& limits, ParseContext& context);
 
+// Whether the loader implements the extension (KHR_texture_transform,
+// KHR_materials_emissive_strength): one it does not is refused when the asset requires it and
+// ignored with a warning when the asset only uses it (glTF 2.0, section 3.12).
+bool supported_extension(const std::string& name);
+
 // "asset: image 3 'name'", for messages.
 std::string image_label(const std::string& asset, int index, const std::string& name);
 
