@@ -1,84 +1,16 @@
 #include "sh_axis_swap.hpp"
 
-#include <algorithm>
 #include <array>
-#include <cmath>
 #include <mutex>
-#include <numbers>
 #include <string>
 
-#include <glm/vec3.hpp>
+#include <glm/mat3x3.hpp>
 
 #include "oer/core/error.hpp"
 #include "oer/lighting/sh.hpp"
+#include "oer/lighting/sh_rotation.hpp"
 
 namespace oer::detail {
-namespace {
-
-using std::numbers::pi;
-
-// n-point (n >= 1) Gauss-Legendre rule on [-1, 1] (exact for polynomials of degree 2n - 1), by
-// Newton's method on P_n from the initial guesses of Numerical Recipes' gauleg (Press et al.,
-// "Numerical Recipes", 3rd ed., 2007, section 4.6).
-void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
-    nodes.assign(n, 0.0);
-    weights.assign(n, 0.0);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(pi * (i + 0.75) / (n + 0.5));
-        double derivative = 1.0;
-        for (int iteration = 0; iteration < 100; ++iteration) {
-            double p0 = 1.0, p1 = z;  // P_0, P_1
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            // p1 = P_n(z), p0 = P_{n-1}(z) (n >= 1)
-            derivative = n * (z * p1 - p0) / (z * z - 1.0);
-            const double step = p1 / derivative;
-            z -= step;
-            if (std::abs(step) < 1e-16) {
-                break;
-            }
-        }
-        nodes[i] = z;
-        weights[i] = 2.0 / ((1.0 - z * z) * derivative * derivative);
-    }
-}
-
-std::vector<double> compute_matrix(int l) {
-    // Y_lm(v) Y'_lm'(v) is a polynomial of degree 2l in (x, y, z): integrating over phi leaves a
-    // polynomial of degree <= 2l in z = cos(theta) (exact with l + 1 Gauss points), and its phi
-    // frequencies are <= 2l (exact with any uniform rule of more than 2l points).
-    const int order = l + 1;
-    const int n_z = l + 2;
-    const int n_phi = 2 * l + 3;
-    std::vector<double> nodes, weights;
-    gauss_legendre(n_z, nodes, weights);
-    const int size = 2 * l + 1;
-    std::vector<double> matrix(std::size_t(size) * size, 0.0);
-    std::array<double, sh_count(kMaxShOrder)> y{}, y_swapped{};
-    for (int i = 0; i < n_z; ++i) {
-        const double z = nodes[i];
-        const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-        const double weight = weights[i] * 2.0 * pi / n_phi;
-        for (int j = 0; j < n_phi; ++j) {
-            const double phi = 2.0 * pi * (j + 0.5) / n_phi;
-            const glm::dvec3 v(s * std::cos(phi), s * std::sin(phi), z);
-            sh_evaluate(order, v, y);
-            sh_evaluate(order, glm::dvec3(v.x, v.z, v.y), y_swapped);
-            for (int m = -l; m <= l; ++m) {
-                const double a = y[sh_index(l, m)] * weight;
-                for (int m2 = -l; m2 <= l; ++m2) {
-                    matrix[std::size_t(m + l) * size + (m2 + l)] += a * y_swapped[sh_index(l, m2)];
-                }
-            }
-        }
-    }
-    return matrix;
-}
-
-}  // namespace
 
 const std::vector<double>& axis_swap_matrix(int l) {
     if (l < 0 || l >= kMaxShOrder) {
@@ -87,7 +19,9 @@ const std::vector<double>& axis_swap_matrix(int l) {
     }
     static std::array<std::once_flag, kMaxShOrder> once;
     static std::array<std::vector<double>, kMaxShOrder> matrices;
-    std::call_once(once[l], [l] { matrices[l] = compute_matrix(l); });
+    // The swap of y and z: Y'_lm(v) = Y_lm(v.x, v.z, v.y), an orthogonal (reflecting) q.
+    const glm::dmat3 swap(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0);
+    std::call_once(once[l], [l, &swap] { matrices[l] = sh_band_transform(l, swap); });
     return matrices[l];
 }
 
