@@ -15,47 +15,16 @@
 
 #include "http_support.hpp"
 #include "oer/lighting/irradiance.hpp"
+#include "ray_geometry.hpp"
 
 using namespace oer;
 using namespace oer::itest;
+using oer::testing::hits_box;
+using oer::testing::pixel_ray;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-struct LookAt {
-    glm::dvec3 eye, target, up{0, 1, 0};
-    double fov_y = 50.0;
-};
-
-glm::dvec3 pixel_ray(const LookAt& camera, int width, int height, int x, int y) {
-    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
-    const glm::dvec3 up = glm::cross(right, forward);
-    const double t = std::tan(glm::radians(camera.fov_y) / 2.0);
-    const double nx = (2.0 * (x + 0.5) / width - 1.0) * t * width / height;
-    const double ny = (1.0 - 2.0 * (y + 0.5) / height) * t;
-    return glm::normalize(forward + nx * right + ny * up);
-}
-
-bool hits_box(glm::dvec3 origin, glm::dvec3 dir, glm::dvec3 low, glm::dvec3 high) {
-    double near_t = 1e-6, far_t = 1e30;
-    for (int a = 0; a < 3; ++a) {
-        if (std::abs(dir[a]) < 1e-12) {
-            if (origin[a] < low[a] || origin[a] > high[a]) {
-                return false;
-            }
-            continue;
-        }
-        double t0 = (low[a] - origin[a]) / dir[a], t1 = (high[a] - origin[a]) / dir[a];
-        if (t0 > t1) {
-            std::swap(t0, t1);
-        }
-        near_t = std::max(near_t, t0);
-        far_t = std::min(far_t, t1);
-    }
-    return near_t <= far_t;
-}
 
 ShRgb sh_of(const Json& coefficients) {
     const int order = int(std::lround(std::sqrt(double(coefficients.size()))));
@@ -124,16 +93,20 @@ TEST(RenderLighting, SwitchingALightChangesExactlyTheGroundItReaches) {
     const double exposure = std::log2(0.7 / std::max({ground_all.r, ground_all.g, ground_all.b}));
     const double scale = std::exp2(exposure);
 
-    const LookAt camera{{0.0, 4.0, 3.0}, {0.0, 0.2, 0.0}};
+    Camera camera;
+    camera.eye = {0.0f, 4.0f, 3.0f};
+    camera.target = {0.0f, 0.2f, 0.0f};
+    camera.fov_y = 50.0f;
+    const glm::dvec3 eye(camera.eye);
     const int size = 160;
     // Ground pixels by the lights whose shadow covers them; only pixels whose neighbours two
     // pixels away agree (away from every edge), within 1.2 of the box (on the plane for sure).
     const auto occluders = [&](int x, int y) -> std::optional<int> {
         const glm::dvec3 ray = pixel_ray(camera, size, size, x, y);
-        if (ray.y >= 0.0 || hits_box(camera.eye, ray, low, high)) {
+        if (ray.y >= 0.0 || hits_box(eye, ray, low, high)) {
             return std::nullopt;
         }
-        const glm::dvec3 point = camera.eye + (-camera.eye.y / ray.y) * ray;
+        const glm::dvec3 point = eye + (-eye.y / ray.y) * ray;
         if (glm::length(point) > 1.2) {
             return std::nullopt;
         }

@@ -98,7 +98,9 @@ TEST(LightLobe, AUniformDiscsGlowPeaksAtTheDiscsRadiance) {
         options.sh_order = 3;
         const Rig rig = build_rig(map, {}, options);
         ASSERT_EQ(rig.lights.size(), 1u);
-        const LightLobes lobes = light_lobes(rig.lights[0], rig.sh.per_light[0], rig.source_width);
+        const LightLobes lobes =
+            light_lobes(rig.lights[0], light_profile(rig.sh.per_light[0], rig.lights[0].direction),
+                        rig.source_width);
         EXPECT_EQ(lobes.glow.axis, rig.lights[0].direction);
         EXPECT_EQ(lobes.core.axis, rig.lights[0].direction);
         const glm::dvec3 total = lobes.core.energy + lobes.glow.energy;
@@ -162,7 +164,9 @@ TEST(LightLobe, ALightsLobesAreItsPixelsPrefiltered) {
     options.sh_order = 3;
     const Rig rig = build_rig(map, {}, options);
     ASSERT_EQ(rig.lights.size(), 1u);
-    const LightLobes lobes = light_lobes(rig.lights[0], rig.sh.per_light[0], rig.source_width);
+    const LightLobes lobes =
+        light_lobes(rig.lights[0], light_profile(rig.sh.per_light[0], rig.lights[0].direction),
+                    rig.source_width);
     // A direction turned from the light's by angle about a fixed axis.
     const glm::dvec3 side = glm::normalize(glm::cross(centre, glm::dvec3(1.0, 0.0, 0.0)));
     for (const double roughness : {0.25, 0.5, 0.75, 1.0}) {

@@ -108,7 +108,7 @@ void add_shadow_views(FrameContext& frame) {
         if (frame.specular) {
             // The lobes' axes are the light's direction; light_directions turns it by the yaw.
             const LightLobes lobes =
-                light_lobes(frame.rig.lights[k], frame.rig.sh.per_light[k], frame.rig.source_width);
+                light_lobes(frame.rig.lights[k], profile, frame.rig.source_width);
             const double weight = frame.weights[k];
             frame.lobe_sharpness.emplace_back(float(lobes.core.sharpness),
                                               float(lobes.glow.sharpness));

@@ -26,8 +26,7 @@ double disc_sharpness(double angular_radius) {
 
 }  // namespace
 
-LightLobes light_lobes(const Light& light, const ShRgb& light_sh, int map_width) {
-    const LightProfile profile = light_profile(light_sh, light.direction);
+LightLobes light_lobes(const Light& light, const LightProfile& profile, int map_width) {
     const double core_radius = std::numbers::pi / double(map_width);
     LightLobes lobes;
     lobes.core.axis = light.direction;

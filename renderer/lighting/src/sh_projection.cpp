@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <string>
-#include <thread>
 
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "sh_axis_swap.hpp"
 #include "sh_row_harmonics.hpp"
+#include "two_thread_split.hpp"
 
 namespace oer {
 namespace {
@@ -168,24 +167,10 @@ ShProjection project_environment(const HdrImage& image,
     Partial first = make_partial();
     Partial second = make_partial();
     if (two_threads) {
-        std::exception_ptr failure;
-        std::thread worker([&] {
-            try {
-                project_rows(image, grid, table, light_pixels, order, split, image.height, second);
-            } catch (...) {
-                failure = std::current_exception();
-            }
+        detail::split_on_two_threads(image.height, split, [&](int begin, int end) {
+            project_rows(image, grid, table, light_pixels, order, begin, end,
+                         begin == 0 ? first : second);
         });
-        try {
-            project_rows(image, grid, table, light_pixels, order, 0, split, first);
-        } catch (...) {
-            worker.join();
-            throw;
-        }
-        worker.join();
-        if (failure) {
-            std::rethrow_exception(failure);
-        }
     } else {
         project_rows(image, grid, table, light_pixels, order, 0, image.height, first);
     }

@@ -31,10 +31,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <numbers>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -43,6 +41,7 @@
 #include "cube_faces.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
+#include "two_thread_split.hpp"
 
 namespace oer {
 namespace {
@@ -105,31 +104,6 @@ void validate_map(const HdrImage& map) {
                     std::to_string(i % 3) + " is " + std::to_string(value) +
                     ": radiance must be finite and non-negative");
         }
-    }
-}
-
-// Runs work(begin, end) for [0, count / 2) on a second thread and [count / 2, count) on this
-// one: a split fixed by the count alone.
-template <typename Work>
-void split_on_two_threads(int count, const Work& work) {
-    const int middle = count / 2;
-    std::exception_ptr failure;
-    std::thread worker([&] {
-        try {
-            work(0, middle);
-        } catch (...) {
-            failure = std::current_exception();
-        }
-    });
-    try {
-        work(middle, count);
-    } catch (...) {
-        worker.join();
-        throw;
-    }
-    worker.join();
-    if (failure) {
-        std::rethrow_exception(failure);
     }
 }
 
@@ -245,7 +219,7 @@ struct SubsamplePositions {
         }
         const float width = float(map.width), height = float(map.height);
         const int half = side / 2;
-        split_on_two_threads(half, [&](int b_begin, int b_end) {
+        detail::split_on_two_threads(half, half / 2, [&](int b_begin, int b_end) {
             for (int b = b_begin; b < b_end; ++b) {
                 const double t = (b + 0.5) / side, tc = 2.0 * t - 1.0;
                 const std::size_t row = std::size_t(b) * side;
@@ -524,7 +498,7 @@ PrefilteredCube prefilter(const HdrImage& map, const SpecularOptions& options) {
     const int face_size = options.face_size;
     Pyramid pyramid(face_size);
     const SubsamplePositions positions(face_size, map);
-    split_on_two_threads(6, [&](int begin, int end) {
+    detail::split_on_two_threads(6, 3, [&](int begin, int end) {
         resample_faces(map, positions, pyramid.levels[0], begin, end);
         downsample_faces(pyramid, begin, end);
     });
@@ -544,7 +518,7 @@ PrefilteredCube prefilter(const HdrImage& map, const SpecularOptions& options) {
         filtered.emplace_back(face_size >> level, 0);
         cube.rgb_half.emplace_back(level_values(face_size, level));
     }
-    split_on_two_threads(6, [&](int begin, int end) {
+    detail::split_on_two_threads(6, 3, [&](int begin, int end) {
         to_half(pyramid.levels[0], cube.rgb_half[0], begin, end);
         for (std::size_t k = 0; k < filtered.size(); ++k) {
             prefilter_faces(pyramid, samples[k], filtered[k], begin, end);

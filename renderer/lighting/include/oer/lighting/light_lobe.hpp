@@ -25,7 +25,6 @@
 #include <glm/vec3.hpp>
 
 #include "oer/lighting/light_location.hpp"
-#include "oer/lighting/sh.hpp"
 
 namespace oer {
 
@@ -40,10 +39,11 @@ struct LightLobes {
     SphericalGaussian glow;  // the rest
 };
 
-// Light k's lobes: axis its direction, energies core_share and 1 - core_share of
-// light.intensity, the glow's sharpness from the profile's glow radius, the core's from a disc
-// of one map pixel at the equator (2 pi / map_width wide: the least a core can be seen as).
-LightLobes light_lobes(const Light& light, const ShRgb& light_sh, int map_width);
+// Light k's lobes from its profile (light_profile of its own SH, which the shadows use too):
+// axis its direction, energies core_share and 1 - core_share of light.intensity, the glow's
+// sharpness from the profile's glow radius, the core's from a disc of one map pixel at the
+// equator (2 pi / map_width wide: the least a core can be seen as).
+LightLobes light_lobes(const Light& light, const LightProfile& profile, int map_width);
 
 // The sharpness of a normalised SG of sharpness `sharpness` convolved with the GGX lobe of
 // perceptual roughness `roughness` (about r, lambda_D as above); roughness 0 leaves it
