@@ -16,6 +16,7 @@
 #include "oer/lighting/tonemap.hpp"
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/mesh.hpp"
+#include "oer/transfer/scene_transfer.hpp"
 
 namespace oer {
 
@@ -54,6 +55,16 @@ struct FrameRequest {
     // a glossy material (Material::glossy) and the rig's model is Hdr, else unused and best
     // left null, so that a scene without glossy materials costs no specular memory.
     std::shared_ptr<const PrefilteredCube> specular;
+    // Occlusion of the residual map and the ground as lighting (issue 13): true, the residual
+    // map (the rig's radiance minus its lights' pixels) reaches objects and ground through
+    // `transfer`, baked for this request's objects, transforms and ground (transfer_bake.hpp),
+    // and lights below the ground's horizon reach nothing; false, the residual lights every
+    // point unoccluded (OER as before) and `transfer` is unused.
+    bool occlusion = true;
+    // None: the ground lights nothing and nothing reflects (to compare with the reference's
+    // direct mode); One: the ground and the objects reflect once. Must match transfer->bounce.
+    Bounce bounce = Bounce::One;
+    std::shared_ptr<const SceneTransfer> transfer;
     std::vector<SceneObject> objects;
     std::optional<Camera> camera;  // empty: frame the scene's bounds automatically
     // One weight per rig light (DESIGN.md section 2, dimmable lights): 0 off, 1 as captured, up

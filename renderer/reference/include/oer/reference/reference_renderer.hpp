@@ -18,11 +18,6 @@
 
 namespace oer {
 
-enum class Bounce {
-    None,  // light straight from the environment only, as OER models it
-    One,   // plus one diffuse bounce off the meshes and the ground
-};
-
 enum class ReferenceSampling {
     Mis,     // the map's distribution and the cosine lobe, power heuristic
     Cosine,  // the cosine lobe alone: exact under a constant map when nothing occludes

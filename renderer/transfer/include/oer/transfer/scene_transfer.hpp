@@ -1,0 +1,86 @@
+#pragma once
+// Precomputed radiance transfer of a scene (issue 13; P.-P. Sloan, J. Kautz and J. Snyder,
+// "Precomputed Radiance Transfer for Real-Time Rendering in Dynamic, Low-Frequency Lighting
+// Environments", SIGGRAPH 2002): per receiver point (each vertex of each object's primitives,
+// and each texel of a grid on the ground around the objects) the SH vector that turns the
+// residual map's radiance coefficients into the irradiance that reaches it past every occluder
+// (the objects and the ground plane), and, under Bounce::One, the vectors that add what the
+// objects and the ground reflect onto it once.
+//
+// For radiance coefficients L_i (DESIGN.md section 3: world frame, the yaw applied, no A_l),
+//   E(x) = sum_i direct_i(x) R_i + sum_i bounce_c,i(x) L_c,i      (per colour channel c)
+// where R is the residual map (the rig's radiance minus every light's own pixels) and L the
+// whole lighting of the frame (R plus each light's pixels times its weight): the lights' own
+// direct light keeps its shadow maps, their reflected light goes through the transfer.
+// Without occluders direct_i(x) = A_l Y_i(n(x)), so direct . R is plain SH irradiance.
+//
+// Plain data: the frame renderer reads it (FrameRequest::transfer), the bake
+// (transfer_bake.hpp) writes it, the codec stores it.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+namespace oer {
+
+// Transfers are baked at this order (bands 0 to 4, 25 coefficients, Sloan et al.'s choice for
+// diffuse transfer); a frame may use the first order^2 coefficients of any lower order, which
+// are exactly that order's transfer (the coefficients of a projection do not depend on the
+// order it stops at).
+constexpr int kTransferBakeOrder = 5;
+
+// One receiver set: count points, each `coefficients` direct values and, under Bounce::One,
+// 3 x `coefficients` bounce values (red, green, blue: the reflecting surfaces' albedos colour
+// the bounce), point-major: direct[p * coefficients + i], bounce[(p * 3 + c) * coefficients + i].
+struct TransferPoints {
+    std::size_t count = 0;
+    std::vector<float> direct;
+    std::vector<float> bounce;  // empty under Bounce::None
+};
+
+// The ground plane's receivers: a resolution x resolution grid of texel centres over
+// [centre.x - half_size, centre.x + half_size] x [centre.y - half_size, ...] in world x and z,
+// row r at z = centre.y - half_size + (r + 0.5) * 2 half_size / resolution, column c likewise
+// in x; point index r * resolution + c. Beyond the grid nothing occludes or reflects onto the
+// ground (the grid is made large enough for that), so its edge texels hold the unoccluded
+// cosine transfer at +Y.
+struct GroundTransfer {
+    glm::vec2 centre{0.0f};  // world (x, z)
+    float half_size = 0.0f;
+    float height = 0.0f;  // world y of the plane
+    int resolution = 0;
+    TransferPoints points;
+};
+
+// The light a frame models (`oer render --bounce`, the API's "bounce"), and the reference
+// renderer's matching mode.
+enum class Bounce : std::uint8_t {
+    None,  // light straight from the environment only: the ground lights nothing
+    One,   // plus one diffuse bounce off the meshes and the ground
+};
+
+struct SceneTransfer {
+    int order = kTransferBakeOrder;  // of the stored vectors; coefficients = order^2
+    Bounce bounce = Bounce::One;
+    int rays = 0;  // per receiver point
+    // [object][primitive], parallel to FrameRequest::objects and each mesh's primitives; each
+    // one point per vertex of the primitive.
+    std::vector<std::vector<TransferPoints>> objects;
+    std::optional<GroundTransfer> ground;  // when the scene has the ground plane
+    double bake_ms = 0.0;                  // how long the bake took, for logs and metrics
+
+    int coefficients() const { return order * order; }
+};
+
+// The stored form (the asset store's derived entry, which the store seals with its digest):
+// magic "OERPRT" and a version byte, then the fields above with their counts, little-endian.
+std::string encode_transfer(const SceneTransfer& transfer);
+// Throws oer::Error (InvalidInput) naming what is wrong: a bad magic or version, a count that
+// does not fit the bytes (checked before anything is allocated), a non-finite value.
+SceneTransfer decode_transfer(std::string_view bytes);
+
+}  // namespace oer

@@ -1,0 +1,33 @@
+#pragma once
+// The bake of a scene's transfer (scene_transfer.hpp) on Embree: per receiver point, rays over
+// the cosine-weighted hemisphere of its normal against the scene's objects and ground plane
+// (the same surfaces and plane the frame renderer draws: oer/gl/scene_bounds.hpp), and under
+// Bounce::One what those rays hit, reflecting its own direct transfer once.
+// And the rules that choose how much a scene needs ("model only what a scene needs").
+#include "oer/gl/frame_request.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/transfer/scene_transfer.hpp"
+
+namespace oer {
+
+struct TransferBakeOptions {
+    Bounce bounce = Bounce::One;
+    int rays = 0;     // per receiver point; 0: transfer_ray_count's rule
+    int threads = 0;  // 0: every core
+};
+
+// The rays per receiver point the rule gives for these objects (their vertex count bounds the
+// bake's work; see the definition for the rule and its measurements).
+int transfer_ray_count(const std::vector<SceneObject>& objects);
+
+// The transfer of request.objects (with their transforms) and, when request.ground, of the
+// ground plane under them. Throws oer::Error (InvalidInput) for a request without objects,
+// (Internal) when Embree fails.
+SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptions& options);
+
+// The order a frame evaluates the transfer at for this rig (at most kTransferBakeOrder): the
+// lowest whose irradiance of the rig's residual map is within the rig's SH tolerance of that
+// at kTransferBakeOrder (see the definition for the measurements).
+int transfer_order(const Rig& rig);
+
+}  // namespace oer
