@@ -28,6 +28,7 @@ constexpr EnumNames<ImageFormat, 3> kFormatNames = {
     {{ImageFormat::Jpeg, "jpeg"}, {ImageFormat::Png, "png"}, {ImageFormat::Exr, "exr"}}};
 constexpr EnumNames<ShadowFilter, 2> kFilterNames = {
     {{ShadowFilter::Pcf, "pcf"}, {ShadowFilter::Hard, "hard"}}};
+constexpr EnumNames<Bounce, 2> kBounceNames = {{{Bounce::None, "none"}, {Bounce::One, "one"}}};
 
 // The ranges both forms check, and api/openapi.yaml states.
 struct Range {
@@ -52,16 +53,16 @@ constexpr double kMinDeterminant = 1e-12;
 constexpr int kMaxJsonDepth = 16;
 
 using Names = std::span<const std::string_view>;
-constexpr std::array<std::string_view, 15> kBodyMembers = {
-    "environment", "objects",    "ground",  "camera",  "lights",
-    "width",       "height",     "format",  "quality", "exposure",
-    "tonemap",     "background", "shadows", "samples", "environment_yaw"};
+constexpr std::array<std::string_view, 17> kBodyMembers = {
+    "environment", "objects",    "ground",  "occlusion", "bounce",         "camera",
+    "lights",      "width",      "height",  "format",    "quality",        "exposure",
+    "tonemap",     "background", "shadows", "samples",   "environment_yaw"};
 constexpr std::array<std::string_view, 3> kObjectMembers = {"mesh", "transform", "base_color"};
 constexpr std::array<std::string_view, 5> kCameraMembers = {"eye", "target", "up", "fov_y",
                                                             "orbit"};
 constexpr std::array<std::string_view, 4> kOrbitMembers = {"yaw", "pitch", "distance", "target"};
 constexpr std::array<std::string_view, 3> kShadowMembers = {"enabled", "resolution", "filter"};
-constexpr std::array<std::string_view, 24> kQueryParameters = {"environment",
+constexpr std::array<std::string_view, 26> kQueryParameters = {"environment",
                                                                "mesh",
                                                                "eye",
                                                                "target",
@@ -79,6 +80,8 @@ constexpr std::array<std::string_view, 24> kQueryParameters = {"environment",
                                                                "tonemap",
                                                                "background",
                                                                "ground",
+                                                               "occlusion",
+                                                               "bounce",
                                                                "shadows",
                                                                "shadow_resolution",
                                                                "shadow_filter",
@@ -471,6 +474,14 @@ ShadowFilter shadow_filter_from_string(const std::string& name) {
     return value_named(name, kFilterNames, "shadow filter");
 }
 
+std::string to_string(Bounce bounce) {
+    return name_of(bounce, kBounceNames);
+}
+
+Bounce bounce_from_string(const std::string& name) {
+    return value_named(name, kBounceNames, "bounce");
+}
+
 Background parse_background(const std::string& name, const std::string& text) {
     Background background;
     if (text == "env") {
@@ -551,6 +562,12 @@ RenderSpec parse_render_json(std::string_view body, const RenderLimits& limits) 
     }
     if (const Json* ground = find(json, "ground")) {
         spec.ground = json_bool(*ground, "ground");
+    }
+    if (const Json* occlusion = find(json, "occlusion")) {
+        spec.occlusion = json_bool(*occlusion, "occlusion");
+    }
+    if (const Json* bounce = find(json, "bounce")) {
+        spec.bounce = parse_enum("bounce", json_string(*bounce, "bounce"), bounce_from_string);
     }
     if (const Json* camera = find(json, "camera")) {
         spec.camera = json_camera(*camera, "camera");
@@ -668,6 +685,12 @@ RenderSpec parse_render_query(const std::multimap<std::string, std::string>& que
     if (const std::string* ground = get("ground")) {
         spec.ground = parse_on_off("ground", *ground);
     }
+    if (const std::string* occlusion = get("occlusion")) {
+        spec.occlusion = parse_on_off("occlusion", *occlusion);
+    }
+    if (const std::string* bounce = get("bounce")) {
+        spec.bounce = parse_enum("bounce", *bounce, bounce_from_string);
+    }
     if (const std::string* shadows = get("shadows")) {
         spec.shadows.enabled = parse_on_off("shadows", *shadows);
     }
@@ -710,6 +733,8 @@ nlohmann::json normalised_render_json(const RenderSpec& spec) {
     Json json = {{"environment", spec.environment},
                  {"objects", std::move(objects)},
                  {"ground", spec.ground},
+                 {"occlusion", spec.occlusion},
+                 {"bounce", to_string(spec.bounce)},
                  {"lights", std::move(lights)},
                  {"width", spec.width},
                  {"height", spec.height},
@@ -798,6 +823,8 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
     request.width = spec.width;
     request.height = spec.height;
     request.ground = spec.ground;
+    request.occlusion = spec.occlusion;
+    request.bounce = spec.bounce;
     request.background = spec.background;
     request.exposure = spec.exposure;
     request.tonemap = spec.tonemap;

@@ -288,7 +288,7 @@ TEST(OpenApi, RenderRequestDefaultsAreTheParsers) {
         ++defaults;
     }
     // The orbit's distance and target have none: absent, they are the automatic framing's.
-    EXPECT_EQ(defaults, 19);
+    EXPECT_EQ(defaults, 21);
     EXPECT_FALSE(default_of(render_member("camera/orbit/distance")).has_value());
     EXPECT_FALSE(default_of(render_member("camera/orbit/target")).has_value());
 }
@@ -370,6 +370,7 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
         {"exposure", "/exposure"},
         {"tonemap", "/tonemap"},
         {"background", "/background"},
+        {"bounce", "/bounce"},
         {"shadow_resolution", "/shadows/resolution"},
         {"shadow_filter", "/shadows/filter"},
         {"samples", "/samples"},
@@ -382,6 +383,8 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
     }
     EXPECT_FALSE(default_of(parameter_schema(render_get_parameters(), "distance")).has_value());
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "ground")), Json("on"));
+    EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "occlusion")), Json("on"));
+    EXPECT_TRUE(defaults.at("occlusion").get<bool>());
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "shadows")), Json("on"));
 }
 
@@ -446,7 +449,8 @@ TEST(OpenApi, SchemasDescribeTheDocumentsTheApiWrites) {
               "transform": [2,0,0,0, 0,2,0,0, 0,0,2,0, 1,0,0,1]}], "lights": [false, true],
               "camera": {"orbit": {"yaw": -30, "target": [0, 1, 0]}}, "background": "#FFFFFF"})",
           R"({"environment": "default", "camera": {"eye": [0, 1, 3], "target": [0, 1, 0]},
-              "format": "exr", "shadows": {"enabled": false}})"}) {
+              "format": "exr", "shadows": {"enabled": false}})",
+          R"({"environment": "default", "occlusion": false, "bounce": "none"})"}) {
         check_document(api::normalised_render_json(api::parse_render_json(body)),
                        schema("RenderRequest"), "RenderRequest");
     }

@@ -116,7 +116,8 @@ TEST(RenderRequest, EveryOtherMemberParses) {
     const RenderSpec spec = api::parse_render_json(R"({"environment": "default",
         "objects": [{"mesh": "default"}, {"mesh": ")" +
                                                    kMeshB + R"("}],
-        "ground": false, "width": 640, "height": 480.0, "format": "exr", "quality": 1,
+        "ground": false, "occlusion": false, "bounce": "none", "width": 640, "height": 480.0,
+        "format": "exr", "quality": 1,
         "exposure": -1.5, "tonemap": "aces", "background": "#FF8000",
         "shadows": {"enabled": false, "resolution": 512, "filter": "hard"},
         "samples": 8, "environment_yaw": -90})");
@@ -127,6 +128,8 @@ TEST(RenderRequest, EveryOtherMemberParses) {
     EXPECT_EQ(spec.objects[1].transform, glm::dmat4(1.0));
     EXPECT_FALSE(spec.objects[1].base_color.has_value());
     EXPECT_FALSE(spec.ground);
+    EXPECT_FALSE(spec.occlusion);
+    EXPECT_EQ(spec.bounce, Bounce::None);
     EXPECT_EQ(spec.width, 640);
     EXPECT_EQ(spec.height, 480);
     EXPECT_EQ(spec.format, api::ImageFormat::Exr);
@@ -148,10 +151,14 @@ TEST(RenderRequest, DefaultsFillTheCanonicalDocument) {
     EXPECT_TRUE(spec.objects.empty());
     EXPECT_FALSE(spec.camera.has_value());
     EXPECT_TRUE(spec.lights.empty());
+    EXPECT_TRUE(spec.occlusion);
+    EXPECT_EQ(spec.bounce, Bounce::One);
     const Json expected = {
         {"environment", "default"},
         {"objects", Json::array()},
         {"ground", true},
+        {"occlusion", true},
+        {"bounce", "one"},
         {"lights", Json::array()},
         {"width", 512},
         {"height", 512},
@@ -213,17 +220,23 @@ TEST(RenderRequest, GetAndPostFormsOfOneRequestShareTheEtag) {
         {"tonemap", "aces"},
         {"background", "#102030"},
         {"ground", false},
+        {"occlusion", false},
+        {"bounce", "none"},
         {"shadows", {{"enabled", true}, {"resolution", 1024}, {"filter", "hard"}}},
         {"samples", 2},
         {"environment_yaw", 45}};
-    const Query look_at_query = {
-        {"environment", kRig},     {"mesh", kMeshA},       {"mesh", "default"},
-        {"eye", "0,1.5,4"},        {"target", "0,0.75,0"}, {"up", "0,1,0"},
-        {"fov_y", "30"},           {"lights", "1,0,1"},    {"width", "800"},
-        {"height", "600"},         {"format", "png"},      {"quality", "70"},
-        {"exposure", "0.5"},       {"tonemap", "aces"},    {"background", "#102030"},
-        {"ground", "off"},         {"shadows", "on"},      {"shadow_resolution", "1024"},
-        {"shadow_filter", "hard"}, {"samples", "2"},       {"environment_yaw", "45"}};
+    const Query look_at_query = {{"environment", kRig},     {"mesh", kMeshA},
+                                 {"mesh", "default"},       {"eye", "0,1.5,4"},
+                                 {"target", "0,0.75,0"},    {"up", "0,1,0"},
+                                 {"fov_y", "30"},           {"lights", "1,0,1"},
+                                 {"width", "800"},          {"height", "600"},
+                                 {"format", "png"},         {"quality", "70"},
+                                 {"exposure", "0.5"},       {"tonemap", "aces"},
+                                 {"background", "#102030"}, {"ground", "off"},
+                                 {"occlusion", "off"},      {"bounce", "none"},
+                                 {"shadows", "on"},         {"shadow_resolution", "1024"},
+                                 {"shadow_filter", "hard"}, {"samples", "2"},
+                                 {"environment_yaw", "45"}};
     const RenderSpec from_json = api::parse_render_json(look_at_body.dump());
     const RenderSpec from_query = api::parse_render_query(look_at_query);
     EXPECT_EQ(api::normalised_render_json(from_query), api::normalised_render_json(from_json));
@@ -280,6 +293,8 @@ TEST(RenderRequest, ChangingAnyOneMemberChangesTheEtag) {
     vary("/objects/0/base_color"_json_pointer, {1, 1, 1});
     vary("/objects/1"_json_pointer, {{"mesh", kMeshA}});
     vary("/ground"_json_pointer, false);
+    vary("/occlusion"_json_pointer, false);
+    vary("/bounce"_json_pointer, "none");
     vary("/camera/eye"_json_pointer, {0, 1, 3.0001});
     vary("/camera/target"_json_pointer, {0, 0.5, 0});
     vary("/camera/up"_json_pointer, {0.1, 1, 0});
@@ -340,6 +355,11 @@ TEST(RenderRequest, ErrorsNameTheMembersPath) {
         {with("objects", R"([{"mesh": "default", "base_color": [1, 1]}])"), "objects/0/base_color"},
         {with("objects", R"({"mesh": "default"})"), "objects"},
         {with("ground", "1"), "ground"},
+        {with("occlusion", R"("off")"), "occlusion"},
+        {with("occlusion", "0"), "occlusion"},
+        {with("bounce", R"("two")"), "bounce"},
+        {with("bounce", R"("One")"), "bounce"},
+        {with("bounce", "1"), "bounce"},
         {with("camera", R"({"eye": [0, 0, 3], "target": [0, 0, 0], "fov_y": 180})"),
          "camera/fov_y"},
         {with("camera", R"({"eye": [0, 0, 3], "target": [0, 0, 0], "fov_y": "45"})"),
@@ -508,6 +528,11 @@ TEST(RenderRequest, QueryErrorsNameTheParameter) {
         {{{"environment", "default"}, {"tonemap", "reinhard"}}, "tonemap"},
         {{{"environment", "default"}, {"background", "#abc"}}, "background"},
         {{{"environment", "default"}, {"ground", "true"}}, "ground"},
+        {{{"environment", "default"}, {"occlusion", "false"}}, "occlusion"},
+        {{{"environment", "default"}, {"occlusion", ""}}, "occlusion"},
+        {{{"environment", "default"}, {"bounce", "two"}}, "bounce"},
+        {{{"environment", "default"}, {"bounce", "1"}}, "bounce"},
+        {{{"environment", "default"}, {"bounce", "none"}, {"bounce", "one"}}, "bounce"},
         {{{"environment", "default"}, {"shadows", "1"}}, "shadows"},
         {{{"environment", "default"}, {"shadow_resolution", "2047"}}, "shadow_resolution"},
         {{{"environment", "default"}, {"shadow_filter", "PCF"}}, "shadow_filter"},
@@ -530,6 +555,35 @@ TEST(RenderRequest, QueryErrorsNameTheParameter) {
               "lights");
 }
 
+// Issue 13's switches say what they accept, in both forms, in the words of their neighbours
+// (ground's on/off, tonemap's list of names).
+TEST(RenderRequest, OcclusionAndBounceMessagesNameWhatTheyAccept) {
+    const auto message = [](const auto& parse) -> std::string {
+        try {
+            parse();
+        } catch (const InvalidParameter& error) {
+            return error.what();
+        }
+        return "accepted";
+    };
+    EXPECT_EQ(message([] { api::parse_render_json(with("occlusion", R"("on")")); }),
+              "occlusion: expected true or false, got string");
+    EXPECT_EQ(message([] { api::parse_render_json(with("bounce", R"("two")")); }),
+              "bounce: bounce 'two' is not one of none, one");
+    EXPECT_EQ(message([] { api::parse_render_json(with("bounce", "true")); }),
+              "bounce: expected a string, got boolean");
+    EXPECT_EQ(message([] {
+                  api::parse_render_query({{"environment", "default"}, {"occlusion", "true"}});
+              }),
+              "occlusion: expected on or off, got 'true'");
+    EXPECT_EQ(message([] {
+                  api::parse_render_query({{"environment", "default"}, {"bounce", "two"}});
+              }),
+              "bounce: bounce 'two' is not one of none, one");
+    EXPECT_EQ(api::bounce_from_string(api::to_string(Bounce::None)), Bounce::None);
+    EXPECT_EQ(api::bounce_from_string(api::to_string(Bounce::One)), Bounce::One);
+}
+
 TEST(RenderRequest, QueryFormReadsEveryParameter) {
     const RenderSpec spec = api::parse_render_query({{"environment", kRig},
                                                      {"mesh", kMeshA},
@@ -539,6 +593,8 @@ TEST(RenderRequest, QueryFormReadsEveryParameter) {
                                                      {"lights", "0,1"},
                                                      {"background", "transparent"},
                                                      {"shadows", "off"},
+                                                     {"occlusion", "off"},
+                                                     {"bounce", "none"},
                                                      {"samples", "1"}});
     ASSERT_EQ(spec.objects.size(), 2u);
     EXPECT_EQ(spec.objects[0].mesh, kMeshA);
@@ -551,6 +607,8 @@ TEST(RenderRequest, QueryFormReadsEveryParameter) {
     EXPECT_EQ(spec.lights, (std::vector<double>{0.0, 1.0}));
     EXPECT_EQ(spec.background.kind, BackgroundKind::Transparent);
     EXPECT_FALSE(spec.shadows.enabled);
+    EXPECT_FALSE(spec.occlusion);
+    EXPECT_EQ(spec.bounce, Bounce::None);
     EXPECT_EQ(spec.samples, 1);
     EXPECT_FALSE(api::parse_render_query({{"environment", "default"}}).camera.has_value());
 }
@@ -602,7 +660,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
                              "camera/orbit/distance", "shadows/filter", "environment_yaw"}) {
         EXPECT_NE(std::find(members.begin(), members.end(), path), members.end()) << path;
     }
-    EXPECT_EQ(members.size(), 15u + 3u + 5u + 4u + 3u);
+    EXPECT_EQ(members.size(), 17u + 3u + 5u + 4u + 3u);
     // Every query parameter is accepted with a valid value (and the ones it needs).
     const std::map<std::string, Query> valid = {
         {"environment", {}},
@@ -624,6 +682,8 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         {"tonemap", {{"tonemap", "none"}}},
         {"background", {{"background", "env"}}},
         {"ground", {{"ground", "off"}}},
+        {"occlusion", {{"occlusion", "off"}}},
+        {"bounce", {{"bounce", "none"}}},
         {"shadows", {{"shadows", "off"}}},
         {"shadow_resolution", {{"shadow_resolution", "64"}}},
         {"shadow_filter", {{"shadow_filter", "hard"}}},
@@ -635,7 +695,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         query.insert({"environment", "default"});
         EXPECT_EQ(rejected_parameter(query), "") << parameter;
     }
-    EXPECT_EQ(api::render_query_parameters().size(), 24u);
+    EXPECT_EQ(api::render_query_parameters().size(), 26u);
 }
 
 TEST(RenderRequest, BackgroundsReadAndPrintCanonically) {
@@ -677,6 +737,7 @@ TEST(RenderRequest, ToFrameRequestConvertsALookAtCamera) {
                      "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 2,3,4,1]}, {"mesh": "default"}],
         "camera": {"eye": [1, 2, 3], "target": [0, 1, 0], "up": [0, 0, 1], "fov_y": 60},
         "lights": [false, true], "width": 320, "height": 200, "ground": false,
+        "occlusion": false, "bounce": "none",
         "background": "#ff0080", "exposure": 1.5, "tonemap": "none",
         "shadows": {"enabled": false, "resolution": 256, "filter": "hard"}, "samples": 2,
         "environment_yaw": 90})");
@@ -702,6 +763,9 @@ TEST(RenderRequest, ToFrameRequestConvertsALookAtCamera) {
     EXPECT_EQ(request.width, 320);
     EXPECT_EQ(request.height, 200);
     EXPECT_FALSE(request.ground);
+    EXPECT_FALSE(request.occlusion);
+    EXPECT_EQ(request.bounce, Bounce::None);
+    EXPECT_FALSE(request.transfer) << "the caller bakes or finds the transfer";
     EXPECT_EQ(request.background.kind, BackgroundKind::Color);
     EXPECT_EQ(request.background.color, glm::vec3(1.0f, 0.0f, 128.0f / 255.0f));
     EXPECT_EQ(request.exposure, 1.5);

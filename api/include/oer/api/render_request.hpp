@@ -16,6 +16,8 @@
 //   camera.fov_y                               fov_y
 //   lights: [1, 0.5, false]                    lights=1,0.5,0  (weights; true/false: 1/0)
 //   ground: true | false                       ground=on|off
+//   occlusion: true | false                    occlusion=on|off
+//   bounce: "none" | "one"                     bounce=none|one
 //   shadows.enabled: true | false              shadows=on|off
 //   shadows.resolution, shadows.filter         shadow_resolution, shadow_filter
 //   environment_yaw                            environment_yaw
@@ -68,6 +70,9 @@ ImageFormat image_format_from_string(const std::string& name);  // throws oer::E
 std::string to_string(ShadowFilter filter);                       // "pcf", "hard"
 ShadowFilter shadow_filter_from_string(const std::string& name);  // throws oer::Error
 
+std::string to_string(Bounce bounce);                // "none", "one"
+Bounce bounce_from_string(const std::string& name);  // throws oer::Error
+
 // "env", "transparent" or "#rrggbb" (either case); throws InvalidParameter naming `name`.
 Background parse_background(const std::string& name, const std::string& text);
 // The canonical text: "env", "transparent" or "#rrggbb" in lowercase.
@@ -105,6 +110,11 @@ struct RenderSpec {
     std::string environment;  // a rig id or kDefaultPresetId
     std::vector<ObjectSpec> objects;
     bool ground = true;
+    // Issue 13's switches, FrameRequest::occlusion and ::bounce: false, the previous OER
+    // lighting (the residual map unoccluded); none, the ground lights nothing and nothing
+    // reflects (to compare with a direct-only reference).
+    bool occlusion = true;
+    Bounce bounce = Bounce::One;
     std::optional<CameraSpec> camera;  // empty: frame the scene automatically
     // One weight per rig light in [0, kMaxLightWeight] (0 off, 1 as captured; the body's true
     // and false are 1 and 0, so both spellings share the canonical document); empty: all 1.
@@ -154,6 +164,8 @@ Camera resolved_camera(const RenderSpec& spec,
 // (the image the rig was made from) may be null unless the background is the environment. Throws
 // InvalidParameter("lights") when the weights do not match the rig's lights, and oer::Error
 // (Internal) when the resolved assets do not match the spec (a caller's bug).
+// FrameRequest::transfer stays empty: with occlusion on, the caller bakes it
+// (oer::bake_transfer) or finds it cached (the service's transfer registry).
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes);
