@@ -46,6 +46,7 @@ TEST_F(ReferenceCommand, TracesTheRequestRendersFlagsMake) {
                               std::make_shared<const HdrImage>(map),
                               {std::make_shared<const Mesh>(make_default_product())});
     ReferenceOptions options;
+    options.bounce = request.bounce;  // one: --bounce's default, as oer render's
     options.samples = 8;
     options.seed = 5;
     const ReferenceFrame expected = render_reference(request, options);
@@ -68,7 +69,18 @@ TEST_F(ReferenceCommand, TracesTheRequestRendersFlagsMake) {
     EXPECT_DOUBLE_EQ(stats.at("noise").at("ground").at("relative_rms").get<double>(),
                      expected.noise.ground);
     EXPECT_EQ(stats.at("samples"), 8);
-    EXPECT_EQ(stats.at("bounce"), "none");
+    EXPECT_EQ(stats.at("bounce"), "one");
+}
+
+TEST_F(ReferenceCommand, BounceNoneTracesTheEnvironmentsLightAlone) {
+    const std::string stats = (dir_ / "stats.json").string();
+    const ProcessResult result =
+        run("reference --env default --mesh default --size 8x6 --samples 2 --bounce none "
+            "--stats " +
+            stats + " -o " + (dir_ / "frame.exr").string());
+    ASSERT_EQ(result.status, 0) << result.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(stats)).at("bounce"), "none");
+    EXPECT_NE(result.err.find("bounce none"), std::string::npos) << result.err;
 }
 
 TEST_F(ReferenceCommand, RejectsOddSamplesAndDisplayFormats) {
@@ -79,8 +91,15 @@ TEST_F(ReferenceCommand, RejectsOddSamplesAndDisplayFormats) {
     result = run("reference --env default --mesh default -o " + (dir_ / "frame.png").string());
     EXPECT_EQ(result.status, 2);
     EXPECT_NE(result.err.find(".exr"), std::string::npos) << result.err;
+    // --bounce is oer render's flag, read by the service's parser; --occlusion is the
+    // rasteriser's alone.
     result = run("reference --env default --mesh default --bounce two" + out);
     EXPECT_EQ(result.status, 2);
+    EXPECT_NE(result.err.find("--bounce: bounce 'two' is not one of none, one"), std::string::npos)
+        << result.err;
+    result = run("reference --env default --mesh default --occlusion off" + out);
+    EXPECT_EQ(result.status, 2);
+    EXPECT_NE(result.err.find("--occlusion"), std::string::npos) << result.err;
     result = run("reference --env default --mesh default --fov 0" + out);
     EXPECT_EQ(result.status, 2);
     EXPECT_NE(result.err.find("--fov"), std::string::npos) << result.err;

@@ -11,6 +11,7 @@
 #include "command_line.hpp"
 #include "commands.hpp"
 #include "oer/api/frame_encoding.hpp"
+#include "oer/api/render_request.hpp"
 #include "oer/core/error.hpp"
 #include "oer/reference/reference_renderer.hpp"
 #include "render_inputs.hpp"
@@ -38,15 +39,15 @@ nlohmann::json noise_json(double relative_rms, std::size_t pixels) {
 int reference_command(const std::vector<std::string>& arguments) {
     CLI::App app("Path traces the frame `oer render` draws: the ground truth.", "oer reference");
     RenderInputs inputs;
-    std::string bounce = "none", stats_path;
+    std::string stats_path;
     int samples = 64;
     std::uint64_t sample_seed = 1;
     int threads = 0;
     app.add_option("-o", inputs.output, "the frame, OUT.exr (linear radiance)");
-    // --samples is this command's own (Monte Carlo samples per pixel), not the rasteriser's.
-    add_render_inputs(app, inputs, {"samples"});
-    app.add_option("--bounce", bounce, "none (environment light only) or one (plus one bounce)")
-        ->check(CLI::IsMember({"none", "one"}));
+    // --samples is this command's own (Monte Carlo samples per pixel), not the rasteriser's;
+    // --occlusion switches the rasteriser's approximation of what the reference traces.
+    // --bounce is `oer render`'s: the reference of a frame traces the light that frame models.
+    add_render_inputs(app, inputs, {"samples", "occlusion"});
     app.add_option("--samples", samples, "Monte Carlo samples per pixel, even, at least 2")
         ->check(CLI::Range(2, 1 << 20));
     // --seed is the light location's (every command's preprocessing flag).
@@ -82,7 +83,7 @@ int reference_command(const std::vector<std::string>& arguments) {
         }
     }
     ReferenceOptions options;
-    options.bounce = bounce == "one" ? Bounce::One : Bounce::None;
+    options.bounce = scene.request.bounce;
     options.samples = samples;
     options.seed = sample_seed;
     options.threads = threads;
@@ -98,7 +99,7 @@ int reference_command(const std::vector<std::string>& arguments) {
     const ReferenceNoise& noise = reference.noise;
     const nlohmann::json stats = {{"width", reference.width},
                                   {"height", reference.height},
-                                  {"bounce", bounce},
+                                  {"bounce", api::to_string(scene.spec.bounce)},
                                   {"samples", samples},
                                   {"sample_seed", sample_seed},
                                   {"render_ms", reference.render_ms},
@@ -110,10 +111,11 @@ int reference_command(const std::vector<std::string>& arguments) {
         write_file(stats_path, "statistics", text.data(), text.size());
     }
     std::cerr << std::setprecision(3) << "reference: " << reference.width << "x" << reference.height
-              << ", bounce " << bounce << ", " << samples << " samples per pixel, " << std::fixed
-              << std::setprecision(1) << reference.render_ms << " ms; relative RMS noise: object "
-              << std::setprecision(4) << noise.object << " (" << noise.object_pixels
-              << " pixels), ground " << noise.ground << " (" << noise.ground_pixels << " pixels)\n";
+              << ", bounce " << api::to_string(scene.spec.bounce) << ", " << samples
+              << " samples per pixel, " << std::fixed << std::setprecision(1) << reference.render_ms
+              << " ms; relative RMS noise: object " << std::setprecision(4) << noise.object << " ("
+              << noise.object_pixels << " pixels), ground " << noise.ground << " ("
+              << noise.ground_pixels << " pixels)\n";
     return 0;
 }
 

@@ -12,6 +12,7 @@
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
 #include "oer/lighting/specular_environment.hpp"
+#include "oer/transfer/transfer_bake.hpp"
 #include "render_inputs.hpp"
 
 namespace oer::cli {
@@ -48,6 +49,12 @@ int render_command(const std::vector<std::string>& arguments) {
                                                                 specular_start)
                           .count();
     }
+    // Baked here, off the render thread, as the service bakes it before it queues the frame.
+    if (request.occlusion) {
+        TransferBakeOptions options;
+        options.bounce = request.bounce;
+        request.transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, options));
+    }
 
     RenderThread thread;
     const Frame frame = thread
@@ -73,6 +80,10 @@ int render_command(const std::vector<std::string>& arguments) {
     if (specular_ms >= 0.0) {
         std::cerr << ", specular cube " << specular_ms << " ms (" << request.specular->byte_size()
                   << " bytes)";
+    }
+    if (request.transfer) {
+        std::cerr << ", transfer " << request.transfer->bake_ms << " ms (" << request.transfer->rays
+                  << " rays per point)";
     }
     for (const auto& [pass, ms] : frame.timings_ms) {
         std::cerr << ", " << pass << " " << ms << " ms";

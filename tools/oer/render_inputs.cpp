@@ -18,7 +18,7 @@ namespace {
 // The flags that are query parameters of GET /v1/render, as (flag, parameter): their values go
 // through the service's parser, so that the CLI accepts, rejects and defaults exactly as the
 // service does. --size WxH gives two of them, width and height.
-constexpr std::array<std::pair<std::string_view, std::string_view>, 16> kQueryFlags{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 18> kQueryFlags{{
     {"base-color", "base_color"},
     {"eye", "eye"},
     {"target", "target"},
@@ -26,6 +26,8 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 16> kQueryFl
     {"fov", "fov_y"},
     {"lights", "lights"},
     {"ground", "ground"},
+    {"occlusion", "occlusion"},
+    {"bounce", "bounce"},
     {"background", "background"},
     {"tonemap", "tonemap"},
     {"exposure", "exposure"},
