@@ -38,6 +38,8 @@ std::string_view folder_name(DerivedKind kind) {
             return "rig-sources";
         case DerivedKind::Specular:
             return "specular";
+        case DerivedKind::Transfer:
+            return "transfer";
     }
     throw Error(ErrorKind::Internal, "asset store: unknown derived kind");
 }
@@ -215,7 +217,7 @@ AssetStore::AssetStore(fs::path folder, Log log)
     for (const std::string_view name :
          {folder_name(SourceKind::Environment), folder_name(SourceKind::Mesh),
           folder_name(DerivedKind::Rig), folder_name(DerivedKind::RigSource),
-          folder_name(DerivedKind::Specular)}) {
+          folder_name(DerivedKind::Specular), folder_name(DerivedKind::Transfer)}) {
         const fs::path kind_folder = folder_ / name;
         std::error_code error;
         fs::create_directories(kind_folder, error);

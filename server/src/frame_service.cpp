@@ -24,10 +24,11 @@ std::string timing_entry(const std::string& pass, double ms) {
 }  // namespace
 
 FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
-                           RenderPool& pool, ByteLruCache& frames, ServiceMetrics& metrics,
-                           std::chrono::seconds deadline)
+                           TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
+                           ServiceMetrics& metrics, std::chrono::seconds deadline)
     : environments_(environments),
       meshes_(meshes),
+      transfers_(transfers),
       pool_(pool),
       frames_(frames),
       metrics_(metrics),
@@ -39,6 +40,7 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     result.etag = etag;
     result.content_type = api::content_type_of(spec.format);
     std::vector<std::shared_ptr<const Mesh>> meshes;
+    std::vector<std::string> mesh_ids;
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const auto mesh = meshes_.find(spec.objects[i].mesh);
         if (!mesh) {
@@ -47,6 +49,7 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                 form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
         }
         meshes.push_back(mesh->mesh);
+        mesh_ids.push_back(mesh->id);
     }
     // Before the cache, so that a cached frame names its camera too (a few map lookups).
     result.camera = api::resolved_camera(spec, meshes);
@@ -80,6 +83,10 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                                 "upload it again",
                             "environment");
         }
+    }
+    // A scene without objects has nothing to occlude the residual map: the bake needs objects.
+    if (frame_request.occlusion && !frame_request.objects.empty()) {
+        frame_request.transfer = transfers_.transfer(frame_request, mesh_ids);
     }
     auto request = std::make_shared<const FrameRequest>(std::move(frame_request));
 

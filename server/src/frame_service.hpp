@@ -3,7 +3,9 @@
 // encoded frames (keyed by the request's ETag) when it is there, else rendered by a worker of
 // the pool within the request's deadline and encoded on the calling HTTP thread (so the GL
 // worker moves on to the next frame). A frame whose scene has a glossy material under an hdr
-// rig gets the rig's specular cube (EnvironmentRegistry::specular); any other gets none.
+// rig gets the rig's specular cube (EnvironmentRegistry::specular); any other gets none. A frame
+// with occlusion on gets its scene's transfer (TransferRegistry), baked on the calling thread
+// when neither memory nor the store has it.
 #include <chrono>
 #include <memory>
 #include <string>
@@ -14,6 +16,7 @@
 #include "oer/server/byte_lru_cache.hpp"
 #include "render_pool.hpp"
 #include "service_metrics.hpp"
+#include "transfer_registry.hpp"
 
 namespace oer::server {
 
@@ -31,8 +34,9 @@ enum class RequestForm { Json, Query };
 
 class FrameService {
   public:
-    FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes, RenderPool& pool,
-                 ByteLruCache& frames, ServiceMetrics& metrics, std::chrono::seconds deadline);
+    FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
+                 TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
+                 ServiceMetrics& metrics, std::chrono::seconds deadline);
 
     // etag: api::render_etag(spec), computed once by the caller (which answers 304 with it).
     // Throws HttpError (404 for an unknown id, 503 past the deadline), QueueFull, and what
@@ -42,6 +46,7 @@ class FrameService {
   private:
     EnvironmentRegistry& environments_;
     MeshRegistry& meshes_;
+    TransferRegistry& transfers_;
     RenderPool& pool_;
     ByteLruCache& frames_;
     ServiceMetrics& metrics_;

@@ -26,6 +26,7 @@
 #include "router.hpp"
 #include "service_context.hpp"
 #include "service_metrics.hpp"
+#include "transfer_registry.hpp"
 
 namespace oer::server {
 
@@ -34,6 +35,9 @@ namespace {
 // Decoded maps and meshes held in memory, beside the frame cache: enough for a few large maps
 // so that a dressing room switching between them keeps them warm.
 constexpr std::size_t kAssetCacheBytes = 1ull << 30;
+// Scenes' transfers: about 400 bytes a vertex with one bounce (order 5: 25 direct and 75 bounce
+// floats), so a few bunny-sized scenes and many small products.
+constexpr std::size_t kTransferCacheBytes = 256ull << 20;
 
 // The test frame every worker renders before the service reports ready: small, so start-up
 // stays quick, yet through every pass (shadows, ground, background).
@@ -59,6 +63,7 @@ struct Service::Impl {
           environments(store, metrics, log, ImageLimits{config.max_image_pixels, 32768},
                        kAssetCacheBytes),
           meshes(store, metrics, mesh_limits(config), kAssetCacheBytes / 2),
+          transfers(store, metrics, log, kTransferCacheBytes),
           frames(config.frame_cache_bytes) {
         render_limits.max_width = config.max_frame_width;
         render_limits.max_height = config.max_frame_height;
@@ -74,7 +79,7 @@ struct Service::Impl {
     void start();
     void stop();
     void configure_server();
-    Frame test_frame(FrameRenderer& renderer);
+    FrameRequest test_frame_request();
 
     const ServiceConfig config;
     const std::function<void(std::string_view)> log;
@@ -83,6 +88,7 @@ struct Service::Impl {
     ServiceMetrics metrics;
     EnvironmentRegistry environments;
     MeshRegistry meshes;
+    TransferRegistry transfers;
     ByteLruCache frames;
     api::RenderLimits render_limits;
     std::atomic<bool> ready{false};
@@ -96,19 +102,23 @@ struct Service::Impl {
     int port = -1;
 };
 
-Frame Service::Impl::test_frame(FrameRenderer& renderer) {
-    const auto environment = environments.find(std::string(api::kDefaultPresetId));
+// The default scene (the preset environment and product, untransformed, on the ground, with
+// occlusion and one bounce): its transfer is the default frame's, so baking it here, before the
+// service is ready, spares the first user frame the bake.
+FrameRequest Service::Impl::test_frame_request() {
+    const std::string preset(api::kDefaultPresetId);
+    const auto environment = environments.find(preset);
     FrameRequest request;
     request.rig = environment->rig;
     request.environment_map = environments.source_image(*environment);
     request.specular = environments.specular(*environment);  // the default product is glossy
-    request.objects.push_back(
-        {meshes.find(std::string(api::kDefaultPresetId))->mesh, glm::mat4(1.0f), std::nullopt});
+    request.objects.push_back({meshes.find(preset)->mesh, glm::mat4(1.0f), std::nullopt});
+    request.transfer = transfers.transfer(request, {preset});
     request.width = kTestFrameSize;
     request.height = kTestFrameSize;
     request.samples = 1;
     request.shadows.resolution = 256;
-    return renderer.render(request);
+    return request;
 }
 
 void Service::Impl::start() {
@@ -121,12 +131,14 @@ void Service::Impl::start() {
     pool = std::make_unique<RenderPool>(
         config.render_workers, config.max_queue_depth, frame_limits,
         [this](std::size_t waiting) { metrics.render_queue_depth.set(double(waiting)); });
-    pool->run_on_every_worker([this](FrameRenderer& renderer) { return test_frame(renderer); });
+    const FrameRequest test_frame = test_frame_request();
+    pool->run_on_every_worker(
+        [&test_frame](FrameRenderer& renderer) { return renderer.render(test_frame); });
     ready = true;
     metrics.render_workers_ready.set(pool->worker_count());
 
     frame_service =
-        std::make_unique<FrameService>(environments, meshes, *pool, frames, metrics,
+        std::make_unique<FrameService>(environments, meshes, transfers, *pool, frames, metrics,
                                        std::chrono::seconds(config.request_timeout_seconds));
     const std::size_t max_body =
         std::max<std::size_t>(config.max_upload_bytes, render_limits.max_body_bytes);

@@ -21,6 +21,8 @@ const char* name_of(CacheName cache) {
             return "environment";
         case CacheName::Specular:
             return "specular";
+        case CacheName::Transfer:
+            return "transfer";
     }
     return "unknown";
 }
@@ -41,6 +43,13 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
       specular_computed(registry.counter(
           "oer_specular_computed_total",
           "Specular cubes computed (prefiltering runs; memory and store hits excluded)")),
+      transfer_seconds(registry.histogram(
+          "oer_transfer_seconds",
+          "Time to bake a scene's transfer (occlusion and one bounce of the residual map)",
+          kLatencyBucketsSeconds)),
+      transfers_computed(
+          registry.counter("oer_transfers_computed_total",
+                           "Scene transfers baked (bake runs; memory and store hits excluded)")),
       meshes_loaded(
           registry.counter("oer_meshes_loaded_total",
                            "Meshes decoded from uploads or from the store (cache hits excluded)")),
@@ -49,8 +58,9 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
       render_workers_ready(registry.gauge(
           "oer_render_workers_ready", "Render workers with a GL context and a test frame done")),
       registry_(registry) {
-    for (const CacheName cache : {CacheName::Frame, CacheName::Rig, CacheName::Mesh,
-                                  CacheName::Environment, CacheName::Specular}) {
+    for (const CacheName cache :
+         {CacheName::Frame, CacheName::Rig, CacheName::Mesh, CacheName::Environment,
+          CacheName::Specular, CacheName::Transfer}) {
         registry.counter("oer_cache_hits_total", kHitsHelp, {{"cache", name_of(cache)}});
         registry.counter("oer_cache_misses_total", kMissesHelp, {{"cache", name_of(cache)}});
     }

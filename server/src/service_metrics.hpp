@@ -9,7 +9,7 @@
 namespace oer::server {
 
 // The caches whose hits and misses are counted.
-enum class CacheName { Frame, Rig, Mesh, Environment, Specular };
+enum class CacheName { Frame, Rig, Mesh, Environment, Specular, Transfer };
 
 class ServiceMetrics {
   public:
@@ -27,6 +27,8 @@ class ServiceMetrics {
     Counter& rigs_computed;         // each rig actually computed, never a cache hit
     Histogram& specular_seconds;    // prefiltering a rig's residual map (specular cube)
     Counter& specular_computed;     // each specular cube actually computed, never a hit
+    Histogram& transfer_seconds;    // baking a scene's transfer
+    Counter& transfers_computed;    // each transfer actually baked, never a memory or store hit
     Counter& meshes_loaded;         // each mesh actually decoded (upload or store), never a hit
     Gauge& render_queue_depth;      // frames waiting for a render worker
     Gauge& render_workers_ready;    // workers with a GL context that rendered a test frame

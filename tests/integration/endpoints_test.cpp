@@ -4,6 +4,7 @@
 // the same file, SH irradiance, decoded image sizes and colors).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -238,6 +239,18 @@ TEST_F(Endpoints, MetricsAreValidPrometheusTextCountingRequestsAndCaches) {
                   before.sum("oer_cache_hits_total", {{"cache", "frame"}}),
               1.0);
     EXPECT_EQ(after.sum("oer_render_seconds_count") - before.sum("oer_render_seconds_count"), 1.0);
+    // The default scene's transfer, baked at start-up: one hit for the rendered frame, no bake.
+    EXPECT_EQ(after.sum("oer_cache_hits_total", {{"cache", "transfer"}}) -
+                  before.sum("oer_cache_hits_total", {{"cache", "transfer"}}),
+              1.0);
+    EXPECT_EQ(
+        after.sum("oer_transfers_computed_total") - before.sum("oer_transfers_computed_total"),
+        0.0);
+    EXPECT_TRUE(after.has("oer_transfer_seconds_count"));
+    EXPECT_TRUE(std::any_of(after.samples.begin(), after.samples.end(), [](const Sample& sample) {
+        return sample.name == "oer_cache_misses_total" && sample.labels.count("cache") &&
+               sample.labels.at("cache") == "transfer";
+    })) << "the transfer cache's series are not there from the first scrape";
     EXPECT_EQ(after.sum("oer_render_queue_depth"), 0.0);
     EXPECT_EQ(after.sum("oer_render_workers_ready"), 1.0);
 
@@ -246,7 +259,8 @@ TEST_F(Endpoints, MetricsAreValidPrometheusTextCountingRequestsAndCaches) {
         {"oer_render_seconds", "histogram"},    {"oer_preprocess_seconds", "histogram"},
         {"oer_rigs_computed_total", "counter"}, {"oer_cache_hits_total", "counter"},
         {"oer_cache_misses_total", "counter"},  {"oer_render_queue_depth", "gauge"},
-        {"oer_render_workers_ready", "gauge"}};
+        {"oer_render_workers_ready", "gauge"},  {"oer_transfers_computed_total", "counter"},
+        {"oer_transfer_seconds", "histogram"}};
     for (const auto& [family, type] : families) {
         EXPECT_EQ(after.types.count(family) ? after.types.at(family) : "<absent>", type) << family;
     }

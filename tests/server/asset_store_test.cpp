@@ -87,8 +87,9 @@ class AssetStoreTest : public ::testing::Test {
 TEST_F(AssetStoreTest, CreatesTheFolderAndOneSubFolderPerKind) {
     ASSERT_FALSE(fs::exists(folder_));
     const AssetStore store = open();
-    EXPECT_EQ(file_names(folder_), (std::vector<std::string>{"environments", "meshes",
-                                                             "rig-sources", "rigs", "specular"}));
+    EXPECT_EQ(file_names(folder_),
+              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs", "specular",
+                                        "transfer"}));
     EXPECT_EQ(store.folder(), folder_);
 }
 
@@ -145,6 +146,18 @@ TEST_F(AssetStoreTest, SpecularEntryIsKeptByRigIdBesideTheRig) {
     EXPECT_TRUE(store.remove(DerivedKind::Specular, kRigId));
     EXPECT_FALSE(store.contains(DerivedKind::Specular, kRigId));
     EXPECT_TRUE(store.contains(DerivedKind::Rig, kRigId));
+}
+
+// A scene's transfer (binary floats) lives in a folder of its own under the id of its bake.
+TEST_F(AssetStoreTest, TransferEntryIsKeptInItsOwnFolder) {
+    AssetStore store = open();
+    const std::string transfer = std::string("OERPRT\x01\0\0\x80\x3f", 11);
+    store.put_derived(DerivedKind::Transfer, kRigId, transfer);
+    EXPECT_EQ(store.get_derived(DerivedKind::Transfer, kRigId), transfer);
+    EXPECT_FALSE(store.contains(DerivedKind::Rig, kRigId));
+    EXPECT_EQ(file_names(folder_ / "transfer"), std::vector<std::string>{kRigId + ".sealed"});
+    EXPECT_TRUE(store.remove(DerivedKind::Transfer, kRigId));
+    EXPECT_TRUE(file_names(folder_ / "transfer").empty());
 }
 
 TEST_F(AssetStoreTest, EmptyPayloadsRoundTrip) {
@@ -317,8 +330,9 @@ TEST_F(AssetStoreTest, InvalidIdsAreRejectedBeforeAnyPathIsBuilt) {
         }
     }
     EXPECT_EQ(file_names(folder_.parent_path()), std::vector<std::string>{"data"});
-    EXPECT_EQ(file_names(folder_), (std::vector<std::string>{"environments", "meshes",
-                                                             "rig-sources", "rigs", "specular"}));
+    EXPECT_EQ(file_names(folder_),
+              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs", "specular",
+                                        "transfer"}));
     for (const char* kind : {"environments", "meshes", "rig-sources", "rigs"}) {
         EXPECT_TRUE(file_names(folder_ / kind).empty()) << kind;
     }

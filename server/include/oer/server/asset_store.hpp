@@ -6,7 +6,7 @@
 //
 // Layout: DIR/environments/<id>.<ext>, DIR/meshes/<id>.<ext> (the upload's bytes as they came,
 // the extension naming their format), DIR/rigs/<id>.sealed, DIR/rig-sources/<id>.sealed and
-// DIR/specular/<rig id>.sealed (a header line
+// DIR/specular/<rig id>.sealed, DIR/transfer/<scene's transfer id>.sealed (a header line
 // "oer-sealed-v1 <sha256 of payload> <payload length>\n", then the payload).
 //
 // Writes are atomic: a uniquely named temporary file beside the entry is written, flushed to
@@ -34,8 +34,10 @@ namespace oer::server {
 enum class SourceKind { Environment, Mesh };
 // Rig: a preprocessed rig (its JSON and its light masks). RigSource: which source and options a
 // rig came from, kept apart so that a damaged rig can be recomputed from its source. Specular:
-// a rig's residual map prefiltered (oer::encode_prefiltered_cube), by the rig's id.
-enum class DerivedKind { Rig, RigSource, Specular };
+// a rig's residual map prefiltered (oer::encode_prefiltered_cube), by the rig's id. Transfer: a
+// scene's precomputed radiance transfer (oer::encode_transfer), by an id hashing everything its
+// bake depends on.
+enum class DerivedKind { Rig, RigSource, Specular, Transfer };
 
 struct StoredSource {
     std::string bytes;

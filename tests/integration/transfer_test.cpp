@@ -1,0 +1,316 @@
+// Issue 13's switches and a scene's transfer in the service (TransferRegistry): the render
+// request's occlusion and bounce in both forms, bad values answered as problems; a frame with
+// occlusion on bakes its scene's transfer once (concurrent frames included), stores it by the
+// scene's id, reads it back after a restart without baking, and bakes again, never serves, an
+// entry that is damaged or belongs to another scene. The default scene's transfer is baked at
+// start-up. Scenes here are small (a box, the default product), so that the bakes stay quick.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <latch>
+#include <set>
+#include <thread>
+
+#include "http_support.hpp"
+
+using namespace oer;
+using namespace oer::itest;
+
+namespace {
+
+// The entries of the store's transfer folder, by file name.
+std::set<std::string> transfer_entries(const TempRoot& root) {
+    std::set<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(root.data() / "transfer")) {
+        names.insert(entry.path().filename().string());
+    }
+    return names;
+}
+
+Json box_scene(const std::string& mesh, int width = 48) {
+    return {{"environment", "default"},
+            {"objects", {{{"mesh", mesh}}}},
+            {"width", width},
+            {"height", 32},
+            {"format", "png"},
+            {"samples", 1},
+            {"shadows", {{"resolution", 256}}}};
+}
+
+httplib::Result render(httplib::Client& client, const Json& body) {
+    return post_json(client, "/v1/render", body);
+}
+
+// The frame's bytes, checked to be a frame.
+std::string frame_of(const httplib::Result& result) {
+    EXPECT_TRUE(result) << "no answer";
+    if (!result) {
+        return {};
+    }
+    EXPECT_EQ(result->status, 200) << result->body;
+    return result->body;
+}
+
+double transfers_computed(httplib::Client& client) {
+    return scrape(client).sum("oer_transfers_computed_total");
+}
+
+std::string upload_box(httplib::Client& client) {
+    const Json mesh = upload_mesh(client, box_obj({-0.4, 0.0, -0.3}, {0.4, 0.6, 0.3}), "model/obj");
+    EXPECT_TRUE(mesh.is_object());
+    return mesh.is_object() ? mesh.at("id").get<std::string>() : std::string();
+}
+
+bool logged(const TestServer& server, const std::string& text) {
+    for (const std::string& line : server.log_lines()) {
+        if (line.find(text) != std::string::npos) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The one entry in `after` that `before` lacks.
+std::string new_entry(const std::set<std::string>& before, const std::set<std::string>& after) {
+    std::vector<std::string> added;
+    for (const std::string& name : after) {
+        if (!before.contains(name)) {
+            added.push_back(name);
+        }
+    }
+    EXPECT_EQ(added.size(), 1u);
+    return added.empty() ? std::string() : added.front();
+}
+
+}  // namespace
+
+TEST(Transfer, TheSwitchesReadInBothFormsAndBadValuesAreProblems) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const double at_start = transfers_computed(*client);
+    Json body = box_scene("default");
+    const auto by_default = render(*client, body);
+    body["occlusion"] = false;
+    body["bounce"] = "none";
+    const auto switched = render(*client, body);
+    const auto queried = client->Get(
+        "/v1/render?environment=default&mesh=default&width=48&height=32&format=png&samples=1&"
+        "shadow_resolution=256&occlusion=off&bounce=none");
+    ASSERT_TRUE(by_default && switched && queried);
+    ASSERT_EQ(switched->status, 200) << switched->body;
+    ASSERT_EQ(queried->status, 200) << queried->body;
+    expect_conforms("POST", "/v1/render", switched);
+    EXPECT_EQ(switched->get_header_value("ETag"), queried->get_header_value("ETag"));
+    EXPECT_EQ(switched->body, queried->body);
+    EXPECT_NE(switched->get_header_value("ETag"), by_default->get_header_value("ETag"));
+    // The defaults spelled out are the same request.
+    body["occlusion"] = true;
+    body["bounce"] = "one";
+    const auto spelled = render(*client, body);
+    ASSERT_TRUE(spelled);
+    EXPECT_EQ(spelled->get_header_value("ETag"), by_default->get_header_value("ETag"));
+
+    for (const auto& [member, value] : {std::pair<std::string, Json>{"occlusion", "off"},
+                                        std::pair<std::string, Json>{"occlusion", 1},
+                                        std::pair<std::string, Json>{"bounce", "two"},
+                                        std::pair<std::string, Json>{"bounce", true}}) {
+        Json bad = box_scene("default");
+        bad[member] = value;
+        expect_problem("POST", "/v1/render", render(*client, bad), 422, member);
+    }
+    for (const auto& [parameter, value] : {std::pair<std::string, std::string>{"occlusion", "true"},
+                                           std::pair<std::string, std::string>{"bounce", "One"}}) {
+        const std::string path =
+            "/v1/render?environment=default&mesh=default&" + parameter + "=" + value;
+        expect_problem("GET", "/v1/render", client->Get(path.c_str()), 422, parameter);
+    }
+    EXPECT_EQ(transfers_computed(*client), at_start)
+        << "the default scene's transfer is baked at start-up, and occlusion off needs none";
+}
+
+// Needs the GL renderer to honour FrameRequest::occlusion, ::bounce and ::transfer (issue 13,
+// on main): until then every switch draws the same frame.
+TEST(Transfer, TheSwitchesChangeTheFrame) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    Json body = box_scene("default");
+    const std::string occluded = frame_of(render(*client, body));
+    body["occlusion"] = false;
+    const std::string unoccluded = frame_of(render(*client, body));
+    body["occlusion"] = true;
+    body["bounce"] = "none";
+    const std::string direct = frame_of(render(*client, body));
+    EXPECT_NE(occluded, unoccluded);
+    EXPECT_NE(occluded, direct);
+}
+
+TEST(Transfer, AFrameWithOcclusionBakesItsSceneOnce) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    // The default scene's transfer is there from start-up: the default request bakes nothing.
+    const double at_start = transfers_computed(*client);
+    EXPECT_EQ(at_start, 1.0);
+    const std::set<std::string> start_entries = transfer_entries(root);
+    EXPECT_EQ(start_entries.size(), 1u);
+    EXPECT_TRUE(logged(server, "transfers: transfer "));
+    frame_of(client->Get("/v1/render?environment=default&mesh=default&width=40&height=30"));
+    EXPECT_EQ(transfers_computed(*client), at_start);
+
+    const std::string mesh = upload_box(*client);
+    ASSERT_FALSE(mesh.empty());
+    const Metrics before = scrape(*client);
+    frame_of(render(*client, box_scene(mesh)));
+    const Metrics baked = scrape(*client);
+    EXPECT_EQ(baked.sum("oer_transfers_computed_total") - at_start, 1.0);
+    EXPECT_EQ(baked.sum("oer_transfer_seconds_count") - before.sum("oer_transfer_seconds_count"),
+              1.0);
+    const std::string entry = new_entry(start_entries, transfer_entries(root));
+    ASSERT_EQ(entry.size(), 64u + std::string(".sealed").size()) << entry;
+    EXPECT_TRUE(logged(
+        server, "transfers: transfer " + entry.substr(0, 64) + " of 1 object(s) computed in "));
+
+    // Another frame of the same scene (another size, so not a cached frame): from memory.
+    frame_of(render(*client, box_scene(mesh, 64)));
+    const Metrics again = scrape(*client);
+    EXPECT_EQ(again.sum("oer_transfers_computed_total") - at_start, 1.0);
+    EXPECT_GE(again.sum("oer_cache_hits_total", {{"cache", "transfer"}}) -
+                  baked.sum("oer_cache_hits_total", {{"cache", "transfer"}}),
+              1.0);
+    // Occlusion off needs no transfer; another bounce, or another transform, is another scene.
+    Json off = box_scene(mesh);
+    off["occlusion"] = false;
+    frame_of(render(*client, off));
+    EXPECT_EQ(transfers_computed(*client) - at_start, 1.0);
+    Json direct = box_scene(mesh);
+    direct["bounce"] = "none";
+    frame_of(render(*client, direct));
+    EXPECT_EQ(transfers_computed(*client) - at_start, 2.0);
+    Json moved = box_scene(mesh);
+    moved["objects"][0]["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.25, 0, 0, 1};
+    frame_of(render(*client, moved));
+    EXPECT_EQ(transfers_computed(*client) - at_start, 3.0);
+    EXPECT_EQ(transfer_entries(root).size(), 4u);
+}
+
+TEST(Transfer, ConcurrentFramesBakeTheSceneOnce) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::string mesh = upload_box(*client);
+    ASSERT_FALSE(mesh.empty());
+    const double at_start = transfers_computed(*client);
+    constexpr int kClients = 4;
+    std::latch ready(kClients);
+    std::vector<std::thread> threads;
+    std::vector<int> statuses(kClients, 0);
+    for (int i = 0; i < kClients; ++i) {
+        threads.emplace_back([&, i] {
+            auto own = server.client();
+            ready.arrive_and_wait();
+            const auto result = render(*own, box_scene(mesh, 40 + 8 * i));
+            statuses[std::size_t(i)] = result ? result->status : -1;
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    for (const int status : statuses) {
+        EXPECT_EQ(status, 200);
+    }
+    EXPECT_EQ(transfers_computed(*client) - at_start, 1.0);
+}
+
+TEST(Transfer, AnUploadedMeshsTransferSurvivesARestartWithoutRecomputation) {
+    TempRoot root;
+    std::string mesh, first_frame;
+    std::set<std::string> entries;
+    {
+        TestServer first(test_config(root.data()));
+        auto client = first.client();
+        mesh = upload_box(*client);
+        ASSERT_FALSE(mesh.empty());
+        first_frame = frame_of(render(*client, box_scene(mesh)));
+        entries = transfer_entries(root);
+    }
+    TestServer second(test_config(root.data()));
+    auto client = second.client();
+    // The default scene's too, at start-up.
+    EXPECT_EQ(transfers_computed(*client), 0.0) << "baked again after a restart";
+    const std::string frame = frame_of(render(*client, box_scene(mesh)));
+    EXPECT_TRUE(frame == first_frame) << "the same request renders differently after a restart";
+    EXPECT_EQ(transfers_computed(*client), 0.0) << "baked again after a restart";
+    EXPECT_EQ(transfer_entries(root), entries);
+}
+
+TEST(Transfer, ADamagedEntryIsBakedAgainNeverServed) {
+    TempRoot root;
+    std::string mesh, first_frame, entry;
+    {
+        TestServer first(test_config(root.data()));
+        auto client = first.client();
+        mesh = upload_box(*client);
+        ASSERT_FALSE(mesh.empty());
+        const std::set<std::string> before = transfer_entries(root);
+        first_frame = frame_of(render(*client, box_scene(mesh)));
+        entry = new_entry(before, transfer_entries(root));
+        ASSERT_FALSE(entry.empty());
+    }
+    const std::filesystem::path path = root.data() / "transfer" / entry;
+    const std::string whole = [&path] {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    }();
+    ASSERT_GT(whole.size(), 200u);
+    {
+        // Flip bytes in the payload, past the seal's header line.
+        std::string damaged = whole;
+        for (std::size_t i = whole.size() / 2; i < whole.size() / 2 + 8; ++i) {
+            damaged[i] = char(~damaged[i]);
+        }
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out << damaged;
+    }
+    TestServer second(test_config(root.data()));
+    auto client = second.client();
+    const std::string frame = frame_of(render(*client, box_scene(mesh)));
+    EXPECT_EQ(transfers_computed(*client), 1.0);
+    EXPECT_TRUE(frame == first_frame) << "the frame differs from the one of the undamaged transfer";
+    EXPECT_TRUE(logged(second, "transfers: transfer " + entry.substr(0, 64) +
+                                   " of 1 object(s) "
+                                   "computed in "));
+    std::ifstream in(path, std::ios::binary);
+    EXPECT_TRUE(std::string(std::istreambuf_iterator<char>(in), {}) == whole)
+        << "not stored again whole";
+}
+
+// A sound entry of another scene under this scene's id (a bake that changed without its
+// version) has receivers that are not this scene's vertices: dropped and baked again.
+TEST(Transfer, AnEntryOfAnotherSceneIsBakedAgainNeverServed) {
+    TempRoot root;
+    std::string mesh, first_frame, box_entry, default_entry;
+    {
+        TestServer first(test_config(root.data()));
+        auto client = first.client();
+        const std::set<std::string> at_start = transfer_entries(root);
+        ASSERT_EQ(at_start.size(), 1u);
+        default_entry = *at_start.begin();
+        mesh = upload_box(*client);
+        ASSERT_FALSE(mesh.empty());
+        first_frame = frame_of(render(*client, box_scene(mesh)));
+        box_entry = new_entry(at_start, transfer_entries(root));
+        ASSERT_FALSE(box_entry.empty());
+    }
+    std::filesystem::copy_file(root.data() / "transfer" / default_entry,
+                               root.data() / "transfer" / box_entry,
+                               std::filesystem::copy_options::overwrite_existing);
+    TestServer second(test_config(root.data()));
+    auto client = second.client();
+    const std::string frame = frame_of(render(*client, box_scene(mesh)));
+    EXPECT_EQ(transfers_computed(*client), 1.0);
+    EXPECT_TRUE(frame == first_frame);
+    EXPECT_TRUE(logged(second, "does not fit its scene"));
+}
