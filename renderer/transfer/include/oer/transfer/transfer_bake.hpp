@@ -12,7 +12,7 @@ namespace oer {
 
 struct TransferBakeOptions {
     Bounce bounce = Bounce::One;
-    int rays = 0;     // per receiver point; 0: transfer_ray_count's rule
+    int rays = 0;     // per receiver point, rounded down to a square; 0: transfer_ray_count's rule
     int threads = 0;  // 0: every core
 };
 
@@ -25,9 +25,10 @@ int transfer_ray_count(const std::vector<SceneObject>& objects);
 // (Internal) when Embree fails.
 SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptions& options);
 
-// The order a frame evaluates the transfer at for this rig (at most kTransferBakeOrder): the
-// lowest whose irradiance of the rig's residual map is within the rig's SH tolerance of that
-// at kTransferBakeOrder (see the definition for the measurements).
+// The order a frame evaluates the transfer at for this rig: the rig's own SH order (chosen by
+// the rig's rule as the lowest whose irradiance is within its tolerance), at most
+// kTransferBakeOrder. The first order^2 coefficients of the baked transfer are that order's
+// transfer exactly, so the frame's transfer is as accurate as its unoccluded lighting.
 int transfer_order(const Rig& rig);
 
 }  // namespace oer
