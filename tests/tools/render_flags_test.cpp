@@ -78,7 +78,7 @@ std::vector<Case> cases() {
         {"--shadows yes", {{"shadows", "yes"}}, "shadows"},
         {"--occlusion yes", {{"occlusion", "yes"}}, "occlusion"},
         {"--occlusion true", {{"occlusion", "true"}}, "occlusion"},
-        {"--occlusion off", {{"occlusion", "off"}}, "occlusion"},
+        {"--occlusion on", {{"occlusion", "on"}}, "occlusion"},
         {"--bounce two", {{"bounce", "two"}}, "bounce"},
         {"--bounce none", {{"bounce", "none"}}, "bounce"},
         {"--base-color 0.8,0.1", {{"base_color", "0.8,0.1"}}, "base-color"},
@@ -108,11 +108,11 @@ TEST_F(RenderFlags, TheCliAndTheQueryParserAgreeOnEveryValue) {
         const std::string expected = parser_verdict(row);
         const std::filesystem::path frame = dir_ / "frame.png";
         std::filesystem::remove(frame);
-        // Small and unshadowed, so that the accepted cases render quickly; the row's own flags
-        // come last and win.
+        // Small, unshadowed and unoccluded (no transfer to bake), so that the accepted cases
+        // render quickly; the row's own flags come last and win.
         const ProcessResult result =
             run("render --env default --mesh default --size 16x16 "
-                "--shadows off -o " +
+                "--shadows off --occlusion off -o " +
                 frame.string() + " " + row.flags);
         if (expected.empty()) {
             ++accepted;
@@ -134,7 +134,7 @@ TEST_F(RenderFlags, DefaultsAreTheServicesJpegQualityAndSamples) {
         const std::filesystem::path path = dir_ / "frame.jpg";
         const ProcessResult result =
             run("render --env default --mesh default --size 48x32 "
-                "--shadows off -o " +
+                "--shadows off --occlusion off -o " +
                 path.string() + " " + flags);
         EXPECT_EQ(result.status, 0) << flags << ": " << result.err;
         return slurp(path);
@@ -158,7 +158,7 @@ TEST_F(RenderFlags, BaseColorRecolorsTheProduct) {
         const std::filesystem::path path = dir_ / "frame.png";
         const ProcessResult result =
             run("render --env default --mesh default --size 64x64 --samples 1 --shadows off "
-                "--ground off --background '#000000' -o " +
+                "--occlusion off --ground off --background '#000000' -o " +
                 path.string() + " " + flags);
         EXPECT_EQ(result.status, 0) << flags << ": " << result.err;
         const std::string bytes = slurp(path);
@@ -178,4 +178,21 @@ TEST_F(RenderFlags, BaseColorRecolorsTheProduct) {
     ASSERT_GT(plain.product, 200);  // the dress form: about 8 % of the frame
     EXPECT_LT(plain.red, plain.product / 50);
     EXPECT_GT(red.red, red.product / 2);
+}
+
+// With occlusion on (the default) render bakes the scene's transfer before the frame and says
+// so on stderr only; with it off there is nothing to bake.
+TEST_F(RenderFlags, OcclusionBakesTheTransferAndSaysSoOnStderrOnly) {
+    const auto render = [this](const std::string& flags) {
+        const std::filesystem::path path = dir_ / "frame.png";
+        const ProcessResult result =
+            run("render --env default --mesh default --size 32x24 --samples 1 --shadows off -o " +
+                path.string() + " " + flags);
+        EXPECT_EQ(result.status, 0) << flags << ": " << result.err;
+        EXPECT_EQ(result.out, "") << flags;
+        return result.err;
+    };
+    EXPECT_NE(render("").find(", transfer "), std::string::npos);
+    EXPECT_NE(render("--bounce none").find(", transfer "), std::string::npos);
+    EXPECT_EQ(render("--occlusion off").find(", transfer "), std::string::npos);
 }
