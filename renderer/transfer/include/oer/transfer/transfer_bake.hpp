@@ -25,9 +25,4 @@ int transfer_ray_count(const std::vector<SceneObject>& objects);
 // (Internal) when Embree fails.
 SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptions& options);
 
-// The order a frame evaluates the transfer at for this rig (at most kTransferBakeOrder): the
-// lowest whose irradiance of the rig's residual map is within the rig's SH tolerance of that
-// at kTransferBakeOrder (see the definition for the measurements).
-int transfer_order(const Rig& rig);
-
 }  // namespace oer
