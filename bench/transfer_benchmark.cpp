@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
         static_cast<unsigned long long>(request.objects[0].mesh->vertex_count), rays,
         requested_rays > 0 ? "--rays" : "the rule");
     std::printf("bounce  threads  points  rays/point      ms  cpu ms   Mrays/s  blocked\n");
-    double target_ms = 0.0;
+    double target_ms = 0.0, target_cpu_ms = 0.0;
     for (const oer::Bounce bounce : {oer::Bounce::None, oer::Bounce::One}) {
         for (const int threads : {1, 2}) {
             oer::TransferBakeOptions options;
@@ -97,12 +97,18 @@ int main(int argc, char** argv) {
                         100.0 * blocked_share(transfer));
             if (bounce == oer::Bounce::One && threads == 2) {
                 target_ms = transfer.bake_ms;
+                target_cpu_ms = cpu_ms;
             }
         }
     }
-    std::printf(
-        "\nissue 13 target (bunny, one bounce, 2 cores): %.0f ms, target <= %.0f ms    %s\n",
-        target_ms, targets::kTransferBakeBunnyMs,
-        target_ms <= targets::kTransferBakeBunnyMs ? "met" : "NOT met");
+    // On a shared machine the wall time follows the other processes' load; the CPU time over
+    // the 2 threads is what 2 free cores take (the points are shared evenly).
+    const double free_cores_ms = target_cpu_ms / 2.0;
+    std::printf("\nissue 13 target (bunny, one bounce, 2 cores): at most %.0f ms\n",
+                targets::kTransferBakeBunnyMs);
+    std::printf("  wall time            %6.0f ms    %s\n", target_ms,
+                target_ms <= targets::kTransferBakeBunnyMs ? "met" : "NOT met");
+    std::printf("  CPU time / 2 cores   %6.0f ms    %s\n", free_cores_ms,
+                free_cores_ms <= targets::kTransferBakeBunnyMs ? "met" : "NOT met");
     return 0;
 }
