@@ -36,10 +36,11 @@ using reference::SurfaceHit;
 constexpr int kCoefficients = sh_count(kTransferBakeOrder);
 using Coefficients = std::array<double, kCoefficients>;
 
-// The ground grid's texels per side. At 2 bounding radii each side of the centre (below) a texel
-// is 1/16 of the objects' radius: the contact shadow of a sphere resting on the ground falls
-// from full to half occlusion over about a radius (tests/transfer, TransferBakeGround), so it
-// spans 16 texels; 4096 receivers, an eighth of the bunny's 35k vertices.
+// The ground grid's texels per side. At 2 scene radii R each side of the centre (below) a texel
+// is R / 16: the contact shadow of a sphere of radius r resting on the ground (R = sqrt(3) r)
+// falls from full to half occlusion within 0.77 r (its view factor (1 + (d / r)^2)^(-3/2),
+// tests/transfer, TransferBakeGround), over 7 texels; 4096 receivers, an eighth of the bunny's
+// 35k vertices.
 constexpr int kGroundResolution = 64;
 // The grid's half side over the scene's bounding radius. The scene radius (half the bounding
 // box's diagonal) rather than its horizontal extent alone, because how far a contact shadow
