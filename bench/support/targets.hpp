@@ -33,4 +33,8 @@ inline constexpr double kCachedFrameMs = 1.0;   // a frame already in the cache 
 // the default's relative RMS of luminance at most this share of plain SH irradiance's.
 inline constexpr double kFrameErrorOverPlainSh = 0.5;
 
+// Issue 13: the transfer bake of the bunny on the ground, one bounce, on 2 cores
+// (transfer_benchmark).
+inline constexpr double kTransferBakeBunnyMs = 2000.0;  // at most
+
 }  // namespace oer::bench::targets

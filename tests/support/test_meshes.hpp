@@ -1,7 +1,9 @@
 #pragma once
 // Simple meshes with known geometry for renderer tests.
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -109,6 +111,62 @@ inline Mesh quad(glm::vec3 centre, float half_size, glm::vec3 albedo) {
     }
     square.indices = {0, 3, 2, 0, 2, 1};
     mesh.primitives.push_back(std::move(square));
+    mesh.materials.push_back(lambertian(albedo));
+    finish(mesh);
+    return mesh;
+}
+
+// Appends the parallelogram origin + [0, 1] u + [0, 1] v as a divisions x divisions grid of
+// vertices with the flat normal `normal` (a unit vector across u and v), its triangles
+// counter-clockwise seen from that side.
+inline void add_grid_face(Primitive& primitive, glm::vec3 origin, glm::vec3 u, glm::vec3 v,
+                          glm::vec3 normal, int divisions) {
+    if (glm::dot(glm::cross(u, v), normal) < 0.0f) {
+        std::swap(u, v);  // the same parallelogram, turned to face `normal`
+    }
+    const auto base = std::uint32_t(primitive.positions.size());
+    const auto row = std::uint32_t(divisions + 1);
+    for (int j = 0; j <= divisions; ++j) {
+        for (int i = 0; i <= divisions; ++i) {
+            primitive.positions.push_back(origin + (float(i) / float(divisions)) * u +
+                                          (float(j) / float(divisions)) * v);
+            primitive.normals.push_back(normal);
+        }
+    }
+    for (std::uint32_t j = 0; j < std::uint32_t(divisions); ++j) {
+        for (std::uint32_t i = 0; i < std::uint32_t(divisions); ++i) {
+            const std::uint32_t a = base + j * row + i, b = a + 1, c = a + row, d = c + 1;
+            primitive.indices.insert(primitive.indices.end(), {a, b, d, a, d, c});
+        }
+    }
+}
+
+// A box open at the top with thin walls: primitive 0, "inside", the floor (y = 0) and four
+// walls (x and z = +-half_size, up to y = height) facing into the box; primitive 1, "outside",
+// the same five faces `thickness` further out (the bottom at y = -thickness) facing away. Each
+// face is a divisions x divisions grid (divisions even: a vertex at every face's centre, the
+// floor's at the origin).
+inline Mesh open_box(float half_size, float height, float thickness, int divisions,
+                     glm::vec3 albedo) {
+    Mesh mesh;
+    const auto add_shell = [&](const char* name, float h, float bottom, float side) {
+        Primitive shell;
+        shell.name = name;
+        const float top = height, wall = top - bottom;
+        add_grid_face(shell, {-h, bottom, -h}, {2 * h, 0, 0}, {0, 0, 2 * h}, {0, side, 0},
+                      divisions);
+        add_grid_face(shell, {h, bottom, -h}, {0, wall, 0}, {0, 0, 2 * h}, {-side, 0, 0},
+                      divisions);
+        add_grid_face(shell, {-h, bottom, -h}, {0, wall, 0}, {0, 0, 2 * h}, {side, 0, 0},
+                      divisions);
+        add_grid_face(shell, {-h, bottom, h}, {0, wall, 0}, {2 * h, 0, 0}, {0, 0, -side},
+                      divisions);
+        add_grid_face(shell, {-h, bottom, -h}, {0, wall, 0}, {2 * h, 0, 0}, {0, 0, side},
+                      divisions);
+        mesh.primitives.push_back(std::move(shell));
+    };
+    add_shell("inside", half_size, 0.0f, 1.0f);
+    add_shell("outside", half_size + thickness, -thickness, -1.0f);
     mesh.materials.push_back(lambertian(albedo));
     finish(mesh);
     return mesh;

@@ -1,4 +1,4 @@
-#include "embree_scene.hpp"
+#include "oer/reference/embree_scene.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -72,12 +72,16 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) 
     scene_ = rtcNewScene(device_);
     check_embree(device_, "rtcNewScene");
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-    for (const SceneObject& object : request.objects) {
+    for (std::size_t o = 0; o < request.objects.size(); ++o) {
+        const SceneObject& object = request.objects[o];
         const Mesh& mesh = *object.mesh;
         const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(object.transform)));
-        for (const Primitive& primitive : mesh.primitives) {
+        for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+            const Primitive& primitive = mesh.primitives[p];
             const Material& material = mesh.materials.at(std::size_t(primitive.material));
             Geometry geometry;
+            geometry.object = o;
+            geometry.primitive = p;
             for (std::size_t i = 0; i < primitive.positions.size(); ++i) {
                 geometry.positions.push_back(
                     glm::vec3(object.transform * glm::vec4(primitive.positions[i], 1.0f)));
@@ -199,6 +203,11 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const glm::dvec3& origin,
     hit.shading_normal = n;
     hit.albedo = albedo_at(geometry, triangle, u, v);
     hit.ground = geometry.ground;
+    hit.object = geometry.object;
+    hit.primitive = geometry.primitive;
+    hit.triangle = triangle;
+    hit.u = u;
+    hit.v = v;
     return hit;
 }
 

@@ -11,17 +11,19 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "embree_scene.hpp"
 #include "environment_sampler.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/light_location.hpp"
-#include "pixel_random.hpp"
+#include "oer/reference/cosine_direction.hpp"
+#include "oer/reference/embree_scene.hpp"
+#include "oer/reference/pixel_random.hpp"
 
 namespace oer {
 
 namespace {
 
+using reference::cosine_direction;
 using reference::EmbreeScene;
 using reference::EnvironmentSampler;
 using reference::PixelRandom;
@@ -50,32 +52,6 @@ glm::dvec3 background_radiance(const HdrImage& map, const glm::dvec3& world_dire
     const long long ix = (long long)x0, iy = (long long)y0;
     return (1 - fy) * ((1 - fx) * texel(ix, iy) + fx * texel(ix + 1, iy)) +
            fy * ((1 - fx) * texel(ix, iy + 1) + fx * texel(ix + 1, iy + 1));
-}
-
-// A direction about unit n with density cos / pi: Malley's method, a uniform disc sample
-// (Shirley and Chiu's concentric map, "A Low Distortion Map Between Disk and Square", 1997)
-// lifted onto the hemisphere.
-glm::dvec3 cosine_direction(const glm::dvec3& n, double u1, double u2) {
-    const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
-    double r = 0.0, phi = 0.0;
-    if (a != 0.0 || b != 0.0) {
-        if (std::abs(a) > std::abs(b)) {
-            r = a;
-            phi = (kPi / 4.0) * (b / a);
-        } else {
-            r = b;
-            phi = kPi / 2.0 - (kPi / 4.0) * (a / b);
-        }
-    }
-    const double x = r * std::cos(phi), y = r * std::sin(phi);
-    const double z = std::sqrt(std::max(0.0, 1.0 - x * x - y * y));
-    // An orthonormal basis about n (Duff et al., "Building an Orthonormal Basis, Revisited",
-    // JCGT 2017).
-    const double sign = std::copysign(1.0, n.z);
-    const double p = -1.0 / (sign + n.z), q = n.x * n.y * p;
-    const glm::dvec3 t(1.0 + sign * n.x * n.x * p, sign * q, -sign * n.x);
-    const glm::dvec3 s(q, sign + n.y * n.y * p, -n.y);
-    return glm::normalize(x * t + y * s + z * n);
 }
 
 // Veach's power heuristic (beta = 2) for the strategy of density `chosen` against `other`.

@@ -12,7 +12,7 @@ namespace oer {
 
 struct TransferBakeOptions {
     Bounce bounce = Bounce::One;
-    int rays = 0;     // per receiver point; 0: transfer_ray_count's rule
+    int rays = 0;     // per receiver point, rounded down to a square; 0: transfer_ray_count's rule
     int threads = 0;  // 0: every core
 };
 

@@ -3,7 +3,10 @@
 // rtcNewDevice, rtcNewScene, one RTC_GEOMETRY_TYPE_TRIANGLE geometry per primitive, committed
 // once, then rtcIntersect1 / rtcOccluded1 from any number of threads): every object's
 // primitives in world space, and the renderer's ground plane. A hit is resolved to what
-// shading needs: position, normals and the renderer's albedo there.
+// shading needs (position, normals and the renderer's albedo there) and to where it lies on the
+// request's meshes (object, primitive, triangle and barycentrics), so that per-vertex data baked
+// for the request (renderer/transfer) can be interpolated there. Public for that bake: the
+// reference renderer and the transfer bake trace the same surfaces and the same finite ground.
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -25,6 +28,15 @@ struct SurfaceHit {
     glm::dvec3 shading_normal{0.0};    // unit, on the side the ray came from
     glm::dvec3 albedo{0.0};
     bool ground = false;
+    // Where on the request's meshes (not set on the ground): request.objects[object], its
+    // mesh's primitives[primitive], the triangle's index in that primitive's index list
+    // (corners indices[3 triangle + 0..2]) and Embree's barycentrics, u and v the weights of
+    // the second and third corner (1 - u - v the first's).
+    std::size_t object = 0;
+    std::size_t primitive = 0;
+    unsigned triangle = 0;
+    double u = 0.0;
+    double v = 0.0;
 };
 
 class EmbreeScene {
@@ -52,6 +64,8 @@ class EmbreeScene {
         glm::dvec3 base_color{1.0};
         const Texture* texture = nullptr;  // the base-color texture, sRGB
         bool ground = false;
+        std::size_t object = 0;     // index in request.objects (not for the ground)
+        std::size_t primitive = 0;  // index in that object's mesh's primitives
     };
     void add(Geometry geometry);
     glm::dvec3 albedo_at(const Geometry& geometry, unsigned triangle, double u, double v) const;

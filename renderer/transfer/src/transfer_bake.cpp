@@ -1,0 +1,434 @@
+// The transfer bake (transfer_bake.hpp) on the reference renderer's Embree scene, and the rules
+// that size it. Formulas: P.-P. Sloan, J. Kautz and J. Snyder, "Precomputed Radiance Transfer
+// for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH 2002,
+// section 5 (shadowed diffuse transfer, eq. 8, and its interreflected form, eq. 9, here one
+// bounce); the cosine-weighted rays by P. Shirley and K. Chiu, "A Low Distortion Map Between
+// Disk and Square", 1997 (oer/reference/cosine_direction.hpp).
+#include "oer/transfer/transfer_bake.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <string>
+#include <thread>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include "oer/core/error.hpp"
+#include "oer/gl/scene_bounds.hpp"
+#include "oer/lighting/sh.hpp"
+#include "oer/reference/cosine_direction.hpp"
+#include "oer/reference/embree_scene.hpp"
+#include "oer/reference/pixel_random.hpp"
+
+namespace oer {
+namespace {
+
+using reference::EmbreeScene;
+using reference::SurfaceHit;
+
+constexpr int kCoefficients = sh_count(kTransferBakeOrder);
+using Coefficients = std::array<double, kCoefficients>;
+
+// The ground grid's texels per side. At 2 scene radii R each side of the centre (below) a texel
+// is R / 16: the contact shadow of a sphere of radius r resting on the ground (R = sqrt(3) r)
+// falls from full to half occlusion within 0.77 r (its view factor (1 + (d / r)^2)^(-3/2),
+// tests/transfer, TransferBakeGround), over 7 texels; 4096 receivers, an eighth of the bunny's
+// 35k vertices.
+constexpr int kGroundResolution = 64;
+// The grid's half side over the scene's bounding radius. The scene radius (half the bounding
+// box's diagonal) rather than its horizontal extent alone, because how far a contact shadow
+// reaches grows with the object's height too: at the grid's edge, 3.5 radii from the centre, a
+// sphere resting on the ground still covers 2 % of the cosine-weighted hemisphere (the view
+// factor of tests/transfer), the seam left where the frame goes on with the unoccluded transfer.
+constexpr float kGroundHalfSizeOverRadius = 2.0f;
+// Rays leave a receiver this far (times the scene radius) along its normal: the reference
+// renderer's offset, far above float rounding at the scene's scale.
+constexpr double kRayOffsetOverRadius = 1e-4;
+// Every receiver's jitter comes from this seed and the receiver's index.
+constexpr std::uint64_t kBakeSeed = 1;
+
+// The rule of transfer_ray_count: a ray budget per bake phase shared by every receiver point.
+// Measured with bench/transfer_benchmark on the shared 2-core machine (AMD EPYC, AVX-512; the
+// Stanford bunny's 34,835 vertices plus the 4,096 ground texels, 47 % of the rays blocked):
+// Bounce::One costs 2.8 to 3.1 s of CPU at 144 rays per point and 3.4 to 3.7 s at 196, i.e.
+// 1.4 s and 1.7 s of wall time on 2 free cores (the two threads share the points evenly; the
+// bake's wall time on the shared machine, with other builds on both cores, is 2 to 3 times
+// that). 144 keeps issue 13's 2 s with a margin for the machine's noise; its error is about 1 %
+// of the visible fraction (the contact shadow of a sphere on the ground, tests/transfer: RMS
+// 0.98 % over 2416 texels at 144 rays, 0.15 % at 2304).
+constexpr double kRaysPerPhaseBudget = 6.0e6;
+// Stratified rays come in strata x strata cells: 8 x 8 (64) at least, below which the
+// occlusion of a single receiver is visibly noisy (the binomial error of a half-occluded point is
+// 6 %), and 32 x 32 (1024) at most, where the binomial error is at most 1.6 % and the
+// stratified one several times less, below the order-5 SH truncation's, so more rays only cost.
+constexpr int kMinStrata = 8;
+constexpr int kMaxStrata = 32;
+
+// A_l Y_i(n): the transfer of a point that nothing occludes (scene_transfer.hpp).
+Coefficients unoccluded_transfer(const glm::dvec3& n) {
+    Coefficients transfer{};
+    sh_evaluate(kTransferBakeOrder, n, transfer);
+    for (int l = 0; l < kTransferBakeOrder; ++l) {
+        const double a_l = lambertian_band_factor(l);
+        for (int m = -l; m <= l; ++m) {
+            transfer[std::size_t(sh_index(l, m))] *= a_l;
+        }
+    }
+    return transfer;
+}
+
+// One receiver point: where its rays start and the hemisphere they cover, and where its vectors
+// go (its slots in a TransferPoints, sized before the bake starts).
+struct Receiver {
+    glm::dvec3 position{0.0};
+    glm::dvec3 normal{0.0, 1.0, 0.0};
+    float* direct = nullptr;  // kCoefficients values
+    float* bounce = nullptr;  // 3 x kCoefficients values, red then green then blue
+};
+
+// The receiver's rays, as points (u1, u2) of the unit square numbered 0 to strata^2 - 1:
+// strata x strata jittered cells, which reference::cosine_direction maps onto the
+// cosine-weighted hemisphere of the normal by the concentric map (Shirley and Chiu 1997), so
+// the strata stay compact on the hemisphere. The jitter is the receiver's own PCG32 stream
+// (seed, receiver index): both phases and any thread count trace the same rays.
+template <class Visit>
+void for_each_ray(std::uint64_t receiver_index, int strata, Visit&& visit) {
+    reference::PixelRandom random(kBakeSeed, receiver_index);
+    int ray = 0;
+    for (int row = 0; row < strata; ++row) {
+        for (int column = 0; column < strata; ++column) {
+            const double u1 = (column + random.uniform()) / strata;
+            const double u2 = (row + random.uniform()) / strata;
+            visit(ray++, u1, u2);
+        }
+    }
+}
+
+// One bit per ray of every receiver: which rays phase 1 found blocked, the only ones phase 2
+// traces again (an escaping ray reflects nothing). On the bunny about 70 % of the rays escape,
+// which phase 2 would otherwise traverse the whole scene for again.
+class BlockedRays {
+  public:
+    BlockedRays(std::size_t receivers, int rays)
+        : words_per_receiver_((std::size_t(rays) + 63) / 64),
+          bits_(receivers * words_per_receiver_, 0) {}
+    void set(std::size_t receiver, int ray) {
+        bits_[receiver * words_per_receiver_ + std::size_t(ray) / 64] |= 1ull << (ray % 64);
+    }
+    bool test(std::size_t receiver, int ray) const {
+        return (bits_[receiver * words_per_receiver_ + std::size_t(ray) / 64] >> (ray % 64)) & 1u;
+    }
+
+  private:
+    std::size_t words_per_receiver_;
+    std::vector<std::uint64_t> bits_;
+};
+
+// Calls work(i) for i in [0, count) on `threads` threads, in chunks taken in turn; what work(i)
+// writes depends on i alone, so the result does not depend on the thread count.
+template <class Work>
+void parallel_for(std::size_t count, int threads, const Work& work) {
+    constexpr std::size_t kChunk = 32;
+    std::atomic<std::size_t> next{0};
+    const auto run = [&] {
+        for (std::size_t start = next.fetch_add(kChunk); start < count;
+             start = next.fetch_add(kChunk)) {
+            const std::size_t end = std::min(count, start + kChunk);
+            for (std::size_t i = start; i < end; ++i) {
+                work(i);
+            }
+        }
+    };
+    std::vector<std::thread> workers;
+    for (int t = 1; t < threads; ++t) {
+        workers.emplace_back(run);
+    }
+    run();
+    for (std::thread& worker : workers) {
+        worker.join();
+    }
+}
+
+std::size_t receiver_count(const std::vector<SceneObject>& objects) {
+    std::size_t count = 0;
+    for (const SceneObject& object : objects) {
+        for (const Primitive& primitive : object.mesh->primitives) {
+            count += primitive.positions.size();
+        }
+    }
+    return count;
+}
+
+void validate(const FrameRequest& request, const TransferBakeOptions& options) {
+    if (request.objects.empty()) {
+        throw Error(ErrorKind::InvalidInput, "transfer bake: the request has no objects");
+    }
+    for (std::size_t o = 0; o < request.objects.size(); ++o) {
+        if (!request.objects[o].mesh) {
+            throw Error(ErrorKind::InvalidInput,
+                        "transfer bake: object " + std::to_string(o) + " has no mesh");
+        }
+    }
+    if (options.rays < 0 || options.threads < 0) {
+        throw Error(ErrorKind::InvalidInput,
+                    "transfer bake: rays and threads must be 0 (the rule, every core) or more, "
+                    "got " +
+                        std::to_string(options.rays) + " and " + std::to_string(options.threads));
+    }
+}
+
+// The ground grid of scene_transfer.hpp under the scene (the frame's plane: y = the bounds'
+// lowest y), centred on the objects' bounds in x and z, kGroundHalfSizeOverRadius radii each side.
+GroundTransfer ground_grid(const SceneBounds& frame) {
+    GroundTransfer ground;
+    ground.centre = {frame.centre.x, frame.centre.z};
+    ground.half_size = kGroundHalfSizeOverRadius * frame.radius;
+    ground.height = frame.box.min.y;
+    ground.resolution = kGroundResolution;
+    ground.points.count = std::size_t(kGroundResolution) * kGroundResolution;
+    return ground;
+}
+
+void size_points(TransferPoints& points, std::size_t count, Bounce bounce) {
+    points.count = count;
+    points.direct.assign(count * kCoefficients, 0.0f);
+    points.bounce.assign(bounce == Bounce::One ? count * 3 * kCoefficients : 0, 0.0f);
+}
+
+// Every vertex of every primitive of every object, in world space (the normal by the
+// inverse-transpose, as EmbreeScene and the renderer transform it), then the ground's texel
+// centres facing +Y.
+std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& transfer) {
+    std::vector<Receiver> receivers;
+    for (std::size_t o = 0; o < request.objects.size(); ++o) {
+        const SceneObject& object = request.objects[o];
+        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(object.transform)));
+        for (std::size_t p = 0; p < object.mesh->primitives.size(); ++p) {
+            const Primitive& primitive = object.mesh->primitives[p];
+            TransferPoints& points = transfer.objects[o][p];
+            for (std::size_t v = 0; v < points.count; ++v) {
+                Receiver receiver;
+                receiver.position =
+                    glm::vec3(object.transform * glm::vec4(primitive.positions[v], 1.0f));
+                receiver.normal = glm::normalize(glm::dvec3(normal_matrix * primitive.normals[v]));
+                if (!std::isfinite(receiver.normal.x) || !std::isfinite(receiver.normal.y) ||
+                    !std::isfinite(receiver.normal.z)) {
+                    throw Error(ErrorKind::InvalidInput,
+                                "transfer bake: object " + std::to_string(o) +
+                                    " has no normal at a vertex (a singular transform?)");
+                }
+                receiver.direct = &points.direct[v * kCoefficients];
+                receiver.bounce =
+                    points.bounce.empty() ? nullptr : &points.bounce[v * 3 * kCoefficients];
+                receivers.push_back(receiver);
+            }
+        }
+    }
+    if (transfer.ground) {
+        GroundTransfer& ground = *transfer.ground;
+        const double texel = 2.0 * ground.half_size / ground.resolution;
+        for (int row = 0; row < ground.resolution; ++row) {
+            for (int column = 0; column < ground.resolution; ++column) {
+                const std::size_t index =
+                    std::size_t(row) * std::size_t(ground.resolution) + std::size_t(column);
+                Receiver receiver;
+                receiver.position = {ground.centre.x - ground.half_size + (column + 0.5) * texel,
+                                     ground.height,
+                                     ground.centre.y - ground.half_size + (row + 0.5) * texel};
+                receiver.direct = &ground.points.direct[index * kCoefficients];
+                receiver.bounce = ground.points.bounce.empty()
+                                      ? nullptr
+                                      : &ground.points.bounce[index * 3 * kCoefficients];
+                receivers.push_back(receiver);
+            }
+        }
+    }
+    return receivers;
+}
+
+// D(q), the direct transfer at a surface point a ray hit: on an object the barycentric
+// interpolation of its triangle's three vertices' vectors (as the rasteriser interpolates
+// them), on the ground the bilinear interpolation of the grid's texel centres (clamped to the
+// outer texels in their outer half), beyond the grid the unoccluded A_l Y_i(+Y).
+class DirectAtHit {
+  public:
+    DirectAtHit(const FrameRequest& request, const SceneTransfer& transfer)
+        : request_(request), transfer_(transfer), open_ground_(unoccluded_transfer({0, 1, 0})) {}
+
+    Coefficients operator()(const SurfaceHit& hit) const {
+        return hit.ground ? on_ground(hit.position) : on_object(hit);
+    }
+
+  private:
+    Coefficients on_object(const SurfaceHit& hit) const {
+        const std::vector<std::uint32_t>& indices =
+            request_.objects[hit.object].mesh->primitives[hit.primitive].indices;
+        const std::vector<float>& direct = transfer_.objects[hit.object][hit.primitive].direct;
+        const std::uint32_t* corner = &indices[3 * std::size_t(hit.triangle)];
+        const double weights[3] = {1.0 - hit.u - hit.v, hit.u, hit.v};
+        Coefficients result{};
+        for (int k = 0; k < 3; ++k) {
+            const float* vertex = &direct[std::size_t(corner[k]) * kCoefficients];
+            for (int i = 0; i < kCoefficients; ++i) {
+                result[std::size_t(i)] += weights[k] * double(vertex[i]);
+            }
+        }
+        return result;
+    }
+
+    Coefficients on_ground(const glm::dvec3& position) const {
+        const GroundTransfer& ground = *transfer_.ground;
+        const double half = ground.half_size;
+        const double dx = position.x - ground.centre.x, dz = position.z - ground.centre.y;
+        if (std::abs(dx) > half || std::abs(dz) > half) {
+            return open_ground_;
+        }
+        // Texel coordinates with texel centres at integers.
+        const int resolution = ground.resolution;
+        const double x =
+            std::clamp((dx + half) / (2.0 * half) * resolution - 0.5, 0.0, double(resolution - 1));
+        const double z =
+            std::clamp((dz + half) / (2.0 * half) * resolution - 0.5, 0.0, double(resolution - 1));
+        const int x0 = std::min(int(x), resolution - 2), z0 = std::min(int(z), resolution - 2);
+        const double fx = x - x0, fz = z - z0;
+        const auto texel = [&](int row, int column) {
+            return &ground.points
+                        .direct[(std::size_t(row) * std::size_t(resolution) + std::size_t(column)) *
+                                kCoefficients];
+        };
+        const float *a = texel(z0, x0), *b = texel(z0, x0 + 1), *c = texel(z0 + 1, x0),
+                    *d = texel(z0 + 1, x0 + 1);
+        Coefficients result{};
+        for (int i = 0; i < kCoefficients; ++i) {
+            result[std::size_t(i)] =
+                (1.0 - fz) * ((1.0 - fx) * a[i] + fx * b[i]) + fz * ((1.0 - fx) * c[i] + fx * d[i]);
+        }
+        return result;
+    }
+
+    const FrameRequest& request_;
+    const SceneTransfer& transfer_;
+    Coefficients open_ground_;
+};
+
+}  // namespace
+
+int transfer_ray_count(const std::vector<SceneObject>& objects) {
+    // The ground's grid is counted whether or not a frame has the ground: the rule sees the
+    // objects only, and an upper bound keeps the bake within its time.
+    const double receivers =
+        double(receiver_count(objects)) + double(kGroundResolution) * kGroundResolution;
+    const int strata =
+        std::clamp(int(std::sqrt(kRaysPerPhaseBudget / receivers)), kMinStrata, kMaxStrata);
+    return strata * strata;
+}
+
+SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptions& options) {
+    validate(request, options);
+    const auto start = std::chrono::steady_clock::now();
+    const SceneBounds frame = scene_bounds(request.objects);
+    const EmbreeScene scene(request, frame);
+
+    // Rays come in strata x strata cells: a requested count is rounded down to a square.
+    const int requested = options.rays > 0 ? options.rays : transfer_ray_count(request.objects);
+    const int strata = std::max(1, int(std::sqrt(double(requested))));
+    const int rays = strata * strata;
+    const int threads = options.threads > 0 ? options.threads
+                                            : std::max(1, int(std::thread::hardware_concurrency()));
+    const double offset = kRayOffsetOverRadius * double(frame.radius);
+
+    SceneTransfer transfer;
+    transfer.order = kTransferBakeOrder;
+    transfer.bounce = options.bounce;
+    transfer.rays = rays;
+    transfer.objects.resize(request.objects.size());
+    for (std::size_t o = 0; o < request.objects.size(); ++o) {
+        const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
+        transfer.objects[o].resize(primitives.size());
+        for (std::size_t p = 0; p < primitives.size(); ++p) {
+            size_points(transfer.objects[o][p], primitives[p].positions.size(), options.bounce);
+        }
+    }
+    if (request.ground) {
+        transfer.ground = ground_grid(frame);
+        size_points(transfer.ground->points, transfer.ground->points.count, options.bounce);
+    }
+    const std::vector<Receiver> receivers = receivers_of(request, transfer);
+
+    // Phase 1, shadowed diffuse transfer (Sloan et al. 2002, eq. 8):
+    //   direct_i = integral over the hemisphere of V(w) max(0, n . w) Y_i(w) dw,
+    // with N cosine-distributed rays (density cos / pi) the estimate (pi / N) sum over the rays
+    // that escape of Y_i(w). Written as A_l Y_i(n) - (pi / N) sum over the blocked rays of
+    // Y_i(w): the same estimate, but with the exact integral A_l Y_i(n) of all rays in place of
+    // the rays' own sum of it (a control variate whose mean is that integral). So a point that
+    // nothing occludes holds A_l Y_i(n) exactly, with no sampling noise (direct . R is plain SH
+    // irradiance there, and the grid's open edge meets the unoccluded ground beyond it without a
+    // seam), and only the basis values of blocked rays are evaluated.
+    const double ray_weight = std::numbers::pi / rays;
+    BlockedRays blocked(receivers.size(), rays);
+    parallel_for(receivers.size(), threads, [&](std::size_t r) {
+        const Receiver& receiver = receivers[r];
+        const glm::dvec3 origin = receiver.position + offset * receiver.normal;
+        Coefficients direct = unoccluded_transfer(receiver.normal);
+        Coefficients basis{};
+        for_each_ray(r, strata, [&](int ray, double u1, double u2) {
+            const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
+            if (scene.occluded(origin, direction, 0.0)) {
+                blocked.set(r, ray);
+                sh_evaluate(kTransferBakeOrder, direction, basis);
+                for (int i = 0; i < kCoefficients; ++i) {
+                    direct[std::size_t(i)] -= ray_weight * basis[std::size_t(i)];
+                }
+            }
+        });
+        std::copy(direct.begin(), direct.end(), receiver.direct);
+    });
+
+    // Phase 2, one bounce of interreflected transfer (Sloan et al. 2002, eq. 9, its first
+    // pass), once every direct vector exists: a ray that hits a surface point q brings q's
+    // outgoing radiance rho(q) / pi * (D(q) . L), so
+    //   bounce_c,i = (pi / N) sum over the rays that hit of rho_c(q) / pi * D_i(q),
+    // over the rays of phase 1 that were blocked, traced again to find what they hit rather
+    // than storing their hits.
+    if (options.bounce == Bounce::One) {
+        const DirectAtHit direct_at(request, transfer);
+        parallel_for(receivers.size(), threads, [&](std::size_t r) {
+            const Receiver& receiver = receivers[r];
+            const glm::dvec3 origin = receiver.position + offset * receiver.normal;
+            std::array<Coefficients, 3> bounce{};
+            for_each_ray(r, strata, [&](int ray, double u1, double u2) {
+                if (!blocked.test(r, ray)) {
+                    return;
+                }
+                const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
+                if (const std::optional<SurfaceHit> hit = scene.intersect(origin, direction, 0.0)) {
+                    const Coefficients reflected = direct_at(*hit);
+                    for (int c = 0; c < 3; ++c) {
+                        // (pi / N) (rho / pi) = rho / N.
+                        const double weight = hit->albedo[c] / rays;
+                        for (int i = 0; i < kCoefficients; ++i) {
+                            bounce[std::size_t(c)][std::size_t(i)] +=
+                                weight * reflected[std::size_t(i)];
+                        }
+                    }
+                }
+            });
+            for (int c = 0; c < 3; ++c) {
+                std::copy(bounce[std::size_t(c)].begin(), bounce[std::size_t(c)].end(),
+                          receiver.bounce + c * kCoefficients);
+            }
+        });
+    }
+    transfer.bake_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return transfer;
+}
+
+}  // namespace oer

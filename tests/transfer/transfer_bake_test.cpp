@@ -1,0 +1,502 @@
+// The transfer bake against answers known without it: a convex object's transfer is plain SH
+// irradiance; an open box's floor sees the sky through the opening by the rectangle's view
+// factor; a point under a bright ceiling gets the ceiling's reflected light by that view factor;
+// a sphere resting on the ground darkens it by the sphere's view factor; and the bake is the
+// same on any number of threads. Visible fractions are compared within three standard
+// deviations of a binomial count of the bake's rays (stratified rays do better; the figures
+// measured are printed).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <numbers>
+#include <utility>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "oer/core/error.hpp"
+#include "oer/lighting/sh.hpp"
+#include "oer/lighting/sh_projection.hpp"
+#include "oer/transfer/transfer_bake.hpp"
+#include "oer/transfer/transfer_lighting.hpp"
+#include "synthetic_maps.hpp"
+#include "test_meshes.hpp"
+
+using namespace oer;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kCoefficients = sh_count(kTransferBakeOrder);
+const double kY00 = 0.5 / std::sqrt(kPi);
+
+using Coefficients = std::array<double, kCoefficients>;
+
+// A_l Y_i(n): the transfer of a point nothing occludes.
+Coefficients cosine_transfer(const glm::dvec3& n) {
+    Coefficients transfer{};
+    sh_evaluate(kTransferBakeOrder, n, transfer);
+    for (int l = 0; l < kTransferBakeOrder; ++l) {
+        for (int m = -l; m <= l; ++m) {
+            transfer[std::size_t(sh_index(l, m))] *= lambertian_band_factor(l);
+        }
+    }
+    return transfer;
+}
+
+// The share of the cosine-weighted hemisphere from which the sky reaches a point: its band-0
+// transfer over the unoccluded A_0 Y_0 = pi Y_0 (under a constant sky of radiance L,
+// L_00 = 4 pi Y_0 L and E = direct_0 L_00 = that share times pi L).
+double visible_fraction(const float* direct) {
+    return double(direct[0]) / (kPi * kY00);
+}
+
+// Three standard deviations of the share of `rays` independent rays that hit something of
+// probability p: a bound for stratified rays, whose error is smaller.
+double binomial_tolerance(double p, int rays) {
+    return 3.0 * std::sqrt(p * (1.0 - p) / rays);
+}
+
+SceneObject object_of(Mesh mesh, glm::mat4 transform = glm::mat4(1.0f),
+                      std::optional<glm::vec3> base_color = std::nullopt) {
+    return {std::make_shared<const Mesh>(std::move(mesh)), transform, base_color};
+}
+
+FrameRequest request_of(std::vector<SceneObject> objects, bool ground) {
+    FrameRequest request;
+    request.objects = std::move(objects);
+    request.ground = ground;
+    return request;
+}
+
+// The vertex of `primitive` nearest `position` among those whose normal is `normal`.
+std::size_t vertex_at(const Primitive& primitive, glm::vec3 position, glm::vec3 normal) {
+    std::size_t best = primitive.positions.size();
+    float best_distance = 1e30f;
+    for (std::size_t v = 0; v < primitive.positions.size(); ++v) {
+        const float distance = glm::length(primitive.positions[v] - position);
+        if (glm::dot(primitive.normals[v], normal) > 0.999f && distance < best_distance) {
+            best = v;
+            best_distance = distance;
+        }
+    }
+    EXPECT_LT(best_distance, 1e-4f) << "no vertex at the point the test needs";
+    return best;
+}
+
+// The cosine-weighted view factor from a point, facing +Y, to the rectangle [x0, x1] x [z0, z1]
+// at height h above it (x0 < 0 < x1, z0 < 0 < z1 in the point's frame), as four rectangles
+// with a corner above the point, each (J. R. Howell, "A Catalog of Radiation Heat Transfer
+// Configuration Factors": differential planar element to a parallel rectangle, the element's
+// normal through a corner; sides a and b at distance c, A = a / c, B = b / c)
+//   F = 1 / (2 pi) (A / sqrt(1 + A^2) atan(B / sqrt(1 + A^2))
+//                   + B / sqrt(1 + B^2) atan(A / sqrt(1 + B^2))).
+double rectangle_view_factor(double x0, double x1, double z0, double z1, double h) {
+    const auto corner = [h](double a, double b) {
+        const double A = a / h, B = b / h;
+        const double sa = std::sqrt(1.0 + A * A), sb = std::sqrt(1.0 + B * B);
+        return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2.0 * kPi);
+    };
+    return corner(-x0, -z0) + corner(-x0, z1) + corner(x1, -z0) + corner(x1, z1);
+}
+
+// The cosine-weighted view factor of a sphere of radius r resting on a plane, from a point of
+// the plane at horizontal distance d from where it touches. The whole sphere is above the
+// point's horizon, so by Nusselt's analogue (the solid angle projected onto the base of the unit
+// hemisphere, over pi) its cap of half-angle alpha, sin alpha = r / D, whose axis makes the angle
+// beta with the normal projects to an ellipse of area pi sin^2 alpha cos beta: with
+// D = sqrt(d^2 + r^2) and cos beta = r / D, F = (r / D)^2 (r / D) (Howell's catalogue likewise:
+// differential element to a sphere wholly above its plane).
+double sphere_view_factor(double r, double d) {
+    const double ratio = r / std::sqrt(d * d + r * r);
+    return ratio * ratio * ratio;
+}
+
+const float* direct_of(const TransferPoints& points, std::size_t point) {
+    return &points.direct[point * kCoefficients];
+}
+
+const float* bounce_of(const TransferPoints& points, std::size_t point, int channel) {
+    return &points.bounce[(point * 3 + std::size_t(channel)) * kCoefficients];
+}
+
+double max_abs(const std::vector<float>& values) {
+    double largest = 0.0;
+    for (const float value : values) {
+        largest = std::max(largest, double(std::abs(value)));
+    }
+    return largest;
+}
+
+}  // namespace
+
+TEST(TransferBakeConvex, SphereAloneIsPlainIrradiance) {
+    const Mesh sphere = oer::testing::uv_sphere({0.0f, 0.5f, 0.0f}, 1.0f, 64, 32, glm::vec3(0.7f));
+    TransferBakeOptions options;  // the rule's rays, one bounce
+    const SceneTransfer transfer = bake_transfer(request_of({object_of(sphere)}, false), options);
+    EXPECT_EQ(transfer.order, kTransferBakeOrder);
+    EXPECT_EQ(transfer.rays, transfer_ray_count({object_of(sphere)}));
+    EXPECT_FALSE(transfer.ground.has_value());
+    ASSERT_EQ(transfer.objects.size(), 1u);
+    ASSERT_EQ(transfer.objects[0].size(), 1u);
+    const TransferPoints& points = transfer.objects[0][0];
+    ASSERT_EQ(points.count, sphere.primitives[0].positions.size());
+
+    // A sky with a broad bright patch, order 5 radiance through the lighting library.
+    const HdrImage map = oer::testing::disc_map(256, 128, {0.2f, 0.3f, 0.5f},
+                                                {{{0.3, 0.8, 0.2}, 0.6, {3.0f, 2.5f, 2.0f}}});
+    const ShRgb radiance = project_environment(map, {}, kTransferBakeOrder).all;
+
+    double worst_irradiance = 0.0, worst_coefficient = 0.0;
+    for (std::size_t v = 0; v < points.count; ++v) {
+        const glm::dvec3 n = glm::normalize(glm::dvec3(sphere.primitives[0].normals[v]));
+        const Coefficients expected = cosine_transfer(n);
+        const float* direct = direct_of(points, v);
+        glm::dvec3 baked(0.0), plain(0.0);
+        for (int i = 0; i < kCoefficients; ++i) {
+            baked += double(direct[i]) * radiance.coefficients[std::size_t(i)];
+            plain += expected[std::size_t(i)] * radiance.coefficients[std::size_t(i)];
+            worst_coefficient =
+                std::max(worst_coefficient, std::abs(double(direct[i]) - expected[std::size_t(i)]));
+        }
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_GT(plain[c], 0.0);
+            worst_irradiance = std::max(worst_irradiance, std::abs(baked[c] / plain[c] - 1.0));
+        }
+    }
+    std::printf(
+        "convex sphere, %zu vertices, %d rays: worst relative irradiance error %.3g, "
+        "worst coefficient error %.3g (of A_0 Y_0 = %.3f)\n",
+        points.count, transfer.rays, worst_irradiance, worst_coefficient, kPi * kY00);
+    EXPECT_LT(worst_irradiance, 0.01);
+    // Nothing occludes: the bake's control variate leaves A_l Y_i(n) itself, to float rounding.
+    EXPECT_LT(worst_coefficient, 1e-5);
+    // Nothing to reflect: no bounce at all.
+    ASSERT_EQ(points.bounce.size(), points.count * 3 * kCoefficients);
+    EXPECT_EQ(max_abs(points.bounce), 0.0);
+}
+
+TEST(TransferBakeConcave, OpenBoxFloorSeesTheSkyThroughTheOpening) {
+    const float half_size = 1.0f, height = 1.0f;
+    const Mesh box = oer::testing::open_box(half_size, height, 0.02f, 8, glm::vec3(0.5f));
+    TransferBakeOptions options;
+    options.bounce = Bounce::None;
+    options.rays = 4096;
+    const SceneTransfer transfer = bake_transfer(request_of({object_of(box)}, false), options);
+    ASSERT_EQ(transfer.rays, 4096);
+    EXPECT_TRUE(transfer.objects[0][0].bounce.empty());
+
+    const std::size_t floor_centre = vertex_at(box.primitives[0], {0, 0, 0}, {0, 1, 0});
+    const double visible = visible_fraction(direct_of(transfer.objects[0][0], floor_centre));
+    const double expected =
+        rectangle_view_factor(-half_size, half_size, -half_size, half_size, height);
+    const double tolerance = binomial_tolerance(expected, transfer.rays);
+    std::printf(
+        "open box floor centre: visible %.5f, view factor of the opening %.5f, "
+        "difference %.2g (tolerance %.3g)\n",
+        visible, expected, visible - expected, tolerance);
+    EXPECT_NEAR(visible, expected, tolerance);
+
+    // A vertex at the middle of an outer wall faces away from the box: its whole hemisphere is
+    // open, so it holds the unoccluded transfer.
+    const glm::vec3 outer(half_size + 0.02f, 0.5f * (height - 0.02f), 0.0f);
+    const std::size_t wall = vertex_at(box.primitives[1], outer, {1, 0, 0});
+    const Coefficients open = cosine_transfer({1.0, 0.0, 0.0});
+    const float* direct = direct_of(transfer.objects[0][1], wall);
+    EXPECT_NEAR(visible_fraction(direct), 1.0, 1e-6);
+    for (int i = 0; i < kCoefficients; ++i) {
+        EXPECT_NEAR(direct[i], open[std::size_t(i)], 1e-6) << "coefficient " << i;
+    }
+}
+
+TEST(TransferBakeBounce, PointUnderABrightCeilingGetsItsReflectedLight) {
+    // A tiny square facing up at the origin under a 2 x 2 square facing down at height 1: the
+    // ceiling's own transfer is (nearly: the tiny square hides almost nothing) the unoccluded
+    // A_l Y_i(-Y), so the light it reflects onto the point is rho F A_l Y_i(-Y) with F the
+    // rectangle view factor: bounce_c,i = (pi / N) (rho_c / pi) D_i over the share F of the rays.
+    const glm::vec3 albedo(0.2f, 0.5f, 0.8f);
+    const glm::mat4 face_up = glm::rotate(glm::mat4(1.0f), -0.5f * float(kPi), {1, 0, 0});
+    const glm::mat4 face_down = glm::translate(glm::mat4(1.0f), {0, 1, 0}) *
+                                glm::rotate(glm::mat4(1.0f), 0.5f * float(kPi), {1, 0, 0});
+    const Mesh receiver = oer::testing::quad({0, 0, 0}, 1e-3f, glm::vec3(0.5f));
+    const Mesh ceiling = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
+    TransferBakeOptions options;
+    options.rays = 4096;
+    const SceneTransfer transfer = bake_transfer(
+        request_of({object_of(receiver, face_up), object_of(ceiling, face_down, albedo)}, false),
+        options);
+
+    const glm::vec3 point = glm::vec3(face_up * glm::vec4(receiver.primitives[0].positions[0], 1));
+    ASSERT_NEAR(point.y, 0.0f, 1e-6f);
+    const double view_factor =
+        rectangle_view_factor(-1.0 - point.x, 1.0 - point.x, -1.0 - point.z, 1.0 - point.z, 1.0);
+    const double tolerance = binomial_tolerance(view_factor, transfer.rays);
+    const TransferPoints& points = transfer.objects[0][0];
+    const double visible = visible_fraction(direct_of(points, 0));
+    std::printf("point under a ceiling: visible %.5f, 1 - view factor %.5f\n", visible,
+                1.0 - view_factor);
+    EXPECT_NEAR(visible, 1.0 - view_factor, tolerance);
+
+    const Coefficients ceiling_transfer = cosine_transfer({0.0, -1.0, 0.0});
+    for (int c = 0; c < 3; ++c) {
+        const float* bounce = bounce_of(points, 0, c);
+        const double share = double(bounce[0]) / (albedo[c] * ceiling_transfer[0]);
+        std::printf("  channel %d: bounce_0 / (rho A_0 Y_0(-Y)) %.5f, view factor %.5f\n", c, share,
+                    view_factor);
+        for (int i = 0; i < kCoefficients; ++i) {
+            const double expected = albedo[c] * view_factor * ceiling_transfer[std::size_t(i)];
+            EXPECT_NEAR(bounce[i], expected,
+                        tolerance * albedo[c] * std::abs(ceiling_transfer[std::size_t(i)]) + 1e-6)
+                << "channel " << c << ", coefficient " << i;
+        }
+    }
+
+    // A black ceiling reflects nothing.
+    const SceneTransfer black = bake_transfer(
+        request_of({object_of(receiver, face_up), object_of(ceiling, face_down, glm::vec3(0.0f))},
+                   false),
+        options);
+    EXPECT_EQ(max_abs(black.objects[0][0].bounce), 0.0);
+    EXPECT_EQ(black.objects[0][0].direct, points.direct);
+}
+
+TEST(TransferBakeBounce, ReflectedTransferIsInterpolatedAcrossTheHitTriangle) {
+    // A 2 x 2 ceiling at height 1 whose four corners have their normals tilted differently, so
+    // their (unoccluded) transfers differ: a point under it gets the integral over the ceiling
+    // of rho / pi D(q) cos, D(q) the barycentric mix of its triangle's corners, here summed
+    // over a 400 x 400 grid of the ceiling with barycentrics from the positions.
+    Mesh ceiling;
+    Primitive square;
+    const glm::vec2 corners[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};  // (x, z)
+    for (const glm::vec2& corner : corners) {
+        square.positions.emplace_back(corner.x, 1.0f, corner.y);
+        square.normals.push_back(
+            glm::normalize(glm::vec3(0.6f * corner.x, -1.0f, 0.2f * corner.y)));
+    }
+    square.indices = {0, 1, 2, 0, 2, 3};
+    ceiling.primitives.push_back(square);
+    ceiling.materials.push_back(oer::testing::lambertian(glm::vec3(0.5f)));
+    oer::testing::finish(ceiling);
+    const glm::mat4 face_up = glm::rotate(glm::mat4(1.0f), -0.5f * float(kPi), {1, 0, 0});
+    const Mesh receiver = oer::testing::quad({0, 0, 0}, 1e-3f, glm::vec3(0.5f));
+    TransferBakeOptions options;
+    options.rays = 4096;
+    const SceneTransfer transfer = bake_transfer(
+        request_of({object_of(receiver, face_up), object_of(ceiling)}, false), options);
+
+    std::array<Coefficients, 4> corner_transfer;
+    for (int k = 0; k < 4; ++k) {
+        corner_transfer[std::size_t(k)] =
+            cosine_transfer(glm::dvec3(square.normals[std::size_t(k)]));
+    }
+    const glm::dvec3 point(face_up * glm::vec4(receiver.primitives[0].positions[0], 1.0f));
+    constexpr int kSteps = 400;
+    const double step = 2.0 / kSteps, albedo = 0.5;
+    Coefficients expected{};
+    for (int j = 0; j < kSteps; ++j) {
+        for (int i = 0; i < kSteps; ++i) {
+            const double x = -1.0 + (i + 0.5) * step, z = -1.0 + (j + 0.5) * step;
+            // Triangle (0, 1, 2) where x >= z, (0, 2, 3) where z > x; barycentrics of (x, z).
+            const double s = 0.5 * (x + 1.0), t = 0.5 * (z + 1.0);
+            const std::array<std::pair<int, double>, 3> weights =
+                x >= z ? std::array<std::pair<int, double>, 3>{{{0, 1.0 - s}, {1, s - t}, {2, t}}}
+                       : std::array<std::pair<int, double>, 3>{{{0, 1.0 - t}, {2, s}, {3, t - s}}};
+            // cos at the point times cos at the ceiling over r^2, both cosines h / r (h = 1).
+            const glm::dvec3 to_q = glm::dvec3(x, 1.0, z) - point;
+            const double r2 = glm::dot(to_q, to_q);
+            const double kernel = albedo / kPi * step * step / (r2 * r2);
+            for (const auto& [corner, weight] : weights) {
+                for (int c = 0; c < kCoefficients; ++c) {
+                    expected[std::size_t(c)] +=
+                        kernel * weight * corner_transfer[std::size_t(corner)][std::size_t(c)];
+                }
+            }
+        }
+    }
+    const double view_factor =
+        rectangle_view_factor(-1.0 - point.x, 1.0 - point.x, -1.0 - point.z, 1.0 - point.z, 1.0);
+    const double tolerance = binomial_tolerance(view_factor, transfer.rays);
+    const float* bounce = bounce_of(transfer.objects[0][0], 0, 0);
+    for (int c = 0; c < kCoefficients; ++c) {
+        double largest = 0.0;
+        for (const Coefficients& corner : corner_transfer) {
+            largest = std::max(largest, std::abs(corner[std::size_t(c)]));
+        }
+        EXPECT_NEAR(bounce[c], expected[std::size_t(c)], tolerance * albedo * largest + 1e-6)
+            << "coefficient " << c;
+    }
+    std::printf("interpolated bounce: bounce_0 %.5f, integral %.5f; bounce_3 %.5f, integral %.5f\n",
+                bounce[0], expected[0], bounce[3], expected[3]);
+}
+
+TEST(TransferBakeGround, SphereRestingOnTheGroundCastsItsViewFactor) {
+    const float radius = 1.0f;
+    const Mesh sphere =
+        oer::testing::uv_sphere({0.0f, radius, 0.0f}, radius, 48, 24, glm::vec3(0.5f));
+    TransferBakeOptions options;
+    options.rays = 2304;
+    const SceneTransfer transfer = bake_transfer(request_of({object_of(sphere)}, true), options);
+    ASSERT_TRUE(transfer.ground.has_value());
+    const GroundTransfer& ground = *transfer.ground;
+    EXPECT_EQ(ground.height, 0.0f);
+    EXPECT_EQ(ground.centre, glm::vec2(0.0f));
+    EXPECT_EQ(ground.resolution, 64);
+    ASSERT_EQ(ground.points.count, 64u * 64u);
+    // Far enough for the sphere's shadow: 2 scene radii (half the box's diagonal) each side.
+    EXPECT_NEAR(ground.half_size, 2.0f * std::sqrt(3.0f) * radius, 1e-5f);
+
+    // Every texel within 3 radii of the contact point against the sphere's view factor.
+    const double texel = 2.0 * ground.half_size / ground.resolution;
+    double worst = 0.0, sum = 0.0, sum_squares = 0.0;
+    int compared = 0;
+    for (int row = 0; row < ground.resolution; ++row) {
+        for (int column = 0; column < ground.resolution; ++column) {
+            const double x = -ground.half_size + (column + 0.5) * texel;
+            const double z = -ground.half_size + (row + 0.5) * texel;
+            const double d = std::sqrt(x * x + z * z);
+            if (d > 3.0 * radius) {
+                continue;
+            }
+            const double expected = 1.0 - sphere_view_factor(radius, d);
+            const std::size_t index =
+                std::size_t(row) * std::size_t(ground.resolution) + std::size_t(column);
+            const double error = visible_fraction(direct_of(ground.points, index)) - expected;
+            EXPECT_NEAR(error, 0.0, binomial_tolerance(expected, transfer.rays))
+                << "texel at distance " << d;
+            worst = std::max(worst, std::abs(error));
+            sum += error;
+            sum_squares += error * error;
+            ++compared;
+        }
+    }
+    const double mean = sum / compared, rms = std::sqrt(sum_squares / compared);
+    std::printf(
+        "ground under a sphere, %d texels, %d rays: visible fraction error worst %.4f, "
+        "mean %.2g, rms %.4f\n",
+        compared, transfer.rays, worst, mean, rms);
+    // Independent texel errors: their mean is unbiased within the tolerance over sqrt(count),
+    // and their RMS within the largest one-sigma binomial error (p = 1/2).
+    EXPECT_LT(std::abs(mean), binomial_tolerance(0.5, transfer.rays) / std::sqrt(compared));
+    EXPECT_LT(rms, binomial_tolerance(0.5, transfer.rays) / 3.0);
+
+    // The corner texel, 4.9 radii out, is nearly open: the sphere covers 0.8 % of its
+    // hemisphere, and it reflects at most that share of its brightest transfer. Each blocked
+    // ray takes (pi / N) Y_i(w) from the open transfer, and |Y_lm| <= sqrt((2l + 1) / (4 pi))
+    // (the addition theorem: the squares of band l sum to that everywhere).
+    const double corner = std::sqrt(2.0) * (ground.half_size - 0.5 * texel);
+    const double covered = sphere_view_factor(radius, corner);
+    const double covered_bound = covered + binomial_tolerance(covered, transfer.rays);
+    const Coefficients open = cosine_transfer({0.0, 1.0, 0.0});
+    const float* direct = direct_of(ground.points, 0);
+    for (int l = 0; l < kTransferBakeOrder; ++l) {
+        const double largest_basis_value = std::sqrt((2.0 * l + 1.0) / (4.0 * kPi));
+        for (int m = -l; m <= l; ++m) {
+            const auto i = std::size_t(sh_index(l, m));
+            EXPECT_NEAR(direct[i], open[i], covered_bound * kPi * largest_basis_value)
+                << "coefficient " << i;
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        const float bounce = bounce_of(ground.points, 0, c)[0];
+        EXPECT_GE(bounce, 0.0f);
+        EXPECT_LE(bounce, 0.5 * covered_bound * kPi * kY00);
+    }
+
+    // The sphere's top sees only the sky: the unoccluded transfer, and nothing reflected.
+    const TransferPoints& points = transfer.objects[0][0];
+    const Coefficients up = cosine_transfer({0.0, 1.0, 0.0});
+    for (int i = 0; i < kCoefficients; ++i) {
+        EXPECT_NEAR(direct_of(points, 0)[i], up[std::size_t(i)], 1e-6) << "coefficient " << i;
+        EXPECT_EQ(bounce_of(points, 0, 0)[i], 0.0f);
+    }
+}
+
+TEST(TransferBakeGround, BounceFollowsTheReflectorsAlbedo) {
+    // A black sphere reflects nothing onto the ground; the grey ground (albedo 0.8) reflects
+    // onto the sphere's lower half, equally in every channel.
+    const Mesh sphere = oer::testing::uv_sphere({0.0f, 1.0f, 0.0f}, 1.0f, 24, 12, glm::vec3(0.5f));
+    TransferBakeOptions options;
+    options.rays = 256;
+    const SceneTransfer transfer = bake_transfer(
+        request_of({object_of(sphere, glm::mat4(1.0f), glm::vec3(0.0f))}, true), options);
+    EXPECT_EQ(max_abs(transfer.ground->points.bounce), 0.0);
+    const std::size_t equator = vertex_at(sphere.primitives[0], {1, 1, 0}, {1, 0, 0});
+    const TransferPoints& points = transfer.objects[0][0];
+    const float red = bounce_of(points, equator, 0)[0];
+    EXPECT_GT(red, 0.0f);
+    EXPECT_EQ(bounce_of(points, equator, 1)[0], red);
+    EXPECT_EQ(bounce_of(points, equator, 2)[0], red);
+}
+
+TEST(TransferBakeDeterminism, SameVectorsOnOneAndTwoThreads) {
+    const Mesh box = oer::testing::open_box(0.5f, 0.4f, 0.02f, 4, glm::vec3(0.6f, 0.4f, 0.2f));
+    const FrameRequest request =
+        request_of({object_of(box, glm::translate(glm::mat4(1.0f), {0, 0.02f, 0}))}, true);
+    TransferBakeOptions options;
+    options.rays = 100;
+    options.threads = 1;
+    const SceneTransfer one = bake_transfer(request, options);
+    options.threads = 2;
+    const SceneTransfer two = bake_transfer(request, options);
+    ASSERT_EQ(one.objects.size(), two.objects.size());
+    for (std::size_t p = 0; p < one.objects[0].size(); ++p) {
+        EXPECT_EQ(one.objects[0][p].direct, two.objects[0][p].direct) << "primitive " << p;
+        EXPECT_EQ(one.objects[0][p].bounce, two.objects[0][p].bounce) << "primitive " << p;
+    }
+    EXPECT_EQ(one.ground->points.direct, two.ground->points.direct);
+    EXPECT_EQ(one.ground->points.bounce, two.ground->points.bounce);
+    // Not an empty comparison: the box reflects light onto the ground.
+    EXPECT_GT(max_abs(one.ground->points.bounce), 0.0);
+}
+
+TEST(TransferBakeRules, RaysFollowTheReceiverCount) {
+    const Mesh small = oer::testing::uv_sphere({0, 0, 0}, 1.0f, 16, 8, glm::vec3(0.5f));
+    EXPECT_EQ(transfer_ray_count({object_of(small)}), 1024);
+    Mesh huge;
+    huge.primitives.resize(1);
+    huge.primitives[0].positions.resize(2'000'000);
+    EXPECT_EQ(transfer_ray_count({object_of(huge)}), 64);
+    int previous = 1 << 20;
+    for (const std::size_t vertices : {1000u, 10000u, 35947u, 100000u, 300000u}) {
+        Mesh mesh;
+        mesh.primitives.resize(1);
+        mesh.primitives[0].positions.resize(vertices);
+        const int rays = transfer_ray_count({object_of(std::move(mesh))});
+        const int strata = int(std::lround(std::sqrt(rays)));
+        EXPECT_EQ(strata * strata, rays) << vertices << " vertices";
+        EXPECT_LE(rays, previous) << vertices << " vertices";
+        previous = rays;
+    }
+}
+
+TEST(TransferBakeRules, RequestedRaysRoundDownToASquare) {
+    const Mesh sphere = oer::testing::uv_sphere({0, 0, 0}, 1.0f, 8, 4, glm::vec3(0.5f));
+    TransferBakeOptions options;
+    options.bounce = Bounce::None;
+    options.rays = 70;
+    EXPECT_EQ(bake_transfer(request_of({object_of(sphere)}, false), options).rays, 64);
+}
+
+TEST(TransferBakeRules, OrderIsTheRigsAtMostTheBakes) {
+    Rig rig;
+    rig.sh.all = ShRgb(3);
+    EXPECT_EQ(transfer_order(rig), 3);
+    rig.sh.all = ShRgb(9);
+    EXPECT_EQ(transfer_order(rig), kTransferBakeOrder);
+    rig.sh.all = ShRgb(1);
+    EXPECT_EQ(transfer_order(rig), 1);
+}
+
+TEST(TransferBakeRules, RequestWithoutObjectsIsInvalid) {
+    try {
+        bake_transfer(FrameRequest{}, {});
+        FAIL() << "baked a request without objects";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
+    }
+}

@@ -1,0 +1,175 @@
+// The stored form of a SceneTransfer (OERPRT1): what is encoded decodes to the same values,
+// and damaged bytes are refused as InvalidInput, never a crash or an allocation the bytes do not
+// justify.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "oer/core/error.hpp"
+#include "oer/transfer/scene_transfer.hpp"
+
+using namespace oer;
+
+namespace {
+
+// count points of `coefficients` values each with distinct values (and bounce vectors when
+// asked), so that a value read from the wrong place shows.
+TransferPoints numbered_points(std::size_t count, int coefficients, bool bounce, float first) {
+    TransferPoints points;
+    points.count = count;
+    for (std::size_t i = 0; i < count * std::size_t(coefficients); ++i) {
+        points.direct.push_back(first + 0.25f * float(i));
+    }
+    if (bounce) {
+        for (std::size_t i = 0; i < 3 * count * std::size_t(coefficients); ++i) {
+            points.bounce.push_back(-first - 0.125f * float(i));
+        }
+    }
+    return points;
+}
+
+// Two objects (two primitives, then one) and a 3 x 3 ground grid, order 2, one bounce.
+SceneTransfer sample_transfer() {
+    SceneTransfer transfer;
+    transfer.order = 2;
+    transfer.bounce = Bounce::One;
+    transfer.rays = 196;
+    transfer.bake_ms = 12.5;
+    const int coefficients = transfer.coefficients();
+    transfer.objects = {{numbered_points(3, coefficients, true, 1.0f),
+                         numbered_points(1, coefficients, true, 100.0f)},
+                        {numbered_points(2, coefficients, true, -7.0f)}};
+    GroundTransfer ground;
+    ground.centre = {0.5f, -2.0f};
+    ground.half_size = 3.0f;
+    ground.height = -0.25f;
+    ground.resolution = 3;
+    ground.points = numbered_points(9, coefficients, true, 1000.0f);
+    transfer.ground = ground;
+    return transfer;
+}
+
+void expect_same_points(const TransferPoints& a, const TransferPoints& b) {
+    EXPECT_EQ(a.count, b.count);
+    EXPECT_EQ(a.direct, b.direct);
+    EXPECT_EQ(a.bounce, b.bounce);
+}
+
+// decode_transfer(bytes) throws oer::Error of kind InvalidInput (and nothing else: no
+// std::bad_alloc, no std::length_error, no crash).
+void expect_invalid(const std::string& bytes, const std::string& what) {
+    try {
+        decode_transfer(bytes);
+        ADD_FAILURE() << what << ": decoded";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput) << what << ": " << error.what();
+    } catch (const std::exception& error) {
+        ADD_FAILURE() << what << ": threw " << error.what() << ", not oer::Error";
+    }
+}
+
+void put_u32_at(std::string& bytes, std::size_t offset, std::uint32_t value) {
+    for (int i = 0; i < 4; ++i) {
+        bytes[offset + std::size_t(i)] = char((value >> (8 * i)) & 0xffu);
+    }
+}
+
+// Byte offsets of the layout (magic, version, order, bounce, rays, bake_ms, object count, the
+// first object's primitive count, its first primitive's point count).
+constexpr std::size_t kObjectCountOffset = 7 + 4 * 4;
+constexpr std::size_t kPrimitiveCountOffset = kObjectCountOffset + 4;
+constexpr std::size_t kPointCountOffset = kPrimitiveCountOffset + 4;
+constexpr std::size_t kFirstValueOffset = kPointCountOffset + 8 + 4;
+
+}  // namespace
+
+TEST(TransferCodec, RoundTripKeepsEveryValue) {
+    const SceneTransfer transfer = sample_transfer();
+    const SceneTransfer decoded = decode_transfer(encode_transfer(transfer));
+    EXPECT_EQ(decoded.order, transfer.order);
+    EXPECT_EQ(decoded.bounce, transfer.bounce);
+    EXPECT_EQ(decoded.rays, transfer.rays);
+    EXPECT_EQ(decoded.bake_ms, transfer.bake_ms);
+    ASSERT_EQ(decoded.objects.size(), 2u);
+    ASSERT_EQ(decoded.objects[0].size(), 2u);
+    ASSERT_EQ(decoded.objects[1].size(), 1u);
+    expect_same_points(decoded.objects[0][0], transfer.objects[0][0]);
+    expect_same_points(decoded.objects[0][1], transfer.objects[0][1]);
+    expect_same_points(decoded.objects[1][0], transfer.objects[1][0]);
+    ASSERT_TRUE(decoded.ground.has_value());
+    EXPECT_EQ(decoded.ground->centre, transfer.ground->centre);
+    EXPECT_EQ(decoded.ground->half_size, transfer.ground->half_size);
+    EXPECT_EQ(decoded.ground->height, transfer.ground->height);
+    EXPECT_EQ(decoded.ground->resolution, transfer.ground->resolution);
+    expect_same_points(decoded.ground->points, transfer.ground->points);
+}
+
+TEST(TransferCodec, RoundTripWithoutBounceOrGround) {
+    SceneTransfer transfer;
+    transfer.order = 5;
+    transfer.bounce = Bounce::None;
+    transfer.rays = 64;
+    transfer.objects = {{numbered_points(4, transfer.coefficients(), false, 3.0f)}};
+    const SceneTransfer decoded = decode_transfer(encode_transfer(transfer));
+    EXPECT_EQ(decoded.bounce, Bounce::None);
+    EXPECT_FALSE(decoded.ground.has_value());
+    ASSERT_EQ(decoded.objects.size(), 1u);
+    ASSERT_EQ(decoded.objects[0].size(), 1u);
+    expect_same_points(decoded.objects[0][0], transfer.objects[0][0]);
+}
+
+TEST(TransferCodec, EveryTruncationIsInvalidInput) {
+    const std::string bytes = encode_transfer(sample_transfer());
+    for (std::size_t length = 0; length < bytes.size(); ++length) {
+        expect_invalid(bytes.substr(0, length), "the first " + std::to_string(length) + " of " +
+                                                    std::to_string(bytes.size()) + " bytes");
+    }
+    expect_invalid(bytes + '\0', "one byte more");
+}
+
+TEST(TransferCodec, HugeClaimedCountsAreRefusedBeforeAllocating) {
+    const std::string bytes = encode_transfer(sample_transfer());
+    // 2^32 - 1 objects or primitives, or 2^63 points: allocating for them would throw
+    // std::bad_alloc or std::length_error; the decoder compares them with the bytes first.
+    std::string objects = bytes;
+    put_u32_at(objects, kObjectCountOffset, std::numeric_limits<std::uint32_t>::max());
+    expect_invalid(objects, "2^32 - 1 objects");
+    std::string primitives = bytes;
+    put_u32_at(primitives, kPrimitiveCountOffset, std::numeric_limits<std::uint32_t>::max());
+    expect_invalid(primitives, "2^32 - 1 primitives");
+    std::string points = bytes;
+    put_u32_at(points, kPointCountOffset + 4, 0x80000000u);
+    expect_invalid(points, "2^63 points");
+}
+
+TEST(TransferCodec, NonFiniteValuesAreRefused) {
+    for (const float bad :
+         {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        SceneTransfer transfer = sample_transfer();
+        transfer.objects[1][0].direct[1] = bad;
+        expect_invalid(encode_transfer(transfer), "a non-finite direct value");
+        transfer = sample_transfer();
+        transfer.ground->points.bounce.back() = bad;
+        expect_invalid(encode_transfer(transfer), "a non-finite ground bounce value");
+    }
+    // The same NaN written into the bytes of an intact encoding, where the first value lies.
+    std::string bytes = encode_transfer(sample_transfer());
+    put_u32_at(bytes, kFirstValueOffset, 0x7fc00000u);
+    expect_invalid(bytes, "a NaN at the first value");
+}
+
+TEST(TransferCodec, WrongMagicVersionAndFieldsAreRefused) {
+    const std::string bytes = encode_transfer(sample_transfer());
+    std::string magic = bytes;
+    magic[0] = 'X';
+    expect_invalid(magic, "a wrong magic");
+    std::string version = bytes;
+    version[6] = '2';
+    expect_invalid(version, "version 2");
+    std::string order = bytes;
+    put_u32_at(order, 7, std::uint32_t(kTransferBakeOrder + 1));
+    expect_invalid(order, "an order above the bake's");
+}
