@@ -249,7 +249,7 @@ TEST(ShaderSourcesDefines, TheRenderersDefineStringsPassAndOthersAreErrors) {
                                   "#define SH_ORDER 16\n#define LIGHTS_ON 64\n#define SHADOWS 1\n"
                                   "#define PCF 0\n#define ENVIRONMENT_BACKGROUND 1\n"
                                   "#define DISPLAY_OUTPUT 0\n#define SPECULAR 1\n"
-                                  "#define SURFACE 2\n"));
+                                  "#define SURFACE 2\n#define TRANSFER 1\n"));
     const std::map<std::string, std::string> wrong{
         {"#define DISPLAY_OUTPUT 2\n", "DISPLAY_OUTPUT = 2 is outside 0..1"},
         {"#define DISPLAY_OUTPUT -1\n", "DISPLAY_OUTPUT = -1 is outside 0..1"},
@@ -323,10 +323,10 @@ TEST(ShaderSourcesGlslang, EveryVariantOfEveryFrameProgramCompiles) {
                                            std::move(source)});
         }
     }
-    // The shading pass's 3 SH orders x 3 light counts x 96 switch combinations, the
-    // transparent pass's 3 x 3 x 8, the bake's 3 x 3 x 2, the resolve's 2, depth's 2 and
-    // geometry's 4.
-    EXPECT_EQ(variants.size(), 864u + 72u + 18u + 2u + 2u + 4u);
+    // The shading pass's 3 SH orders x 3 light counts x 192 switch combinations, the
+    // transparent pass's 3 x 3 x 16, the bake's 3 x 3 x 2, the resolve's 2, depth's 2 and
+    // geometry's 8.
+    EXPECT_EQ(variants.size(), 1728u + 144u + 18u + 2u + 2u + 8u);
 
     // Each distinct error once, with the variants that have it.
     std::map<std::string, std::vector<const Compiled*>> errors;

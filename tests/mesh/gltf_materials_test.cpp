@@ -469,7 +469,7 @@ const json kNormalMapped = {{"name", "N"}, {"normalTexture", {{"index", 0}}}};
 TEST(GltfMaterials, FileTangentsAreValidatedAndMadeUnit) {
     const std::vector<glm::vec4> tangents{
         {2, 0, 0, 1}, {1, 0, 0, 0.9995f}, {1, 0, 0.01f, -1.0004f}, {0.5f, 0, 0, -1}};
-    const Mesh mesh = load_gltf_text(quad_with_tangents(tangents, kNormalMapped));
+    const Mesh mesh = load_gltf_text(quad_with_tangents(tangents, kNormalMapped), kUnrefined);
     const Primitive& p = mesh.primitives[0];
     ASSERT_EQ(p.tangents.size(), 4u);
     EXPECT_EQ(p.tangents[0], glm::vec4(1, 0, 0, 1));
@@ -554,8 +554,9 @@ TEST(GltfMaterials, GeneratedTangentsAgreeWithTheFilesUnderAnyNodeTransform) {
          {json::object(), json{{"scale", {-1.0, 1.0, 1.0}}}, json{{"scale", {1.0, 1.0, -3.0}}},
           json{{"rotation", {0.0, 0.0, std::sqrt(0.5), std::sqrt(0.5)}}}}) {
         SCOPED_TRACE(node.dump());
-        const Mesh from_file = load_gltf_text(quad_with_tangents(frame, kNormalMapped, node));
-        const Mesh generated = load_gltf_text(quad_asset(kNormalMapped, 1, node));
+        const Mesh from_file =
+            load_gltf_text(quad_with_tangents(frame, kNormalMapped, node), kUnrefined);
+        const Mesh generated = load_gltf_text(quad_asset(kNormalMapped, 1, node), kUnrefined);
         const Primitive& f = from_file.primitives[0];
         const Primitive& g = generated.primitives[0];
         expect_unit_tangents(g);
@@ -579,7 +580,7 @@ TEST(GltfMaterials, NormalTextureWithoutTexcoordsIsDroppedOnThatPrimitiveOnly) {
                            {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
     b.doc["images"] = {{{"uri", kPngUri}}};
     b.doc["textures"] = {{{"source", 0}}};
-    const Mesh mesh = load_gltf_text(b.gltf());
+    const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
     expect_valid(mesh);
     ASSERT_EQ(mesh.materials.size(), 2u);
     const Material& without = material_of(mesh, 0);
@@ -606,10 +607,10 @@ TEST(GltfMaterials, AnyTextureGivesAPrimitiveWithoutTexcoordsZeros) {
     b.doc["materials"] = {{{"emissiveTexture", {{"index", 0}}}}};
     b.doc["images"] = {{{"uri", kPngUri}}};
     b.doc["textures"] = {{{"source", 0}}};
-    const Mesh mesh = load_gltf_text(b.gltf());
+    const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
     EXPECT_EQ(mesh.primitives[0].texcoords, std::vector<glm::vec2>(4, glm::vec2(0.0f)));
     b.doc["materials"] = {json::object()};
-    EXPECT_TRUE(load_gltf_text(b.gltf()).primitives[0].texcoords.empty());
+    EXPECT_TRUE(load_gltf_text(b.gltf(), kUnrefined).primitives[0].texcoords.empty());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -775,7 +776,7 @@ TEST(GltfMaterialsSamples, TextureTransformTestHasTheFilesTransforms) {
 
 TEST(GltfMaterialsSamples, TwoCylinderEngineHasTheFilesCountsAndMaterials) {
     REQUIRE_ASSIMP_SAMPLES();
-    const Mesh mesh = load_sample("2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
+    const Mesh mesh = load_sample("2CylinderEngine-glTF-Binary/2CylinderEngine.glb", kUnrefined);
     expect_valid(mesh);
     // The counts from the .glb's JSON chunk: every node's instance of a mesh, all triangles.
     const json d = sample_document("2CylinderEngine-glTF-Binary/2CylinderEngine.glb");

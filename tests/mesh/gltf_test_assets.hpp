@@ -46,6 +46,11 @@ inline std::span<const std::byte> as_bytes(const std::vector<std::uint8_t>& data
     return {reinterpret_cast<const std::byte*>(data.data()), data.size()};
 }
 
+// The default limits with refinement off (mesh_refinement.hpp): the triangles as the loader
+// assembles them, for the tests of that assembly; every other load is refined, and
+// mesh_refinement_test.cpp tests the refinement.
+inline const MeshLimits kUnrefined{.max_refined_vertices = 0};
+
 inline Mesh load_gltf_text(const std::string& text, const MeshLimits& limits = {}) {
     return load_mesh_memory(as_bytes(text), "test.gltf", MeshFormat::Gltf, limits);
 }

@@ -1,6 +1,6 @@
 // What every loader does last (renderer/mesh/src/mesh_finishing.hpp), on meshes built by code:
-// tangents generated where a normal texture needs them, texture coordinates where any texture
-// does, and the invariants on tangents and texture references checked.
+// tangents generated where a normal texture needs them (after refinement), texture coordinates
+// where any texture does, and the invariants on tangents and texture references checked.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -43,6 +43,10 @@ Mesh mirrored_squares() {
     return mesh;
 }
 
+// The default limits with refinement off (mesh_refinement_test.cpp tests it): the squares'
+// own triangles.
+const MeshLimits kUnrefined{.max_refined_vertices = 0};
+
 void expect_internal(Mesh mesh, const std::string& part) {
     try {
         mesh_detail::finish_mesh(mesh, "built", MeshLimits{});
@@ -61,7 +65,7 @@ TEST(MeshFinishing, TangentsAreGeneratedWhereANormalTextureNeedsThemOnly) {
     Material lambertian;
     lambertian.model = ShadingModel::Lambertian;
     mesh.materials.push_back(lambertian);
-    mesh_detail::finish_mesh(mesh, "built", MeshLimits{});
+    mesh_detail::finish_mesh(mesh, "built", kUnrefined);
     const Primitive& mapped = mesh.primitives[0];
     // Normals computed first (+y), then tangents, the seam's vertices split: 6 + 2.
     ASSERT_EQ(mapped.positions.size(), 8u);
@@ -78,8 +82,31 @@ TEST(MeshFinishing, TangentsAreGeneratedWhereANormalTextureNeedsThemOnly) {
     EXPECT_EQ(mesh.vertex_count, 8u + 6u);
 }
 
+TEST(MeshFinishing, MeshesAreRefinedBeforeTheirTangentsAreGenerated) {
+    Mesh mesh = mirrored_squares();
+    mesh_detail::finish_mesh(mesh, "built", MeshLimits{});
+    const Primitive& p = mesh.primitives[0];
+    EXPECT_GT(p.positions.size(), 100u);
+    EXPECT_TRUE(mesh.warnings.empty());
+    EXPECT_EQ(mesh.bounds.min, glm::vec3(0, 0, 0));
+    EXPECT_EQ(mesh.bounds.max, glm::vec3(2, 0, 1));
+    // MikkTSpace saw the refined triangles: every corner has its square's tangent, the mirrored
+    // one's reversed, the seam's vertices split.
+    ASSERT_EQ(p.tangents.size(), p.positions.size());
+    for (std::size_t t = 0; t < p.indices.size(); t += 3) {
+        const float centre_x = (p.positions[p.indices[t]].x + p.positions[p.indices[t + 1]].x +
+                                p.positions[p.indices[t + 2]].x) /
+                               3.0f;
+        for (std::size_t k = 0; k < 3; ++k) {
+            EXPECT_EQ(p.tangents[p.indices[t + k]],
+                      centre_x < 1.0f ? glm::vec4(1, 0, 0, 1) : glm::vec4(-1, 0, 0, -1))
+                << "triangle " << t / 3;
+        }
+    }
+}
+
 TEST(MeshFinishing, TheVertexLimitCountsTheCopiesMadeForTangents) {
-    MeshLimits limits;
+    MeshLimits limits = kUnrefined;
     limits.max_vertices = 7;
     Mesh mesh = mirrored_squares();
     try {
@@ -104,14 +131,14 @@ TEST(MeshFinishing, AnyTextureGivesTexcoordsWhereThereAreNone) {
         mesh.materials[0].normal_texture = TextureReference{};
         (mesh.materials[0].*member).texture = 0;
         mesh.primitives[0].texcoords.clear();
-        mesh_detail::finish_mesh(mesh, "built", MeshLimits{});
+        mesh_detail::finish_mesh(mesh, "built", kUnrefined);
         EXPECT_EQ(mesh.primitives[0].texcoords, std::vector<glm::vec2>(6, glm::vec2(0.0f)));
         EXPECT_TRUE(mesh.primitives[0].tangents.empty());
     }
     Mesh untextured = mirrored_squares();
     untextured.materials[0].normal_texture = TextureReference{};
     untextured.primitives[0].texcoords.clear();
-    mesh_detail::finish_mesh(untextured, "built", MeshLimits{});
+    mesh_detail::finish_mesh(untextured, "built", kUnrefined);
     EXPECT_TRUE(untextured.primitives[0].texcoords.empty());
 }
 

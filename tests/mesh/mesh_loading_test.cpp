@@ -70,7 +70,7 @@ TEST(MeshLoading, MissingFileIsAnIoError) {
 TEST(MeshLoadingGltf, TriangleStripBecomesAListKeepingTheWinding) {
     // A strip of three triangles, all counter-clockwise from +z when read the glTF way.
     const std::vector<glm::vec3> strip{{0, 1, 0}, {0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {2, 1, 0}};
-    const Mesh mesh = load_gltf_text(single_primitive(strip, {{"mode", 5}}));
+    const Mesh mesh = load_gltf_text(single_primitive(strip, {{"mode", 5}}), kUnrefined);
     expect_valid(mesh);
     ASSERT_EQ(mesh.primitives.size(), 1u);
     const Primitive& p = mesh.primitives[0];
@@ -92,7 +92,7 @@ TEST(MeshLoadingGltf, IndexedTriangleFanBecomesAList) {
     primitive["indices"] = b.indices(order, kUnsignedShort);
     b.mesh(json::array({primitive}));
     b.node({{"mesh", 0}});
-    const Mesh mesh = load_gltf_text(b.gltf());
+    const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
     expect_valid(mesh);
     const Primitive& p = mesh.primitives[0];
     // glTF: fan triangle i is (i + 1, i + 2, 0).
@@ -117,7 +117,7 @@ TEST(MeshLoadingGltf, ByteShortAndIntIndicesGiveTheSameTriangles) {
         }
         b.mesh(json::array({primitive}));
         b.node({{"mesh", 0}});
-        const Mesh mesh = load_gltf_text(b.gltf());
+        const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
         expect_valid(mesh);
         EXPECT_EQ(mesh.primitives[0].indices, expected) << "component type " << type;
     }
@@ -146,7 +146,7 @@ TEST(MeshLoadingGltf, NodeHierarchyIsBakedIntoPositionsAndNormals) {
             {"children", {1}}});
     // The child: a matrix (column-major), a non-uniform scale (1, 3, 0.5) then a shift.
     b.node({{"mesh", 0}, {"matrix", {1, 0, 0, 0, 0, 3, 0, 0, 0, 0, 0.5, 0, 0.25, -1, 0.5, 1}}});
-    const Mesh mesh = load_gltf_text(b.gltf());
+    const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
     expect_valid(mesh);
 
     const glm::dmat4 parent =
@@ -182,7 +182,7 @@ TEST(MeshLoadingGltf, NegativeScaleFlipsTheWindingBack) {
     b.mesh(json::array({primitive}));
     b.node({{"mesh", 0}, {"scale", {-1, 1, 1}}});
     b.node({{"mesh", 0}});
-    const Mesh mesh = load_gltf_text(b.gltf({0, 1}));
+    const Mesh mesh = load_gltf_text(b.gltf({0, 1}), kUnrefined);
     expect_valid(mesh);
     ASSERT_EQ(mesh.primitives.size(), 2u);
     const Primitive& mirrored = mesh.primitives[0];
@@ -318,7 +318,7 @@ TEST(MeshLoadingGltf, NodeCycleAndExcessiveDepthAreRejected) {
     }
     expect_error([&] { load_gltf_text(deep.gltf()); }, ErrorKind::LimitExceeded,
                  {"node graph deeper than 64 levels at node 65"});
-    MeshLimits generous;
+    MeshLimits generous = kUnrefined;
     generous.max_node_depth = 100;
     EXPECT_EQ(load_gltf_text(deep.gltf(), generous).triangle_count, 1u);
 }
@@ -406,7 +406,7 @@ TEST(MeshLoadingGltf, BaseColorTextureIsDecodedToRgba8) {
         {{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", texcoords}}}, {"material", 0}},
          {{"attributes", {{"POSITION", positions}}}, {"material", 0}}}));
     b.node({{"mesh", 0}});
-    const Mesh mesh = load_gltf_text(b.gltf());
+    const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
     expect_valid(mesh);
     ASSERT_EQ(mesh.textures.size(), 1u);
     const Texture& t = mesh.textures[0];
@@ -428,7 +428,7 @@ TEST(MeshLoadingGltf, NormalizedIntegerTexcoordsAreScaled) {
     b.doc["accessors"][std::size_t(texcoords)]["normalized"] = true;
     b.mesh(json::array({{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", texcoords}}}}}));
     b.node({{"mesh", 0}});
-    const Mesh mesh = load_gltf_text(b.gltf());
+    const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
     const std::vector<glm::vec2>& t = mesh.primitives[0].texcoords;
     ASSERT_EQ(t.size(), 3u);
     EXPECT_EQ(t[1], glm::vec2(1.0f, 0.0f));
@@ -590,7 +590,7 @@ TEST(MeshLoadingGltf, ALocalGltfReadsItsFilesInsideItsFolderOnly) {
     write_file(folder / "buffers" / "triangle.bin", bin);
     write_file(root.path / "outside.bin", bin);  // a valid buffer, but outside the folder
     json d = json::parse(b.gltf());
-    const auto load_with_uri = [&](const std::string& uri, const MeshLimits& limits = {}) {
+    const auto load_with_uri = [&](const std::string& uri, const MeshLimits& limits = kUnrefined) {
         d["buffers"][0]["uri"] = uri;
         write_file(folder / "triangle.gltf", d.dump());
         return load_mesh_file((folder / "triangle.gltf").string(), limits);
@@ -648,7 +648,7 @@ TEST(MeshLoadingGltf, GlbLoadsLikeGltfAndCorruptContainersAreRejected) {
     b.mesh(json::array({{{"attributes", {{"POSITION", b.positions(strip)}}}, {"mode", 5}}}));
     b.node({{"mesh", 0}});
     const std::vector<std::uint8_t> glb = b.glb();
-    const Mesh mesh = load_mesh_memory(as_bytes(glb), "t.glb", MeshFormat::Glb);
+    const Mesh mesh = load_mesh_memory(as_bytes(glb), "t.glb", MeshFormat::Glb, kUnrefined);
     expect_valid(mesh);
     EXPECT_EQ(mesh.primitives[0].indices, (std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2}));
 
@@ -702,8 +702,10 @@ TEST(MeshLoadingAssimpSamples, BoxTexturedBinaryLoadsWithItsTexture) {
     REQUIRE_ASSIMP_SAMPLES();
     const Mesh mesh = load_sample("BoxTextured-glTF-Binary/BoxTextured.glb");
     expect_valid(mesh);
-    EXPECT_EQ(mesh.triangle_count, 12u);
-    EXPECT_EQ(mesh.vertex_count, 24u);
+    // The file's 12 triangles and 24 vertices, refined (mesh_refinement.hpp): 16 x 16 squares of
+    // 2 triangles on each face, 17 x 17 vertices.
+    EXPECT_EQ(mesh.triangle_count, 6u * 16u * 16u * 2u);
+    EXPECT_EQ(mesh.vertex_count, 6u * 17u * 17u);
     ASSERT_EQ(mesh.textures.size(), 1u);
     EXPECT_EQ(mesh.textures[0].width, 211);  // CesiumLogoFlat.png
     EXPECT_EQ(mesh.textures[0].height, 211);
@@ -712,7 +714,7 @@ TEST(MeshLoadingAssimpSamples, BoxTexturedBinaryLoadsWithItsTexture) {
     EXPECT_EQ(mesh.materials[0].name, "Texture");
     EXPECT_EQ(mesh.materials[0].base_color_texture.texture, 0);
     EXPECT_EQ(mesh.materials[0].metallic, 0.0f);
-    EXPECT_EQ(mesh.primitives[0].texcoords.size(), 24u);
+    EXPECT_EQ(mesh.primitives[0].texcoords.size(), mesh.vertex_count);
     // The root node turns the Z-up box Y-up; the box stays the unit cube.
     EXPECT_EQ(mesh.bounds.min, glm::vec3(-0.5f));
     EXPECT_EQ(mesh.bounds.max, glm::vec3(0.5f));
@@ -735,7 +737,7 @@ TEST(MeshLoadingAssimpSamples, BoxTexturedEmbeddedLoadsTheSame) {
     const Mesh glb = load_sample("BoxTextured-glTF-Binary/BoxTextured.glb");
     const Mesh gltf = load_sample("BoxTextured-glTF-Embedded/BoxTextured.gltf");
     expect_valid(gltf);
-    EXPECT_EQ(gltf.triangle_count, 12u);
+    EXPECT_EQ(gltf.triangle_count, 6u * 16u * 16u * 2u);  // refined as the .glb's
     ASSERT_EQ(gltf.textures.size(), 1u);
     EXPECT_EQ(gltf.textures[0].width, 211);
     EXPECT_EQ(gltf.textures[0].rgba, glb.textures[0].rgba);
@@ -751,7 +753,7 @@ TEST(MeshLoadingAssimpSamples, ALocalGltfLoadsItsBufferAndImageBesideIt) {
     const Mesh local = load_sample("BoxTextured-glTF/BoxTextured.gltf");
     const Mesh mesh =
         load_gltf_text(embedded("BoxTextured-glTF/BoxTextured.gltf", {"BoxTextured-glTF"}));
-    EXPECT_EQ(local.triangle_count, 12u);
+    EXPECT_EQ(local.triangle_count, 6u * 16u * 16u * 2u);  // refined as the .glb's
     ASSERT_EQ(local.textures.size(), 1u);
     EXPECT_EQ(local.textures[0].rgba, mesh.textures[0].rgba);
     EXPECT_EQ(local.primitives[0].positions, mesh.primitives[0].positions);
@@ -797,7 +799,7 @@ TEST(MeshLoadingAssimpSamples, BoxBadNormalsLoadsWithRepairedNormals) {
     REQUIRE_ASSIMP_SAMPLES();
     const Mesh mesh = load_sample("BoxBadNormals-glTF-Binary/BoxBadNormals.glb");
     expect_valid(mesh);
-    EXPECT_EQ(mesh.triangle_count, 12u);
+    EXPECT_EQ(mesh.triangle_count, 6u * 16u * 16u * 2u);  // 12, refined as BoxTextured's
     // Four zero normals (one face) computed, four of length 0.1 (another face) normalised.
     EXPECT_EQ(mesh.repairs.normals_replaced, 4u);
     EXPECT_EQ(mesh.repairs.normals_renormalised, 4u);
@@ -902,7 +904,7 @@ TEST(MeshLoadingAssimpSamples, PrimitiveModesOfTheAssetGenerator) {
             continue;
         }
         // Strips, fans and lists of one quad facing +z: two triangles, wound to face +z.
-        const Mesh mesh = load_gltf_text(text);
+        const Mesh mesh = load_gltf_text(text, kUnrefined);
         expect_valid(mesh);
         EXPECT_EQ(mesh.triangle_count, 2u) << file;
         const Primitive& p = mesh.primitives[0];
@@ -928,7 +930,8 @@ TEST(MeshLoadingObj, QuadIsTriangulatedWithTheDefaultLambertianMaterial) {
     const Mesh mesh = load_obj_text(
         "# a unit quad facing +z\n"
         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
-        "f 1 2 3 4\n");
+        "f 1 2 3 4\n",
+        kUnrefined);
     expect_valid(mesh);
     EXPECT_EQ(mesh.triangle_count, 2u);
     EXPECT_EQ(mesh.vertex_count, 4u);
@@ -955,7 +958,8 @@ TEST(MeshLoadingObj, RelativeIndicesAndFileNormalsAndTexcoords) {
         "vn 0 0 2\n"
         "f -3/-3/-1 -2/-2/-1 -1/-1/-1\n"
         "v 5 0 0\nv 6 0 0\nv 5 1 0\n"
-        "f -3//1 -2//1 -1//1\n");
+        "f -3//1 -2//1 -1//1\n",
+        kUnrefined);
     expect_valid(mesh);
     ASSERT_EQ(mesh.primitives.size(), 1u);
     const Primitive& p = mesh.primitives[0];
@@ -972,19 +976,21 @@ TEST(MeshLoadingObj, RelativeIndicesAndFileNormalsAndTexcoords) {
     }
     EXPECT_EQ(mesh.repairs.normals_renormalised, 6u);
 
-    const Mesh textured =
-        load_obj_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0.5 1\nf 1/1 2/2 3/3\n");
+    const Mesh textured = load_obj_text(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0.5 1\nf 1/1 2/2 3/3\n", kUnrefined);
     EXPECT_EQ(textured.primitives[0].texcoords,
               (std::vector<glm::vec2>{{0, 0}, {1, 0}, {0.5f, 1}}));
 }
 
 TEST(MeshLoadingObj, SharedCornersAreOneVertexAndSplitNormalsAreTwo) {
     // Two triangles sharing an edge: 4 vertices; with different normals on the shared edge: 6.
-    const Mesh smooth = load_obj_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+    const Mesh smooth =
+        load_obj_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n", kUnrefined);
     EXPECT_EQ(smooth.vertex_count, 4u);
     const Mesh split = load_obj_text(
         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvn 0 0.6 0.8\n"
-        "f 1//1 2//1 3//1\nf 1//2 3//2 4//2\n");
+        "f 1//1 2//1 3//1\nf 1//2 3//2 4//2\n",
+        kUnrefined);
     EXPECT_EQ(split.vertex_count, 6u);
     EXPECT_EQ(split.repairs.normals_renormalised, 0u);
 }
@@ -996,7 +1002,8 @@ TEST(MeshLoadingObj, MissingNormalsAreAngleWeighted) {
     // weighting by area (or counting triangles) would not, the faces and splits differing.
     const Mesh mesh = load_obj_text(
         "v 0 0 0\nv 1 0 0\nv 1 2 0\nv 0 2 0\nv 0 0 3\nv 1 0 3\nv 1 2 3\nv 0 2 3\n"
-        "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n");
+        "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n",
+        kUnrefined);
     expect_valid(mesh);
     EXPECT_EQ(mesh.triangle_count, 12u);
     const Primitive& p = mesh.primitives[0];
@@ -1112,9 +1119,10 @@ TEST(MeshLoadingBunny, LoadsWithComputedUnitNormalsAndFiniteBounds) {
     }
     const Mesh mesh = load_mesh_file(path);
     expect_valid(mesh);
-    // The file: 34,835 'v' lines and 69,666 triangular 'f' lines, no normals or texcoords.
-    EXPECT_EQ(mesh.triangle_count, 69666u);
-    EXPECT_EQ(mesh.vertex_count, 34835u);
+    // The file: 34,835 'v' lines and 69,666 triangular 'f' lines, no normals or texcoords; its
+    // few edges longer than 1/16 of the diagonal split by the refinement (mesh_refinement.hpp).
+    EXPECT_EQ(mesh.triangle_count, 69666u + 6u);
+    EXPECT_EQ(mesh.vertex_count, 34835u + 3u);
     EXPECT_EQ(mesh.primitives.size(), 1u);
     EXPECT_TRUE(mesh.primitives[0].texcoords.empty());
     EXPECT_EQ(mesh.materials[0].name, "default (OBJ)");

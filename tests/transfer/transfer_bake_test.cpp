@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -22,6 +23,7 @@
 #include "oer/lighting/sh.hpp"
 #include "oer/lighting/sh_projection.hpp"
 #include "oer/transfer/transfer_bake.hpp"
+#include "oer/transfer/transfer_lighting.hpp"
 #include "synthetic_maps.hpp"
 #include "test_meshes.hpp"
 
@@ -261,6 +263,75 @@ TEST(TransferBakeBounce, PointUnderABrightCeilingGetsItsReflectedLight) {
         options);
     EXPECT_EQ(max_abs(black.objects[0][0].bounce), 0.0);
     EXPECT_EQ(black.objects[0][0].direct, points.direct);
+}
+
+TEST(TransferBakeBounce, ReflectedTransferIsInterpolatedAcrossTheHitTriangle) {
+    // A 2 x 2 ceiling at height 1 whose four corners have their normals tilted differently, so
+    // their (unoccluded) transfers differ: a point under it gets the integral over the ceiling
+    // of rho / pi D(q) cos, D(q) the barycentric mix of its triangle's corners, here summed
+    // over a 400 x 400 grid of the ceiling with barycentrics from the positions.
+    Mesh ceiling;
+    Primitive square;
+    const glm::vec2 corners[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};  // (x, z)
+    for (const glm::vec2& corner : corners) {
+        square.positions.emplace_back(corner.x, 1.0f, corner.y);
+        square.normals.push_back(
+            glm::normalize(glm::vec3(0.6f * corner.x, -1.0f, 0.2f * corner.y)));
+    }
+    square.indices = {0, 1, 2, 0, 2, 3};
+    ceiling.primitives.push_back(square);
+    ceiling.materials.push_back(oer::testing::lambertian(glm::vec3(0.5f)));
+    oer::testing::finish(ceiling);
+    const glm::mat4 face_up = glm::rotate(glm::mat4(1.0f), -0.5f * float(kPi), {1, 0, 0});
+    const Mesh receiver = oer::testing::quad({0, 0, 0}, 1e-3f, glm::vec3(0.5f));
+    TransferBakeOptions options;
+    options.rays = 4096;
+    const SceneTransfer transfer = bake_transfer(
+        request_of({object_of(receiver, face_up), object_of(ceiling)}, false), options);
+
+    std::array<Coefficients, 4> corner_transfer;
+    for (int k = 0; k < 4; ++k) {
+        corner_transfer[std::size_t(k)] =
+            cosine_transfer(glm::dvec3(square.normals[std::size_t(k)]));
+    }
+    const glm::dvec3 point(face_up * glm::vec4(receiver.primitives[0].positions[0], 1.0f));
+    constexpr int kSteps = 400;
+    const double step = 2.0 / kSteps, albedo = 0.5;
+    Coefficients expected{};
+    for (int j = 0; j < kSteps; ++j) {
+        for (int i = 0; i < kSteps; ++i) {
+            const double x = -1.0 + (i + 0.5) * step, z = -1.0 + (j + 0.5) * step;
+            // Triangle (0, 1, 2) where x >= z, (0, 2, 3) where z > x; barycentrics of (x, z).
+            const double s = 0.5 * (x + 1.0), t = 0.5 * (z + 1.0);
+            const std::array<std::pair<int, double>, 3> weights =
+                x >= z ? std::array<std::pair<int, double>, 3>{{{0, 1.0 - s}, {1, s - t}, {2, t}}}
+                       : std::array<std::pair<int, double>, 3>{{{0, 1.0 - t}, {2, s}, {3, t - s}}};
+            // cos at the point times cos at the ceiling over r^2, both cosines h / r (h = 1).
+            const glm::dvec3 to_q = glm::dvec3(x, 1.0, z) - point;
+            const double r2 = glm::dot(to_q, to_q);
+            const double kernel = albedo / kPi * step * step / (r2 * r2);
+            for (const auto& [corner, weight] : weights) {
+                for (int c = 0; c < kCoefficients; ++c) {
+                    expected[std::size_t(c)] +=
+                        kernel * weight * corner_transfer[std::size_t(corner)][std::size_t(c)];
+                }
+            }
+        }
+    }
+    const double view_factor =
+        rectangle_view_factor(-1.0 - point.x, 1.0 - point.x, -1.0 - point.z, 1.0 - point.z, 1.0);
+    const double tolerance = binomial_tolerance(view_factor, transfer.rays);
+    const float* bounce = bounce_of(transfer.objects[0][0], 0, 0);
+    for (int c = 0; c < kCoefficients; ++c) {
+        double largest = 0.0;
+        for (const Coefficients& corner : corner_transfer) {
+            largest = std::max(largest, std::abs(corner[std::size_t(c)]));
+        }
+        EXPECT_NEAR(bounce[c], expected[std::size_t(c)], tolerance * albedo * largest + 1e-6)
+            << "coefficient " << c;
+    }
+    std::printf("interpolated bounce: bounce_0 %.5f, integral %.5f; bounce_3 %.5f, integral %.5f\n",
+                bounce[0], expected[0], bounce[3], expected[3]);
 }
 
 TEST(TransferBakeGround, SphereRestingOnTheGroundCastsItsViewFactor) {

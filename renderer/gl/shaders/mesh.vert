@@ -6,6 +6,10 @@ layout(location = 2) in vec2 a_texcoord;
 // xyz the direction of increasing u, w the bitangent's sign (glTF's TANGENT); a primitive
 // without tangents leaves the attribute disabled, (1, 0, 0, 1), and no material of it reads it.
 layout(location = 3) in vec4 a_tangent;
+// The transfer's irradiance at the vertex (occlusion frames, renderer/transfer's
+// transfer_lighting.hpp), computed per frame on the CPU; a frame without occlusion leaves the
+// attribute disabled, (0, 0, 0).
+layout(location = 4) in vec3 a_transferred_irradiance;
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
 uniform mat4 u_view_projection;
@@ -13,11 +17,13 @@ out vec3 v_world_position;
 out vec3 v_normal;
 out vec2 v_texcoord;
 out vec4 v_tangent;
+out vec3 v_transferred_irradiance;
 void main() {
     vec4 world = u_model * vec4(a_position, 1.0);
     v_world_position = world.xyz;
     v_normal = u_normal_matrix * a_normal;
     v_texcoord = a_texcoord;
+    v_transferred_irradiance = a_transferred_irradiance;
     // Tangents are carried as directions on the surface (by the model matrix, not its inverse
     // transpose); a mirroring transform turns the bitangent cross(n, t) around, so the sign
     // follows the determinant.

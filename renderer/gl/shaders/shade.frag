@@ -23,6 +23,14 @@ uniform vec3 u_flat_irradiance[1 + LIGHTS_ON];
 // in light space is a function of the shadow-map uv), read with one bilinear fetch.
 layout(binding = 5) uniform sampler2DArray u_ground_visibility;
 #endif
+#if TRANSFER && SURFACE == 1
+layout(binding = 15) uniform sampler2D u_transferred;  // the G-buffer's transferred irradiance
+#elif TRANSFER && SURFACE == 2
+// The transfer's irradiance over the ground's grid (GroundTransfer), one texel per receiver,
+// read bilinearly; clamped beyond the grid, whose edge holds the unoccluded ground's.
+layout(binding = 15) uniform sampler2D u_ground_transfer;
+uniform vec4 u_ground_transfer_rect;  // the grid's lowest x and z, 1 / its side
+#endif
 out vec4 o_color;
 
 #if SURFACE == 0
@@ -45,8 +53,13 @@ vec4 shade(ivec2 pixel) {
     vec4 normal = texelFetch(u_normals, pixel, 0);
     vec4 albedo = texelFetch(u_albedos, pixel, 0);
     vec3 emissive = texelFetch(u_emissive, pixel, 0).rgb;
+#if TRANSFER
+    vec3 transferred = texelFetch(u_transferred, pixel, 0).rgb;
+#else
+    vec3 transferred = vec3(0.0);
+#endif
     return vec4(shade_object(position.xyz, normal.xyz, albedo.rgb, albedo.a, normal.w, position.w,
-                             emissive),
+                             emissive, transferred),
                 1.0);
 }
 #else
@@ -70,6 +83,11 @@ vec4 shade(ivec2 pixel) {
     vec3 position = texelFetch(u_positions, pixel, 0).xyz;
     vec4 albedo = texelFetch(u_albedos, pixel, 0);
     vec3 E = u_flat_irradiance[0];
+#if TRANSFER
+    E += textureLod(u_ground_transfer,
+                    (position.xz - u_ground_transfer_rect.xy) * u_ground_transfer_rect.z, 0.0)
+             .rgb;
+#endif
     float attenuation = u_attenuation_base;
 #if LIGHTS_ON > 0
     for (int k = 0; k < LIGHTS_ON; ++k) {

@@ -7,11 +7,17 @@
 #define MATERIAL_TEXTURES 1
 #include "material.glsl"
 #include "surface_shading.glsl"
+in vec3 v_transferred_irradiance;
 out vec4 o_color;
 void main() {
     vec4 base = material_base_color();
     MaterialSample m = sample_material(u_eye);
-    vec3 radiance =
-        shade_object(v_world_position, m.normal, base.rgb, m.metallic, m.roughness, m.ao, m.emissive);
+#if TRANSFER
+    vec3 transferred = v_transferred_irradiance;
+#else
+    vec3 transferred = vec3(0.0);
+#endif
+    vec3 radiance = shade_object(v_world_position, m.normal, base.rgb, m.metallic, m.roughness,
+                                 m.ao, m.emissive, transferred);
     o_color = vec4(radiance * base.a, base.a);
 }

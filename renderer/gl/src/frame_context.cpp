@@ -11,6 +11,7 @@
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/light_lobe.hpp"
 #include "oer/lighting/light_location.hpp"
+#include "oer/transfer/transfer_lighting.hpp"
 #include "sh_shader_constants.hpp"
 
 namespace oer {
@@ -42,12 +43,15 @@ void add_lights(FrameContext& frame) {
     // The split of frame_context.hpp (visibility_coefficients' sum with 1 - w_k for 1 - v_k,
     // which it cannot take: w_k goes up to 4). A weight of 1 adds nothing, and a weight of 0
     // takes E(k) off exactly as an off light did.
-    ShRgb constant = rig.sh.all;
+    // Under occlusion the residual map's part, E(all) - sum_k E(k), is the transfer's instead.
+    ShRgb constant = frame.transfer ? ShRgb(rig.sh.all.order) : rig.sh.all;
     for (std::size_t k = 0; k < light_count; ++k) {
-        if (frame.weights[k] != 1.0f) {
-            ShRgb dimmed = rig.sh.per_light[k];
-            dimmed *= 1.0 - double(frame.weights[k]);
-            constant -= dimmed;
+        const double change =
+            frame.transfer ? double(frame.weights[k]) : double(frame.weights[k]) - 1.0;
+        if (change != 0.0) {
+            ShRgb scaled = rig.sh.per_light[k];
+            scaled *= change;
+            constant += scaled;
         }
     }
     frame.irradiance_sets.push_back(irradiance_coefficients(constant, rig.window));
@@ -63,6 +67,27 @@ void add_lights(FrameContext& frame) {
             frame.attenuation_base -=
                 (1.0 - double(frame.weights[k])) * rig.lights[k].luminance_share;
         }
+    }
+}
+
+void add_transferred_irradiance(FrameContext& frame) {
+    const FrameRequest& request = frame.request;
+    const SceneTransfer& transfer = *request.transfer;
+    const TransferLighting lighting = transfer_lighting(
+        frame.rig, frame.weights, request.environment_yaw, transfer_order(frame.rig));
+    for (const std::vector<TransferPoints>& object : transfer.objects) {
+        std::vector<std::size_t>& offsets = frame.transferred_offsets.emplace_back();
+        for (const TransferPoints& primitive : object) {
+            offsets.push_back(frame.transferred_vertices.size());
+            const std::vector<glm::vec3> irradiance =
+                transferred_irradiance(primitive, transfer.order, lighting);
+            frame.transferred_vertices.insert(frame.transferred_vertices.end(), irradiance.begin(),
+                                              irradiance.end());
+        }
+    }
+    if (transfer.ground) {
+        frame.transferred_ground =
+            transferred_irradiance(transfer.ground->points, transfer.order, lighting);
     }
 }
 
@@ -118,6 +143,7 @@ void add_shadow_views(FrameContext& frame) {
     }
     frame.normal_offset = 1.5f * 2.0f * frame.scene.radius / float(resolution);
     frame.specular_define = "#define SPECULAR " + std::to_string(frame.specular ? 1 : 0) + "\n";
+    frame.transfer_define = "#define TRANSFER " + std::to_string(frame.transfer ? 1 : 0) + "\n";
     frame.lighting_defines = "#define SH_ORDER " + std::to_string(frame.rig.sh.all.order) +
                              "\n#define LIGHTS_ON " + std::to_string(frame.lit.size()) +
                              "\n#define SHADOWS " + std::to_string(frame.shadows ? 1 : 0) +
@@ -151,7 +177,11 @@ FrameContext make_frame_context(const FrameRequest& request) {
     FrameContext frame(request);
     frame.specular = request.rig->model == LightingModel::Hdr && has_glossy_material(request);
     frame.blending = has_blending(request);
+    frame.transfer = request.occlusion;
     add_lights(frame);
+    if (frame.transfer) {
+        add_transferred_irradiance(frame);
+    }
     frame.scene = scene_bounds(request.objects);
     add_camera(frame);
     add_shadow_views(frame);

@@ -44,6 +44,17 @@ struct FrameContext {
     // Thesis model: 1 - sum_k (1 - w_k) luminance_share_k, split as the irradiance is.
     double attenuation_base = 1.0;
 
+    // Occlusion (issue 13; FrameRequest::occlusion with its transfer): set 0 is then the lights'
+    // part alone, sum_k w_k E(k), and the residual map's irradiance, occluded and reflected,
+    // comes from the transfer (transfer_lighting.hpp) per vertex of every object's primitives
+    // and per texel of the ground's grid. With the ground, a light below its horizon reaches no
+    // object either.
+    bool transfer = false;
+    std::vector<glm::vec3> transferred_vertices;  // every object's primitives, in order
+    // [object][primitive]: the index in transferred_vertices of the primitive's first vertex
+    std::vector<std::vector<std::size_t>> transferred_offsets;
+    std::vector<glm::vec3> transferred_ground;  // the grid's texels, GroundTransfer's order
+
     // Materials. specular: some object has a glossy material (Material::glossy) and the rig's
     // model is hdr (the thesis's has no specular BRDF): the frame reads FrameRequest::specular
     // and the DFG table, and its object programs are the SPECULAR 1 variants. blending: some
@@ -78,6 +89,8 @@ struct FrameContext {
     std::string lighting_defines;
     // "#define SPECULAR 0|1\n" for the programs that shade objects (frame.specular).
     std::string specular_define;
+    // "#define TRANSFER 0|1\n" for the geometry, shading and transparent programs (transfer).
+    std::string transfer_define;
 
     // Supersampling: the G-buffer is scale times the frame's size on each side.
     int scale = 1;

@@ -19,10 +19,14 @@ const DefineRange kDisplayOutput{"DISPLAY_OUTPUT", 0, 1};
 const DefineRange kSpecular{"SPECULAR", 0, 1};
 const DefineRange kAlphaTest{"ALPHA_TEST", 0, 1};
 const DefineRange kLightsOn{"LIGHTS_ON", 0, kMaxFrameLights};
+const DefineRange kTransfer{"TRANSFER", 0, 1};
 
 const std::vector<FrameProgram> kPrograms{
     {"depth", "mesh.vert", "depth.frag", {kAlphaTest}},
-    {"geometry", "mesh.vert", "geometry.frag", {kAlphaTest, {"MATERIAL_TEXTURES", 0, 1}}},
+    {"geometry",
+     "mesh.vert",
+     "geometry.frag",
+     {kAlphaTest, {"MATERIAL_TEXTURES", 0, 1}, kTransfer}},
     // Baked only for a light that is on and casts shadows.
     {"ground visibility",
      "fullscreen.vert",
@@ -38,11 +42,12 @@ const std::vector<FrameProgram> kPrograms{
       {"ENVIRONMENT_BACKGROUND", 0, 1},
       kDisplayOutput,
       kSpecular,
-      {"SURFACE", 0, 2}}},
+      {"SURFACE", 0, 2},
+      kTransfer}},
     {"transparent",
      "mesh.vert",
      "transparent.frag",
-     {kShOrder, kLightsOn, kShadows, kPcf, kSpecular}},
+     {kShOrder, kLightsOn, kShadows, kPcf, kSpecular, kTransfer}},
     {"resolve", "fullscreen.vert", "resolve.frag", {kDisplayOutput}},
 };
 

@@ -12,6 +12,7 @@
 #include "frame_context.hpp"
 #include "oer/core/error.hpp"
 #include "oer/mesh/camera.hpp"
+#include "oer/transfer/transfer_lighting.hpp"
 
 namespace oer {
 
@@ -64,6 +65,54 @@ void validate_cube(const PrefilteredCube& cube, int max_texture_size) {
                                  std::to_string(cube.rgb_half[std::size_t(level)].size()) +
                                  " half floats, its six faces need " + std::to_string(expected));
         }
+    }
+}
+
+// The transfer must be the one baked for this request's scene: one receiver set per object and
+// primitive with one point per vertex, the ground's grid exactly when the frame has a ground,
+// the request's bounce, and the order its rig is evaluated at.
+void validate_transfer(const FrameRequest& request) {
+    if (!request.occlusion) {
+        if (request.transfer) {
+            fail("occlusion", "a transfer was given for a frame without occlusion");
+        }
+        return;
+    }
+    if (!request.transfer) {
+        fail("occlusion", "occlusion needs the scene's baked transfer, and none was given");
+    }
+    const SceneTransfer& transfer = *request.transfer;
+    if (transfer.bounce != request.bounce) {
+        fail("bounce", std::string("the transfer was baked with bounce ") +
+                           (transfer.bounce == Bounce::One ? "one" : "none") + ", the frame asks " +
+                           (request.bounce == Bounce::One ? "one" : "none"));
+    }
+    if (transfer.order < transfer_order(*request.rig)) {
+        fail("transfer", "baked at order " + std::to_string(transfer.order) +
+                             ", the environment needs " +
+                             std::to_string(transfer_order(*request.rig)));
+    }
+    if (transfer.objects.size() != request.objects.size()) {
+        fail("transfer", "baked for " + std::to_string(transfer.objects.size()) +
+                             " objects, the frame has " + std::to_string(request.objects.size()));
+    }
+    for (std::size_t i = 0; i < request.objects.size(); ++i) {
+        const std::vector<Primitive>& primitives = request.objects[i].mesh->primitives;
+        const std::vector<TransferPoints>& baked = transfer.objects[i];
+        bool matches = baked.size() == primitives.size();
+        for (std::size_t p = 0; matches && p < primitives.size(); ++p) {
+            matches = baked[p].count == primitives[p].positions.size();
+        }
+        if (!matches) {
+            fail("transfer", "object " + std::to_string(i) +
+                                 ": the transfer was baked for another mesh (primitive or "
+                                 "vertex counts differ)");
+        }
+    }
+    if (transfer.ground.has_value() != request.ground) {
+        fail("transfer", std::string("the transfer was baked ") +
+                             (request.ground ? "without" : "with") + " the ground, the frame " +
+                             (request.ground ? "has" : "has none"));
     }
 }
 
@@ -171,6 +220,7 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
     if (request.camera) {
         validate_camera(*request.camera);
     }
+    validate_transfer(request);
 }
 
 }  // namespace oer

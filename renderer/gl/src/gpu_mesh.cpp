@@ -46,6 +46,22 @@ gl::Object upload_texture(const Texture& texture) {
 
 }  // namespace
 
+void attach_transferred_irradiance(const GpuPrimitive& primitive, GLuint buffer,
+                                   std::size_t first_vertex) {
+    constexpr GLuint kLocation = 4;
+    const GLuint vertex_array = primitive.vertex_array.get();
+    if (buffer == 0) {
+        glDisableVertexArrayAttrib(vertex_array, kLocation);
+        glVertexAttrib3f(kLocation, 0.0f, 0.0f, 0.0f);
+        return;
+    }
+    glVertexArrayVertexBuffer(vertex_array, kLocation, buffer,
+                              GLintptr(first_vertex * 3 * sizeof(float)), 3 * sizeof(float));
+    glVertexArrayAttribFormat(vertex_array, kLocation, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vertex_array, kLocation, kLocation);
+    glEnableVertexArrayAttrib(vertex_array, kLocation);
+}
+
 void draw_primitive(const GpuPrimitive& primitive, float max_error) {
     const LodLevel& level = choose_lod(primitive.lods, max_error);
     glBindVertexArray(primitive.vertex_array.get());

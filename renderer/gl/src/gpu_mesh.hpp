@@ -22,6 +22,12 @@ struct GpuPrimitive {
     glm::vec3 centre{0.0f};  // of the primitive's bounds, in the mesh's space: the blend order
 };
 
+// The per-vertex transferred irradiance of an occlusion frame at attribute location 4
+// (mesh.vert): the primitive's vertices from `first_vertex` on in `buffer` (RGB floats), or,
+// with buffer 0, the constant (0, 0, 0) of a frame without occlusion.
+void attach_transferred_irradiance(const GpuPrimitive& primitive, GLuint buffer,
+                                   std::size_t first_vertex);
+
 // Draws the coarsest level of the primitive (its vertex array bound) whose error is at most
 // max_error, in the mesh's units.
 void draw_primitive(const GpuPrimitive& primitive, float max_error);

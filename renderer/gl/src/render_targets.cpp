@@ -60,11 +60,12 @@ RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool lin
     t.normals = make_texture(attribute_format, samples_wide, samples_high);
     t.albedos = make_texture(attribute_format, samples_wide, samples_high);
     t.emissive = make_texture(GL_RGBA16F, samples_wide, samples_high);
+    t.transferred = make_texture(GL_RGBA16F, samples_wide, samples_high);
     t.depth = gl::create_renderbuffer();
     glNamedRenderbufferStorage(t.depth.get(), GL_DEPTH24_STENCIL8, samples_wide, samples_high);
-    t.geometry_framebuffer =
-        make_framebuffer({t.positions.get(), t.normals.get(), t.albedos.get(), t.emissive.get()},
-                         t.depth.get(), "geometry");
+    t.geometry_framebuffer = make_framebuffer({t.positions.get(), t.normals.get(), t.albedos.get(),
+                                               t.emissive.get(), t.transferred.get()},
+                                              t.depth.get(), "geometry");
     // Blending needs radiance, not display values: a frame with transparent surfaces shades
     // into floats and resolves even at one sample per pixel.
     const bool resolves = scale > 1 || blending;

@@ -16,11 +16,12 @@
 namespace oer {
 
 struct RenderTargets {
-    gl::Object positions;  // RGBA32F: world position, ambient occlusion
-    gl::Object normals;    // RGBA16F (RGBA32F for linear output): shading normal, roughness
-    gl::Object albedos;    // RGBA16F (RGBA32F for linear output): base colour, metallic or -1
-    gl::Object emissive;   // RGBA16F: emitted radiance
-    gl::Object depth;      // and stencil: the surface kind of each sample (0 background)
+    gl::Object positions;    // RGBA32F: world position, ambient occlusion
+    gl::Object normals;      // RGBA16F (RGBA32F for linear output): shading normal, roughness
+    gl::Object albedos;      // RGBA16F (RGBA32F for linear output): base colour, metallic or -1
+    gl::Object emissive;     // RGBA16F: emitted radiance
+    gl::Object transferred;  // RGBA16F: the transfer's irradiance (occlusion frames only)
+    gl::Object depth;        // and stencil: the surface kind of each sample (0 background)
     gl::Object geometry_framebuffer;
     // linear: RGBA32F; display: RGBA8 at scale 1 without blending, RGBA16F otherwise
     gl::Object shaded;

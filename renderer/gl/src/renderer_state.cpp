@@ -38,6 +38,7 @@ RendererState::RendererState(const FrameLimits& limits_)
     ground = upload_mesh(ground_mesh);
     empty_vertex_array = gl::create_vertex_array();
     irradiance_buffer = gl::create_buffer();
+    transferred_vertex_buffer = gl::create_buffer();
     for (auto [sampler, filter] :
          {std::pair{&compare_linear, GL_LINEAR}, std::pair{&compare_nearest, GL_NEAREST}}) {
         *sampler = gl::create_sampler();

@@ -66,6 +66,12 @@ struct RendererState {
     gl::Object compare_nearest;     // and the hard test
     gl::Object depth_nearest;       // the layers' depths as values: PCSS's blocker search
     gl::Object irradiance_buffer;   // the frame's SH irradiance sets (shader storage)
+    // Occlusion frames: the transfer's irradiance per vertex of every object's primitives
+    // (FrameContext::transferred_vertices, attribute 4), and over the ground's grid (RGB32F,
+    // bilinear, clamped; remade when the grid's resolution changes).
+    gl::Object transferred_vertex_buffer;
+    gl::Object ground_transfer;
+    int ground_transfer_resolution = 0;
     int max_texture_size = 0;
     std::size_t specular_uploads = 0;  // cubes uploaded over the renderer's life, for tests
 

@@ -1,7 +1,7 @@
 #pragma once
 // Private to the mesh loading: what every loader does last (mesh_loading.cpp). Normals are
-// made unit or computed, tangents generated where a normal texture needs them, every invariant of
-// oer::Mesh is checked, counts, limits and bounds.
+// made unit or computed, the mesh refined for per-vertex data, tangents generated where a normal
+// texture needs them, every invariant of oer::Mesh is checked, counts, limits and bounds.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -30,11 +30,13 @@ std::uint64_t normalise_file_normals(std::vector<glm::vec3>& normals);
 // material indices and every texture reference of every material (each < textures.size(): an
 // Internal error otherwise); computes normals where missing (an empty vector) or (0, 0, 0)
 // (counted in mesh.repairs.normals_replaced); gives a primitive whose material uses any texture
-// but which has no texture coordinates (0, 0) everywhere; generates tangents with MikkTSpace
-// (tangent_generation.hpp) for a primitive whose material has a normal texture and which has
-// none, splitting vertices where needed; drops primitives without triangles; checks limits
-// (vertices counted after those splits); fills bounds and counts. Throws oer::Error naming
-// `asset` and the primitive.
+// but which has no texture coordinates (0, 0) everywhere; refines the mesh until no edge is
+// longer than transfer_edge_length, within limits.max_refined_vertices (none if that is 0;
+// mesh_refinement.hpp);
+// generates tangents with MikkTSpace (tangent_generation.hpp) for a primitive whose material has
+// a normal texture and which has none, splitting vertices where needed; drops primitives without
+// triangles; checks limits (vertices counted after those splits); fills bounds and counts.
+// Throws oer::Error naming `asset` and the primitive.
 void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits);
 
 }  // namespace oer::mesh_detail

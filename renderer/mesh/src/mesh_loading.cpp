@@ -1,6 +1,6 @@
 // Mesh loading (see oer/mesh_loading.hpp): the format from the name, the size check, the file
-// read, and what every loader does last (mesh_finishing.hpp): normals, tangents, validation,
-// bounds.
+// read, and what every loader does last (mesh_finishing.hpp): normals, refinement, tangents,
+// validation, bounds.
 #include "oer/mesh/mesh_loading.hpp"
 
 #include <algorithm>
@@ -21,6 +21,7 @@
 #include "mesh_finishing.hpp"
 #include "mesh_loaders.hpp"
 #include "oer/core/error.hpp"
+#include "oer/mesh/mesh_refinement.hpp"
 #include "tangent_generation.hpp"
 
 namespace oer {
@@ -233,9 +234,6 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
     }
     glm::vec3 low(std::numeric_limits<float>::infinity());
     glm::vec3 high(-std::numeric_limits<float>::infinity());
-    std::uint64_t triangles = 0;
-    std::uint64_t vertices = 0;
-    std::uint64_t split_for_tangents = 0;
     for (Primitive& primitive : mesh.primitives) {
         check_primitive(primitive, mesh.materials.size(), asset);
         complete_normals(primitive, mesh.repairs);
@@ -243,13 +241,26 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
         if (uses_a_texture(material) && primitive.texcoords.empty()) {
             primitive.texcoords.assign(primitive.positions.size(), glm::vec2(0.0f));
         }
-        // After baking (the loaders' transforms are applied) and before any level of detail.
-        if (material.normal_texture.present() && primitive.tangents.empty()) {
-            split_for_tangents += generate_tangents(primitive, asset);
-        }
         for (const glm::vec3& position : primitive.positions) {
             low = glm::min(low, position);
             high = glm::max(high, position);
+        }
+    }
+    // Midpoints lie within their ends' bounds, so the bounds hold for the refined mesh too.
+    mesh.bounds = Bounds{low, high};
+    // Every attribute is complete, so that midpoints interpolate them all; before tangents are
+    // generated, so that MikkTSpace sees the final triangles.
+    if (limits.max_refined_vertices > 0) {
+        refine_mesh(mesh, transfer_edge_length(mesh.bounds), limits);
+    }
+    std::uint64_t triangles = 0;
+    std::uint64_t vertices = 0;
+    std::uint64_t split_for_tangents = 0;
+    for (Primitive& primitive : mesh.primitives) {
+        const Material& material = mesh.materials[std::size_t(primitive.material)];
+        // After baking (the loaders' transforms are applied) and before any level of detail.
+        if (material.normal_texture.present() && primitive.tangents.empty()) {
+            split_for_tangents += generate_tangents(primitive, asset);
         }
         triangles += primitive.indices.size() / 3;
         vertices += primitive.positions.size();
@@ -267,7 +278,6 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
                                           : " (" + std::to_string(split_for_tangents) +
                                                 " of them copies made for their tangents)"));
     }
-    mesh.bounds = Bounds{low, high};
     mesh.triangle_count = triangles;
     mesh.vertex_count = vertices;
 }

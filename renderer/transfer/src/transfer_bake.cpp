@@ -36,10 +36,11 @@ using reference::SurfaceHit;
 constexpr int kCoefficients = sh_count(kTransferBakeOrder);
 using Coefficients = std::array<double, kCoefficients>;
 
-// The ground grid's texels per side. At 2 bounding radii each side of the centre (below) a texel
-// is 1/16 of the objects' radius: the contact shadow of a sphere resting on the ground falls
-// from full to half occlusion over about a radius (tests/transfer, TransferBakeGround), so it
-// spans 16 texels; 4096 receivers, an eighth of the bunny's 35k vertices.
+// The ground grid's texels per side. At 2 scene radii R each side of the centre (below) a texel
+// is R / 16: the contact shadow of a sphere of radius r resting on the ground (R = sqrt(3) r)
+// falls from full to half occlusion within 0.77 r (its view factor (1 + (d / r)^2)^(-3/2),
+// tests/transfer, TransferBakeGround), over 7 texels; 4096 receivers, an eighth of the bunny's
+// 35k vertices.
 constexpr int kGroundResolution = 64;
 // The grid's half side over the scene's bounding radius. The scene radius (half the bounding
 // box's diagonal) rather than its horizontal extent alone, because how far a contact shadow
@@ -54,14 +55,19 @@ constexpr double kRayOffsetOverRadius = 1e-4;
 constexpr std::uint64_t kBakeSeed = 1;
 
 // The rule of transfer_ray_count: a ray budget per bake phase shared by every receiver point.
-// Measured with bench/transfer_benchmark on the shared 2-core machine (the Stanford bunny,
-// 35,947 vertices plus the 4,096 ground texels): Bounce::One (two phases) at 196 rays per point
-// takes 1.5 s on 2 threads, under issue 13's 2 s; see bench/README.md for the figures.
-constexpr double kRaysPerPhaseBudget = 8.0e6;
+// Measured with bench/transfer_benchmark on the shared 2-core machine (AMD EPYC, AVX-512; the
+// Stanford bunny's 34,835 vertices plus the 4,096 ground texels, 47 % of the rays blocked):
+// Bounce::One costs 2.8 to 3.1 s of CPU at 144 rays per point and 3.4 to 3.7 s at 196, i.e.
+// 1.4 s and 1.7 s of wall time on 2 free cores (the two threads share the points evenly; the
+// bake's wall time on the shared machine, with other builds on both cores, is 2 to 3 times
+// that). 144 keeps issue 13's 2 s with a margin for the machine's noise; its error is about 1 %
+// of the visible fraction (the contact shadow of a sphere on the ground, tests/transfer: RMS
+// 0.98 % over 2416 texels at 144 rays, 0.15 % at 2304).
+constexpr double kRaysPerPhaseBudget = 6.0e6;
 // Stratified rays come in strata x strata cells: 8 x 8 (64) at least, below which the
 // occlusion of a single receiver is visibly noisy (the binomial error of a half-occluded point is
-// 6 %), and 32 x 32 (1024) at most, where a small scene's noise (0.5 % at most, less with the
-// strata) is below the SH truncation's error and more rays only cost.
+// 6 %), and 32 x 32 (1024) at most, where the binomial error is at most 1.6 % and the
+// stratified one several times less, below the order-5 SH truncation's, so more rays only cost.
 constexpr int kMinStrata = 8;
 constexpr int kMaxStrata = 32;
 
@@ -87,21 +93,43 @@ struct Receiver {
     float* bounce = nullptr;  // 3 x kCoefficients values, red then green then blue
 };
 
-// The receiver's rays: strata x strata jittered cells of the unit square, each mapped onto the
+// The receiver's rays, as points (u1, u2) of the unit square numbered 0 to strata^2 - 1:
+// strata x strata jittered cells, which reference::cosine_direction maps onto the
 // cosine-weighted hemisphere of the normal by the concentric map (Shirley and Chiu 1997), so
 // the strata stay compact on the hemisphere. The jitter is the receiver's own PCG32 stream
 // (seed, receiver index): both phases and any thread count trace the same rays.
 template <class Visit>
-void for_each_ray(const Receiver& receiver, std::uint64_t index, int strata, Visit&& visit) {
-    reference::PixelRandom random(kBakeSeed, index);
+void for_each_ray(std::uint64_t receiver_index, int strata, Visit&& visit) {
+    reference::PixelRandom random(kBakeSeed, receiver_index);
+    int ray = 0;
     for (int row = 0; row < strata; ++row) {
         for (int column = 0; column < strata; ++column) {
             const double u1 = (column + random.uniform()) / strata;
             const double u2 = (row + random.uniform()) / strata;
-            visit(reference::cosine_direction(receiver.normal, u1, u2));
+            visit(ray++, u1, u2);
         }
     }
 }
+
+// One bit per ray of every receiver: which rays phase 1 found blocked, the only ones phase 2
+// traces again (an escaping ray reflects nothing). On the bunny about 70 % of the rays escape,
+// which phase 2 would otherwise traverse the whole scene for again.
+class BlockedRays {
+  public:
+    BlockedRays(std::size_t receivers, int rays)
+        : words_per_receiver_((std::size_t(rays) + 63) / 64),
+          bits_(receivers * words_per_receiver_, 0) {}
+    void set(std::size_t receiver, int ray) {
+        bits_[receiver * words_per_receiver_ + std::size_t(ray) / 64] |= 1ull << (ray % 64);
+    }
+    bool test(std::size_t receiver, int ray) const {
+        return (bits_[receiver * words_per_receiver_ + std::size_t(ray) / 64] >> (ray % 64)) & 1u;
+    }
+
+  private:
+    std::size_t words_per_receiver_;
+    std::vector<std::uint64_t> bits_;
+};
 
 // Calls work(i) for i in [0, count) on `threads` threads, in chunks taken in turn; what work(i)
 // writes depends on i alone, so the result does not depend on the thread count.
@@ -344,13 +372,16 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     // irradiance there, and the grid's open edge meets the unoccluded ground beyond it without a
     // seam), and only the basis values of blocked rays are evaluated.
     const double ray_weight = std::numbers::pi / rays;
+    BlockedRays blocked(receivers.size(), rays);
     parallel_for(receivers.size(), threads, [&](std::size_t r) {
         const Receiver& receiver = receivers[r];
         const glm::dvec3 origin = receiver.position + offset * receiver.normal;
         Coefficients direct = unoccluded_transfer(receiver.normal);
         Coefficients basis{};
-        for_each_ray(receiver, r, strata, [&](const glm::dvec3& direction) {
+        for_each_ray(r, strata, [&](int ray, double u1, double u2) {
+            const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
             if (scene.occluded(origin, direction, 0.0)) {
+                blocked.set(r, ray);
                 sh_evaluate(kTransferBakeOrder, direction, basis);
                 for (int i = 0; i < kCoefficients; ++i) {
                     direct[std::size_t(i)] -= ray_weight * basis[std::size_t(i)];
@@ -364,14 +395,19 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     // pass), once every direct vector exists: a ray that hits a surface point q brings q's
     // outgoing radiance rho(q) / pi * (D(q) . L), so
     //   bounce_c,i = (pi / N) sum over the rays that hit of rho_c(q) / pi * D_i(q),
-    // the same rays as phase 1, traced again rather than stored.
+    // over the rays of phase 1 that were blocked, traced again to find what they hit rather
+    // than storing their hits.
     if (options.bounce == Bounce::One) {
         const DirectAtHit direct_at(request, transfer);
         parallel_for(receivers.size(), threads, [&](std::size_t r) {
             const Receiver& receiver = receivers[r];
             const glm::dvec3 origin = receiver.position + offset * receiver.normal;
             std::array<Coefficients, 3> bounce{};
-            for_each_ray(receiver, r, strata, [&](const glm::dvec3& direction) {
+            for_each_ray(r, strata, [&](int ray, double u1, double u2) {
+                if (!blocked.test(r, ray)) {
+                    return;
+                }
+                const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
                 if (const std::optional<SurfaceHit> hit = scene.intersect(origin, direction, 0.0)) {
                     const Coefficients reflected = direct_at(*hit);
                     for (int c = 0; c < 3; ++c) {
@@ -393,10 +429,6 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     transfer.bake_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return transfer;
-}
-
-int transfer_order(const Rig& rig) {
-    return std::min(rig.sh.all.order, kTransferBakeOrder);
 }
 
 }  // namespace oer

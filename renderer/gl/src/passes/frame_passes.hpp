@@ -10,7 +10,9 @@
 
 namespace oer {
 
-// Setup (shading_pass.cpp): the frame's irradiance sets into state.irradiance_buffer.
+// Setup (shading_pass.cpp): the frame's irradiance sets into state.irradiance_buffer, and in an
+// occlusion frame the transferred irradiance into state.transferred_vertex_buffer and, with the
+// ground, state.ground_transfer.
 void upload_irradiance_sets(const FrameContext& frame, RendererState& state);
 
 // Shadow pass: a depth map per light that is on, from the cache or rendered, and for a frame
@@ -29,6 +31,11 @@ void bake_ground_visibility(const FrameContext& frame, RendererState& state, Sha
 // the supersampled size from the primitives that do not blend, the stencil holding each
 // sample's surface kind.
 void render_geometry(FrameContext& frame, RendererState& state);
+
+// Attribute 4 of primitive `primitive` of object `object` (the geometry and transparent passes):
+// its vertices' transferred irradiance in an occlusion frame, else (0, 0, 0).
+void attach_object_transfer(const FrameContext& frame, const RendererState& state,
+                            const GpuPrimitive& gpu, std::size_t object, std::size_t primitive);
 
 // Shading pass: each G-buffer sample shaded once by its surface's program, routed by the
 // stencil, into frame.targets->shaded (display-encoded at one sample per pixel without

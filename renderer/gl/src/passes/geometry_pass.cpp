@@ -21,6 +21,16 @@
 
 namespace oer {
 
+void attach_object_transfer(const FrameContext& frame, const RendererState& state,
+                            const GpuPrimitive& gpu, std::size_t object, std::size_t primitive) {
+    if (frame.transfer) {
+        attach_transferred_irradiance(gpu, state.transferred_vertex_buffer.get(),
+                                      frame.transferred_offsets.at(object).at(primitive));
+    } else {
+        attach_transferred_irradiance(gpu, 0, 0);
+    }
+}
+
 void render_geometry(FrameContext& frame, RendererState& state) {
     const FrameRequest& request = frame.request;
     const Camera& camera = frame.camera;
@@ -45,14 +55,17 @@ void render_geometry(FrameContext& frame, RendererState& state) {
     glEnable(GL_STENCIL_TEST);
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
     gl::Program* current = nullptr;
+    // object: the index in request.objects, or none for the ground.
     const auto draw = [&](const Mesh& mesh, const GpuMesh& gpu, const glm::mat4& model,
-                          const std::optional<glm::vec3>& base_override, int surface_kind) {
+                          const std::optional<glm::vec3>& base_override, int surface_kind,
+                          std::optional<std::size_t> object) {
         glStencilFunc(GL_ALWAYS, surface_kind, 0xff);
         const float max_error = sample_lod_error(frame, mesh, model);
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
         // A mirroring transform turns the triangles' winding around.
         glFrontFace(glm::determinant(glm::mat3(model)) < 0.0f ? GL_CW : GL_CCW);
-        for (const GpuPrimitive& primitive : gpu.primitives) {
+        for (std::size_t p = 0; p < gpu.primitives.size(); ++p) {
+            const GpuPrimitive& primitive = gpu.primitives[p];
             const Material& material = mesh.materials.at(std::size_t(primitive.material));
             if (material.alpha_mode == AlphaMode::Blend) {
                 continue;
@@ -62,7 +75,8 @@ void render_geometry(FrameContext& frame, RendererState& state) {
             gl::Program& geometry = state.program(
                 "geometry", std::string("#define ALPHA_TEST ") + (alpha_test ? "1" : "0") +
                                 "\n#define MATERIAL_TEXTURES " +
-                                (has_textures(material) ? "1" : "0") + "\n");
+                                (has_textures(material) ? "1" : "0") + "\n" +
+                                frame.transfer_define);
             if (current != &geometry) {
                 current = &geometry;
                 glUseProgram(geometry.id());
@@ -80,12 +94,18 @@ void render_geometry(FrameContext& frame, RendererState& state) {
                 glEnable(GL_CULL_FACE);
                 glCullFace(GL_BACK);  // the shadow pass culls front faces
             }
+            if (object) {
+                attach_object_transfer(frame, state, primitive, *object, p);
+            } else {
+                attach_transferred_irradiance(primitive, 0, 0);
+            }
             draw_primitive(primitive, max_error);
         }
     };
-    for (const SceneObject& object : request.objects) {
+    for (std::size_t i = 0; i < request.objects.size(); ++i) {
+        const SceneObject& object = request.objects[i];
         const RendererState::CachedMesh& cached = state.mesh(object.mesh);
-        draw(*object.mesh, cached.gpu, object.transform, object.base_color, kObjectSurface);
+        draw(*object.mesh, cached.gpu, object.transform, object.base_color, kObjectSurface, i);
     }
     if (request.ground) {
         const SceneBounds& scene = frame.scene;
@@ -94,7 +114,8 @@ void render_geometry(FrameContext& frame, RendererState& state) {
                            glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
             glm::scale(glm::mat4(1.0f),
                        glm::vec3(frame.ground_half_size, 1.0f, frame.ground_half_size));
-        draw(state.ground_mesh, state.ground, ground_model, std::nullopt, kGroundSurface);
+        draw(state.ground_mesh, state.ground, ground_model, std::nullopt, kGroundSurface,
+             std::nullopt);
     }
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);

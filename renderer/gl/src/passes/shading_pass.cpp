@@ -6,6 +6,8 @@
 // sample per G-buffer sample: linear radiance, or at one sample per pixel with display output
 // and no blending the display-encoded color. Leaves the stencil test off and every texture and
 // sampler bound, for the transparent pass.
+#include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,30 @@ void upload_irradiance_sets(const FrameContext& frame, RendererState& state) {
     }
     glNamedBufferData(state.irradiance_buffer.get(), GLsizeiptr(packed.size() * sizeof(float)),
                       packed.data(), GL_DYNAMIC_DRAW);
+    if (!frame.transfer) {
+        return;
+    }
+    glNamedBufferData(
+        state.transferred_vertex_buffer.get(),
+        GLsizeiptr(std::max<std::size_t>(1, frame.transferred_vertices.size()) * sizeof(glm::vec3)),
+        frame.transferred_vertices.data(), GL_STREAM_DRAW);
+    const std::optional<GroundTransfer>& ground = frame.request.transfer->ground;
+    if (!ground) {
+        return;
+    }
+    if (state.ground_transfer_resolution != ground->resolution) {
+        state.ground_transfer = gl::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(state.ground_transfer.get(), 1, GL_RGB32F, ground->resolution,
+                           ground->resolution);
+        glTextureParameteri(state.ground_transfer.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(state.ground_transfer.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(state.ground_transfer.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(state.ground_transfer.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        state.ground_transfer_resolution = ground->resolution;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(state.ground_transfer.get(), 0, 0, 0, ground->resolution,
+                        ground->resolution, GL_RGB, GL_FLOAT, frame.transferred_ground.data());
 }
 
 void shade_surfaces(const FrameContext& frame, RendererState& state) {
@@ -36,10 +62,10 @@ void shade_surfaces(const FrameContext& frame, RendererState& state) {
     const RenderTargets& targets = *frame.targets;
     const bool environment_background = request.background.kind == BackgroundKind::Environment;
     const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.blending;
-    const std::string shading_defines = frame.lighting_defines + "#define ENVIRONMENT_BACKGROUND " +
-                                        std::to_string(environment_background ? 1 : 0) +
-                                        "\n#define DISPLAY_OUTPUT " +
-                                        std::to_string(display_in_shading ? 1 : 0) + "\n";
+    const std::string shading_defines =
+        frame.lighting_defines + frame.transfer_define + "#define ENVIRONMENT_BACKGROUND " +
+        std::to_string(environment_background ? 1 : 0) + "\n#define DISPLAY_OUTPUT " +
+        std::to_string(display_in_shading ? 1 : 0) + "\n";
     // The ground's normal is +Y, which the yaw leaves unchanged.
     std::vector<glm::vec3> flat_irradiance;
     for (const ShRgb& set : frame.irradiance_sets) {
@@ -79,6 +105,15 @@ void shade_surfaces(const FrameContext& frame, RendererState& state) {
                     float(frame.samples_high));
         glUniform3fv(shade.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
                      glm::value_ptr(flat_irradiance[0]));
+        if (frame.transfer && surface == kObjectSurface) {
+            glBindTextureUnit(15, targets.transferred.get());
+        }
+        if (frame.transfer && surface == kGroundSurface) {
+            const GroundTransfer& ground = *request.transfer->ground;
+            glBindTextureUnit(15, state.ground_transfer.get());
+            glUniform4f(shade.uniform("u_ground_transfer_rect"), ground.centre.x - ground.half_size,
+                        ground.centre.y - ground.half_size, 0.5f / ground.half_size, 0.0f);
+        }
         if (display_in_shading) {
             set_display_uniforms(shade, request);
         }

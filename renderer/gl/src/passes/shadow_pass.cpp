@@ -83,6 +83,8 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
                             // would cast nothing with its face to the light culled.
                             glDisable(GL_CULL_FACE);
                         }
+                        // The frame before may have left its transferred irradiance there.
+                        attach_transferred_irradiance(primitive, 0, 0);
                         draw_primitive(primitive, max_error);
                         if (alpha_test) {
                             glEnable(GL_CULL_FACE);

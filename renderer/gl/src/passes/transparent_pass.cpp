@@ -27,19 +27,24 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
         const SceneObject* object;
         const GpuMesh* gpu;
         const GpuPrimitive* primitive;
+        std::size_t object_index;
+        std::size_t primitive_index;
         float distance;
     };
     std::vector<Transparent> surfaces;
-    for (const SceneObject& object : request.objects) {
+    for (std::size_t i = 0; i < request.objects.size(); ++i) {
+        const SceneObject& object = request.objects[i];
         const GpuMesh& gpu = state.mesh(object.mesh).gpu;
-        for (const GpuPrimitive& primitive : gpu.primitives) {
+        for (std::size_t p = 0; p < gpu.primitives.size(); ++p) {
+            const GpuPrimitive& primitive = gpu.primitives[p];
             if (object.mesh->materials.at(std::size_t(primitive.material)).alpha_mode !=
                 AlphaMode::Blend) {
                 continue;
             }
             const glm::vec3 centre =
                 glm::vec3(object.transform * glm::vec4(primitive.centre, 1.0f));
-            surfaces.push_back({&object, &gpu, &primitive, glm::length(centre - frame.camera.eye)});
+            surfaces.push_back(
+                {&object, &gpu, &primitive, i, p, glm::length(centre - frame.camera.eye)});
         }
     }
     std::stable_sort(
@@ -54,8 +59,8 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
     glEnable(GL_BLEND);
     // Porter and Duff's "over" on premultiplied colour: src + (1 - src alpha) dst.
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    gl::Program& program =
-        state.program("transparent", frame.lighting_defines + frame.specular_define);
+    gl::Program& program = state.program(
+        "transparent", frame.lighting_defines + frame.specular_define + frame.transfer_define);
     glUseProgram(program.id());
     set_surface_shading_uniforms(program, frame);
     glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE,
@@ -77,6 +82,8 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
             glEnable(GL_CULL_FACE);
             glCullFace(GL_BACK);  // the shadow pass culls front faces
         }
+        attach_object_transfer(frame, state, *surface.primitive, surface.object_index,
+                               surface.primitive_index);
         draw_primitive(*surface.primitive, sample_lod_error(frame, mesh, object.transform));
     }
     glDisable(GL_BLEND);

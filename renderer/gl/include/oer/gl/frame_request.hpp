@@ -58,9 +58,11 @@ struct FrameRequest {
     // Occlusion of the residual map and the ground as lighting (issue 13): true, the residual
     // map (the rig's radiance minus its lights' pixels) reaches objects and ground through
     // `transfer`, baked for this request's objects, transforms and ground (transfer_bake.hpp),
-    // and lights below the ground's horizon reach nothing; false, the residual lights every
-    // point unoccluded (OER as before) and `transfer` is unused.
-    bool occlusion = true;
+    // and, with the ground, lights below its horizon reach no object; false, the residual lights
+    // every point unoccluded (OER as before) and `transfer` must be null. The renderer's default
+    // is false because a transfer has to be baked first; the API's and the command line's is
+    // true, and they bake it.
+    bool occlusion = false;
     // None: the ground lights nothing and nothing reflects (to compare with the reference's
     // direct mode); One: the ground and the objects reflect once. Must match transfer->bounce.
     Bounce bounce = Bounce::One;
@@ -97,7 +99,7 @@ struct FrameLimits {
     int max_width = 4096;
     int max_height = 4096;
     int max_shadow_resolution = 8192;
-    // Pixels times samples: the G-buffer costs about 56 bytes per sample.
+    // Pixels times samples: the G-buffer costs about 64 bytes per sample.
     std::int64_t max_samples_total = 4096LL * 4096LL;
     std::size_t max_cached_shadow_maps = 32;
 };

@@ -22,6 +22,12 @@ struct MeshLimits {
     std::uint64_t max_bytes = 256ull << 20;
     std::uint64_t max_triangles = 5'000'000;
     std::uint64_t max_vertices = 5'000'000;
+    // The vertices refinement for per-vertex transfer (mesh_refinement.hpp) may bring a mesh
+    // to: it stops there with a warning instead of failing. Far below max_vertices, so that the
+    // copies MikkTSpace makes afterwards for tangents still fit, and so that a coarse mesh of
+    // many large triangles cannot turn into a bake of millions of vertices. 0: no refinement
+    // (the triangles as the file has them).
+    std::uint64_t max_refined_vertices = 1'000'000;
     std::uint64_t max_primitives = 10'000;
     std::uint64_t max_texture_pixels = 16ull << 20;        // per image, checked on its header
     std::uint64_t max_total_texture_pixels = 64ull << 20;  // every decoded texture together

@@ -25,10 +25,4 @@ int transfer_ray_count(const std::vector<SceneObject>& objects);
 // (Internal) when Embree fails.
 SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptions& options);
 
-// The order a frame evaluates the transfer at for this rig: the rig's own SH order (chosen by
-// the rig's rule as the lowest whose irradiance is within its tolerance), at most
-// kTransferBakeOrder. The first order^2 coefficients of the baked transfer are that order's
-// transfer exactly, so the frame's transfer is as accurate as its unoccluded lighting.
-int transfer_order(const Rig& rig);
-
 }  // namespace oer

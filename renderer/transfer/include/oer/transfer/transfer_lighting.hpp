@@ -1,0 +1,49 @@
+#pragma once
+// A frame's lighting through a baked transfer (scene_transfer.hpp): the residual map R and the
+// whole lighting L in the transfer's frame, and the irradiance E(x) = T(x) . R + B(x) . L that
+// they give at every receiver point (P.-P. Sloan, J. Kautz and J. Snyder, "Precomputed Radiance
+// Transfer for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH
+// 2002, section 5: a diffuse receiver's exit radiance is a dot product of its transfer vector
+// with the lighting's coefficients). No GL and no ray tracing: the frame renderer calls it per
+// frame, before its passes.
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "oer/lighting/rig.hpp"
+#include "oer/lighting/sh.hpp"
+#include "oer/transfer/scene_transfer.hpp"
+
+namespace oer {
+
+// The order a frame evaluates a transfer at for this rig: the rig's own SH order, at most
+// kTransferBakeOrder. The rig's order is already the lowest whose irradiance error is under the
+// tolerance for this map (rig.hpp, "model only what a scene needs"), and the first order^2
+// coefficients of a transfer are exactly that order's transfer, so a lower order costs nothing
+// in accuracy that the rig had not already given up.
+int transfer_order(const Rig& rig);
+
+struct TransferLighting {
+    // R, the residual map (the rig's radiance minus every light's own pixels, Rig::sh), and L,
+    // the whole lighting of the frame (R plus each light's pixels times its weight), both turned
+    // by the environment's yaw into the world frame the transfer was baked in, unwindowed, at
+    // the evaluation order.
+    ShRgb residual;
+    ShRgb whole;
+};
+
+// weights: one per rig light (0 off, 1 as captured); yaw_degrees about +Y (DESIGN.md section 3).
+// Throws oer::Error (InvalidInput) when the weights do not match the rig's lights or order is
+// outside 1 .. min(rig order, kTransferBakeOrder).
+TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weights,
+                                   double yaw_degrees, int order);
+
+// The irradiance at every point of `points` (baked at stored_order) under `lighting`:
+// E_c(p) = sum_i direct_i(p) R_c,i + sum_i bounce_c,i(p) L_c,i over the lighting's order^2
+// coefficients. Throws oer::Error (InvalidInput) when the lighting's order exceeds
+// stored_order or the points' vectors do not have the sizes their count says.
+std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int stored_order,
+                                              const TransferLighting& lighting);
+
+}  // namespace oer

@@ -1,0 +1,110 @@
+#include "oer/transfer/transfer_lighting.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include <glm/mat3x3.hpp>
+
+#include "oer/core/error.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/lighting/sh_rotation.hpp"
+
+namespace oer {
+
+namespace {
+
+[[noreturn]] void invalid(const std::string& message) {
+    throw Error(ErrorKind::InvalidInput, "transfer lighting: " + message);
+}
+
+// The map turned by the yaw lights world direction d as the unturned map lights d turned back:
+// g(d) = f(Q^T d) with Q the yaw's rotation (equirect::rotate_yaw), rotate_sh's convention.
+ShRgb turned_by_yaw(const ShRgb& sh, double yaw_degrees) {
+    if (yaw_degrees == 0.0) {
+        return sh;
+    }
+    const glm::dmat3 yaw(equirect::rotate_yaw({1.0, 0.0, 0.0}, yaw_degrees),
+                         equirect::rotate_yaw({0.0, 1.0, 0.0}, yaw_degrees),
+                         equirect::rotate_yaw({0.0, 0.0, 1.0}, yaw_degrees));
+    return rotate_sh(sh, yaw);
+}
+
+}  // namespace
+
+int transfer_order(const Rig& rig) {
+    return std::min(rig.sh.all.order, kTransferBakeOrder);
+}
+
+TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weights,
+                                   double yaw_degrees, int order) {
+    if (weights.size() != rig.lights.size()) {
+        invalid(std::to_string(weights.size()) + " light weights for a rig of " +
+                std::to_string(rig.lights.size()) + " lights");
+    }
+    if (order < 1 || order > transfer_order(rig)) {
+        invalid("order " + std::to_string(order) + " is outside 1.." +
+                std::to_string(transfer_order(rig)));
+    }
+    ShRgb residual = rig.sh.all.truncated(order);
+    ShRgb whole = residual;
+    for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+        const ShRgb light = rig.sh.per_light[k].truncated(order);
+        residual -= light;
+        if (weights[k] != 1.0f) {
+            ShRgb change = light;
+            change *= double(weights[k]) - 1.0;
+            whole += change;
+        }
+    }
+    return {turned_by_yaw(residual, yaw_degrees), turned_by_yaw(whole, yaw_degrees)};
+}
+
+std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int stored_order,
+                                              const TransferLighting& lighting) {
+    const int order = lighting.residual.order;
+    if (order > stored_order || lighting.whole.order != order) {
+        invalid("lighting of order " + std::to_string(order) + " for a transfer baked at order " +
+                std::to_string(stored_order));
+    }
+    const std::size_t stored = std::size_t(stored_order) * std::size_t(stored_order);
+    const std::size_t used = std::size_t(order) * std::size_t(order);
+    const bool bounce = !points.bounce.empty();
+    if (points.direct.size() != points.count * stored ||
+        (bounce && points.bounce.size() != points.count * 3 * stored)) {
+        invalid("transfer vectors of " + std::to_string(points.direct.size()) + " direct and " +
+                std::to_string(points.bounce.size()) + " bounce values for " +
+                std::to_string(points.count) + " points");
+    }
+    // Float copies, channel-major, so that each dot product below is a contiguous loop.
+    std::vector<float> residual(3 * used), whole(3 * used);
+    for (std::size_t i = 0; i < used; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            residual[std::size_t(c) * used + i] = float(lighting.residual.coefficients[i][c]);
+            whole[std::size_t(c) * used + i] = float(lighting.whole.coefficients[i][c]);
+        }
+    }
+    std::vector<glm::vec3> irradiance(points.count);
+    for (std::size_t p = 0; p < points.count; ++p) {
+        const float* direct = points.direct.data() + p * stored;
+        glm::vec3 e(0.0f);
+        for (int c = 0; c < 3; ++c) {
+            const float* r = residual.data() + std::size_t(c) * used;
+            float sum = 0.0f;
+            for (std::size_t i = 0; i < used; ++i) {
+                sum += direct[i] * r[i];
+            }
+            if (bounce) {
+                const float* reflected = points.bounce.data() + (p * 3 + std::size_t(c)) * stored;
+                const float* l = whole.data() + std::size_t(c) * used;
+                for (std::size_t i = 0; i < used; ++i) {
+                    sum += reflected[i] * l[i];
+                }
+            }
+            e[c] = sum;
+        }
+        irradiance[p] = e;
+    }
+    return irradiance;
+}
+
+}  // namespace oer
