@@ -823,7 +823,9 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
     request.width = spec.width;
     request.height = spec.height;
     request.ground = spec.ground;
-    request.occlusion = spec.occlusion;
+    // Without objects nothing occludes the residual map: the unoccluded lighting is the same
+    // frame, and there is no scene to bake a transfer for.
+    request.occlusion = spec.occlusion && !spec.objects.empty();
     request.bounce = spec.bounce;
     request.background = spec.background;
     request.exposure = spec.exposure;

@@ -84,8 +84,7 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                             "environment");
         }
     }
-    // A scene without objects has nothing to occlude the residual map: the bake needs objects.
-    if (frame_request.occlusion && !frame_request.objects.empty()) {
+    if (frame_request.occlusion) {
         frame_request.transfer = transfers_.transfer(frame_request, mesh_ids);
     }
     auto request = std::make_shared<const FrameRequest>(std::move(frame_request));

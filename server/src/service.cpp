@@ -113,6 +113,7 @@ FrameRequest Service::Impl::test_frame_request() {
     request.environment_map = environments.source_image(*environment);
     request.specular = environments.specular(*environment);  // the default product is glossy
     request.objects.push_back({meshes.find(preset)->mesh, glm::mat4(1.0f), std::nullopt});
+    request.occlusion = true;
     request.transfer = transfers.transfer(request, {preset});
     request.width = kTestFrameSize;
     request.height = kTestFrameSize;

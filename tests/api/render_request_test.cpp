@@ -778,6 +778,20 @@ TEST(RenderRequest, ToFrameRequestConvertsALookAtCamera) {
     EXPECT_FALSE(request.linear);
 }
 
+TEST(RenderRequest, ToFrameRequestOccludesAScenesObjectsOnly) {
+    const auto occlusion = [](const std::string& body, std::size_t objects) {
+        return api::to_frame_request(api::parse_render_json(body), rig_with_lights(1), nullptr,
+                                     meshes(objects))
+            .occlusion;
+    };
+    EXPECT_TRUE(occlusion(R"({"environment": "default", "objects": [{"mesh": "default"}]})", 1));
+    EXPECT_FALSE(occlusion(R"({"environment": "default", "objects": [{"mesh": "default"}],
+                               "occlusion": false})",
+                           1));
+    // Nothing to occlude, nothing to bake: the unoccluded frame is the same.
+    EXPECT_FALSE(occlusion(R"({"environment": "default"})", 0));
+}
+
 TEST(RenderRequest, ToFrameRequestConvertsAnOrbitAndTheExrFormat) {
     const RenderSpec spec = api::parse_render_query({{"environment", "default"},
                                                      {"mesh", "default"},

@@ -164,6 +164,7 @@ Camera resolved_camera(const RenderSpec& spec,
 // (the image the rig was made from) may be null unless the background is the environment. Throws
 // InvalidParameter("lights") when the weights do not match the rig's lights, and oer::Error
 // (Internal) when the resolved assets do not match the spec (a caller's bug).
+// FrameRequest::occlusion is the spec's for a scene with objects (without, nothing occludes);
 // FrameRequest::transfer stays empty: with occlusion on, the caller bakes it
 // (oer::bake_transfer) or finds it cached (the service's transfer registry).
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
