@@ -1,7 +1,8 @@
 // Frame benchmark (DESIGN.md section 8): the Stanford bunny on a ground plane lit by rigs of 0
 // to 4 lights, per-pass frame times at several sizes and shadow-map resolutions, with shadow
 // maps cached (camera moves) and not (the lights move every frame), the colour pass with glTF
-// PBR materials against the same bunny Lambertian (issue 12), and JPEG encoding.
+// PBR materials against the same bunny Lambertian (issue 12), the colour pass of a frame lit
+// through the scene's transfer against the same frame without (issue 13), and JPEG encoding.
 // Prints plain text; a missed target is reported, never an error.
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include "oer/lighting/rig.hpp"
 #include "oer/lighting/specular_environment.hpp"
 #include "oer/mesh/mesh_loading.hpp"
+#include "oer/transfer/transfer_bake.hpp"
 #include "targets.hpp"
 
 namespace {
@@ -245,6 +247,44 @@ int main(int argc, char** argv) {
             }
             std::printf("  %4dx%-4d  %-28s %7.1f  %5.2fx\n", width, height, name, color_ms,
                         color_ms / lambertian_ms);
+        }
+    }
+    std::printf(
+        "\nocclusion (issue 13), 2 lights, cached shadow maps: the bunny's color pass ms without "
+        "occlusion and lit through its transfer (bounce none, one), same run, and the setup that "
+        "evaluates the transfer per vertex; target <= %.1fx without\n",
+        targets::kOcclusionColorPassRatio);
+    std::vector<std::pair<oer::Bounce, std::shared_ptr<const oer::SceneTransfer>>> transfers;
+    for (const oer::Bounce bounce : {oer::Bounce::None, oer::Bounce::One}) {
+        oer::TransferBakeOptions options;
+        options.bounce = bounce;
+        const auto transfer = std::make_shared<const oer::SceneTransfer>(
+            oer::bake_transfer(bunny_request(bunny, rigs[2], 512, 512), options));
+        std::printf("  bake, bounce %s: %.0f ms (%d rays per point)\n",
+                    bounce == oer::Bounce::None ? "none" : "one", transfer->bake_ms,
+                    transfer->rays);
+        transfers.emplace_back(bounce, transfer);
+    }
+    for (const auto& [width, height] : {std::pair{512, 512}, std::pair{1366, 768}}) {
+        for (const int samples : {1, 4}) {
+            oer::FrameRequest request = bunny_request(bunny, rigs[2], width, height);
+            request.samples = samples;
+            const Measurement plain = bench.measure(request, true);
+            const double plain_ms = color_and_readback(plain) - pass(plain, "readback");
+            std::printf("  %4dx%-4d  %d spp  no occlusion  %7.1f          setup %5.2f\n", width,
+                        height, samples, plain_ms, pass(plain, "setup"));
+            for (const auto& [bounce, transfer] : transfers) {
+                request.occlusion = true;
+                request.bounce = bounce;
+                request.transfer = transfer;
+                const Measurement m = bench.measure(request, true);
+                const double color_ms = color_and_readback(m) - pass(m, "readback");
+                std::printf(
+                    "  %4dx%-4d  %d spp  bounce %-4s   %7.1f  %5.2fx  setup %5.2f  %s\n", width,
+                    height, samples, bounce == oer::Bounce::None ? "none" : "one", color_ms,
+                    color_ms / plain_ms, pass(m, "setup"),
+                    color_ms <= targets::kOcclusionColorPassRatio * plain_ms ? "met" : "NOT met");
+            }
         }
     }
     if (quick) {

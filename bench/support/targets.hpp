@@ -36,5 +36,7 @@ inline constexpr double kFrameErrorOverPlainSh = 0.5;
 // Issue 13: the transfer bake of the bunny on the ground, one bounce, on 2 cores
 // (transfer_benchmark).
 inline constexpr double kTransferBakeBunnyMs = 2000.0;  // at most
+// Issue 13: the color pass of a frame lit through the transfer, against the same frame without.
+inline constexpr double kOcclusionColorPassRatio = 1.3;  // at most
 
 }  // namespace oer::bench::targets

@@ -143,7 +143,8 @@ inline void add_grid_face(Primitive& primitive, glm::vec3 origin, glm::vec3 u, g
 
 // A box open at the top with thin walls: primitive 0, "inside", the floor (y = 0) and four
 // walls (x and z = +-half_size, up to y = height) facing into the box; primitive 1, "outside",
-// the same five faces `thickness` further out (the bottom at y = -thickness) facing away. Each
+// the same five faces `thickness` further out (the bottom at y = -thickness) facing away, and
+// the rim between them at the top facing up. Each
 // face is a divisions x divisions grid (divisions even: a vertex at every face's centre, the
 // floor's at the origin).
 inline Mesh open_box(float half_size, float height, float thickness, int divisions,
@@ -167,6 +168,14 @@ inline Mesh open_box(float half_size, float height, float thickness, int divisio
     };
     add_shell("inside", half_size, 0.0f, 1.0f);
     add_shell("outside", half_size + thickness, -thickness, -1.0f);
+    // The rim, facing up, closes the gap between the walls: rays never enter it.
+    Primitive& outside = mesh.primitives.back();
+    const float h = half_size, outer = half_size + thickness, t = thickness, up = height;
+    const glm::vec3 y(0, 1, 0);
+    add_grid_face(outside, {-outer, up, -outer}, {2 * outer, 0, 0}, {0, 0, t}, y, divisions);
+    add_grid_face(outside, {-outer, up, h}, {2 * outer, 0, 0}, {0, 0, t}, y, divisions);
+    add_grid_face(outside, {-outer, up, -h}, {t, 0, 0}, {0, 0, 2 * h}, y, divisions);
+    add_grid_face(outside, {h, up, -h}, {t, 0, 0}, {0, 0, 2 * h}, y, divisions);
     mesh.materials.push_back(lambertian(albedo));
     finish(mesh);
     return mesh;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -11,6 +12,7 @@
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/light_lobe.hpp"
 #include "oer/lighting/light_location.hpp"
+#include "oer/mesh/mesh_refinement.hpp"
 #include "oer/transfer/transfer_lighting.hpp"
 #include "sh_shader_constants.hpp"
 
@@ -241,6 +243,12 @@ float sample_lod_error(const FrameContext& frame, const Mesh& mesh, const glm::m
     const float radius = 0.5f * glm::length(mesh.bounds.max - mesh.bounds.min) * scale;
     const float distance = std::max(frame.near_plane, glm::length(camera.eye - centre) - radius);
     return sample_size_per_distance * distance / scale;
+}
+
+float transfer_lod_edge(const FrameContext& frame, const Mesh& mesh) {
+    // The refinement splits only edges longer than its length by a relative 1e-6.
+    return frame.transfer ? float(transfer_edge_length(mesh.bounds) * 1.001)
+                          : std::numeric_limits<float>::infinity();
 }
 
 float largest_scale(const glm::mat4& transform) {

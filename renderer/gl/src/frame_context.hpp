@@ -123,6 +123,11 @@ std::string element(const char* name, std::size_t i);
 // with `model` into the frame: one sample at its bounding sphere's nearest point.
 float sample_lod_error(const FrameContext& frame, const Mesh& mesh, const glm::mat4& model);
 
+// The longest triangle edge (draw_primitive's max_edge, in the mesh's units) a level of detail
+// may have in this frame: a frame lit through a transfer interpolates it between vertices, so
+// no longer than the refinement made them (transfer_edge_length); else no bound.
+float transfer_lod_edge(const FrameContext& frame, const Mesh& mesh);
+
 // The largest factor by which a transform stretches a length: a mesh-space error times it bounds
 // the world-space error.
 float largest_scale(const glm::mat4& transform);

@@ -62,8 +62,8 @@ void attach_transferred_irradiance(const GpuPrimitive& primitive, GLuint buffer,
     glEnableVertexArrayAttrib(vertex_array, kLocation);
 }
 
-void draw_primitive(const GpuPrimitive& primitive, float max_error) {
-    const LodLevel& level = choose_lod(primitive.lods, max_error);
+void draw_primitive(const GpuPrimitive& primitive, float max_error, float max_edge) {
+    const LodLevel& level = choose_lod(primitive.lods, max_error, max_edge);
     glBindVertexArray(primitive.vertex_array.get());
     glDrawElements(
         GL_TRIANGLES, GLsizei(level.index_count), GL_UNSIGNED_INT,

@@ -4,6 +4,7 @@
 // textures, sRGB or linear by their encoding, with their mipmaps.
 #include <GL/glcorearb.h>
 
+#include <limits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -29,8 +30,9 @@ void attach_transferred_irradiance(const GpuPrimitive& primitive, GLuint buffer,
                                    std::size_t first_vertex);
 
 // Draws the coarsest level of the primitive (its vertex array bound) whose error is at most
-// max_error, in the mesh's units.
-void draw_primitive(const GpuPrimitive& primitive, float max_error);
+// max_error and whose longest edge at most max_edge, in the mesh's units (choose_lod).
+void draw_primitive(const GpuPrimitive& primitive, float max_error,
+                    float max_edge = std::numeric_limits<float>::infinity());
 
 struct GpuMesh {
     std::vector<GpuPrimitive> primitives;

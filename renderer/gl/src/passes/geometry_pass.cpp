@@ -61,6 +61,7 @@ void render_geometry(FrameContext& frame, RendererState& state) {
                           std::optional<std::size_t> object) {
         glStencilFunc(GL_ALWAYS, surface_kind, 0xff);
         const float max_error = sample_lod_error(frame, mesh, model);
+        const float max_edge = transfer_lod_edge(frame, mesh);
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
         // A mirroring transform turns the triangles' winding around.
         glFrontFace(glm::determinant(glm::mat3(model)) < 0.0f ? GL_CW : GL_CCW);
@@ -99,7 +100,7 @@ void render_geometry(FrameContext& frame, RendererState& state) {
             } else {
                 attach_transferred_irradiance(primitive, 0, 0);
             }
-            draw_primitive(primitive, max_error);
+            draw_primitive(primitive, max_error, max_edge);
         }
     };
     for (std::size_t i = 0; i < request.objects.size(); ++i) {

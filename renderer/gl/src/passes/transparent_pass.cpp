@@ -84,7 +84,8 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
         }
         attach_object_transfer(frame, state, *surface.primitive, surface.object_index,
                                surface.primitive_index);
-        draw_primitive(*surface.primitive, sample_lod_error(frame, mesh, object.transform));
+        draw_primitive(*surface.primitive, sample_lod_error(frame, mesh, object.transform),
+                       transfer_lod_edge(frame, mesh));
     }
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);

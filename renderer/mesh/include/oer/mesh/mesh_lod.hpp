@@ -5,6 +5,7 @@
 // a pixel add nothing to the picture. A frame draws the coarsest level whose geometric error
 // is under half a pixel (or half a shadow-map texel).
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "oer/mesh/mesh.hpp"
@@ -15,6 +16,9 @@ struct LodLevel {
     std::uint32_t first_index = 0;  // into LodIndices::indices
     std::uint32_t index_count = 0;
     float error = 0.0f;  // largest distance from the full mesh, in the mesh's units
+    // Its longest triangle edge, in the mesh's units: per-vertex lighting (issue 13's transfer)
+    // is interpolated along it, so a frame lit through a transfer needs short edges too.
+    float longest_edge = 0.0f;
 };
 
 struct LodIndices {
@@ -27,7 +31,11 @@ struct LodIndices {
 // so that a primitive's level never opens a crack against its neighbours.
 LodIndices build_lods(const Primitive& primitive);
 
-// The coarsest level whose error is at most max_error (the finest when none is).
-const LodLevel& choose_lod(const std::vector<LodLevel>& levels, float max_error);
+// The coarsest level whose error is at most max_error and whose longest edge is at most
+// max_edge (the finest when none is). A flat face simplifies to two triangles at no geometric
+// error, which would interpolate a transfer between its corners alone: frames lit through a
+// transfer bound the edge by the refinement's length (mesh_refinement.hpp).
+const LodLevel& choose_lod(const std::vector<LodLevel>& levels, float max_error,
+                           float max_edge = std::numeric_limits<float>::infinity());
 
 }  // namespace oer
