@@ -1,0 +1,216 @@
+// Issue 13's frames with their real bake against brute-force integration: the reference
+// renderer (renderer/reference, path traced on Embree) in the matching mode. The ground as
+// lighting (a sphere on the plane under a map bright below the horizon), the occlusion of a
+// concave shape under a constant sky, and the frame's independence of a turn of the whole scene.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "frame_test_support.hpp"
+#include "oer/lighting/equirect.hpp"
+#include "oer/reference/reference_renderer.hpp"
+#include "oer/transfer/transfer_bake.hpp"
+#include "synthetic_maps.hpp"
+#include "test_meshes.hpp"
+
+namespace oer {
+namespace {
+
+double luminance(const float* rgba) {
+    return 0.2126 * rgba[0] + 0.7152 * rgba[1] + 0.0722 * rgba[2];
+}
+
+// Relative RMS of luminance, sqrt(sum (ours - truth)^2 / sum truth^2), over the means of the
+// kBlock x kBlock blocks of pixels whose centres the reference all sees as `surface`: a block's
+// mean has a kBlock-th of a pixel's Monte Carlo noise (the reference's pixels are independent),
+// so the reference is brute force at a tolerable number of samples.
+constexpr int kBlock = 4;
+double block_relative_rms(const std::vector<float>& ours, const ReferenceFrame& truth,
+                          ReferenceSurface surface) {
+    double error = 0.0, total = 0.0;
+    for (int by = 0; by + kBlock <= truth.height; by += kBlock) {
+        for (int bx = 0; bx + kBlock <= truth.width; bx += kBlock) {
+            double expected = 0.0, got = 0.0;
+            bool whole = true;
+            for (int y = by; y < by + kBlock; ++y) {
+                for (int x = bx; x < bx + kBlock; ++x) {
+                    const std::size_t i =
+                        std::size_t(y) * std::size_t(truth.width) + std::size_t(x);
+                    whole = whole && truth.surfaces[i] == surface;
+                    expected += luminance(&truth.linear[4 * i]);
+                    got += luminance(&ours[4 * i]);
+                }
+            }
+            if (whole) {
+                error += (got - expected) * (got - expected);
+                total += expected * expected;
+            }
+        }
+    }
+    return std::sqrt(error / total);
+}
+
+// Radiance `sky` above the horizon and `below` under it: with the ground on, none of the lower
+// hemisphere may reach the object.
+HdrImage two_hemispheres(float sky, float below) {
+    HdrImage map(128, 64);
+    const equirect::Grid grid(map.width, map.height);
+    for (std::size_t i = 0; i < map.pixel_count(); ++i) {
+        map.set(i, glm::vec3(grid.direction(i).y > 0.0 ? sky : below));
+    }
+    return map;
+}
+
+class OcclusionReferenceTest : public oer::testing::RendererSuite {
+  protected:
+    static std::shared_ptr<const Rig> rig_without_lights(const HdrImage& map) {
+        RigOptions options;
+        options.light_count = 0;
+        options.sh_order = 5;
+        return std::make_shared<const Rig>(build_rig(map, {}, options));
+    }
+
+    static FrameRequest request_for(std::shared_ptr<const HdrImage> map, Mesh mesh,
+                                    const Camera& camera) {
+        FrameRequest request;
+        request.rig = rig_without_lights(*map);
+        request.environment_map = std::move(map);
+        request.objects.push_back(
+            {std::make_shared<const Mesh>(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
+        request.camera = camera;
+        request.width = request.height = 64;
+        request.background.kind = BackgroundKind::Transparent;
+        request.samples = 1;
+        request.linear = true;
+        return request;
+    }
+
+    static Frame render_with_occlusion(FrameRequest request, Bounce bounce) {
+        request.occlusion = true;
+        request.bounce = bounce;
+        TransferBakeOptions options;
+        options.bounce = bounce;
+        request.transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, options));
+        return render(request);
+    }
+
+    // Cosine sampling: the map's distribution would spend its samples on the bright lower
+    // hemisphere that the ground hides.
+    static ReferenceFrame reference(const FrameRequest& request, Bounce bounce) {
+        ReferenceOptions options;
+        options.bounce = bounce;
+        options.sampling = ReferenceSampling::Cosine;
+        options.samples = 1024;
+        return render_reference(request, options);
+    }
+};
+
+// A point under the sphere's equator sees the ground below its horizon, never the map's bright
+// lower half: in `none` mode that part of its hemisphere is dark, in `one` it is the ground's
+// radiance, albedo 0.8 times the sky's irradiance over pi (less the sphere's shadow).
+TEST_F(OcclusionReferenceTest, TheGroundReplacesTheMapsLowerHemisphere) {
+    Camera camera;
+    camera.eye = {0.0f, -0.3f, 3.2f};
+    camera.target = {0.0f, -0.3f, 0.0f};
+    camera.fov_y = 50.0f;
+    const auto map = std::make_shared<const HdrImage>(two_hemispheres(0.25f, 4.0f));
+    FrameRequest request =
+        request_for(map, oer::testing::uv_sphere({0, 0, 0}, 1.0f, 96, 48, glm::vec3(0.7f)), camera);
+    request.ground = true;
+    const Frame unoccluded = render(request);
+    for (const Bounce bounce : {Bounce::None, Bounce::One}) {
+        const ReferenceFrame truth = reference(request, bounce);
+        // Rays that pass under the finite ground's edge see the bright lower half: noisy.
+        ASSERT_LT(truth.noise.object / kBlock, 0.02);
+        const double ours = block_relative_rms(render_with_occlusion(request, bounce).linear, truth,
+                                               ReferenceSurface::Object);
+        const double plain = block_relative_rms(unoccluded.linear, truth, ReferenceSurface::Object);
+        SCOPED_TRACE(bounce == Bounce::None ? "bounce none" : "bounce one");
+        // Without occlusion the map's lower half lights the sphere from below, many times too
+        // bright; with it, the order-5 transfer of a step between the hemispheres is within a
+        // few per cent of brute force.
+        EXPECT_GT(plain, 1.0);
+        EXPECT_LT(ours, 0.06);
+        // The ground's own pixels, occluded by the sphere near its contact.
+        EXPECT_LT(block_relative_rms(render_with_occlusion(request, bounce).linear, truth,
+                                     ReferenceSurface::Ground),
+                  0.06);
+    }
+}
+
+// The floor and walls of a box open at the top see the sky through the opening only: ambient
+// occlusion under a constant sky, against the reference's (its cosine sampling is exact there
+// when nothing occludes, and unbiased when something does).
+TEST_F(OcclusionReferenceTest, AnOpenBoxUnderAConstantSkyHasTheReferencesOcclusion) {
+    Camera camera;
+    camera.eye = {0.0f, 1.6f, 1.3f};
+    camera.target = {0.0f, 0.0f, 0.0f};
+    camera.fov_y = 45.0f;
+    const auto map =
+        std::make_shared<const HdrImage>(oer::testing::constant_map(64, 32, glm::vec3(1.0f)));
+    FrameRequest request =
+        request_for(map, oer::testing::open_box(0.5f, 0.5f, 0.02f, 8, glm::vec3(0.8f)), camera);
+    request.ground = false;
+    const ReferenceFrame truth = reference(request, Bounce::None);
+    ASSERT_LT(truth.noise.object / kBlock, 0.01);
+    const double ours = block_relative_rms(render_with_occlusion(request, Bounce::None).linear,
+                                           truth, ReferenceSurface::Object);
+    const double plain =
+        block_relative_rms(render(request).linear, truth, ReferenceSurface::Object);
+    EXPECT_GT(plain, 0.3);  // unoccluded, the box's inside is as bright as its outside
+    EXPECT_LT(ours, 0.05);
+}
+
+// The scene turned about +Y with the map and the camera is the same picture: the bake follows
+// the objects, and the yaw turns the residual map into the world frame the bake is in.
+TEST_F(OcclusionReferenceTest, TurningTheSceneTheMapAndTheCameraTogetherChangesNothing) {
+    HdrImage map(128, 64);
+    const equirect::Grid grid(map.width, map.height);
+    for (std::size_t i = 0; i < map.pixel_count(); ++i) {
+        const glm::dvec3 d = grid.direction(i);
+        map.set(i,
+                glm::vec3(float(0.6 + 0.5 * d.x), float(0.5 + 0.4 * d.z), float(0.4 + 0.3 * d.y)));
+    }
+    Camera camera;
+    camera.eye = {0.5f, 1.2f, 3.0f};
+    camera.target = {0.0f, -0.3f, 0.0f};
+    const auto shared_map = std::make_shared<const HdrImage>(map);
+    FrameRequest request = request_for(
+        shared_map, oer::testing::open_box(0.5f, 0.5f, 0.02f, 8, glm::vec3(0.8f)), camera);
+    request.ground = true;
+    const Frame still = render_with_occlusion(request, Bounce::One);
+    constexpr float kTurn = 90.0f;
+    const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), glm::radians(kTurn), glm::vec3(0, 1, 0));
+    FrameRequest turned = request;
+    turned.objects[0].transform = turn;
+    turned.environment_yaw = kTurn;
+    turned.camera->eye = glm::vec3(turn * glm::vec4(camera.eye, 1.0f));
+    turned.camera->target = glm::vec3(turn * glm::vec4(camera.target, 1.0f));
+    const Frame frame = render_with_occlusion(turned, Bounce::One);
+    double error = 0.0, total = 0.0;
+    for (std::size_t i = 0; i < still.linear.size(); i += 4) {
+        const double a = luminance(&still.linear[i]), b = luminance(&frame.linear[i]);
+        error += (a - b) * (a - b);
+        total += a * a;
+    }
+    // What differs is the bake's Monte Carlo noise (its rays are drawn about each normal, which
+    // the turn changes) and the ground grid's texels under the turned footprint.
+    EXPECT_LT(std::sqrt(error / total), 0.02);
+    // Turning the scene without the map is another picture.
+    turned.environment_yaw = 0.0;
+    const Frame unturned_map = render_with_occlusion(turned, Bounce::One);
+    double changed = 0.0;
+    for (std::size_t i = 0; i < still.linear.size(); i += 4) {
+        const double a = luminance(&still.linear[i]), b = luminance(&unturned_map.linear[i]);
+        changed += (a - b) * (a - b);
+    }
+    EXPECT_GT(std::sqrt(changed / total), 0.05);
+}
+
+}  // namespace
+}  // namespace oer
