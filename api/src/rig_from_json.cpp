@@ -220,6 +220,8 @@ Rig rig_from_json(const json& document, const json& masks) {
         rig.sh.per_light.push_back(
             coefficients(per_light[k], "sh/per_light/" + std::to_string(k), rig.order));
     }
+    rig.residual_above_horizon = coefficients(member(sh, "sh", "residual_above_horizon"),
+                                              "sh/residual_above_horizon", rig.order);
     if (const auto error = sh.find("irradiance_error"); error != sh.end()) {
         rig.reference_error = number(*error, "sh/irradiance_error", 0.0, kHuge);
     }

@@ -56,7 +56,8 @@ nlohmann::json rig_to_json(const Rig& rig, const std::string& id) {
                   {"order_reason", rig.order_reason},
                   {"window", std::move(window)},
                   {"radiance", coefficients_json(rig.sh.all)},
-                  {"per_light", std::move(per_light)}};
+                  {"per_light", std::move(per_light)},
+                  {"residual_above_horizon", coefficients_json(rig.residual_above_horizon)}};
     if (rig.reference_error >= 0.0) {
         json["sh"]["irradiance_error"] = rig.reference_error;
     }

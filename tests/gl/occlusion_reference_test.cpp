@@ -131,15 +131,16 @@ TEST_F(OcclusionReferenceTest, TheGroundReplacesTheMapsLowerHemisphere) {
                                                ReferenceSurface::Object);
         const double plain = block_relative_rms(unoccluded.linear, truth, ReferenceSurface::Object);
         SCOPED_TRACE(bounce == Bounce::None ? "bounce none" : "bounce one");
-        // Without occlusion the map's lower half lights the sphere from below, many times too
-        // bright; with it, the order-5 transfer of a step between the hemispheres is within a
-        // few per cent of brute force.
-        EXPECT_GT(plain, 1.0);
-        EXPECT_LT(ours, 0.06);
-        // The ground's own pixels, occluded by the sphere near its contact.
+        // Without occlusion the map's lower half lights the sphere from below, ten times too
+        // bright or more; with it the ground takes its place (measured: 0.010 in none mode, 0.005
+        // in one, against 17.6 and 10.0).
+        EXPECT_GT(plain, 5.0);
+        EXPECT_LT(ours, 0.03);
+        // The ground's own pixels, in the sphere's contact shadow and, in one mode, its
+        // reflected light (measured: 0.009 and 0.005).
         EXPECT_LT(block_relative_rms(render_with_occlusion(request, bounce).linear, truth,
                                      ReferenceSurface::Ground),
-                  0.06);
+                  0.03);
     }
 }
 
@@ -163,7 +164,7 @@ TEST_F(OcclusionReferenceTest, AnOpenBoxUnderAConstantSkyHasTheReferencesOcclusi
     const double plain =
         block_relative_rms(render(request).linear, truth, ReferenceSurface::Object);
     EXPECT_GT(plain, 0.3);  // unoccluded, the box's inside is as bright as its outside
-    EXPECT_LT(ours, 0.05);
+    EXPECT_LT(ours, 0.05);  // measured 0.046: vertex interpolation at the inside corners
 }
 
 // The scene turned about +Y with the map and the camera is the same picture: the bake follows

@@ -417,8 +417,11 @@ TEST(TransferBakeGround, SphereRestingOnTheGroundCastsItsViewFactor) {
 }
 
 TEST(TransferBakeGround, BounceFollowsTheReflectorsAlbedo) {
-    // A black sphere reflects nothing onto the ground; the grey ground (albedo 0.8) reflects
-    // onto the sphere's lower half, equally in every channel.
+    // A black sphere reflects nothing onto the ground. The ground's light is the lighting's below
+    // the horizon (transfer_lighting.hpp): a ray from the sphere that meets it is not blocked,
+    // so the convex sphere's equator has the unoccluded transfer, and what the ground reflects
+    // beyond that is its departure from the open ground, darker in the sphere's shadow: less
+    // than nothing, equally in every channel (albedo 0.8).
     const Mesh sphere = oer::testing::uv_sphere({0.0f, 1.0f, 0.0f}, 1.0f, 24, 12, glm::vec3(0.5f));
     TransferBakeOptions options;
     options.rays = 256;
@@ -427,8 +430,12 @@ TEST(TransferBakeGround, BounceFollowsTheReflectorsAlbedo) {
     EXPECT_EQ(max_abs(transfer.ground->points.bounce), 0.0);
     const std::size_t equator = vertex_at(sphere.primitives[0], {1, 1, 0}, {1, 0, 0});
     const TransferPoints& points = transfer.objects[0][0];
+    const Coefficients open = cosine_transfer({1.0, 0.0, 0.0});
+    for (int i = 0; i < kCoefficients; ++i) {
+        EXPECT_NEAR(direct_of(points, equator)[i], open[std::size_t(i)], 1e-6) << i;
+    }
     const float red = bounce_of(points, equator, 0)[0];
-    EXPECT_GT(red, 0.0f);
+    EXPECT_LT(red, 0.0f);
     EXPECT_EQ(bounce_of(points, equator, 1)[0], red);
     EXPECT_EQ(bounce_of(points, equator, 2)[0], red);
 }

@@ -2,14 +2,18 @@
 // lighting a frame applies it to, turned by the yaw, and the dot products per receiver.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
+#include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/rig.hpp"
+#include "oer/lighting/sh_projection.hpp"
 #include "oer/transfer/transfer_lighting.hpp"
 #include "synthetic_maps.hpp"
 
@@ -43,14 +47,16 @@ TEST(TransferLighting, TheResidualAndTheWholeLightingSplitTheRigByItsLights) {
     const Rig rig = two_light_rig();
     ASSERT_EQ(rig.lights.size(), 2u);
     EXPECT_EQ(transfer_order(rig), 5);
-    const TransferLighting as_captured = transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 5);
+    const TransferLighting as_captured =
+        transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 5, false, Bounce::None);
     EXPECT_LT(largest_difference(as_captured.whole, rig.sh.all), 1e-12);
     ShRgb sum = as_captured.residual;
     sum += rig.sh.per_light[0];
     sum += rig.sh.per_light[1];
     EXPECT_LT(largest_difference(sum, rig.sh.all), 1e-12);
     // A weight scales its light's pixels in the whole lighting, never the residual.
-    const TransferLighting dimmed = transfer_lighting(rig, std::vector<float>{0.0f, 3.0f}, 0.0, 5);
+    const TransferLighting dimmed =
+        transfer_lighting(rig, std::vector<float>{0.0f, 3.0f}, 0.0, 5, false, Bounce::None);
     EXPECT_LT(largest_difference(dimmed.residual, as_captured.residual), 1e-12);
     ShRgb expected = as_captured.residual;
     ShRgb tripled = rig.sh.per_light[1];
@@ -58,16 +64,19 @@ TEST(TransferLighting, TheResidualAndTheWholeLightingSplitTheRigByItsLights) {
     expected += tripled;
     EXPECT_LT(largest_difference(dimmed.whole, expected), 1e-12);
     // Lower orders are the first coefficients.
-    const TransferLighting order3 = transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 3);
+    const TransferLighting order3 =
+        transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 3, false, Bounce::None);
     EXPECT_LT(largest_difference(order3.residual, as_captured.residual.truncated(3)), 1e-12);
 }
 
 TEST(TransferLighting, TheYawTurnsTheLightingIntoTheWorld) {
     const Rig rig = two_light_rig();
-    const TransferLighting still = transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 5);
-    const TransferLighting turned = transfer_lighting(rig, std::vector<float>{1, 0.5f}, 73.0, 5);
+    const TransferLighting still =
+        transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 5, false, Bounce::None);
+    const TransferLighting turned =
+        transfer_lighting(rig, std::vector<float>{1, 0.5f}, 73.0, 5, false, Bounce::None);
     const TransferLighting still_dimmed =
-        transfer_lighting(rig, std::vector<float>{1, 0.5f}, 0.0, 5);
+        transfer_lighting(rig, std::vector<float>{1, 0.5f}, 0.0, 5, false, Bounce::None);
     for (const glm::dvec3& d : {glm::dvec3(1, 0, 0), glm::normalize(glm::dvec3(0.3, 0.8, -0.5)),
                                 glm::normalize(glm::dvec3(-0.6, -0.2, 0.7))}) {
         const glm::dvec3 world = equirect::rotate_yaw(d, 73.0);
@@ -81,7 +90,8 @@ TEST(TransferLighting, TheYawTurnsTheLightingIntoTheWorld) {
 
 TEST(TransferLighting, DirectVectorsTakeTheResidualAndBounceVectorsTheWholeLightingPerChannel) {
     const Rig rig = two_light_rig();
-    const TransferLighting lighting = transfer_lighting(rig, std::vector<float>{1, 2}, 0.0, 3);
+    const TransferLighting lighting =
+        transfer_lighting(rig, std::vector<float>{1, 2}, 0.0, 3, false, Bounce::None);
     TransferPoints points;
     points.count = 2;
     points.direct.assign(2 * 25, 0.0f);
@@ -99,12 +109,60 @@ TEST(TransferLighting, DirectVectorsTakeTheResidualAndBounceVectorsTheWholeLight
     }
 }
 
+TEST(TransferLighting, TheIndicatorBelowTheHorizonIsTheProjectionOfAHalfBrightMap) {
+    HdrImage half(512, 256);
+    const equirect::Grid grid(half.width, half.height);
+    for (std::size_t i = 0; i < half.pixel_count(); ++i) {
+        half.set(i, glm::vec3(grid.direction(i).y < 0.0 ? 1.0f : 0.0f));
+    }
+    const ShRgb projected = project_environment(half, {}, 5).all;
+    const ShRgb indicator = below_horizon_indicator(5);
+    // The projection's rows are point samples in theta: O(1 / height^2) from the integral.
+    EXPECT_LT(largest_difference(projected, indicator), 2e-4);
+    EXPECT_NEAR(indicator.coefficients[0].r, std::sqrt(std::numbers::pi), 1e-12);
+}
+
+// With the ground, a point above it sees the map above the horizon and the ground below: the
+// ground reflects the light from above under Bounce::One, nothing under Bounce::None.
+TEST(TransferLighting, WithTheGroundTheMapBelowTheHorizonIsTheGroundsRadiance) {
+    const Rig rig = two_light_rig();
+    ASSERT_GT(rig.lights[0].direction.y, 0.0);
+    ASSERT_GT(rig.lights[1].direction.y, 0.0);
+    const std::vector<float> weights{1.0f, 0.5f};
+    const TransferLighting dark = transfer_lighting(rig, weights, 0.0, 5, true, Bounce::None);
+    EXPECT_LT(largest_difference(dark.residual, rig.residual_above_horizon), 1e-12);
+    ShRgb above = rig.residual_above_horizon;
+    ShRgb half_light = rig.sh.per_light[1];
+    half_light *= 0.5;
+    above += rig.sh.per_light[0];
+    above += half_light;
+    EXPECT_LT(largest_difference(dark.whole, above), 1e-12);
+    const TransferLighting lit = transfer_lighting(rig, weights, 0.0, 5, true, Bounce::One);
+    const glm::dvec3 ground_radiance =
+        irradiance_coefficients(above).evaluate({0, 1, 0}) * (0.8 / std::numbers::pi);
+    ASSERT_GT(ground_radiance.g, 0.1);
+    // Below the horizon the lighting gains the ground's radiance, as far as order 5 can say it.
+    ShRgb expected = below_horizon_indicator(5);
+    for (glm::dvec3& c : expected.coefficients) {
+        c *= ground_radiance;
+    }
+    ShRgb gained = lit.residual;
+    gained -= dark.residual;
+    EXPECT_LT(largest_difference(gained, expected), 1e-6);
+    gained = lit.whole;
+    gained -= dark.whole;
+    EXPECT_LT(largest_difference(gained, expected), 1e-6);
+}
+
 TEST(TransferLighting, MismatchedInputsAreRefused) {
     const Rig rig = two_light_rig();
-    EXPECT_THROW(transfer_lighting(rig, std::vector<float>{1}, 0.0, 5), Error);
-    EXPECT_THROW(transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 6), Error);
-    EXPECT_THROW(transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 0), Error);
-    const TransferLighting lighting = transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 5);
+    EXPECT_THROW(transfer_lighting(rig, std::vector<float>{1}, 0.0, 5, false, Bounce::None), Error);
+    EXPECT_THROW(transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 6, false, Bounce::None),
+                 Error);
+    EXPECT_THROW(transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 0, false, Bounce::None),
+                 Error);
+    const TransferLighting lighting =
+        transfer_lighting(rig, std::vector<float>{1, 1}, 0.0, 5, false, Bounce::None);
     TransferPoints points;
     points.count = 1;
     points.direct.assign(9, 0.0f);  // order 3 vectors for order 5 lighting

@@ -75,8 +75,9 @@ void add_lights(FrameContext& frame) {
 void add_transferred_irradiance(FrameContext& frame) {
     const FrameRequest& request = frame.request;
     const SceneTransfer& transfer = *request.transfer;
-    const TransferLighting lighting = transfer_lighting(
-        frame.rig, frame.weights, request.environment_yaw, transfer_order(frame.rig));
+    const TransferLighting lighting =
+        transfer_lighting(frame.rig, frame.weights, request.environment_yaw,
+                          transfer_order(frame.rig), request.ground, request.bounce);
     for (const std::vector<TransferPoints>& object : transfer.objects) {
         std::vector<std::size_t>& offsets = frame.transferred_offsets.emplace_back();
         for (const TransferPoints& primitive : object) {

@@ -24,7 +24,7 @@ Mesh unit_ground() {
     // A horizontal Lambertian plane of albedo 0.8 (DESIGN.md section 7).
     Material material;
     material.name = "ground";
-    material.base_color = {0.8f, 0.8f, 0.8f, 1.0f};
+    material.base_color = {kGroundAlbedo, kGroundAlbedo, kGroundAlbedo, 1.0f};
     material.model = ShadingModel::Lambertian;
     material.double_sided = true;  // seen from below, lit with its normal flipped, as ever
     mesh.materials.push_back(material);

@@ -254,10 +254,11 @@ Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOpti
     const std::vector<glm::dvec3> normals = fibonacci_sphere(kJudgingNormals);
     const ShProjection candidate_sh = project_environment(image, pixel_lists(located.lights), 3);
     const LightChoice chosen = choose_lights(located, candidate_sh, options, normals);
-    ShProjection chosen_sh{candidate_sh.all, {}};
+    ShProjection chosen_sh{candidate_sh.all, {}, candidate_sh.all_above_horizon, {}};
     for (const std::size_t k : chosen.kept) {
         rig.lights.push_back(std::move(located.lights[k]));
         chosen_sh.per_light.push_back(candidate_sh.per_light[k]);
+        chosen_sh.per_light_above_horizon.push_back(candidate_sh.per_light_above_horizon[k]);
     }
     rig.light_count_reason = chosen.reason;
     rig.timings_ms["choose_lights"] = elapsed_ms(start);
@@ -279,9 +280,15 @@ Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOpti
         for (const ShRgb& light : chosen_sh.per_light) {
             rig.sh.per_light.push_back(light.truncated(rig.order));
         }
+        rig.residual_above_horizon = residual_above_horizon(chosen_sh, rig.order);
     } else {
         rig.sh = project_environment(image, light_pixels, rig.order);
     }
+    if (rig.residual_above_horizon.order == 0) {
+        rig.residual_above_horizon = residual_above_horizon(rig.sh, rig.order);
+    }
+    rig.sh.all_above_horizon = {};
+    rig.sh.per_light_above_horizon.clear();
     rig.timings_ms["project"] = elapsed_ms(start);
 
     start = Clock::now();

@@ -162,8 +162,9 @@ ShProjection project_environment(const HdrImage& image,
     };
     // The split depends on the image size only, and the halves are summed in a fixed order, so
     // the result is deterministic.
+    // The halves split at the horizon, so that the first is the map above it.
     const bool two_threads = image.pixel_count() >= 2 * kMinPixelsPerThread && image.height >= 2;
-    const int split = two_threads ? image.height / 2 : image.height;
+    const int split = image.height / 2;
     Partial first = make_partial();
     Partial second = make_partial();
     if (two_threads) {
@@ -172,7 +173,8 @@ ShProjection project_environment(const HdrImage& image,
                          begin == 0 ? first : second);
         });
     } else {
-        project_rows(image, grid, table, light_pixels, order, 0, image.height, first);
+        project_rows(image, grid, table, light_pixels, order, 0, split, first);
+        project_rows(image, grid, table, light_pixels, order, split, image.height, second);
     }
 
     const auto combine = [&](Coefficients& a, const Coefficients& b) {
@@ -182,12 +184,30 @@ ShProjection project_environment(const HdrImage& image,
         return to_our_basis(a, order);
     };
     ShProjection result;
+    result.all_above_horizon = to_our_basis(first.all, order);
+    for (const Coefficients& light : first.lights) {
+        result.per_light_above_horizon.push_back(to_our_basis(light, order));
+    }
     result.all = combine(first.all, second.all);
     result.per_light.reserve(light_pixels.size());
     for (std::size_t k = 0; k < light_pixels.size(); ++k) {
         result.per_light.push_back(combine(first.lights[k], second.lights[k]));
     }
     return result;
+}
+
+ShRgb residual_above_horizon(const ShProjection& projection, int order) {
+    if (projection.all_above_horizon.order < order ||
+        projection.per_light_above_horizon.size() != projection.per_light.size()) {
+        throw Error(ErrorKind::InvalidInput,
+                    "residual_above_horizon: the projection has no above-horizon part at order " +
+                        std::to_string(order));
+    }
+    ShRgb residual = projection.all_above_horizon.truncated(order);
+    for (const ShRgb& light : projection.per_light_above_horizon) {
+        residual -= light.truncated(order);
+    }
+    return residual;
 }
 
 ShRgb subset_coefficients(const ShProjection& projection, std::span<const bool> on) {

@@ -114,7 +114,8 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) 
                             {c.x - h, y, c.z - h}};
         ground.normals.assign(4, {0.0f, 1.0f, 0.0f});
         ground.indices = {0, 1, 2, 0, 2, 3};
-        ground.base_color = glm::dvec3(0.8);
+        ground.base_color = glm::dvec3(kGroundAlbedo);
+        ground_height_ = double(y);
         ground.ground = true;
         add(std::move(ground));
     }
@@ -170,8 +171,15 @@ glm::dvec3 EmbreeScene::albedo_at(const Geometry& geometry, unsigned triangle, d
     return geometry.base_color * sample_texture(*geometry.texture, uv);
 }
 
+bool EmbreeScene::reaches_infinite_ground(const glm::dvec3& origin, const glm::dvec3& direction,
+                                          GroundReach reach) const {
+    return reach == GroundReach::Infinite && ground_height_ && direction.y < 0.0 &&
+           origin.y > *ground_height_;
+}
+
 std::optional<SurfaceHit> EmbreeScene::intersect(const glm::dvec3& origin,
-                                                 const glm::dvec3& direction, double t_near) const {
+                                                 const glm::dvec3& direction, double t_near,
+                                                 GroundReach reach) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit ray_hit{};
@@ -180,7 +188,16 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const glm::dvec3& origin,
     ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context, &ray_hit);
     if (ray_hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        return std::nullopt;
+        if (!reaches_infinite_ground(origin, direction, reach)) {
+            return std::nullopt;
+        }
+        // Beyond the drawn square, the plane it belongs to.
+        SurfaceHit hit;
+        hit.position = origin + (*ground_height_ - origin.y) / direction.y * direction;
+        hit.geometric_normal = hit.shading_normal = {0.0, 1.0, 0.0};
+        hit.albedo = glm::dvec3(kGroundAlbedo);
+        hit.ground = true;
+        return hit;
     }
     const Geometry& geometry = geometries_[ray_hit.hit.geomID];
     const unsigned triangle = ray_hit.hit.primID;
@@ -211,8 +228,11 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const glm::dvec3& origin,
     return hit;
 }
 
-bool EmbreeScene::occluded(const glm::dvec3& origin, const glm::dvec3& direction,
-                           double t_near) const {
+bool EmbreeScene::occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_near,
+                           GroundReach reach) const {
+    if (reaches_infinite_ground(origin, direction, reach)) {
+        return true;
+    }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray = make_ray(origin, direction, t_near);

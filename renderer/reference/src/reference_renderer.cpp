@@ -78,7 +78,8 @@ class Tracer {
                 environment_.sample(random.uniform(), random.uniform(), random.uniform());
             const double cosine = glm::dot(n, light.direction);
             if (cosine > 0.0 && light.pdf > 0.0 &&
-                !scene_.occluded(leave(hit, light.direction), light.direction, 0.0)) {
+                !scene_.occluded(leave(hit, light.direction), light.direction, 0.0,
+                                 reference::GroundReach::Infinite)) {
                 sum += light.radiance *
                        (cosine / light.pdf * power_heuristic(light.pdf, cosine / kPi));
             }
@@ -89,8 +90,8 @@ class Tracer {
             return sum;
         }
         const double cosine_pdf = cosine / kPi;
-        const std::optional<SurfaceHit> next =
-            scene_.intersect(leave(hit, direction), direction, 0.0);
+        const std::optional<SurfaceHit> next = scene_.intersect(
+            leave(hit, direction), direction, 0.0, reference::GroundReach::Infinite);
         if (!next) {
             const double weight =
                 mis ? power_heuristic(cosine_pdf, environment_.pdf(direction)) : 1.0;
@@ -216,7 +217,8 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
 
     const auto render_pixel = [&](int x, int y) {
         const std::size_t index = std::size_t(y) * std::size_t(width) + std::size_t(x);
-        if (const auto centre = scene.intersect(rays.eye, rays.direction(x + 0.5, y + 0.5), 0.0)) {
+        if (const auto centre = scene.intersect(rays.eye, rays.direction(x + 0.5, y + 0.5), 0.0,
+                                                reference::GroundReach::Drawn)) {
             result.surfaces[index] =
                 centre->ground ? ReferenceSurface::Ground : ReferenceSurface::Object;
         }
@@ -227,7 +229,8 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
             // A box filter over the pixel: a uniform point in it per sample.
             const glm::dvec3 direction = rays.direction(x + random.uniform(), y + random.uniform());
             glm::dvec3 radiance(0.0);
-            if (const auto hit = scene.intersect(rays.eye, direction, 0.0)) {
+            if (const auto hit =
+                    scene.intersect(rays.eye, direction, 0.0, reference::GroundReach::Drawn)) {
                 radiance = hit->albedo / kPi *
                            tracer.irradiance(*hit, random, options.bounce == Bounce::One);
                 coverage += 1.0;

@@ -31,6 +31,7 @@ namespace oer {
 namespace {
 
 using reference::EmbreeScene;
+using reference::GroundReach;
 using reference::SurfaceHit;
 
 constexpr int kCoefficients = sh_count(kTransferBakeOrder);
@@ -91,7 +92,15 @@ struct Receiver {
     glm::dvec3 normal{0.0, 1.0, 0.0};
     float* direct = nullptr;  // kCoefficients values
     float* bounce = nullptr;  // 3 x kCoefficients values, red then green then blue
+    // An object's receiver in a scene with the ground, under Bounce::One: its direct transfer
+    // with the plane counted as blocking (kCoefficients values), what it reflects from the map
+    // alone, as the one-bounce reference's surfaces do.
+    float* sky_direct = nullptr;
 };
+
+// SkyDirect[object][primitive]: every vertex's direct transfer with the ground blocking
+// (Receiver::sky_direct), point-major as TransferPoints::direct.
+using SkyDirect = std::vector<std::vector<std::vector<float>>>;
 
 // The receiver's rays, as points (u1, u2) of the unit square numbered 0 to strata^2 - 1:
 // strata x strata jittered cells, which reference::cosine_direction maps onto the
@@ -111,12 +120,13 @@ void for_each_ray(std::uint64_t receiver_index, int strata, Visit&& visit) {
     }
 }
 
-// One bit per ray of every receiver: which rays phase 1 found blocked, the only ones phase 2
-// traces again (an escaping ray reflects nothing). On the bunny about 70 % of the rays escape,
-// which phase 2 would otherwise traverse the whole scene for again.
-class BlockedRays {
+// One bit per ray of every receiver: which rays phase 1 found to meet a surface (an object, or
+// the ground plane), the only ones phase 2 traces again (an escaping ray reflects nothing). On
+// the bunny about 70 % of the rays escape, which phase 2 would otherwise traverse the whole
+// scene for again.
+class RaysMeetingSurfaces {
   public:
-    BlockedRays(std::size_t receivers, int rays)
+    RaysMeetingSurfaces(std::size_t receivers, int rays)
         : words_per_receiver_((std::size_t(rays) + 63) / 64),
           bits_(receivers * words_per_receiver_, 0) {}
     void set(std::size_t receiver, int ray) {
@@ -205,7 +215,8 @@ void size_points(TransferPoints& points, std::size_t count, Bounce bounce) {
 // Every vertex of every primitive of every object, in world space (the normal by the
 // inverse-transpose, as EmbreeScene and the renderer transform it), then the ground's texel
 // centres facing +Y.
-std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& transfer) {
+std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& transfer,
+                                   SkyDirect& sky_direct) {
     std::vector<Receiver> receivers;
     for (std::size_t o = 0; o < request.objects.size(); ++o) {
         const SceneObject& object = request.objects[o];
@@ -227,6 +238,9 @@ std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& t
                 receiver.direct = &points.direct[v * kCoefficients];
                 receiver.bounce =
                     points.bounce.empty() ? nullptr : &points.bounce[v * 3 * kCoefficients];
+                if (!sky_direct.empty()) {
+                    receiver.sky_direct = &sky_direct[o][p][v * kCoefficients];
+                }
                 receivers.push_back(receiver);
             }
         }
@@ -253,24 +267,40 @@ std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& t
     return receivers;
 }
 
-// D(q), the direct transfer at a surface point a ray hit: on an object the barycentric
-// interpolation of its triangle's three vertices' vectors (as the rasteriser interpolates
-// them), on the ground the bilinear interpolation of the grid's texel centres (clamped to the
-// outer texels in their outer half), beyond the grid the unoccluded A_l Y_i(+Y).
+// What a ray that hit surface point q reflects, per unit albedo over pi: on an object D(q), the
+// direct transfer there, the barycentric interpolation of its triangle's three vertices'
+// vectors (as the rasteriser interpolates them); on the ground D(q) - A_l Y_i(+Y), how much
+// the ground there differs from the open ground (bilinear between the grid's texel centres,
+// clamped to the outer texels in their outer half; zero beyond the grid), since the open
+// ground's radiance is already in the lighting below the horizon (transfer_lighting.hpp).
 class DirectAtHit {
   public:
-    DirectAtHit(const FrameRequest& request, const SceneTransfer& transfer)
-        : request_(request), transfer_(transfer), open_ground_(unoccluded_transfer({0, 1, 0})) {}
+    DirectAtHit(const FrameRequest& request, const SceneTransfer& transfer,
+                const SkyDirect& sky_direct)
+        : request_(request),
+          transfer_(transfer),
+          sky_direct_(sky_direct),
+          open_ground_(unoccluded_transfer({0, 1, 0})) {}
 
     Coefficients operator()(const SurfaceHit& hit) const {
-        return hit.ground ? on_ground(hit.position) : on_object(hit);
+        if (!hit.ground) {
+            return on_object(hit);
+        }
+        Coefficients difference = on_ground(hit.position);
+        for (std::size_t i = 0; i < difference.size(); ++i) {
+            difference[i] -= open_ground_[i];
+        }
+        return difference;
     }
 
   private:
     Coefficients on_object(const SurfaceHit& hit) const {
         const std::vector<std::uint32_t>& indices =
             request_.objects[hit.object].mesh->primitives[hit.primitive].indices;
-        const std::vector<float>& direct = transfer_.objects[hit.object][hit.primitive].direct;
+        // With the ground, what the object reflects of the map alone (Receiver::sky_direct).
+        const std::vector<float>& direct = sky_direct_.empty()
+                                               ? transfer_.objects[hit.object][hit.primitive].direct
+                                               : sky_direct_[hit.object][hit.primitive];
         const std::uint32_t* corner = &indices[3 * std::size_t(hit.triangle)];
         const double weights[3] = {1.0 - hit.u - hit.v, hit.u, hit.v};
         Coefficients result{};
@@ -315,6 +345,7 @@ class DirectAtHit {
 
     const FrameRequest& request_;
     const SceneTransfer& transfer_;
+    const SkyDirect& sky_direct_;
     Coefficients open_ground_;
 };
 
@@ -360,7 +391,16 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
         transfer.ground = ground_grid(frame);
         size_points(transfer.ground->points, transfer.ground->points.count, options.bounce);
     }
-    const std::vector<Receiver> receivers = receivers_of(request, transfer);
+    SkyDirect sky_direct;
+    if (request.ground && options.bounce == Bounce::One) {
+        for (const std::vector<TransferPoints>& object : transfer.objects) {
+            std::vector<std::vector<float>>& primitives = sky_direct.emplace_back();
+            for (const TransferPoints& points : object) {
+                primitives.emplace_back(points.direct.size());
+            }
+        }
+    }
+    const std::vector<Receiver> receivers = receivers_of(request, transfer, sky_direct);
 
     // Phase 1, shadowed diffuse transfer (Sloan et al. 2002, eq. 8):
     //   direct_i = integral over the hemisphere of V(w) max(0, n . w) Y_i(w) dw,
@@ -370,45 +410,70 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     // the rays' own sum of it (a control variate whose mean is that integral). So a point that
     // nothing occludes holds A_l Y_i(n) exactly, with no sampling noise (direct . R is plain SH
     // irradiance there, and the grid's open edge meets the unoccluded ground beyond it without a
-    // seam), and only the basis values of blocked rays are evaluated.
+    // seam), and only the basis values of blocked rays are evaluated. With the ground, only
+    // objects block: the plane's light is the lighting's below the horizon.
     const double ray_weight = std::numbers::pi / rays;
-    BlockedRays blocked(receivers.size(), rays);
+    RaysMeetingSurfaces meeting(receivers.size(), rays);
     parallel_for(receivers.size(), threads, [&](std::size_t r) {
         const Receiver& receiver = receivers[r];
         const glm::dvec3 origin = receiver.position + offset * receiver.normal;
         Coefficients direct = unoccluded_transfer(receiver.normal);
+        Coefficients sky_direct = direct;
         Coefficients basis{};
         for_each_ray(r, strata, [&](int ray, double u1, double u2) {
             const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
-            if (scene.occluded(origin, direction, 0.0)) {
-                blocked.set(r, ray);
-                sh_evaluate(kTransferBakeOrder, direction, basis);
-                for (int i = 0; i < kCoefficients; ++i) {
-                    direct[std::size_t(i)] -= ray_weight * basis[std::size_t(i)];
+            // With the ground, a ray down from above it meets the infinite plane, whose own
+            // light is the map's below the horizon in the lighting the direct vectors take
+            // (transfer_lighting.hpp): only an object blocks it.
+            bool meets_surface = false, meets_object = false;
+            if (request.ground && direction.y < 0.0) {
+                const std::optional<SurfaceHit> hit =
+                    scene.intersect(origin, direction, 0.0, GroundReach::Infinite);
+                meets_surface = hit.has_value();
+                meets_object = meets_surface && !hit->ground;
+            } else {
+                meets_surface = meets_object =
+                    scene.occluded(origin, direction, 0.0, GroundReach::Infinite);
+            }
+            if (!meets_surface) {
+                return;
+            }
+            meeting.set(r, ray);
+            sh_evaluate(kTransferBakeOrder, direction, basis);
+            for (int i = 0; i < kCoefficients; ++i) {
+                const double blocked = ray_weight * basis[std::size_t(i)];
+                sky_direct[std::size_t(i)] -= blocked;
+                if (meets_object) {
+                    direct[std::size_t(i)] -= blocked;
                 }
             }
         });
         std::copy(direct.begin(), direct.end(), receiver.direct);
+        if (receiver.sky_direct != nullptr) {
+            std::copy(sky_direct.begin(), sky_direct.end(), receiver.sky_direct);
+        }
     });
 
     // Phase 2, one bounce of interreflected transfer (Sloan et al. 2002, eq. 9, its first
     // pass), once every direct vector exists: a ray that hits a surface point q brings q's
     // outgoing radiance rho(q) / pi * (D(q) . L), so
-    //   bounce_c,i = (pi / N) sum over the rays that hit of rho_c(q) / pi * D_i(q),
-    // over the rays of phase 1 that were blocked, traced again to find what they hit rather
+    //   bounce_c,i = (pi / N) sum over the rays that hit of rho_c(q) / pi * D_i(q)
+    // (on the ground, D(q) less the open ground's, which the lighting already has: DirectAtHit),
+    // over the rays of phase 1 that met a surface, traced again to find what they hit rather
     // than storing their hits.
     if (options.bounce == Bounce::One) {
-        const DirectAtHit direct_at(request, transfer);
+        const DirectAtHit direct_at(request, transfer, sky_direct);
         parallel_for(receivers.size(), threads, [&](std::size_t r) {
             const Receiver& receiver = receivers[r];
             const glm::dvec3 origin = receiver.position + offset * receiver.normal;
             std::array<Coefficients, 3> bounce{};
             for_each_ray(r, strata, [&](int ray, double u1, double u2) {
-                if (!blocked.test(r, ray)) {
+                if (!meeting.test(r, ray)) {
                     return;
                 }
                 const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
-                if (const std::optional<SurfaceHit> hit = scene.intersect(origin, direction, 0.0)) {
+                if (const std::optional<SurfaceHit> hit =
+                        scene.intersect(origin, direction, 0.0, GroundReach::Infinite)) {
                     const Coefficients reflected = direct_at(*hit);
                     for (int c = 0; c < 3; ++c) {
                         // (pi / N) (rho / pi) = rho / N.

@@ -1,12 +1,15 @@
 #include "oer/transfer/transfer_lighting.hpp"
 
 #include <algorithm>
+#include <numbers>
 #include <string>
+#include <vector>
 
 #include <glm/mat3x3.hpp>
 
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
+#include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/sh_rotation.hpp"
 
 namespace oer {
@@ -29,14 +32,41 @@ ShRgb turned_by_yaw(const ShRgb& sh, double yaw_degrees) {
     return rotate_sh(sh, yaw);
 }
 
+// P_n(0): 0 for odd n, (-1)^(n/2) n! / (2^n ((n/2)!)^2) for even n.
+double legendre_at_zero(int n) {
+    if (n % 2 != 0) {
+        return 0.0;
+    }
+    double value = 1.0;
+    for (int k = 1; k <= n / 2; ++k) {
+        value *= -double(2 * k - 1) / double(2 * k);
+    }
+    return value;
+}
+
 }  // namespace
+
+ShRgb below_horizon_indicator(int order) {
+    std::vector<double> basis(std::size_t(sh_count(order)));
+    sh_evaluate(order, {0.0, -1.0, 0.0}, basis);
+    ShRgb indicator(order);
+    for (int l = 0; l < order; ++l) {
+        const double q =
+            l == 0 ? 1.0 : (legendre_at_zero(l - 1) - legendre_at_zero(l + 1)) / double(2 * l + 1);
+        for (int m = -l; m <= l; ++m) {
+            indicator.coefficients[std::size_t(sh_index(l, m))] =
+                glm::dvec3(2.0 * std::numbers::pi * q * basis[std::size_t(sh_index(l, m))]);
+        }
+    }
+    return indicator;
+}
 
 int transfer_order(const Rig& rig) {
     return std::min(rig.sh.all.order, kTransferBakeOrder);
 }
 
 TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weights,
-                                   double yaw_degrees, int order) {
+                                   double yaw_degrees, int order, bool ground, Bounce bounce) {
     if (weights.size() != rig.lights.size()) {
         invalid(std::to_string(weights.size()) + " light weights for a rig of " +
                 std::to_string(rig.lights.size()) + " lights");
@@ -45,16 +75,37 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
         invalid("order " + std::to_string(order) + " is outside 1.." +
                 std::to_string(transfer_order(rig)));
     }
-    ShRgb residual = rig.sh.all.truncated(order);
+    if (ground && rig.residual_above_horizon.order < order) {
+        invalid("the rig has no residual above the horizon at order " + std::to_string(order));
+    }
+    // The yaw turns about +Y: it keeps the horizon, so the ground's part needs no turning.
+    ShRgb residual =
+        ground ? rig.residual_above_horizon.truncated(order) : rig.sh.all.truncated(order);
+    if (!ground) {
+        for (const ShRgb& light : rig.sh.per_light) {
+            residual -= light.truncated(order);
+        }
+    }
     ShRgb whole = residual;
     for (std::size_t k = 0; k < rig.lights.size(); ++k) {
-        const ShRgb light = rig.sh.per_light[k].truncated(order);
-        residual -= light;
-        if (weights[k] != 1.0f) {
-            ShRgb change = light;
-            change *= double(weights[k]) - 1.0;
-            whole += change;
+        // A light below the horizon lights nothing above the plane (its pixels are all below
+        // or it straddles the horizon: its direction decides).
+        if (weights[k] != 0.0f && !(ground && rig.lights[k].direction.y < 0.0)) {
+            ShRgb light = rig.sh.per_light[k].truncated(order);
+            light *= double(weights[k]);
+            whole += light;
         }
+    }
+    if (ground && bounce == Bounce::One) {
+        // The open ground's radiance, albedo / pi times the irradiance of L above the horizon.
+        const glm::dvec3 open_ground = irradiance_coefficients(whole).evaluate({0.0, 1.0, 0.0}) *
+                                       (double(kGroundAlbedo) / std::numbers::pi);
+        ShRgb below = below_horizon_indicator(order);
+        for (glm::dvec3& c : below.coefficients) {
+            c *= open_ground;
+        }
+        residual += below;
+        whole += below;
     }
     return {turned_by_yaw(residual, yaw_degrees), turned_by_yaw(whole, yaw_degrees)};
 }

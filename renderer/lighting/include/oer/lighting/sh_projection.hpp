@@ -16,7 +16,17 @@ namespace oer {
 struct ShProjection {
     ShRgb all;                     // the whole map
     std::vector<ShRgb> per_light;  // each light's own pixels
+    // The same over the rows above the horizon only (y < height / 2, directions with y > 0; an
+    // odd height's middle row, on the horizon, counts below): what a point above an infinite
+    // ground plane can see of the map (issue 13's ground term). Empty when not projected.
+    ShRgb all_above_horizon;
+    std::vector<ShRgb> per_light_above_horizon;
 };
+
+// The residual map (the map without its lights' pixels) above the horizon:
+// all_above_horizon - sum over lights of per_light_above_horizon, at `order` (at most the
+// projection's). Throws oer::Error (InvalidInput) when the projection has no above-horizon part.
+ShRgb residual_above_horizon(const ShProjection& projection, int order);
 
 // light_pixels[k] lists the pixel indices (y * width + x) of light k; lists are disjoint (for
 // subsets to mean anything) and best sorted (fastest; any order gives the same result).

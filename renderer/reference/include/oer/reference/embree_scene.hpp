@@ -39,6 +39,12 @@ struct SurfaceHit {
     double v = 0.0;
 };
 
+// How far the ground plane reaches for a ray: as drawn (the renderer's square, for the rays of
+// the camera), or infinite (for rays that leave a surface towards a light or the map: above an
+// infinite plane every direction below the horizon sees the plane, never the map, DESIGN.md
+// section 2, and the square's edge is only where the picture stops).
+enum class GroundReach { Drawn, Infinite };
+
 class EmbreeScene {
   public:
     // Throws oer::Error (Internal) when Embree fails, with its message.
@@ -51,9 +57,10 @@ class EmbreeScene {
 
     // The nearest surface along the ray beyond t_near, if any.
     std::optional<SurfaceHit> intersect(const glm::dvec3& origin, const glm::dvec3& direction,
-                                        double t_near) const;
+                                        double t_near, GroundReach reach) const;
     // Whether anything lies along the ray beyond t_near (to infinity).
-    bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_near) const;
+    bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_near,
+                  GroundReach reach) const;
 
   private:
     struct Geometry {
@@ -70,6 +77,12 @@ class EmbreeScene {
     void add(Geometry geometry);
     glm::dvec3 albedo_at(const Geometry& geometry, unsigned triangle, double u, double v) const;
 
+    // Whether a ray from origin along direction meets the infinite ground plane beyond the drawn
+    // square: it goes down from above the plane.
+    bool reaches_infinite_ground(const glm::dvec3& origin, const glm::dvec3& direction,
+                                 GroundReach reach) const;
+
+    std::optional<double> ground_height_;  // the plane's y, when the request has the ground
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     std::vector<Geometry> geometries_;  // by Embree geometry id

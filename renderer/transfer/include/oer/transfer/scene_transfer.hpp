@@ -27,6 +27,10 @@
 
 namespace oer {
 
+// The albedo of the renderer's ground plane (DESIGN.md section 7): the GL renderer draws it, the
+// reference traces it, and the transfer's ground reflects it.
+constexpr float kGroundAlbedo = 0.8f;
+
 // Transfers are baked at this order (bands 0 to 4, 25 coefficients, Sloan et al.'s choice for
 // diffuse transfer); a frame may use the first order^2 coefficients of any lower order, which
 // are exactly that order's transfer (the coefficients of a projection do not depend on the

@@ -29,15 +29,30 @@ struct TransferLighting {
     // the whole lighting of the frame (R plus each light's pixels times its weight), both turned
     // by the environment's yaw into the world frame the transfer was baked in, unwindowed, at
     // the evaluation order.
+    //
+    // With the ground as lighting (DESIGN.md section 2), a point above the infinite plane sees
+    // the plane in every direction below its horizon, never the map: R and L are then the map's
+    // above the horizon (Rig::residual_above_horizon, and each light above it) plus, below it,
+    // the open ground's radiance g = albedo / pi E_g, E_g the irradiance of L above the horizon
+    // at +Y, under Bounce::One; nothing under Bounce::None (the ground reflects nothing). The
+    // bake counts a ray that meets the plane as seeing this lighting, and adds the ground's
+    // departure from g near the objects (their contact shadow) as reflected light.
     ShRgb residual;
     ShRgb whole;
 };
 
-// weights: one per rig light (0 off, 1 as captured); yaw_degrees about +Y (DESIGN.md section 3).
-// Throws oer::Error (InvalidInput) when the weights do not match the rig's lights or order is
-// outside 1 .. min(rig order, kTransferBakeOrder).
+// weights: one per rig light (0 off, 1 as captured); yaw_degrees about +Y (DESIGN.md section 3);
+// ground: the frame has the ground plane, which reflects as `bounce` says. Throws oer::Error
+// (InvalidInput) when the weights do not match the rig's lights or order is outside
+// 1 .. min(rig order, kTransferBakeOrder).
 TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weights,
-                                   double yaw_degrees, int order);
+                                   double yaw_degrees, int order, bool ground, Bounce bounce);
+
+// The SH coefficients, at `order`, of the function that is 1 below the horizon (y < 0) and 0
+// above: 2 pi q_l Y_lm(-Y), q_0 = 1, q_l = (P_(l-1)(0) - P_(l+1)(0)) / (2l + 1), the integral of
+// the Legendre polynomial P_l over [0, 1] (a zonal function about -Y, turned there by the
+// addition theorem).
+ShRgb below_horizon_indicator(int order);
 
 // The irradiance at every point of `points` (baked at stored_order) under `lighting`:
 // E_c(p) = sum_i direct_i(p) R_c,i + sum_i bounce_c,i(p) L_c,i over the lighting's order^2
