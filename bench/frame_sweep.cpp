@@ -55,11 +55,11 @@
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
+#include "oer/gl/scene_bounds.hpp"
 #include "oer/image/image_encoding.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/mesh/mesh_loading.hpp"
-#include "oer/gl/scene_bounds.hpp"
 #include "oer/reference/reference_renderer.hpp"
 #include "oer/transfer/transfer_bake.hpp"
 #include "oer/transfer/transfer_lighting.hpp"
@@ -200,12 +200,15 @@ std::vector<Configuration> configurations(bool quick) {
     thesis.shadows.filter = oer::ShadowFilter::Hard;
     list.push_back(thesis);
     for (const int rays : checked_ray_counts(quick)) {
-        list.push_back(
-            {"occlusion, " + std::to_string(rays) + " rays", "transfer", {}, {}, false, true, rays});
+        Configuration c{
+            "occlusion, " + std::to_string(rays) + " rays", "transfer", {}, {}, false, true};
+        c.transfer_rays = rays;
+        list.push_back(c);
     }
     // The transfer is evaluated at the rig's order (transfer_order): varied through the rig.
     for (const int order : {3, 5}) {
-        Configuration c{"occlusion, order " + std::to_string(order), "transfer", {}, {}, false, true};
+        Configuration c{
+            "occlusion, order " + std::to_string(order), "transfer", {}, {}, false, true};
         c.rig.sh_order = order;
         list.push_back(c);
     }
@@ -342,8 +345,10 @@ std::vector<std::uint8_t> near_ground_footprint(const oer::FrameRequest& request
             }
             const glm::dvec3 point = eye + t * direction;
             // Distance in the plane to the footprint rectangle (0 inside it).
-            const double dx = std::max({bounds.box.min.x - point.x, 0.0, point.x - bounds.box.max.x});
-            const double dz = std::max({bounds.box.min.z - point.z, 0.0, point.z - bounds.box.max.z});
+            const double dx =
+                std::max({bounds.box.min.x - point.x, 0.0, point.x - bounds.box.max.x});
+            const double dz =
+                std::max({bounds.box.min.z - point.z, 0.0, point.z - bounds.box.max.z});
             near[std::size_t(y) * std::size_t(request.width) + std::size_t(x)] =
                 std::hypot(dx, dz) <= bounds.radius ? 1 : 0;
         }
@@ -414,8 +419,8 @@ std::vector<Surface> surfaces_of(const ReferenceImage& reference) {
         list.push_back({"ground", reference.ground_mask, reference.frame.noise.ground,
                         reference.frame.noise.ground_pixels});
     }
-    const auto near_pixels = std::size_t(std::count(reference.near_ground_mask.begin(),
-                                                    reference.near_ground_mask.end(), 1));
+    const auto near_pixels = std::size_t(
+        std::count(reference.near_ground_mask.begin(), reference.near_ground_mask.end(), 1));
     if (near_pixels > 0) {
         list.push_back({"ground near", reference.near_ground_mask,
                         oer::bench::relative_noise(reference.frame.luminance_noise,
@@ -532,9 +537,9 @@ class Sweep {
                     continue;
                 }
                 for (const oer::Bounce bounce : bounces) {
-                    frames.push_back(render_ours(
-                        scene, rig, configuration, state,
-                        transfer(scene.mesh_name, scene.objects, bounce, configuration.transfer_rays)));
+                    frames.push_back(render_ours(scene, rig, configuration, state,
+                                                 transfer(scene.mesh_name, scene.objects, bounce,
+                                                          configuration.transfer_rays)));
                 }
             }
             const oer::FrameRequest request = frame_request(scene, rigs.at("default"), list.front(),
@@ -647,7 +652,8 @@ class Sweep {
             oer::TransferBakeOptions options;
             options.bounce = bounce;
             options.rays = rays;
-            baked = std::make_shared<const oer::SceneTransfer>(oer::bake_transfer(request, options));
+            baked =
+                std::make_shared<const oer::SceneTransfer>(oer::bake_transfer(request, options));
             std::printf("  %s: transfer baked, bounce %s, %d rays per point, %.0f ms\n",
                         mesh_name.c_str(), to_string(bounce).c_str(), baked->rays, baked->bake_ms);
             std::fflush(stdout);
@@ -670,8 +676,8 @@ class Sweep {
         const std::string timing_key =
             configuration.name + (transfer ? ", bounce " + to_string(transfer->bounce) : "");
         if (state.name == kAllOn.name) {
-            oer::FrameRequest timed = frame_request(scene, rig, configuration, state,
-                                                    arguments_.time_size, transfer);
+            oer::FrameRequest timed =
+                frame_request(scene, rig, configuration, state, arguments_.time_size, transfer);
             // A yaw no earlier frame used: the first frame renders its shadow maps.
             timed.environment_yaw = 1e-3 * double(++yaw_step_);
             frame.shadow_ms = renderer_.render(timed).timings_ms["shadow_pass"];
