@@ -117,15 +117,38 @@ def rule_worlds(frames: FrameRows) -> list[str]:
                    for row in frames.configs(HEADLINE_MESH, world, "none", "object"))]
 
 
+def order_label(row: Row) -> str:
+    """"order 5", with the rig's order when the transfer is evaluated at a lower one
+    (transfer_order is the rig's, at most 5)."""
+    label = f"order {row['transfer_order']}"
+    if row["order"] != row["transfer_order"]:
+        label += f" (rig order {row['order']})"
+    return label
+
+
+def transfer_label(row: Row) -> str:
+    """"144 rays, order 5"."""
+    return f"{row['transfer_rays']} rays, {order_label(row)}"
+
+
+def is_order_variant(row: Row, default: Row) -> bool:
+    """Whether a row of the rule's check varies the order (through the rig), not the rays."""
+    return row["config"] != DEFAULT and row["transfer_rays"] == default["transfer_rays"]
+
+
+def repeats_the_rule(row: Row, default: Row) -> bool:
+    """Whether an order variation sets the rig to the order the rule chose anyway (the same
+    frame as the default's: left out of the table and the reading)."""
+    return is_order_variant(row, default) and row["order"] == default["order"]
+
+
 def ray_points(frames: FrameRows, world: str, bounce: str, surface: str) -> list[Row]:
-    """The ray-count variations at the rule's evaluation order, and the default, by rays."""
+    """The ray-count variations at the rule's orders, and the default, by rays."""
     default = frames.find(HEADLINE_MESH, world, DEFAULT, bounce, surface)
     if default is None:
         return []
     return sorted((row for row in rule_points(frames, world, bounce, surface)
-                   if row["transfer_order"] == default["transfer_order"]
-                   and (row["config"] == DEFAULT or row["transfer_rays"] != default["transfer_rays"])),
-                  key=lambda row: row["transfer_rays"])
+                   if not is_order_variant(row, default)), key=lambda row: row["transfer_rays"])
 
 
 def rule_table(frames: FrameRows) -> str | None:
@@ -136,19 +159,20 @@ def rule_table(frames: FrameRows) -> str | None:
     rows = []
     for world in rule_worlds(frames):
         default = frames.find(HEADLINE_MESH, world, DEFAULT, "none", "object")
-        # The ray counts at the rule's order first, then the other orders.
+        # The ray counts at the rule's orders first, then the other orders.
         points = sorted(rule_points(frames, world, "none", "object"),
-                        key=lambda row: (row["transfer_order"] != default["transfer_order"],
-                                         row["transfer_order"], row["transfer_rays"]))
+                        key=lambda row: (is_order_variant(row, default), row["order"],
+                                         row["transfer_rays"]))
         for none_object in points:
+            if repeats_the_rule(none_object, default):
+                continue
             config = none_object["config"]
             found = {(bounce, surface): frames.find(HEADLINE_MESH, world, config, bounce, surface)
                      for bounce in ("none", "one") for surface in ("object", "ground near")}
             one_object = found[("one", "object")]
-            label = (f"{none_object['transfer_rays']} rays, order "
-                     f"{none_object['transfer_order']}")
+            label = transfer_label(none_object)
             if config == DEFAULT:
-                label = f"**{label} (the rule)**"
+                label = f"**{label}: the rule**"
             rows.append([world, label,
                          f"{none_object['bake_ms']:.0f} / "
                          + (f"{one_object['bake_ms']:.0f}" if one_object else MISSING),
@@ -163,7 +187,7 @@ def knee_paragraph(frames: FrameRows) -> str | None:
     """Whether the rule's ray count sits at the knee of error against bake time, and what the
     evaluation order changes; None when the check did not run."""
     knees, below, above, order_changes = [], [], [], []
-    rule_rays = set()
+    rule_rays, rule_orders = set(), set()
     bake_growth = []
     for world in rule_worlds(frames):
         for bounce, _ in MODES:
@@ -184,9 +208,10 @@ def knee_paragraph(frames: FrameRows) -> str | None:
                     above.append(default["relative_rms"] - more[-1]["relative_rms"])
                     bake_growth.append(more[-1]["bake_ms"] / default["bake_ms"])
                 for row in rule_points(frames, world, bounce, surface):
-                    if row["transfer_order"] != default["transfer_order"]:
-                        order_changes.append((row["transfer_order"], default["transfer_order"],
+                    if is_order_variant(row, default) and not repeats_the_rule(row, default):
+                        order_changes.append((row["order"],
                                               row["relative_rms"] - default["relative_rms"]))
+                        rule_orders.add(default["order"])
     if not knees or len(rule_rays) != 1:
         return None
     rays = rule_rays.pop()
@@ -209,16 +234,17 @@ def knee_paragraph(frames: FrameRows) -> str | None:
                  f"{value_range(bake_growth, lambda v: f'{v:.1f}')}x the bake time")
     text += "."
     for order in sorted({change[0] for change in order_changes}):
-        deltas = [delta for other, _, delta in order_changes if other == order]
-        text += (f" Evaluating at order {order} instead of the rule's changes the error by "
-                 f"{points_range(deltas)}.")
+        deltas = [delta for other, delta in order_changes if other == order]
+        text += (f" With the rig at order {order} instead of its own "
+                 f"({value_range(rule_orders, str)}; the transfer is evaluated at that order, at "
+                 f"most 5), the error changes by {points_range(deltas)}.")
     return text
 
 
 def points_range(deltas: list[float]) -> str:
-    """Changes of error in percentage points, signed: "+0.9 to +1.5 points", or one value when
-    they agree to the format."""
-    low, high = (minus(f"{100.0 * delta:+.1f}") for delta in (min(deltas), max(deltas)))
+    """Changes of error in percentage points, signed: "+0.09 to +1.52 points", or one value
+    when they agree to the format (two decimals: more rays move the error by tenths)."""
+    low, high = (minus(f"{100.0 * delta:+.2f}") for delta in (min(deltas), max(deltas)))
     return f"{low} points" if low == high else f"{low} to {high} points"
 
 

@@ -110,16 +110,20 @@ class MakeReportTest(unittest.TestCase):
                       self.markdown)
 
     def test_rule_check_marks_the_rule_and_finds_the_knee(self) -> None:
-        self.assertIn("| forest | **144 rays, order 5 (the rule)** | 1234 / 2345 | 6.0 % | 7.1 % | "
-                      "7.5 % | 9.8 % | 24.6 |", self.markdown)
-        self.assertIn("| forest | 576 rays, order 5 | 4800 / 9100 | 5.9 % | 7.0 % | 7.4 % | "
-                      "9.5 % | 24.7 |", self.markdown)
+        # forest's rig has order 7: the transfer is evaluated at 5.
+        self.assertIn("| forest | **144 rays, order 5 (rig order 7): the rule** | 1234 / 2345 | "
+                      "6.0 % | 7.1 % | 7.5 % | 9.8 % | 24.6 |", self.markdown)
+        self.assertIn("| forest | 576 rays, order 5 (rig order 7) | 4800 / 9100 | 5.9 % | 7.0 % | "
+                      "7.4 % | 9.5 % | 24.7 |", self.markdown)
+        self.assertIn("| forest | 144 rays, order 3 | 1234 / 2345 | 6.5 % | 7.6 % | 8.0 % | "
+                      "10.0 % | 23.0 |", self.markdown)
         self.assertNotIn("| night | **144 rays", self.markdown)
         # 64 rays are more than 5 % worse than the best everywhere, 144 within 5 % of it.
-        self.assertIn("the rule's choice sits at the knee. Fewer rays change the error by +0.9 to "
-                      "+1.5 points (positive: worse); the most rays checked improve it by +0.1 "
-                      "to +0.3 points at 3.9x the bake time. Evaluating at order 3 instead of "
-                      "the rule's changes the error by +0.2 to +0.5 points.", self.markdown)
+        self.assertIn("the rule's choice sits at the knee. Fewer rays change the error by +0.90 "
+                      "to +1.48 points (positive: worse); the most rays checked improve it by "
+                      "+0.10 to +0.30 points at 3.9x the bake time. With the rig at order 3 "
+                      "instead of its own (7; the transfer is evaluated at that order, at most "
+                      "5), the error changes by +0.20 to +0.50 points.", self.markdown)
 
     def test_lighting_tables_carry_the_sweep_figures(self) -> None:
         lighting = json.loads((arguments.work / "lighting.json").read_text(encoding="utf-8"))
