@@ -187,7 +187,7 @@ def knee_paragraph(frames: FrameRows) -> str | None:
     """Whether the rule's ray count sits at the knee of error against bake time, and what the
     evaluation order changes; None when the check did not run."""
     knees, below, above, order_changes = [], [], [], []
-    rule_rays, rule_orders = set(), set()
+    rule_rays = set()
     bake_growth = []
     for world in rule_worlds(frames):
         for bounce, _ in MODES:
@@ -209,9 +209,8 @@ def knee_paragraph(frames: FrameRows) -> str | None:
                     bake_growth.append(more[-1]["bake_ms"] / default["bake_ms"])
                 for row in rule_points(frames, world, bounce, surface):
                     if is_order_variant(row, default) and not repeats_the_rule(row, default):
-                        order_changes.append((row["order"],
+                        order_changes.append((row["order"], default["order"],
                                               row["relative_rms"] - default["relative_rms"]))
-                        rule_orders.add(default["order"])
     if not knees or len(rule_rays) != 1:
         return None
     rays = rule_rays.pop()
@@ -234,10 +233,11 @@ def knee_paragraph(frames: FrameRows) -> str | None:
                  f"{value_range(bake_growth, lambda v: f'{v:.1f}')}x the bake time")
     text += "."
     for order in sorted({change[0] for change in order_changes}):
-        deltas = [delta for other, delta in order_changes if other == order]
+        changes = [(own, delta) for other, own, delta in order_changes if other == order]
         text += (f" With the rig at order {order} instead of its own "
-                 f"({value_range(rule_orders, str)}; the transfer is evaluated at that order, at "
-                 f"most 5), the error changes by {points_range(deltas)}.")
+                 f"({value_range((own for own, _ in changes), str)}; the transfer is evaluated "
+                 f"at the rig's order, at most 5), the error changes by "
+                 f"{points_range([delta for _, delta in changes])}.")
     return text
 
 
