@@ -78,6 +78,19 @@ double relative_rms_error(std::span<const double> luminance, std::span<const dou
     return std::sqrt(difference / truth);
 }
 
+double relative_noise(std::span<const double> noise, std::span<const double> reference,
+                      std::span<const std::uint8_t> mask) {
+    check_sizes(noise.size(), reference.size(), mask.size(), "relative_noise");
+    double squared_noise = 0.0, truth = 0.0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (mask[i] != 0) {
+            squared_noise += noise[i] * noise[i];
+            truth += reference[i] * reference[i];
+        }
+    }
+    return truth > 0.0 ? std::sqrt(squared_noise / truth) : 0.0;
+}
+
 double least_squares_scale(std::span<const double> luminance, std::span<const double> reference,
                            std::span<const std::uint8_t> mask) {
     check_sizes(luminance.size(), reference.size(), mask.size(), "least_squares_scale");

@@ -28,6 +28,13 @@ double masked_mean(std::span<const double> values, std::span<const std::uint8_t>
 double relative_rms_error(std::span<const double> luminance, std::span<const double> reference,
                           std::span<const std::uint8_t> mask);
 
+// sqrt(sum noise^2 / sum Y_ref^2) over the pixels whose mask entry is set: the reference
+// renderer's relative noise (ReferenceNoise) over any set of pixels, from its per-pixel noise
+// (ReferenceFrame::luminance_noise). 0 when no pixel is selected or the reference is black
+// there; sizes must match (else oer::Error InvalidInput).
+double relative_noise(std::span<const double> noise, std::span<const double> reference,
+                      std::span<const std::uint8_t> mask);
+
 // The factor s minimising sum (s Y - Y_ref)^2 over the mask: s = sum Y Y_ref / sum Y^2. For a
 // frame with no absolute scale (the thesis model's display-referred lighting). oer::Error
 // (InvalidInput) when the frame is black over the mask.

@@ -1,4 +1,5 @@
-"""The frame sweep's tables: the headline, the per-mesh summary, the front, the images."""
+"""The frame sweep's tables: issue 13's occlusion, the headline, the per-mesh summary, the
+front, the rule's check, the images."""
 
 import shutil
 from pathlib import Path
@@ -10,13 +11,23 @@ from common import (FIDELITY_BOUND_DB, MISSING, NOISE_RATIO_LIMIT, decibels, dom
 from inputs import InputError
 
 Row = dict[str, Any]
-PIPELINES = (("default", "ours (default)"), ("plain SH", "plain SH"), ("thesis", "thesis"))
+DEFAULT = "default"
+# OER as it was before issue 13 (no occlusion of the residual map): the baseline of the light
+# count, shadow and SH order families, which vary its settings.
+NO_OCCLUSION = "OER, no occlusion"
+PLAIN_SH = "plain SH"
+PIPELINES = ((DEFAULT, "ours (default)"), (NO_OCCLUSION, "OER, no occlusion"),
+             (PLAIN_SH, "plain SH"), ("thesis", "thesis"))
 HEADLINE_MESH = "bunny"
-COMPARISONS = (("none", "object"), ("none", "ground"), ("one", "object"), ("one", "ground"))
+SURFACES = ("object", "ground", "ground near")
+COMPARISONS = tuple((bounce, surface) for bounce in ("none", "one") for surface in SURFACES)
 NOISE_MARK = "†"
 IMAGE_COLUMNS = (("reference", "reference"), ("reference_one_bounce", "reference + one bounce"),
-                 ("default", "ours (default)"), ("plain_sh", "plain SH"), ("thesis", "thesis"),
-                 ("error_default", "error, ours"), ("error_plain_sh", "error, plain SH"))
+                 ("default", "ours (default)"), ("default_one_bounce", "ours, one bounce"),
+                 ("oer_no_occlusion", "OER, no occlusion"), ("plain_sh", "plain SH"),
+                 ("thesis", "thesis"), ("error_default", "error, ours"),
+                 ("error_default_one_bounce", "error, ours vs one bounce"),
+                 ("error_oer_no_occlusion", "error, OER"), ("error_plain_sh", "error, plain SH"))
 IMAGE_WIDTH = 112
 
 
@@ -73,7 +84,8 @@ def headline_row(frames: FrameRows, world: str, config: str, name: str) -> list[
     present = [row for row in found if row is not None]
     if not present:
         return None
-    direct = [row for row in found[:2] if row is not None]
+    direct = [row for (bounce, surface), row in zip(COMPARISONS, found)
+              if row is not None and bounce == "none" and surface != "ground near"]
     timed = found[0] or present[0]
     verdict = ("passes" if passes_fidelity(direct) else "fails") if direct else MISSING
     noise = max(row["noise_ratio"] for row in present)
@@ -82,9 +94,10 @@ def headline_row(frames: FrameRows, world: str, config: str, name: str) -> list[
 
 
 def headline_table(frames: FrameRows) -> str:
-    """Per world, the three pipelines against both references (the issue's closing figures)."""
-    header = ["world", "renderer", "object, direct", "ground, direct", "object, one bounce",
-              "ground, one bounce", "frame ms", "noise/error", "−22 dB"]
+    """Per world, the pipelines against both references (the issue's closing figures)."""
+    header = ["world", "renderer",
+              *[f"{surface}, {'direct' if bounce == 'none' else 'one bounce'}"
+                for bounce, surface in COMPARISONS], "frame ms", "noise/error", "−22 dB"]
     rows = [line for world in frames.worlds(HEADLINE_MESH) for config, name in PIPELINES
             if (line := headline_row(frames, world, config, name)) is not None]
     return markdown_table(header, rows)
@@ -96,10 +109,16 @@ def any_noisy(frames: FrameRows) -> bool:
                if row["mesh"] == HEADLINE_MESH and row["family"] == "pipeline")
 
 
+def mean_error(rows: list[Row | None]) -> str:
+    """The mean relative RMS of the rows present, or a dash."""
+    present = [row["relative_rms"] for row in rows if row is not None]
+    return percent(mean(present)) if present else MISSING
+
+
 def mesh_summary_table(frames: FrameRows) -> str:
-    """Per mesh, the three pipelines' means over worlds, direct reference, all lights on."""
-    header = ["mesh", "renderer", "worlds", "object error", "ground error", "object dB",
-              "frame ms", "passes −22 dB"]
+    """Per mesh, the pipelines' means over worlds, direct reference, all lights on."""
+    header = ["mesh", "renderer", "worlds", "object error", "ground error", "ground near error",
+              "object dB", "frame ms", "passes −22 dB"]
     rows = []
     for mesh in frames.meshes():
         for config, name in PIPELINES:
@@ -109,12 +128,13 @@ def mesh_summary_table(frames: FrameRows) -> str:
             pairs = [(obj, ground) for obj, ground in pairs if obj is not None]
             if not pairs:
                 continue
-            grounds = [ground for _, ground in pairs if ground is not None]
             passing = sum(passes_fidelity([obj] + ([ground] if ground else []))
                           for obj, ground in pairs)
+            near = [frames.find(mesh, obj["world"], config, "none", "ground near")
+                    for obj, _ in pairs]
             rows.append([mesh, name, str(len(pairs)),
                          percent(mean(obj["relative_rms"] for obj, _ in pairs)),
-                         percent(mean(g["relative_rms"] for g in grounds)) if grounds else MISSING,
+                         mean_error([ground for _, ground in pairs]), mean_error(near),
                          decibels(mean(obj["fidelity_db"] for obj, _ in pairs)),
                          milliseconds(mean(obj["frame_ms"] for obj, _ in pairs)),
                          f"{passing} of {len(pairs)}"])
@@ -127,11 +147,11 @@ def front_verdict(frames: FrameRows, world: str, config: str, surface: str,
 
     The front is over the configurations with an absolute scale (a scale-fitted one, the
     thesis's, is compared at its best exposure: no setting a user could choose); with `family`,
-    over that family's configurations and the default only, so that one choice (the light
-    count, the shadow maps, the SH order) is judged with everything else at its default."""
+    over that family's configurations and `config` only, so that one choice (the light count,
+    the shadow maps, the SH order) is judged with everything else as in `config`."""
     points = [row for row in frames.configs(HEADLINE_MESH, world, "none", surface)
               if not row["scale_fitted"]
-              and (family is None or row["family"] == family or row["config"] == "default")]
+              and (family is None or row["family"] == family or row["config"] == config)]
     point = next((row for row in points if row["config"] == config), None)
     if point is None:
         return MISSING

@@ -21,13 +21,15 @@ FRAME_TOP_FIELDS = ("benchmark", "quick", "compare_size", "time_size", "renderer
 FRAME_REFERENCE_FIELDS = ("min_samples", "max_samples", "noise_fraction")
 FRAME_SCENE_FIELDS = ("mesh", "world", "lights_found", "order", "images")
 FRAME_ROW_FIELDS = ("mesh", "world", "config", "family", "state", "bounce", "surface", "lights",
-                    "order", "shadow_resolution", "shadow_filter", "frame_ms", "shadow_ms",
-                    "relative_rms", "fidelity_db", "pixels", "reference_samples",
-                    "reference_noise", "reference_mean_luminance", "noise_ratio", "scale_fitted")
+                    "order", "shadow_resolution", "shadow_filter", "occlusion", "transfer_rays",
+                    "transfer_order", "bake_ms", "frame_ms", "shadow_ms", "relative_rms",
+                    "fidelity_db", "pixels", "reference_samples", "reference_noise",
+                    "reference_mean_luminance", "noise_ratio", "scale_fitted")
 # Fields the report does arithmetic on: a null (how nlohmann::json writes NaN and Inf) or a
 # non-finite value would otherwise surface as a traceback or a "nan %" cell.
-FRAME_ROW_NUMBERS = ("lights", "order", "shadow_resolution", "frame_ms", "shadow_ms",
-                     "relative_rms", "fidelity_db", "reference_mean_luminance", "noise_ratio")
+FRAME_ROW_NUMBERS = ("lights", "order", "shadow_resolution", "transfer_rays", "transfer_order",
+                     "bake_ms", "frame_ms", "shadow_ms", "relative_rms", "fidelity_db",
+                     "reference_mean_luminance", "noise_ratio")
 LIGHTING_ROW_NUMBERS = ("order", "downsampling", "projection_ms", "window_ms", "relative_rms",
                         "most_negative")
 LIGHTING_TOP_FIELDS = ("benchmark", "quick", "normals", "rows", "worlds")

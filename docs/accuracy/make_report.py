@@ -26,12 +26,13 @@ if importlib.util.find_spec("matplotlib") is None:
              "(scripts/setup-debian.sh --with-test-data)")
 
 from common import FIDELITY_BOUND_DB, NOISE_RATIO_LIMIT, decibels, markdown_table
-from frames import (HEADLINE_MESH, NOISE_MARK, FrameRows, any_noisy, front_verdict,
-                    headline_table, images_table, mesh_summary_table)
+from frames import (DEFAULT, HEADLINE_MESH, NO_OCCLUSION, NOISE_MARK, FrameRows, any_noisy,
+                    front_verdict, headline_table, images_table, mesh_summary_table)
 from inputs import InputError, Sweeps, read_sweeps
 from lighting import (LightingRows, downsampling_table, location_table, order_table,
                       window_table)
-from plots import frame_figure, lighting_figure
+from occlusion import occlusion_section, rule_worlds
+from plots import frame_figure, lighting_figure, rule_figure
 from reading import paragraphs
 
 COMMAND = "scripts/accuracy-report.sh"
@@ -77,17 +78,31 @@ def header(sweeps: Sweeps) -> str:
     return "\n".join(lines)
 
 
+def issue13_section(frames: FrameRows, figures: Path, link: str) -> str:
+    """Issue 13's figures, with the rule's check drawn when the sweep ran it."""
+    figure_link = None
+    if rule_worlds(frames):
+        figures.mkdir(parents=True, exist_ok=True)
+        rule_figure(frames, figures / "transfer-rule.png")
+        figure_link = f"{link}/figures/transfer-rule.png"
+    return occlusion_section(frames, figure_link)
+
+
 def headline_section(frames: FrameRows) -> str:
-    """The closing figures of issue 11: per world, our default beside plain SH and the thesis."""
+    """The closing figures of issues 11 and 13: per world, our default (with occlusion) beside
+    OER without occlusion, plain SH and the thesis."""
     text = [
-        "## Headline: our default, plain SH and the thesis",
+        "## Headline: our default, OER without occlusion, plain SH and the thesis",
         "",
-        f"The {HEADLINE_MESH} on the ground, all lights on. Each error is the relative RMS of "
-        "luminance and the model-viewer render-fidelity metric (pixelmatch YIQ, dB), against the "
-        "reference without and with one diffuse bounce. \"−22 dB\": whether both the object and "
+        f"The {HEADLINE_MESH} on the ground, all lights on. Our default occludes the residual "
+        "map (issue 13) and is rendered in each bounce mode, each compared with the reference of "
+        "that mode; the others have no bounce mode and are compared with both. Each error is the "
+        "relative RMS of luminance and the model-viewer render-fidelity metric (pixelmatch YIQ, "
+        "dB), against the reference without and with one diffuse bounce, on the object, the "
+        "ground, and the ground near the object. \"−22 dB\": whether both the object and "
         f"the ground stay at or below model-viewer's {decibels(FIDELITY_BOUND_DB)} dB against "
         "the direct reference. \"noise/error\": the largest ratio of the reference's noise to the "
-        "error over the row's four comparisons. The thesis's output has no absolute scale, so "
+        "error over the row's comparisons. The thesis's output has no absolute scale, so "
         "its luminance is fitted by least squares before comparing.",
         "",
         headline_table(frames),
@@ -102,7 +117,8 @@ def headline_section(frames: FrameRows) -> str:
 
 def front_section(frames: FrameRows, lighting: LightingRows) -> str:
     """Whether the defaults are on the front, per world, in the frame and lighting sweeps."""
-    rows = [[world] + [front_verdict(frames, world, "default", surface, family)
+    rows = [[world] + [front_verdict(frames, world, DEFAULT if family is None else NO_OCCLUSION,
+                                     surface, family)
                        for family in (None, "lights", "shadows", "order")
                        for surface in ("object", "ground")]
             + [lighting.auto_order_verdict(world) if world in lighting.worlds else "—"]
@@ -118,9 +134,10 @@ def front_section(frames: FrameRows, lighting: LightingRows) -> str:
         f"Frames: the {HEADLINE_MESH}'s configurations against the direct reference, all lights "
         "on; the thesis is left out (it is compared at its best-fitting exposure, which no user "
         "can choose). The first two columns judge the default among every configuration; the "
-        "next judge one of its choices among the alternatives for that choice alone, everything "
-        "else at its default (light counts 0 to 4; shadow maps 256 to 4096, hard and pcf; SH "
-        "order 3). The last column: every order, window and downsampling of the lighting sweep, "
+        "next judge one of OER's choices among the alternatives for that choice alone, "
+        "everything else as in OER without occlusion, which these alternatives vary (light "
+        "counts 0 to 4; shadow maps 256 to 4096, hard and pcf; SH order 3). The last column: "
+        "every order, window and downsampling of the lighting sweep, "
         "worst on/off subset. Where not on the front, the cell names the fastest configuration "
         "that beats it.", "", table])
 
@@ -129,9 +146,9 @@ def plots_section(frames: FrameRows, lighting: LightingRows, figures: Path, link
     """Draws the figures and returns the section showing them."""
     figures.mkdir(parents=True, exist_ok=True)
     text = ["## Frame time against error", "",
-            "Every configuration of the bunny, all lights on, direct reference; the red step line "
-            "is the Pareto front (circled points), stars mark the default and the auto light "
-            "count.", ""]
+            "Every configuration of the bunny, all lights on, direct reference (with occlusion, "
+            "the frame of the `none` mode); the red step line is the Pareto front (circled "
+            "points), the star marks the default.", ""]
     for world in frames.worlds(HEADLINE_MESH):
         frame_figure(frames, world, figures / f"frames-{world}.png")
         text.append(f"![{world}]({link}/figures/frames-{world}.png)")
@@ -194,6 +211,7 @@ def write_report(sweeps: Sweeps, out: Path, gallery: Path | None = None) -> Path
         shutil.rmtree(generated, ignore_errors=True)
     sections = [
         header(sweeps),
+        issue13_section(frames, assets / "figures", "accuracy"),
         headline_section(frames),
         reading_section(lighting, sweeps, frames),
         front_section(frames, lighting),

@@ -10,8 +10,9 @@ matplotlib.use("Agg")  # no display: the report is built headless, in CI too
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
 
 from common import pareto_front  # noqa: E402
-from frames import HEADLINE_MESH, FrameRows  # noqa: E402
+from frames import DEFAULT, HEADLINE_MESH, FrameRows  # noqa: E402
 from lighting import LightingRows  # noqa: E402
+from occlusion import ISSUE_SURFACES, MODES, ray_points, rule_worlds  # noqa: E402
 
 DPI = 100
 LABEL_SIZE = 6.5
@@ -62,10 +63,43 @@ def frame_figure(frames: FrameRows, world: str, path: Path) -> None:
     for axes, surface in zip(panels, ("object", "ground")):
         rows = frames.configs(HEADLINE_MESH, world, "none", surface)
         points = [(row["frame_ms"], 100.0 * row["relative_rms"], row["config"]) for row in rows]
-        draw_front(axes, points, {"default"}, "default (auto lights and order, 2048 pcf)")
+        draw_front(axes, points, {DEFAULT},
+                   "default (occlusion, auto lights and order, 2048 pcf)")
         axes.set_title(f"{HEADLINE_MESH}, {world}: {surface} pixels", fontsize=10)
         axes.set_xlabel("frame time at the time size (ms)")
         axes.set_ylabel("relative RMS of luminance vs direct reference (%)")
+    figure.tight_layout()
+    figure.savefig(path, dpi=DPI)
+    plt.close(figure)
+
+
+def rule_figure(frames: FrameRows, path: Path) -> None:
+    """The rule's check: per world of the check and per mode, the bunny's error against the
+    bake time over the ray counts at the rule's order, product and ground near, the rule's
+    choice starred."""
+    worlds = rule_worlds(frames)
+    figure, panels = plt.subplots(len(MODES), len(worlds),
+                                  figsize=(max(3.6 * len(worlds), 7.0), 6.4), squeeze=False)
+    for column, world in enumerate(worlds):
+        for row_index, (bounce, mode) in enumerate(MODES):
+            axes = panels[row_index][column]
+            for surface, label in ISSUE_SURFACES:
+                points = ray_points(frames, world, bounce, surface)
+                xs = [row["bake_ms"] for row in points]
+                ys = [100.0 * row["relative_rms"] for row in points]
+                axes.plot(xs, ys, marker="o", markersize=3, linewidth=1, label=label)
+                for row, x, y in zip(points, xs, ys):
+                    axes.annotate(str(row["transfer_rays"]), (x, y), textcoords="offset points",
+                                  xytext=(3, 3), fontsize=LABEL_SIZE)
+                    if row["config"] == DEFAULT:
+                        axes.scatter([x], [y], s=70, marker="*", color="tab:orange", zorder=4)
+            axes.set_title(f"{world}, bounce {mode}", fontsize=8)
+            axes.set_xlabel("bake ms", fontsize=8)
+            axes.set_ylabel("relative RMS (%)", fontsize=8)
+            axes.grid(True, linewidth=0.3)
+            axes.legend(fontsize=6)
+    figure.suptitle(f"{HEADLINE_MESH}: error against the transfer's bake time\nlabelled by "
+                    "rays per point; star: the rule's choice", fontsize=10)
     figure.tight_layout()
     figure.savefig(path, dpi=DPI)
     plt.close(figure)

@@ -8,7 +8,8 @@ from statistics import mean
 from typing import Any
 
 from common import FIDELITY_BOUND_DB, decibels, milliseconds, minus, percent, value_range
-from frames import HEADLINE_MESH, FrameRows, frames_on_front, passes_fidelity
+from frames import (DEFAULT, HEADLINE_MESH, NO_OCCLUSION, PLAIN_SH, FrameRows, frames_on_front,
+                    passes_fidelity)
 from lighting import WINDOWS, LightingRows
 
 
@@ -115,15 +116,16 @@ def finds_exactly(case: dict[str, Any]) -> bool:
 
 
 def pipelines(frames: FrameRows) -> str | None:
-    """The headline: our default beside plain SH and the thesis on the bunny."""
+    """The headline: our default beside OER without occlusion, plain SH and the thesis on the
+    bunny."""
     figures = {}
-    for config in ("default", "plain SH", "thesis"):
+    for config in (DEFAULT, NO_OCCLUSION, PLAIN_SH, "thesis"):
         rows = [row for world in frames.worlds(HEADLINE_MESH)
                 if (row := frames.find(HEADLINE_MESH, world, config)) is not None]
         if not rows:
             return None
         figures[config] = rows
-    default = figures["default"]
+    default = figures[DEFAULT]
     passing = sum(passes_fidelity([row]) for row in default)
 
     def describe(rows: list[dict[str, Any]]) -> str:
@@ -135,10 +137,11 @@ def pipelines(frames: FrameRows) -> str | None:
                 f"light count), SH order {value_range((r['order'] for r in default), str)} (the "
                 "automatic order), "
                 + " or ".join(f"{resolution} {name} shadows" for resolution, name in shadows))
-    return (f"**The three pipelines.** Our default renders with {settings}. "
-            f"On the {HEADLINE_MESH}'s pixels, against the direct "
-            f"reference, our default's error is {describe(default)} over {len(default)} worlds; "
-            f"plain SH's {describe(figures['plain SH'])}; the thesis's "
+    return (f"**The pipelines.** Our default renders with {settings}, and occludes the residual "
+            f"map through the scene's transfer. On the {HEADLINE_MESH}'s pixels, against the "
+            f"direct reference, our default's error is {describe(default)} over {len(default)} "
+            f"worlds; OER's without occlusion {describe(figures[NO_OCCLUSION])}; plain SH's "
+            f"{describe(figures[PLAIN_SH])}; the thesis's "
             f"{describe(figures['thesis'])}. Our default's object stays at or below "
             f"model-viewer's {decibels(FIDELITY_BOUND_DB)} dB in {passing} of {len(default)} "
             f"worlds.")
@@ -173,12 +176,13 @@ def shadow_resolution(frames: FrameRows) -> str | None:
 
 
 def shadow_filter(frames: FrameRows) -> str | None:
-    """What hard shadows in place of the default's soft ones change, at the same resolution."""
+    """What hard shadows in place of OER's soft ones change, at the same resolution (the shadow
+    family varies OER without occlusion)."""
     changes: dict[str, list[float]] = {"object": [], "ground": []}
     times = []
     for world in frames.worlds(HEADLINE_MESH):
         for surface, deltas in changes.items():
-            default = frames.find(HEADLINE_MESH, world, "default", "none", surface)
+            default = frames.find(HEADLINE_MESH, world, NO_OCCLUSION, "none", surface)
             if default is None or default["shadow_filter"] != "pcf":
                 continue
             hard = frames.find(HEADLINE_MESH, world,
@@ -192,19 +196,20 @@ def shadow_filter(frames: FrameRows) -> str | None:
         return None
     parts = [f"by {points(min(deltas))} to {points(max(deltas))} (mean {points(mean(deltas))}) "
              f"on the {surface}" for surface, deltas in changes.items() if deltas]
-    return (f"**Hard against soft shadows.** Hard shadows in place of the default's soft ones, "
-            f"at the default's resolution, change the {HEADLINE_MESH}'s error "
+    return (f"**Hard against soft shadows.** Hard shadows in place of OER's soft ones (without "
+            f"occlusion), at the default's resolution, change the {HEADLINE_MESH}'s error "
             + " and ".join(parts) + f" over {len(changes['object'])} worlds (positive: hard "
             f"shadows are further from the reference), and its frame time by "
             f"{minus(f'{min(times):+.1f}')} to {minus(f'{max(times):+.1f}')} ms.")
 
 
 def one_bounce(frames: FrameRows) -> str | None:
-    """How much further our default is from a reference that adds one diffuse bounce."""
+    """How much further OER without occlusion (which has no bounce) is from a reference that
+    adds one diffuse bounce."""
     parts = []
     for surface in ("object", "ground"):
-        pairs = [(frames.find(HEADLINE_MESH, world, "default", "none", surface),
-                  frames.find(HEADLINE_MESH, world, "default", "one", surface))
+        pairs = [(frames.find(HEADLINE_MESH, world, NO_OCCLUSION, "none", surface),
+                  frames.find(HEADLINE_MESH, world, NO_OCCLUSION, "one", surface))
                  for world in frames.worlds(HEADLINE_MESH)]
         pairs = [pair for pair in pairs if None not in pair]
         if pairs:
@@ -215,15 +220,15 @@ def one_bounce(frames: FrameRows) -> str | None:
     for surface in ("object", "ground"):
         ratios = [bounced["reference_mean_luminance"] / direct["reference_mean_luminance"] - 1.0
                   for world in frames.worlds(HEADLINE_MESH)
-                  if (direct := frames.find(HEADLINE_MESH, world, "default", "none", surface))
-                  and (bounced := frames.find(HEADLINE_MESH, world, "default", "one", surface))]
+                  if (direct := frames.find(HEADLINE_MESH, world, NO_OCCLUSION, "none", surface))
+                  and (bounced := frames.find(HEADLINE_MESH, world, NO_OCCLUSION, "one", surface))]
         if ratios:
             brighter.append(f"the {surface} {value_range(ratios, percent)}")
     if not parts:
         return None
     return ("**What one bounce adds.** One diffuse bounce makes the reference brighter by "
             + " and ".join(brighter) + ". Against the reference with one diffuse bounce (light OER "
-            "leaves out), our default's error is " + ", and ".join(parts) + ".")
+            "without occlusion leaves out), its error is " + ", and ".join(parts) + ".")
 
 
 def light_count(frames: FrameRows) -> str | None:
@@ -234,14 +239,14 @@ def light_count(frames: FrameRows) -> str | None:
         for row in frames.configs(HEADLINE_MESH, world, "none", "object"):
             if row["family"] == "lights":
                 by_count.setdefault(row["lights"], []).append(row["relative_rms"])
-            if row["config"] == "default":
+            if row["config"] == NO_OCCLUSION:
                 chosen.append(row["lights"])
     if not by_count or not chosen:
         return None
-    auto_object, ran = frames_on_front(frames, "default", "object", "lights")
-    auto_ground, _ = frames_on_front(frames, "default", "ground", "lights")
-    default_object, default_ran = frames_on_front(frames, "default", "object")
-    default_ground, _ = frames_on_front(frames, "default", "ground")
+    auto_object, ran = frames_on_front(frames, NO_OCCLUSION, "object", "lights")
+    auto_ground, _ = frames_on_front(frames, NO_OCCLUSION, "ground", "lights")
+    default_object, default_ran = frames_on_front(frames, DEFAULT, "object")
+    default_ground, _ = frames_on_front(frames, DEFAULT, "ground")
     counts = ", ".join(f"{percent(mean(errors))} with {count}"
                        for count, errors in sorted(by_count.items()))
     return (f"**Light count.** The {HEADLINE_MESH}'s object error, averaged over worlds, is "

@@ -13,6 +13,7 @@
 namespace {
 
 using oer::bench::fidelity_db;
+using oer::bench::relative_noise;
 using oer::bench::relative_rms_error;
 
 oer::Rgba8Image flat(int width, int height, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
@@ -34,6 +35,16 @@ TEST(FrameMetrics, RelativeRmsIsTheReferenceNoiseMeasureOverTheMaskOnly) {
                  oer::Error);
     EXPECT_THROW(relative_rms_error(frame, std::vector<double>{0.0, 0.0, 1.0}, mask), oer::Error);
     EXPECT_THROW(relative_rms_error(frame, reference, std::vector<std::uint8_t>{1, 1}), oer::Error);
+}
+
+TEST(FrameMetrics, RelativeNoiseIsThePerPixelNoiseOverTheMaskOnly) {
+    const std::vector<double> reference{1.0, 2.0, 100.0};
+    const std::vector<double> noise{0.3, 0.4, 50.0};
+    const std::vector<std::uint8_t> mask{1, 1, 0};
+    // sqrt((0.3^2 + 0.4^2) / (1 + 4)): the third pixel, outside the mask, counts for nothing.
+    EXPECT_NEAR(relative_noise(noise, reference, mask), std::sqrt(0.25 / 5.0), 1e-15);
+    EXPECT_EQ(relative_noise(noise, reference, std::vector<std::uint8_t>{0, 0, 0}), 0.0);
+    EXPECT_THROW(relative_noise(noise, reference, std::vector<std::uint8_t>{1, 1}), oer::Error);
 }
 
 TEST(FrameMetrics, LeastSquaresScaleUndoesAnExposure) {

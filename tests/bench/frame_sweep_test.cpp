@@ -1,14 +1,16 @@
-// bench/frame_sweep --quick as a process (the bunny under two Blender worlds, the three
-// pipelines, compared with the reference renderer at 64x64): its JSON and CSV agree, every
-// comparison is complete and well formed, the images it names exist at the compare size, and
-// its figures say what the shadows must: our default is nearer the reference than plain SH
-// irradiance (the same map, no shadows) on the product and on the ground.
+// bench/frame_sweep --quick as a process (the bunny under two Blender worlds, the four
+// pipelines and the rule's check of issue 13, compared with the reference renderer at 64x64):
+// its JSON and CSV agree, every comparison is complete and well formed, the frames with
+// occlusion carry the bake of their own bounce mode, the images it names exist at the compare
+// size, and its figures say what shadows and occlusion must: our default is nearer the reference
+// than plain SH irradiance (the same map, no shadows) on the product, the ground and the ground
+// near the product, in both bounce modes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <set>
 #include <string>
 #include <tuple>
 
@@ -57,9 +59,9 @@ class FrameSweepQuick : public ::testing::Test {
                    row.at("surface")}] = row;
         }
     }
-    double error(const std::string& world, const std::string& config,
+    double error(const std::string& world, const std::string& config, const std::string& bounce,
                  const std::string& surface) const {
-        return rows_.at({world, config, "all on", "none", surface}).at("relative_rms");
+        return rows_.at({world, config, "all on", bounce, surface}).at("relative_rms");
     }
 
     static SweepOutput* output_;
@@ -76,19 +78,57 @@ TEST_F(FrameSweepQuick, JsonAndCsvHoldTheSameRows) {
     EXPECT_EQ(rows_.size(), rows.size()) << "a (world, config, state, bounce, surface) twice";
 }
 
-TEST_F(FrameSweepQuick, EveryPipelineIsComparedInEveryStateOnBothSurfaces) {
-    std::set<std::string> states;
+const char* const kPipelines[] = {"default", "OER, no occlusion", "plain SH", "thesis"};
+const char* const kRuleCheck[] = {"occlusion, 64 rays", "occlusion, order 3", "occlusion, order 5"};
+const char* const kSurfaces[] = {"object", "ground", "ground near"};
+
+TEST_F(FrameSweepQuick, EveryPipelineIsComparedInEveryStateOnEverySurface) {
     for (const std::string world : {"forest", "studio"}) {
-        for (const std::string config : {"default", "plain SH", "thesis"}) {
-            for (const std::string surface : {"object", "ground"}) {
+        for (const std::string surface : kSurfaces) {
+            for (const std::string config : kPipelines) {
                 EXPECT_TRUE(rows_.contains({world, config, "all on", "none", surface}));
                 EXPECT_TRUE(rows_.contains({world, config, "all on", "one", surface}));
                 EXPECT_TRUE(rows_.contains({world, config, "light 1 off", "none", surface}));
                 EXPECT_TRUE(rows_.contains({world, config, "light 1 at 0.5", "none", surface}));
             }
+            // The rule's check: all lights on, both modes.
+            for (const std::string config : kRuleCheck) {
+                EXPECT_TRUE(rows_.contains({world, config, "all on", "none", surface}));
+                EXPECT_TRUE(rows_.contains({world, config, "all on", "one", surface}));
+            }
         }
     }
-    EXPECT_EQ(rows_.size(), 2u * 3u * 4u * 2u);
+    EXPECT_EQ(rows_.size(), 2u * 3u * (4u * 4u + 3u * 2u));
+}
+
+TEST_F(FrameSweepQuick, OcclusionFramesCarryTheBakeOfTheirMode) {
+    std::map<std::string, const nlohmann::json*> scenes;
+    for (const auto& scene : output_->json.at("scenes")) {
+        scenes[scene.at("world")] = &scene;
+    }
+    for (const auto& [key, row] : rows_) {
+        const auto& [world, config, state, bounce, surface] = key;
+        const bool occlusion = config == "default" || config.starts_with("occlusion");
+        EXPECT_EQ(row.at("occlusion").get<bool>(), occlusion) << row.dump();
+        if (!occlusion) {
+            EXPECT_EQ(row.at("bake_ms").get<double>(), 0.0) << row.dump();
+            EXPECT_EQ(row.at("transfer_rays").get<int>(), 0) << row.dump();
+            continue;
+        }
+        EXPECT_EQ(row.at("transfer_rays").get<int>(), config == "occlusion, 64 rays" ? 64 : 144)
+            << row.dump();
+        if (row.at("transfer_rays").get<int>() == 144) {
+            // The rule's transfer, baked once in each mode and recorded with the scene.
+            const auto& baked = scenes.at(world)->at("transfer").at(bounce);
+            EXPECT_EQ(baked.at("rays").get<int>(), 144);
+            EXPECT_EQ(row.at("bake_ms").get<double>(), baked.at("bake_ms").get<double>())
+                << row.dump();
+        }
+        EXPECT_GT(row.at("bake_ms").get<double>(), 0.0) << row.dump();
+    }
+    // The two modes are two bakes: one bounce traces the blocked rays again.
+    EXPECT_GT(rows_.at({"forest", "default", "all on", "one", "object"}).at("bake_ms"),
+              rows_.at({"forest", "default", "all on", "none", "object"}).at("bake_ms"));
 }
 
 TEST_F(FrameSweepQuick, FiguresAreFiniteAndConsistent) {
@@ -102,23 +142,42 @@ TEST_F(FrameSweepQuick, FiguresAreFiniteAndConsistent) {
         EXPECT_NEAR(row.at("noise_ratio").get<double>(), noise / error, 1e-12);
         EXPECT_GT(row.at("frame_ms").get<double>(), 0.0);
         EXPECT_GT(row.at("pixels").get<int>(), 100) << row.dump();
-        EXPECT_EQ(row.at("scale_fitted").get<bool>(), std::get<1>(key) == "thesis");
-        EXPECT_EQ(row.at("shadow_filter").get<std::string>(), std::get<1>(key) == "plain SH" ? "off"
-                                                              : std::get<1>(key) == "thesis"
-                                                                  ? "hard"
-                                                                  : "pcf");
-        // The thesis's order 3, the plain SH's order 3; the default chooses its own.
-        if (std::get<1>(key) != "default") {
+        const std::string& config = std::get<1>(key);
+        EXPECT_EQ(row.at("scale_fitted").get<bool>(), config == "thesis");
+        EXPECT_EQ(row.at("shadow_filter").get<std::string>(), config == "plain SH" ? "off"
+                                                              : config == "thesis" ? "hard"
+                                                                                   : "pcf");
+        // The thesis's, plain SH's and the order check's orders are set; the others choose
+        // their own.
+        if (config == "plain SH" || config == "thesis" || config == "occlusion, order 3") {
             EXPECT_EQ(row.at("order").get<int>(), 3);
+        } else if (config == "occlusion, order 5") {
+            EXPECT_EQ(row.at("order").get<int>(), 5);
+        }
+        if (row.at("occlusion").get<bool>()) {
+            EXPECT_EQ(row.at("transfer_order").get<int>(), std::min(row.at("order").get<int>(), 5));
         }
     }
 }
 
-TEST_F(FrameSweepQuick, TheDefaultsShadowsBringItNearerTheReferenceThanPlainSh) {
+TEST_F(FrameSweepQuick, TheGroundNearTheProductIsPartOfTheGround) {
+    for (const auto& [key, row] : rows_) {
+        const auto& [world, config, state, bounce, surface] = key;
+        if (surface == "ground near") {
+            EXPECT_LT(row.at("pixels").get<int>(),
+                      rows_.at({world, config, state, bounce, "ground"}).at("pixels").get<int>());
+        }
+    }
+}
+
+TEST_F(FrameSweepQuick, TheDefaultIsNearerTheReferenceThanPlainShInBothModes) {
     for (const std::string world : {"forest", "studio"}) {
-        for (const std::string surface : {"object", "ground"}) {
-            EXPECT_LT(error(world, "default", surface), error(world, "plain SH", surface))
-                << world << ", " << surface;
+        for (const std::string bounce : {"none", "one"}) {
+            for (const std::string surface : kSurfaces) {
+                EXPECT_LT(error(world, "default", bounce, surface),
+                          error(world, "plain SH", bounce, surface))
+                    << world << ", " << bounce << ", " << surface;
+            }
         }
     }
 }
@@ -127,8 +186,10 @@ TEST_F(FrameSweepQuick, TheImagesItNamesExist) {
     const auto& scenes = output_->json.at("scenes");
     ASSERT_EQ(scenes.size(), 2u);
     for (const auto& scene : scenes) {
-        for (const std::string key : {"reference", "reference_one_bounce", "default", "plain_sh",
-                                      "thesis", "error_default", "error_plain_sh"}) {
+        for (const std::string key :
+             {"reference", "reference_one_bounce", "default", "default_one_bounce",
+              "oer_no_occlusion", "plain_sh", "thesis", "error_default", "error_default_one_bounce",
+              "error_oer_no_occlusion", "error_plain_sh"}) {
             ASSERT_TRUE(scene.at("images").contains(key)) << scene.dump();
             const std::string path = scene.at("images").at(key);
             ASSERT_TRUE(images_->contains(path)) << path;

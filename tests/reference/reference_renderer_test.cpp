@@ -170,6 +170,26 @@ TEST(ReferenceRendererFurnace, MisIsWithinItsNoiseAndUnbiased) {
     EXPECT_LT(std::abs(bias), 4.0 * rms / std::sqrt(double(checked)));
 }
 
+// The per-pixel noise measures any set of pixels as ReferenceNoise measures a whole surface
+// (the frame sweep measures the ground near the product with it).
+TEST(ReferenceRendererFurnace, PerPixelNoiseGivesTheSurfacesNoise) {
+    const FrameRequest request = furnace_request(glm::vec3(1.0f), glm::vec3(1.0f), 192, 32);
+    ReferenceOptions options;
+    options.samples = 16;
+    const ReferenceFrame frame = render_reference(request, options);
+    ASSERT_EQ(frame.luminance_noise.size(), frame.surfaces.size());
+    double noise = 0.0, signal = 0.0;
+    for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
+        if (frame.surfaces[i] == ReferenceSurface::Object) {
+            noise += frame.luminance_noise[i] * frame.luminance_noise[i];
+            signal += luminance(rgb_at(frame, i)) * luminance(rgb_at(frame, i));
+        }
+    }
+    ASSERT_GT(frame.noise.object, 0.0);
+    // The image is stored in float: its luminance differs from the halves' mean by rounding.
+    EXPECT_NEAR(std::sqrt(noise / signal), frame.noise.object, 1e-5 * frame.noise.object);
+}
+
 TEST(ReferenceRendererFurnace, SameImageWhateverTheThreadCount) {
     FrameRequest request = furnace_request(glm::vec3(1.0f), glm::vec3(0.5f), 32, 16);
     ReferenceOptions options;

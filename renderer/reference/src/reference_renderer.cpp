@@ -212,6 +212,7 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
     const std::size_t pixel_count = std::size_t(width) * std::size_t(height);
     result.linear.assign(pixel_count * 4, 0.0f);
     result.surfaces.assign(pixel_count, ReferenceSurface::Background);
+    result.luminance_noise.assign(pixel_count, 0.0);
     std::vector<double> luminance_a(pixel_count, 0.0), luminance_b(pixel_count, 0.0);
     const int half = options.samples / 2;
 
@@ -249,6 +250,7 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
         out[3] = float(coverage / options.samples);
         luminance_a[index] = luminance(halves[0] / double(half));
         luminance_b[index] = luminance(halves[1] / double(half));
+        result.luminance_noise[index] = 0.5 * (luminance_a[index] - luminance_b[index]);
     };
 
     const int thread_count = options.threads > 0

@@ -53,6 +53,9 @@ struct ReferenceFrame {
     std::vector<float> linear;
     std::vector<ReferenceSurface> surfaces;  // per pixel, row 0 at the top
     ReferenceNoise noise;
+    // Per pixel, (Y_a - Y_b) / 2 of its two half-sample luminances (ReferenceNoise's numerator):
+    // so that the noise of any set of pixels, not only a whole surface, can be measured.
+    std::vector<double> luminance_noise;
     double render_ms = 0.0;
 };
 
