@@ -220,8 +220,16 @@ Rig rig_from_json(const json& document, const json& masks) {
         rig.sh.per_light.push_back(
             coefficients(per_light[k], "sh/per_light/" + std::to_string(k), rig.order));
     }
-    rig.residual_above_horizon = coefficients(member(sh, "sh", "residual_above_horizon"),
-                                              "sh/residual_above_horizon", rig.order);
+    rig.sh.all_above_horizon = coefficients(member(sh, "sh", "radiance_above_horizon"),
+                                            "sh/radiance_above_horizon", rig.order);
+    const json& per_light_above = member(sh, "sh", "per_light_above_horizon");
+    if (!per_light_above.is_array() || per_light_above.size() != rig.lights.size()) {
+        read.fail("sh/per_light_above_horizon", "expected one coefficient list per light");
+    }
+    for (std::size_t k = 0; k < per_light_above.size(); ++k) {
+        rig.sh.per_light_above_horizon.push_back(coefficients(
+            per_light_above[k], "sh/per_light_above_horizon/" + std::to_string(k), rig.order));
+    }
     if (const auto error = sh.find("irradiance_error"); error != sh.end()) {
         rig.reference_error = number(*error, "sh/irradiance_error", 0.0, kHuge);
     }

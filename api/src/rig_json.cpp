@@ -48,6 +48,10 @@ nlohmann::json rig_to_json(const Rig& rig, const std::string& id) {
     for (const ShRgb& light : rig.sh.per_light) {
         per_light.push_back(coefficients_json(light));
     }
+    nlohmann::json per_light_above_horizon = nlohmann::json::array();
+    for (const ShRgb& light : rig.sh.per_light_above_horizon) {
+        per_light_above_horizon.push_back(coefficients_json(light));
+    }
     nlohmann::json window = {{"kind", to_string(rig.window.kind)}, {"reason", rig.window_reason}};
     if (rig.window.kind != WindowKind::None) {
         window["cutoff"] = rig.window.cutoff;
@@ -57,7 +61,8 @@ nlohmann::json rig_to_json(const Rig& rig, const std::string& id) {
                   {"window", std::move(window)},
                   {"radiance", coefficients_json(rig.sh.all)},
                   {"per_light", std::move(per_light)},
-                  {"residual_above_horizon", coefficients_json(rig.residual_above_horizon)}};
+                  {"radiance_above_horizon", coefficients_json(rig.sh.all_above_horizon)},
+                  {"per_light_above_horizon", std::move(per_light_above_horizon)}};
     if (rig.reference_error >= 0.0) {
         json["sh"]["irradiance_error"] = rig.reference_error;
     }

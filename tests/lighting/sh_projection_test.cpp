@@ -119,6 +119,37 @@ TEST(ShProjection, ConstantMapHasTheExactMean) {
     }
 }
 
+// The above-horizon part is the projection of the map with its lower rows blackened, for the
+// whole map and for each light, whether one thread projects or two (the split is the horizon);
+// a light straddling the horizon keeps the share of its pixels above it.
+TEST(ShProjection, AboveTheHorizonIsTheUpperHalfsProjection) {
+    for (const auto& [width, height] : {std::pair{96, 48}, std::pair{512, 256}}) {
+        HdrImage image = test::random_map(width, height, 5);
+        const std::vector<std::vector<std::uint32_t>> masks = {
+            blob(image, width / 4, height / 2 - 3, 6, 6), blob(image, width / 2, height / 8, 4, 3)};
+        const ShProjection projection = project_environment(image, masks, 4);
+        HdrImage upper = image;
+        for (std::size_t i = std::size_t(width) * std::size_t(height / 2); i < upper.pixel_count();
+             ++i) {
+            upper.set(i, glm::vec3(0.0f));
+        }
+        const ShProjection expected = project_environment(upper, masks, 4);
+        expect_close(projection.all_above_horizon, expected.all, 1e-9, "whole map");
+        ASSERT_EQ(projection.per_light_above_horizon.size(), 2u);
+        for (std::size_t k = 0; k < 2; ++k) {
+            expect_close(projection.per_light_above_horizon[k], expected.per_light[k], 1e-9,
+                         "light " + std::to_string(k));
+        }
+        // The light wholly above the horizon keeps all of itself; the straddling one about half.
+        expect_close(projection.per_light_above_horizon[1], projection.per_light[1], 1e-12,
+                     "light above");
+        const double share = projection.per_light_above_horizon[0].coefficients[0].g /
+                             projection.per_light[0].coefficients[0].g;
+        EXPECT_GT(share, 0.3);
+        EXPECT_LT(share, 0.7);
+    }
+}
+
 TEST(ShProjection, SubsetsEqualProjectingTheBlackenedMap) {
     HdrImage image = test::random_map(96, 48, 21);
     const std::vector<std::vector<std::uint32_t>> masks = {

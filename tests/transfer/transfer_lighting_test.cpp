@@ -130,8 +130,8 @@ TEST(TransferLighting, WithTheGroundTheMapBelowTheHorizonIsTheGroundsRadiance) {
     ASSERT_GT(rig.lights[1].direction.y, 0.0);
     const std::vector<float> weights{1.0f, 0.5f};
     const TransferLighting dark = transfer_lighting(rig, weights, 0.0, 5, true, Bounce::None);
-    EXPECT_LT(largest_difference(dark.residual, rig.residual_above_horizon), 1e-12);
-    ShRgb above = rig.residual_above_horizon;
+    EXPECT_LT(largest_difference(dark.residual, residual_above_horizon(rig.sh, 5)), 1e-12);
+    ShRgb above = residual_above_horizon(rig.sh, 5);
     ShRgb half_light = rig.sh.per_light[1];
     half_light *= 0.5;
     above += rig.sh.per_light[0];

@@ -5,8 +5,8 @@
 // Diffuse: the SH irradiance E of the map with every light's weight and visibility
 // (DESIGN.md section 2), E = E(all) - sum_k (1 - w_k v_k) E(k); with occlusion (TRANSFER 1,
 // issue 13) E = T(x) . R + sum_k w_k v_k E(k), the transfer's irradiance of the residual map
-// given per fragment and set 0 holding only the lights' part, and with the ground a light below
-// its horizon reaches nothing (the plane is in the way). A Lambertian material
+// given per fragment and set 0 holding only the lights' part (with the ground, each light's
+// part above the horizon: the plane hides the rest). A Lambertian material
 // (metallic -1), and every material under the thesis's model (which has no specular BRDF,
 // SPECULAR 0), reflects base E u_albedo_scale. A metallic-roughness material (glTF 2.0
 // Appendix B, SPECULAR 1) reflects, by the split sum with multiple scattering (brdf.glsl),
@@ -23,9 +23,6 @@ uniform vec2 u_yaw;  // (cos, sin) of the environment's yaw
 uniform vec3 u_eye;
 uniform float u_albedo_scale;      // 1 / pi (hdr model) or 1 (thesis model)
 uniform float u_attenuation_base;  // thesis: 1 - sum_k (1 - w_k) luminance_share_k
-#if TRANSFER
-uniform bool u_ground_horizon;  // the frame has the ground plane
-#endif
 #if LIGHTS_ON > 0
 uniform vec3 u_light_direction[LIGHTS_ON];  // world space: turned by the yaw
 uniform float u_light_share[LIGHTS_ON];     // w_k luminance_share_k (thesis); 0 (hdr)
@@ -56,11 +53,6 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
     mat2 rotation = disc_rotation(gl_FragCoord.xy);
     for (int k = 0; k < LIGHTS_ON; ++k) {
         float v = visibility(k, position, n, rotation);
-#if TRANSFER
-        if (u_ground_horizon && u_light_direction[k].y < 0.0) {
-            v = 0.0;
-        }
-#endif
         // Skipped where the light is seen, as at most samples (DESIGN.md section 8).
         vec3 light_irradiance = v < 1.0 ? irradiance(k + 1, Y) : vec3(0.0);
         // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2) as set 0 minus

@@ -45,20 +45,24 @@ void add_lights(FrameContext& frame) {
     // The split of frame_context.hpp (visibility_coefficients' sum with 1 - w_k for 1 - v_k,
     // which it cannot take: w_k goes up to 4). A weight of 1 adds nothing, and a weight of 0
     // takes E(k) off exactly as an off light did.
-    // Under occlusion the residual map's part, E(all) - sum_k E(k), is the transfer's instead.
+    // Under occlusion the residual map's part, E(all) - sum_k E(k), is the transfer's instead,
+    // and with the ground a light lights only with its part above the horizon (the plane hides
+    // the rest: a light straddling the horizon, as Blender's studio has two, loses half).
+    const std::vector<ShRgb>& lights =
+        frame.transfer && request.ground ? rig.sh.per_light_above_horizon : rig.sh.per_light;
     ShRgb constant = frame.transfer ? ShRgb(rig.sh.all.order) : rig.sh.all;
     for (std::size_t k = 0; k < light_count; ++k) {
         const double change =
             frame.transfer ? double(frame.weights[k]) : double(frame.weights[k]) - 1.0;
         if (change != 0.0) {
-            ShRgb scaled = rig.sh.per_light[k];
+            ShRgb scaled = lights[k];
             scaled *= change;
             constant += scaled;
         }
     }
     frame.irradiance_sets.push_back(irradiance_coefficients(constant, rig.window));
     for (const std::size_t k : frame.lit) {
-        ShRgb weighted = irradiance_coefficients(rig.sh.per_light[k], rig.window);
+        ShRgb weighted = irradiance_coefficients(lights[k], rig.window);
         if (frame.weights[k] != 1.0f) {
             weighted *= double(frame.weights[k]);
         }

@@ -47,8 +47,8 @@ struct FrameContext {
     // Occlusion (issue 13; FrameRequest::occlusion with its transfer): set 0 is then the lights'
     // part alone, sum_k w_k E(k), and the residual map's irradiance, occluded and reflected,
     // comes from the transfer (transfer_lighting.hpp) per vertex of every object's primitives
-    // and per texel of the ground's grid. With the ground, a light below its horizon reaches no
-    // object either.
+    // and per texel of the ground's grid. With the ground, each light lights with its part above
+    // the horizon only.
     bool transfer = false;
     std::vector<glm::vec3> transferred_vertices;  // every object's primitives, in order
     // [object][primitive]: the index in transferred_vertices of the primitive's first vertex

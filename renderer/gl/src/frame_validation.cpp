@@ -82,6 +82,13 @@ void validate_transfer(const FrameRequest& request) {
         fail("occlusion", "occlusion needs the scene's baked transfer, and none was given");
     }
     const SceneTransfer& transfer = *request.transfer;
+    const ShProjection& sh = request.rig->sh;
+    if (request.ground && (sh.per_light_above_horizon.size() != sh.per_light.size() ||
+                           sh.all_above_horizon.order < transfer_order(*request.rig))) {
+        fail("environment",
+             "occlusion with the ground needs the rig's projection above the "
+             "horizon, and it has none");
+    }
     if (transfer.bounce != request.bounce) {
         fail("bounce", std::string("the transfer was baked with bounce ") +
                            (transfer.bounce == Bounce::One ? "one" : "none") + ", the frame asks " +

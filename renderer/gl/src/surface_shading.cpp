@@ -22,9 +22,6 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
     glUniform3fv(program.uniform("u_eye"), 1, glm::value_ptr(frame.camera.eye));
     glUniform1f(program.uniform("u_albedo_scale"), thesis ? 1.0f : float(1.0 / std::numbers::pi));
     glUniform1f(program.uniform("u_attenuation_base"), float(frame.attenuation_base));
-    if (frame.transfer) {
-        glUniform1i(program.uniform("u_ground_horizon"), frame.request.ground ? 1 : 0);
-    }
     for (std::size_t i = 0; i < frame.lit.size(); ++i) {
         const std::size_t k = frame.lit[i];
         glUniform3fv(program.uniform(element("u_light_direction", i)), 1,

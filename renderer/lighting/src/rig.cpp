@@ -277,18 +277,15 @@ Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOpti
     } else if (rig.order <= 3) {
         // Projection at a lower order is the truncation of the order-3 one.
         rig.sh.all = chosen_sh.all.truncated(rig.order);
-        for (const ShRgb& light : chosen_sh.per_light) {
-            rig.sh.per_light.push_back(light.truncated(rig.order));
+        rig.sh.all_above_horizon = chosen_sh.all_above_horizon.truncated(rig.order);
+        for (std::size_t k = 0; k < chosen_sh.per_light.size(); ++k) {
+            rig.sh.per_light.push_back(chosen_sh.per_light[k].truncated(rig.order));
+            rig.sh.per_light_above_horizon.push_back(
+                chosen_sh.per_light_above_horizon[k].truncated(rig.order));
         }
-        rig.residual_above_horizon = residual_above_horizon(chosen_sh, rig.order);
     } else {
         rig.sh = project_environment(image, light_pixels, rig.order);
     }
-    if (rig.residual_above_horizon.order == 0) {
-        rig.residual_above_horizon = residual_above_horizon(rig.sh, rig.order);
-    }
-    rig.sh.all_above_horizon = {};
-    rig.sh.per_light_above_horizon.clear();
     rig.timings_ms["project"] = elapsed_ms(start);
 
     start = Clock::now();

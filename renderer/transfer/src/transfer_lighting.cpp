@@ -10,6 +10,7 @@
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
+#include "oer/lighting/sh_projection.hpp"
 #include "oer/lighting/sh_rotation.hpp"
 
 namespace oer {
@@ -75,12 +76,8 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
         invalid("order " + std::to_string(order) + " is outside 1.." +
                 std::to_string(transfer_order(rig)));
     }
-    if (ground && rig.residual_above_horizon.order < order) {
-        invalid("the rig has no residual above the horizon at order " + std::to_string(order));
-    }
     // The yaw turns about +Y: it keeps the horizon, so the ground's part needs no turning.
-    ShRgb residual =
-        ground ? rig.residual_above_horizon.truncated(order) : rig.sh.all.truncated(order);
+    ShRgb residual = ground ? residual_above_horizon(rig.sh, order) : rig.sh.all.truncated(order);
     if (!ground) {
         for (const ShRgb& light : rig.sh.per_light) {
             residual -= light.truncated(order);
@@ -88,10 +85,10 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
     }
     ShRgb whole = residual;
     for (std::size_t k = 0; k < rig.lights.size(); ++k) {
-        // A light below the horizon lights nothing above the plane (its pixels are all below
-        // or it straddles the horizon: its direction decides).
-        if (weights[k] != 0.0f && !(ground && rig.lights[k].direction.y < 0.0)) {
-            ShRgb light = rig.sh.per_light[k].truncated(order);
+        if (weights[k] != 0.0f) {
+            // With the ground, only the part of the light above the horizon lights anything.
+            ShRgb light =
+                (ground ? rig.sh.per_light_above_horizon[k] : rig.sh.per_light[k]).truncated(order);
             light *= double(weights[k]);
             whole += light;
         }

@@ -51,11 +51,11 @@ struct Rig {
     std::string order_reason;
     ShWindow window;
     std::string window_reason;
-    ShProjection sh;  // unwindowed radiance: whole map and per light (of the tone-mapped map
-                      // in the thesis model); its above-horizon parts are not kept
-    // The residual map (without its lights' pixels) above the horizon, at `order`: with the
-    // ground as lighting (issue 13), what a point above the plane sees of the map's residual.
-    ShRgb residual_above_horizon;
+    // Unwindowed radiance: whole map and per light (of the tone-mapped map in the thesis model),
+    // and the same above the horizon only: with the ground as lighting (issue 13), what a point
+    // above the plane sees of the map and of each light (a light near the horizon is partly
+    // hidden by the plane).
+    ShProjection sh;
     double reference_error =
         -1.0;  // relative RMS irradiance error of the chosen order, if measured
     std::map<std::string, double> timings_ms;

@@ -32,7 +32,8 @@ struct TransferLighting {
     //
     // With the ground as lighting (DESIGN.md section 2), a point above the infinite plane sees
     // the plane in every direction below its horizon, never the map: R and L are then the map's
-    // above the horizon (Rig::residual_above_horizon, and each light above it) plus, below it,
+    // above the horizon (the rig's above-horizon projection: the residual, and each light's part
+    // above the horizon) plus, below it,
     // the open ground's radiance g = albedo / pi E_g, E_g the irradiance of L above the horizon
     // at +Y, under Bounce::One; nothing under Bounce::None (the ground reflects nothing). The
     // bake counts a ray that meets the plane as seeing this lighting, and adds the ground's
