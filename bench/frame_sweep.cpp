@@ -8,7 +8,8 @@
 // (the renderer's own pass timings, shadow maps cached, and the shadow pass when they are new)
 // and, at the compare size, the error against the path-traced reference (renderer/reference: no
 // bounce, and one diffuse bounce), over the product's pixels, the ground's, and the ground's near
-// the product (where contact shadows and reflected light live) separately: relative RMS of
+// the product (where contact shadows and reflected light live) separately, each without its
+// silhouette (interior_mask: a pixel there measures anti-aliasing, not light): relative RMS of
 // luminance, and model-viewer's render-fidelity metric in dB (frame_metrics.hpp).
 //
 // A configuration with occlusion is rendered once per bounce mode, its transfer baked in that
@@ -356,7 +357,28 @@ std::vector<std::uint8_t> near_ground_footprint(const oer::FrameRequest& request
     return near;
 }
 
-// What a reference is compared on: its surfaces as masks, and its luminance.
+// The pixels of `surface` whose four neighbours (within the image) are of it too. A pixel on a
+// silhouette is a mixture whose value depends on how a renderer integrates the pixel (ours its
+// 2 x 2 supersamples, the reference random points), not on its lighting: on the bunny under
+// Blender's studio, whose bright lamp is behind its ears, silhouette pixels made 96 % of the
+// product's squared error (relative RMS 0.155 over every pixel, 0.034 inside).
+std::vector<std::uint8_t> interior_mask(const std::vector<oer::ReferenceSurface>& surfaces,
+                                        int width, int height, oer::ReferenceSurface surface) {
+    std::vector<std::uint8_t> mask(surfaces.size(), 0);
+    const auto is = [&](int x, int y) {
+        return x < 0 || y < 0 || x >= width || y >= height ||
+               surfaces[std::size_t(y) * std::size_t(width) + std::size_t(x)] == surface;
+    };
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            mask[std::size_t(y) * std::size_t(width) + std::size_t(x)] =
+                is(x, y) && is(x - 1, y) && is(x + 1, y) && is(x, y - 1) && is(x, y + 1) ? 1 : 0;
+        }
+    }
+    return mask;
+}
+
+// What a reference is compared on: its surfaces' interiors as masks, and its luminance.
 struct ReferenceImage {
     oer::ReferenceFrame frame;
     int samples = 0;
@@ -375,12 +397,14 @@ ReferenceImage render_reference(const oer::FrameRequest& request, oer::Bounce bo
     image.samples = samples;
     image.luminance = oer::bench::frame_luminance(image.frame.linear);
     const std::vector<std::uint8_t> near = near_ground_footprint(request);
-    for (std::size_t i = 0; i < image.frame.surfaces.size(); ++i) {
-        const oer::ReferenceSurface surface = image.frame.surfaces[i];
-        image.object_mask.push_back(surface == oer::ReferenceSurface::Object ? 1 : 0);
-        image.ground_mask.push_back(surface == oer::ReferenceSurface::Ground ? 1 : 0);
-        image.near_ground_mask.push_back(surface == oer::ReferenceSurface::Ground ? near[i] : 0);
-        image.surface_mask.push_back(surface != oer::ReferenceSurface::Background ? 1 : 0);
+    const std::vector<oer::ReferenceSurface>& surfaces = image.frame.surfaces;
+    const int width = image.frame.width, height = image.frame.height;
+    image.object_mask = interior_mask(surfaces, width, height, oer::ReferenceSurface::Object);
+    image.ground_mask = interior_mask(surfaces, width, height, oer::ReferenceSurface::Ground);
+    for (std::size_t i = 0; i < surfaces.size(); ++i) {
+        image.near_ground_mask.push_back(image.ground_mask[i] != 0 ? near[i] : 0);
+        image.surface_mask.push_back(
+            surfaces[i] != oer::ReferenceSurface::Background ? 1 : 0);
     }
     return image;
 }
@@ -411,22 +435,18 @@ struct Surface {
 };
 std::vector<Surface> surfaces_of(const ReferenceImage& reference) {
     std::vector<Surface> list;
-    if (reference.frame.noise.object_pixels > 0) {
-        list.push_back({"object", reference.object_mask, reference.frame.noise.object,
-                        reference.frame.noise.object_pixels});
-    }
-    if (reference.frame.noise.ground_pixels > 0) {
-        list.push_back({"ground", reference.ground_mask, reference.frame.noise.ground,
-                        reference.frame.noise.ground_pixels});
-    }
-    const auto near_pixels = std::size_t(
-        std::count(reference.near_ground_mask.begin(), reference.near_ground_mask.end(), 1));
-    if (near_pixels > 0) {
-        list.push_back({"ground near", reference.near_ground_mask,
-                        oer::bench::relative_noise(reference.frame.luminance_noise,
-                                                   reference.luminance, reference.near_ground_mask),
-                        near_pixels});
-    }
+    const auto add = [&](const char* name, const std::vector<std::uint8_t>& mask) {
+        const auto pixels = std::size_t(std::count(mask.begin(), mask.end(), 1));
+        if (pixels > 0) {
+            list.push_back({name, mask,
+                            oer::bench::relative_noise(reference.frame.luminance_noise,
+                                                       reference.luminance, mask),
+                            pixels});
+        }
+    };
+    add("object", reference.object_mask);
+    add("ground", reference.ground_mask);
+    add("ground near", reference.near_ground_mask);
     return list;
 }
 

@@ -7,14 +7,24 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 quick=()
+samples=()
 report_dir="$root/docs"
-if [[ "${1:-}" == "--quick" ]]; then
-    quick=(--quick)
-    report_dir="$root/build/accuracy/report"
-elif [[ $# -gt 0 ]]; then
-    echo "usage: $0 [--quick]" >&2
-    exit 2
-fi
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --quick)
+            quick=(--quick)
+            report_dir="$root/build/accuracy/report"
+            shift ;;
+        # The reference's sample cap (frame_sweep --max-samples, default 32768): a lower cap
+        # bounds the run's time, and rows whose reference stays too noisy are marked as such.
+        --max-samples)
+            samples=(--max-samples "$2")
+            shift 2 ;;
+        *)
+            echo "usage: $0 [--quick] [--max-samples N]" >&2
+            exit 2 ;;
+    esac
+done
 
 "$root/scripts/setup-debian.sh" --with-test-data
 "$root/scripts/build.sh" "$root/build"
@@ -34,7 +44,7 @@ done
 bin="$root/build/bin"
 "$bin/lighting_sweep" "${quick[@]}" --json "$out/lighting.json" --csv "$out/lighting.csv"
 "$bin/light_location_sweep" "${quick[@]}" --json "$out/location.json" --csv "$out/location.csv"
-"$bin/frame_sweep" "${quick[@]}" --mesh-dir "$meshes" --out "$out/frames"
+"$bin/frame_sweep" "${quick[@]}" "${samples[@]}" --mesh-dir "$meshes" --out "$out/frames"
 "$bin/material_gallery" --out "$out/gallery"
 
 /usr/bin/python3 "$root/docs/accuracy/make_report.py" --lighting "$out/lighting.json" \

@@ -259,7 +259,10 @@ def occlusion_section(frames: FrameRows, figure_link: str | None) -> str:
         "with the direct reference, `one` (the default) with the one-bounce reference. "
         "\"OER\" is the default before issue 13 (`--occlusion off`). Errors: relative RMS of "
         "luminance over the product's pixels and over the ground's within one bounding-sphere "
-        "radius of the product's footprint (\"ground near\"), all lights on. \"bake ms\": the "
+        "radius of the product's footprint (\"ground near\"), all lights on; every surface "
+        "without its silhouette (a pixel whose four neighbours are not all of its surface "
+        "measures how a renderer integrates the pixel, not its light: under the studio lamp "
+        "behind the bunny's ears, 96 % of the product's squared error was there). \"bake ms\": the "
         "transfer's bake in that mode (once per mesh, every world shares it); \"frame ms\": the "
         "whole frame at the time size.", "",
         occlusion_table(frames), "",
