@@ -403,8 +403,7 @@ ReferenceImage render_reference(const oer::FrameRequest& request, oer::Bounce bo
     image.ground_mask = interior_mask(surfaces, width, height, oer::ReferenceSurface::Ground);
     for (std::size_t i = 0; i < surfaces.size(); ++i) {
         image.near_ground_mask.push_back(image.ground_mask[i] != 0 ? near[i] : 0);
-        image.surface_mask.push_back(
-            surfaces[i] != oer::ReferenceSurface::Background ? 1 : 0);
+        image.surface_mask.push_back(surfaces[i] != oer::ReferenceSurface::Background ? 1 : 0);
     }
     return image;
 }

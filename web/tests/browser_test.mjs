@@ -631,7 +631,7 @@ try {
     // Refined at load for its per-vertex lighting (issue 13): 16 segments along every side of
     // every face, 6 x 2 x 16^2 triangles.
     assert.equal(mesh.counts.triangles, 3072);
-    assert.equal(await uploadStatus.textContent(), 'cube.obj: 3072 triangles');
+    assert.equal(await uploadStatus.textContent(), 'cube.obj: 3,072 triangles');
     assert.equal(await viewerAttribute('mesh'), mesh.id);
     assert.equal(await page.locator('#mesh-picker option:checked').textContent(), 'cube.obj');
     const handle = await page.waitForFunction(
