@@ -63,7 +63,7 @@ struct Service::Impl {
           environments(store, metrics, log, ImageLimits{config.max_image_pixels, 32768},
                        kAssetCacheBytes),
           meshes(store, metrics, mesh_limits(config), kAssetCacheBytes / 2),
-          transfers(store, metrics, log, kTransferCacheBytes),
+          transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget)),
           frames(config.frame_cache_bytes) {
         render_limits.max_width = config.max_frame_width;
         render_limits.max_height = config.max_frame_height;

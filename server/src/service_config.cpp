@@ -154,6 +154,10 @@ const std::vector<Option>& options() {
                        &ServiceConfig::http_threads, 1, 1024),
         integer_option("frame-cache-bytes", "BYTES", "memory for encoded frames; 0: no cache",
                        &ServiceConfig::frame_cache_bytes, 0, 1ull << 40),
+        integer_option("transfer-ray-budget", "RAYS",
+                       "rays per phase of a scene's transfer bake, shared by its points (fewer: "
+                       "faster bakes, noisier occlusion)",
+                       &ServiceConfig::transfer_ray_budget, 100'000, 1'000'000'000),
         Option{"access-log", "on|off", "one line per request on stderr",
                [](ServiceConfig& config, const std::string& source, const std::string& text) {
                    if (text != "on" && text != "off") {

@@ -60,7 +60,8 @@ std::string misfit(const SceneTransfer& transfer, const FrameRequest& request) {
 
 }  // namespace
 
-std::string transfer_id(const FrameRequest& request, const std::vector<std::string>& mesh_ids) {
+std::string transfer_id(const FrameRequest& request, const std::vector<std::string>& mesh_ids,
+                        int rays) {
     if (mesh_ids.size() != request.objects.size()) {
         throw Error(ErrorKind::Internal, "transfer_id: " + std::to_string(mesh_ids.size()) +
                                              " mesh id(s) for " +
@@ -86,22 +87,24 @@ std::string transfer_id(const FrameRequest& request, const std::vector<std::stri
     const nlohmann::json bake = {{"objects", objects},
                                  {"ground", request.ground},
                                  {"bounce", api::to_string(request.bounce)},
-                                 {"rays", transfer_ray_count(request.objects)},
+                                 {"rays", rays},
                                  {"order", kTransferBakeOrder}};
     return api::sha256_hex("oer-transfer-v" + std::to_string(kTransferBakeVersion) + "\n" +
                            bake.dump());
 }
 
 TransferRegistry::TransferRegistry(AssetStore& store, ServiceMetrics& metrics, Log log,
-                                   std::size_t cache_bytes)
+                                   std::size_t cache_bytes, double rays_per_phase)
     : store_(store),
       metrics_(metrics),
       log_(std::move(log)),
-      transfers_(metrics, CacheName::Transfer, cache_bytes) {}
+      transfers_(metrics, CacheName::Transfer, cache_bytes),
+      rays_per_phase_(rays_per_phase) {}
 
 std::shared_ptr<const SceneTransfer> TransferRegistry::transfer(
     const FrameRequest& request, const std::vector<std::string>& mesh_ids) {
-    const std::string id = transfer_id(request, mesh_ids);
+    const int rays = transfer_ray_count(request.objects, rays_per_phase_);
+    const std::string id = transfer_id(request, mesh_ids, rays);
     return transfers_
         .upload(
             id,
@@ -111,7 +114,7 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::transfer(
                 }
                 return load_stored(id, request);
             },
-            [&] { return bake(id, request); })
+            [&] { return bake(id, request, rays); })
         .asset;
 }
 
@@ -140,10 +143,11 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::load_stored(const std::st
 }
 
 std::shared_ptr<const SceneTransfer> TransferRegistry::bake(const std::string& id,
-                                                            const FrameRequest& request) {
+                                                            const FrameRequest& request, int rays) {
     const auto start = std::chrono::steady_clock::now();
     TransferBakeOptions options;
     options.bounce = request.bounce;
+    options.rays = rays;
     auto transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, options));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -24,29 +24,34 @@ namespace oer::server {
 // each object's mesh id (mesh_ids, parallel to request.objects: content ids, or the preset's),
 // transform and base colour, the ground, the bounce, the ray count of transfer_ray_count's rule,
 // kTransferBakeOrder and the bake's version (transfer_registry.cpp).
-std::string transfer_id(const FrameRequest& request, const std::vector<std::string>& mesh_ids);
+std::string transfer_id(const FrameRequest& request, const std::vector<std::string>& mesh_ids,
+                        int rays);
 
 class TransferRegistry {
   public:
     using Log = std::function<void(std::string_view)>;
 
-    TransferRegistry(AssetStore& store, ServiceMetrics& metrics, Log log, std::size_t cache_bytes);
+    // rays_per_phase: ServiceConfig::transfer_ray_budget, which transfer_ray_count shares out.
+    TransferRegistry(AssetStore& store, ServiceMetrics& metrics, Log log, std::size_t cache_bytes,
+                     double rays_per_phase);
 
     // The transfer of request's objects, ground and bounce, from memory, the store, or baked
-    // (with transfer_ray_count's rays on every core). Throws oer::Error as bake_transfer does
-    // (InvalidInput for a request without objects).
+    // (with transfer_ray_count's rays for the budget on every core). Throws oer::Error as
+    // bake_transfer does (InvalidInput for a request without objects).
     std::shared_ptr<const SceneTransfer> transfer(const FrameRequest& request,
                                                   const std::vector<std::string>& mesh_ids);
 
   private:
     std::shared_ptr<const SceneTransfer> load_stored(const std::string& id,
                                                      const FrameRequest& request);
-    std::shared_ptr<const SceneTransfer> bake(const std::string& id, const FrameRequest& request);
+    std::shared_ptr<const SceneTransfer> bake(const std::string& id, const FrameRequest& request,
+                                              int rays);
 
     AssetStore& store_;
     ServiceMetrics& metrics_;
     const Log log_;
     AssetRegistry<SceneTransfer> transfers_;
+    const double rays_per_phase_;
 };
 
 }  // namespace oer::server

@@ -85,6 +85,10 @@ server::ServiceConfig test_config(const std::filesystem::path& data_dir) {
     config.port = 0;
     config.data_dir = data_dir;
     config.render_workers = 1;
+    // Every test server bakes the default scene's transfer before it is ready: the smallest
+    // budget (64 rays a point) keeps that to a fraction of a second, under the sanitizers too
+    // (at the default budget it was about 13 s there, for each of some 50 servers).
+    config.transfer_ray_budget = 100'000;
     config.access_log = true;
     return config;
 }

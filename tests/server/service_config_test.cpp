@@ -64,6 +64,7 @@ const std::vector<std::string> kEveryFlag{
     "keep-alive-max-count",
     "http-threads",
     "frame-cache-bytes",
+    "transfer-ray-budget",
     "access-log",
 };
 
@@ -72,7 +73,7 @@ const std::vector<std::string> kEveryValue{
     "0.0.0.0", "9000", "/var/lib/oer", "secret", "https://a.example, http://b.example:3000",
     "1000",    "2000", "3000",         "640",    "480",
     "4",       "2",    "60",           "10",     "50",
-    "16",      "0",    "off",
+    "16",      "0",    "250000",       "off",
 };
 
 void expect_every_value(const ServiceConfig& config) {
@@ -94,6 +95,7 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.keep_alive_max_count, 50);
     EXPECT_EQ(config.http_threads, 16);
     EXPECT_EQ(config.frame_cache_bytes, 0u);
+    EXPECT_EQ(config.transfer_ray_budget, 250'000u);
     EXPECT_FALSE(config.access_log);
 }
 
@@ -118,6 +120,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.keep_alive_max_count, 100);
     EXPECT_EQ(config.http_threads, 64);
     EXPECT_EQ(config.frame_cache_bytes, 268'435'456u);
+    EXPECT_EQ(config.transfer_ray_budget, 6'000'000u);
     EXPECT_TRUE(config.access_log);
 }
 

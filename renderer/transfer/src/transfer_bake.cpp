@@ -55,7 +55,8 @@ constexpr double kRayOffsetOverRadius = 1e-4;
 // Every receiver's jitter comes from this seed and the receiver's index.
 constexpr std::uint64_t kBakeSeed = 1;
 
-// The rule of transfer_ray_count: a ray budget per bake phase shared by every receiver point.
+// The rule of transfer_ray_count: a ray budget per bake phase shared by every receiver point,
+// kTransferRayBudget (6 M) by default.
 // Measured with bench/transfer_benchmark on the shared 2-core machine (AMD EPYC, AVX-512; the
 // Stanford bunny's 34,835 vertices plus the 4,096 ground texels, 47 % of the rays blocked):
 // Bounce::One costs 2.8 to 3.1 s of CPU at 144 rays per point and 3.4 to 3.7 s at 196, i.e.
@@ -64,7 +65,6 @@ constexpr std::uint64_t kBakeSeed = 1;
 // that). 144 keeps issue 13's 2 s with a margin for the machine's noise; its error is about 1 %
 // of the visible fraction (the contact shadow of a sphere on the ground, tests/transfer: RMS
 // 0.98 % over 2416 texels at 144 rays, 0.15 % at 2304).
-constexpr double kRaysPerPhaseBudget = 6.0e6;
 // Stratified rays come in strata x strata cells: 8 x 8 (64) at least, below which the
 // occlusion of a single receiver is visibly noisy (the binomial error of a half-occluded point is
 // 6 %), and 32 x 32 (1024) at most, where the binomial error is at most 1.6 % and the
@@ -351,13 +351,13 @@ class DirectAtHit {
 
 }  // namespace
 
-int transfer_ray_count(const std::vector<SceneObject>& objects) {
+int transfer_ray_count(const std::vector<SceneObject>& objects, double rays_per_phase) {
     // The ground's grid is counted whether or not a frame has the ground: the rule sees the
     // objects only, and an upper bound keeps the bake within its time.
     const double receivers =
         double(receiver_count(objects)) + double(kGroundResolution) * kGroundResolution;
     const int strata =
-        std::clamp(int(std::sqrt(kRaysPerPhaseBudget / receivers)), kMinStrata, kMaxStrata);
+        std::clamp(int(std::sqrt(rays_per_phase / receivers)), kMinStrata, kMaxStrata);
     return strata * strata;
 }
 

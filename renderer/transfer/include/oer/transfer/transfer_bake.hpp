@@ -18,7 +18,11 @@ struct TransferBakeOptions {
 
 // The rays per receiver point the rule gives for these objects (their vertex count bounds the
 // bake's work; see the definition for the rule and its measurements).
-int transfer_ray_count(const std::vector<SceneObject>& objects);
+// rays_per_phase: the budget the scene's receivers share (kTransferRayBudget, measured in the
+// definition; a service may spend less to bake faster, more for less noise).
+inline constexpr double kTransferRayBudget = 6.0e6;
+int transfer_ray_count(const std::vector<SceneObject>& objects,
+                       double rays_per_phase = kTransferRayBudget);
 
 // The transfer of request.objects (with their transforms) and, when request.ground, of the
 // ground plane under them. Throws oer::Error (InvalidInput) for a request without objects,
