@@ -38,6 +38,12 @@ void render_geometry(FrameContext& frame, RendererState& state) {
                                                request.linear, frame.blending);
     frame.targets = &targets;
     glBindFramebuffer(GL_FRAMEBUFFER, targets.geometry_framebuffer.get());
+    // The fifth target, the transferred irradiance, only in occlusion frames: a frame without
+    // occlusion writes and pays for four.
+    constexpr GLenum kTargets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                   GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+    glNamedFramebufferDrawBuffers(targets.geometry_framebuffer.get(), frame.transfer ? 5 : 4,
+                                  kTargets);
     glViewport(0, 0, frame.samples_wide, frame.samples_high);
     // Clears honour the write masks, which the previous frame's passes may have left off.
     glDepthMask(GL_TRUE);
