@@ -32,30 +32,7 @@ std::string misfit(const SceneTransfer& transfer, const FrameRequest& request) {
     if (transfer.order != kTransferBakeOrder) {
         return "its order is " + std::to_string(transfer.order);
     }
-    if (transfer.bounce != request.bounce) {
-        return "its bounce is " + api::to_string(transfer.bounce);
-    }
-    if (transfer.ground.has_value() != request.ground) {
-        return transfer.ground ? "it has a ground" : "it has no ground";
-    }
-    if (transfer.objects.size() != request.objects.size()) {
-        return "it has " + std::to_string(transfer.objects.size()) + " object(s)";
-    }
-    for (std::size_t o = 0; o < transfer.objects.size(); ++o) {
-        const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
-        if (transfer.objects[o].size() != primitives.size()) {
-            return "object " + std::to_string(o) + " has " +
-                   std::to_string(transfer.objects[o].size()) + " primitive(s)";
-        }
-        for (std::size_t p = 0; p < primitives.size(); ++p) {
-            if (transfer.objects[o][p].count != primitives[p].positions.size()) {
-                return "object " + std::to_string(o) + ", primitive " + std::to_string(p) +
-                       " has " + std::to_string(transfer.objects[o][p].count) + " point(s) for " +
-                       std::to_string(primitives[p].positions.size()) + " vertices";
-            }
-        }
-    }
-    return {};
+    return transfer_misfit(transfer, request);
 }
 
 }  // namespace

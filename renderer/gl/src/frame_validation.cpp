@@ -89,37 +89,13 @@ void validate_transfer(const FrameRequest& request) {
              "occlusion with the ground needs the rig's projection above the "
              "horizon, and it has none");
     }
-    if (transfer.bounce != request.bounce) {
-        fail("bounce", std::string("the transfer was baked with bounce ") +
-                           (transfer.bounce == Bounce::One ? "one" : "none") + ", the frame asks " +
-                           (request.bounce == Bounce::One ? "one" : "none"));
-    }
     if (transfer.order < transfer_order(*request.rig)) {
         fail("transfer", "baked at order " + std::to_string(transfer.order) +
                              ", the environment needs " +
                              std::to_string(transfer_order(*request.rig)));
     }
-    if (transfer.objects.size() != request.objects.size()) {
-        fail("transfer", "baked for " + std::to_string(transfer.objects.size()) +
-                             " objects, the frame has " + std::to_string(request.objects.size()));
-    }
-    for (std::size_t i = 0; i < request.objects.size(); ++i) {
-        const std::vector<Primitive>& primitives = request.objects[i].mesh->primitives;
-        const std::vector<TransferPoints>& baked = transfer.objects[i];
-        bool matches = baked.size() == primitives.size();
-        for (std::size_t p = 0; matches && p < primitives.size(); ++p) {
-            matches = baked[p].count == primitives[p].positions.size();
-        }
-        if (!matches) {
-            fail("transfer", "object " + std::to_string(i) +
-                                 ": the transfer was baked for another mesh (primitive or "
-                                 "vertex counts differ)");
-        }
-    }
-    if (transfer.ground.has_value() != request.ground) {
-        fail("transfer", std::string("the transfer was baked ") +
-                             (request.ground ? "without" : "with") + " the ground, the frame " +
-                             (request.ground ? "has" : "has none"));
+    if (const std::string misfit = transfer_misfit(transfer, request); !misfit.empty()) {
+        fail("transfer", "not baked for this scene: " + misfit);
     }
 }
 

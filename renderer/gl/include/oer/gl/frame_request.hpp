@@ -86,6 +86,41 @@ struct FrameRequest {
     bool linear = false;           // true: keep linear radiance (EXR), no exposure or tone mapping
 };
 
+// Why `transfer` was not baked for `request`'s scene (the bounce, the ground, one receiver set
+// per object and primitive with a point per vertex), or empty when it was. One check for the
+// renderer's validation and the service's reading of stored transfers.
+inline std::string transfer_misfit(const SceneTransfer& transfer, const FrameRequest& request) {
+    if (transfer.bounce != request.bounce) {
+        return std::string("it was baked with bounce ") +
+               (transfer.bounce == Bounce::One ? "one" : "none") + ", the frame asks " +
+               (request.bounce == Bounce::One ? "one" : "none");
+    }
+    if (transfer.ground.has_value() != request.ground) {
+        return transfer.ground ? "it has a ground, the frame has none"
+                               : "it has no ground, the frame has one";
+    }
+    if (transfer.objects.size() != request.objects.size()) {
+        return "it has " + std::to_string(transfer.objects.size()) + " object(s), the frame " +
+               std::to_string(request.objects.size());
+    }
+    for (std::size_t o = 0; o < transfer.objects.size(); ++o) {
+        const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
+        if (transfer.objects[o].size() != primitives.size()) {
+            return "object " + std::to_string(o) + " has " +
+                   std::to_string(transfer.objects[o].size()) + " primitive(s), its mesh " +
+                   std::to_string(primitives.size());
+        }
+        for (std::size_t p = 0; p < primitives.size(); ++p) {
+            if (transfer.objects[o][p].count != primitives[p].positions.size()) {
+                return "object " + std::to_string(o) + ", primitive " + std::to_string(p) +
+                       " has " + std::to_string(transfer.objects[o][p].count) + " point(s) for " +
+                       std::to_string(primitives[p].positions.size()) + " vertices";
+            }
+        }
+    }
+    return {};
+}
+
 struct Frame {
     int width = 0;
     int height = 0;
