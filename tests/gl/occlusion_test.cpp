@@ -121,6 +121,15 @@ std::shared_ptr<const SceneTransfer> cosine_scene_transfer(const FrameRequest& r
     return transfer;
 }
 
+// `request` lit through cosine_scene_transfer's transfer, in `bounce` mode.
+FrameRequest with_cosine_transfer(FrameRequest request, float object_scale, float ground_scale,
+                                  Bounce bounce = Bounce::None) {
+    request.occlusion = true;
+    request.bounce = bounce;
+    request.transfer = cosine_scene_transfer(request, object_scale, ground_scale, bounce);
+    return request;
+}
+
 class OcclusionTest : public oer::testing::RendererSuite {
   protected:
     // A white sphere resting on the ground, seen from above the horizon, linear output.
@@ -168,10 +177,7 @@ TEST_F(OcclusionTest, AnUnoccludedTransferGivesTheFrameWithoutOcclusion) {
     plain.environment_yaw = 30.0;
     plain.lights = {1.0f, 0.5f, 2.0f};
     const Frame expected = render(plain);
-    FrameRequest occluded = plain;
-    occluded.occlusion = true;
-    occluded.bounce = Bounce::None;
-    occluded.transfer = cosine_scene_transfer(occluded, 1.0f, 1.0f);
+    FrameRequest occluded = with_cosine_transfer(plain, 1.0f, 1.0f);
     const Frame frame = render(occluded);
     // Half floats carry the transferred irradiance (2^-11 relative) and it is interpolated
     // between the sphere's vertices: a tenth of a per cent of the brightest pixel.
@@ -186,10 +192,7 @@ TEST_F(OcclusionTest, AZeroTransferTakesTheResidualMapsIrradianceOffTheGround) {
     FrameRequest plain = sphere_on_ground(rig);
     plain.objects[0].base_color = glm::vec3(0.5f);
     const Frame expected = render(plain);
-    FrameRequest occluded = plain;
-    occluded.occlusion = true;
-    occluded.bounce = Bounce::None;
-    occluded.transfer = cosine_scene_transfer(occluded, 1.0f, 0.0f);
+    FrameRequest occluded = with_cosine_transfer(plain, 1.0f, 0.0f);
     const Frame frame = render(occluded);
     // The ground (albedo 0.8) loses albedo / pi E_R(+Y), the residual's irradiance facing up,
     // wherever it is.
@@ -238,10 +241,7 @@ TEST_F(OcclusionTest, ALightBelowTheGroundsHorizonReachesNoObject) {
     ASSERT_GT(largest_relative_difference(render(plain), render(plain_off)), 0.05);
     // With occlusion and the ground, switching it off changes nothing, in either mode.
     for (const Bounce bounce : {Bounce::None, Bounce::One}) {
-        FrameRequest occluded = plain;
-        occluded.occlusion = true;
-        occluded.bounce = bounce;
-        occluded.transfer = cosine_scene_transfer(occluded, 1.0f, 1.0f, bounce);
+        FrameRequest occluded = with_cosine_transfer(plain, 1.0f, 1.0f, bounce);
         FrameRequest occluded_off = occluded;
         occluded_off.lights = without_it;
         EXPECT_LT(largest_relative_difference(render(occluded), render(occluded_off)), 1e-4);
