@@ -10,7 +10,10 @@
 // bounce, and one diffuse bounce), over the product's pixels, the ground's, and the ground's near
 // the product (where contact shadows and reflected light live) separately, each without its
 // silhouette (interior_mask: a pixel there measures anti-aliasing, not light): relative RMS of
-// luminance, and model-viewer's render-fidelity metric in dB (frame_metrics.hpp).
+// luminance over the means of kErrorBlock x kErrorBlock blocks of pixels (frame_metrics.hpp's
+// BlockGrid: edges inside a product measure anti-aliasing too, and a block's mean has a
+// kErrorBlock-th of a pixel's reference noise), and model-viewer's render-fidelity metric in
+// dB per pixel (frame_metrics.hpp).
 //
 // A configuration with occlusion is rendered once per bounce mode, its transfer baked in that
 // mode, and compared only with the reference of the same mode (bounce none with the direct
@@ -75,6 +78,7 @@ using nlohmann::json;
 constexpr double kNoiseFraction = 0.2;      // the reference's noise at most this share of an error
 constexpr double kErrorMapFullScale = 0.5;  // error maps saturate at +-50 % of the mean
 constexpr int kTimedFrames = 3;             // median of these, shadow maps cached
+constexpr int kErrorBlock = 4;              // the error's blocks, in pixels at the compare size
 
 struct MeshSource {
     std::string name;
@@ -383,6 +387,9 @@ struct ReferenceImage {
     oer::ReferenceFrame frame;
     int samples = 0;
     std::vector<double> luminance;
+    oer::bench::BlockGrid grid;           // the blocks errors are measured over
+    std::vector<double> block_luminance;  // per block, its mean
+    std::vector<double> block_noise;      // per block, its mean's Monte Carlo noise
     std::vector<std::uint8_t> object_mask, ground_mask;
     std::vector<std::uint8_t> near_ground_mask;  // the ground pixels near the product
     std::vector<std::uint8_t> surface_mask;      // object or ground
@@ -396,6 +403,9 @@ ReferenceImage render_reference(const oer::FrameRequest& request, oer::Bounce bo
     image.frame = oer::render_reference(request, options);
     image.samples = samples;
     image.luminance = oer::bench::frame_luminance(image.frame.linear);
+    image.grid = {image.frame.width, image.frame.height, kErrorBlock};
+    image.block_luminance = oer::bench::block_means(image.luminance, image.grid);
+    image.block_noise = oer::bench::block_noise(image.frame.luminance_noise, image.grid);
     const std::vector<std::uint8_t> near = near_ground_footprint(request);
     const std::vector<oer::ReferenceSurface>& surfaces = image.frame.surfaces;
     const int width = image.frame.width, height = image.frame.height;
@@ -426,27 +436,39 @@ ComparedFrame compared(const OurFrame& frame, const ReferenceImage& reference) {
     return out;
 }
 
+// A surface of the reference as compared: its pixels (for the fidelity metric) and its whole
+// blocks (for the error), and the reference's relative noise over those blocks.
 struct Surface {
     const char* name;
     const std::vector<std::uint8_t>& mask;
+    std::vector<std::uint8_t> block_mask;
     double noise;
     std::size_t pixels;
+    std::size_t blocks;
 };
 std::vector<Surface> surfaces_of(const ReferenceImage& reference) {
     std::vector<Surface> list;
     const auto add = [&](const char* name, const std::vector<std::uint8_t>& mask) {
-        const auto pixels = std::size_t(std::count(mask.begin(), mask.end(), 1));
-        if (pixels > 0) {
-            list.push_back({name, mask,
-                            oer::bench::relative_noise(reference.frame.luminance_noise,
-                                                       reference.luminance, mask),
-                            pixels});
+        std::vector<std::uint8_t> blocks = oer::bench::whole_blocks(mask, reference.grid);
+        const auto block_count = std::size_t(std::count(blocks.begin(), blocks.end(), 1));
+        if (block_count > 0) {
+            const double noise = oer::bench::relative_noise(reference.block_noise,
+                                                            reference.block_luminance, blocks);
+            list.push_back({name, mask, std::move(blocks), noise,
+                            std::size_t(std::count(mask.begin(), mask.end(), 1)), block_count});
         }
     };
     add("object", reference.object_mask);
     add("ground", reference.ground_mask);
     add("ground near", reference.near_ground_mask);
     return list;
+}
+
+// The relative RMS of luminance of a compared frame over a surface's blocks.
+double block_error(const ComparedFrame& frame, const ReferenceImage& reference,
+                   const Surface& surface) {
+    return oer::bench::relative_rms_error(oer::bench::block_means(frame.luminance, reference.grid),
+                                          reference.block_luminance, surface.block_mask);
 }
 
 // Whether `frame` is compared with the reference of `bounce`: a frame without occlusion with
@@ -474,9 +496,8 @@ ReferenceImage converged_reference(const oer::FrameRequest& request, oer::Bounce
                 if (!compared_in(frame, bounce)) {
                     continue;
                 }
-                smallest = std::min(
-                    smallest, oer::bench::relative_rms_error(compared(frame, reference).luminance,
-                                                             reference.luminance, surface.mask));
+                smallest =
+                    std::min(smallest, block_error(compared(frame, reference), reference, surface));
             }
             const double ratio = surface.noise / (kNoiseFraction * smallest);
             needed = std::max(needed, ratio * ratio);
@@ -627,6 +648,7 @@ class Sweep {
                                                "relative_rms",
                                                "fidelity_db",
                                                "pixels",
+                                               "blocks",
                                                "reference_samples",
                                                "reference_noise",
                                                "noise_ratio",
@@ -722,8 +744,7 @@ class Sweep {
         const oer::Rgba8Image truth = oer::bench::display_image(reference.frame.linear, size, size,
                                                                 1.0, 0.0, oer::ToneMapper::Neutral);
         for (const Surface& surface : surfaces_of(reference)) {
-            const double error = oer::bench::relative_rms_error(ours_compared.luminance,
-                                                                reference.luminance, surface.mask);
+            const double error = block_error(ours_compared, reference, surface);
             rows_.push_back(
                 {{"mesh", scene.mesh_name},
                  {"world", scene.world},
@@ -747,8 +768,10 @@ class Sweep {
                  {"relative_rms", error},
                  {"fidelity_db", oer::bench::fidelity_db(ours, truth, surface.mask)},
                  {"pixels", surface.pixels},
+                 {"blocks", surface.blocks},
                  {"reference_samples", reference.samples},
                  {"reference_noise", surface.noise},
+                 {"mean_luminance", oer::bench::masked_mean(ours_compared.luminance, surface.mask)},
                  {"reference_mean_luminance",
                   oer::bench::masked_mean(reference.luminance, surface.mask)},
                  {"noise_ratio", surface.noise / error},

@@ -91,6 +91,71 @@ double relative_noise(std::span<const double> noise, std::span<const double> ref
     return truth > 0.0 ? std::sqrt(squared_noise / truth) : 0.0;
 }
 
+namespace {
+
+void check_grid(std::size_t size, const BlockGrid& grid, const char* what) {
+    if (grid.width <= 0 || grid.height <= 0 || grid.block <= 0 ||
+        size != std::size_t(grid.width) * std::size_t(grid.height)) {
+        throw Error(ErrorKind::InvalidInput,
+                    std::string(what) + ": " + std::to_string(size) + " values for " +
+                        std::to_string(grid.width) + "x" + std::to_string(grid.height) +
+                        " pixels in blocks of " + std::to_string(grid.block));
+    }
+}
+
+// Calls `visit(block index, pixel index)` for every pixel of every whole block.
+template <typename Visit>
+void for_each_block_pixel(const BlockGrid& grid, Visit&& visit) {
+    for (std::size_t row = 0; row < grid.rows(); ++row) {
+        for (std::size_t column = 0; column < grid.columns(); ++column) {
+            const std::size_t block_index = row * grid.columns() + column;
+            for (int dy = 0; dy < grid.block; ++dy) {
+                for (int dx = 0; dx < grid.block; ++dx) {
+                    const std::size_t y = row * std::size_t(grid.block) + std::size_t(dy);
+                    const std::size_t x = column * std::size_t(grid.block) + std::size_t(dx);
+                    visit(block_index, y * std::size_t(grid.width) + x);
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
+
+std::vector<double> block_means(std::span<const double> values, const BlockGrid& grid) {
+    check_grid(values.size(), grid, "block_means");
+    std::vector<double> means(grid.columns() * grid.rows(), 0.0);
+    for_each_block_pixel(
+        grid, [&](std::size_t block, std::size_t pixel) { means[block] += values[pixel]; });
+    const double pixels = double(grid.block) * double(grid.block);
+    for (double& mean : means) {
+        mean /= pixels;
+    }
+    return means;
+}
+
+std::vector<std::uint8_t> whole_blocks(std::span<const std::uint8_t> mask, const BlockGrid& grid) {
+    check_grid(mask.size(), grid, "whole_blocks");
+    std::vector<std::uint8_t> whole(grid.columns() * grid.rows(), 1);
+    for_each_block_pixel(grid, [&](std::size_t block, std::size_t pixel) {
+        whole[block] = whole[block] != 0 && mask[pixel] != 0 ? 1 : 0;
+    });
+    return whole;
+}
+
+std::vector<double> block_noise(std::span<const double> noise, const BlockGrid& grid) {
+    check_grid(noise.size(), grid, "block_noise");
+    std::vector<double> squares(grid.columns() * grid.rows(), 0.0);
+    for_each_block_pixel(grid, [&](std::size_t block, std::size_t pixel) {
+        squares[block] += noise[pixel] * noise[pixel];
+    });
+    const double pixels = double(grid.block) * double(grid.block);
+    for (double& square : squares) {
+        square = std::sqrt(square) / pixels;
+    }
+    return squares;
+}
+
 double least_squares_scale(std::span<const double> luminance, std::span<const double> reference,
                            std::span<const std::uint8_t> mask) {
     check_sizes(luminance.size(), reference.size(), mask.size(), "least_squares_scale");

@@ -35,6 +35,29 @@ double relative_rms_error(std::span<const double> luminance, std::span<const dou
 double relative_noise(std::span<const double> noise, std::span<const double> reference,
                       std::span<const std::uint8_t> mask);
 
+// The frame sweep compares lighting over square blocks of pixels, not pixel by pixel: inside
+// a product, thin geometry (the engine's fins) makes edges whose pixels measure how a renderer
+// integrates the pixel (ours its supersamples, the reference random points), not its light,
+// and a block's mean has a block-th of a pixel's Monte Carlo noise (the reference's pixels are
+// independent). Lighting error is of low frequency: a block's mean keeps it. The blocks tile
+// the image from its top-left corner; a partial block at the right or bottom edge is left out.
+struct BlockGrid {
+    int width = 0, height = 0;  // the image's, in pixels
+    int block = 1;              // a block's side, in pixels
+    std::size_t columns() const { return std::size_t(width / block); }
+    std::size_t rows() const { return std::size_t(height / block); }
+};
+
+// Per block, the mean of its pixels' values (row-major, grid.columns() x grid.rows()).
+std::vector<double> block_means(std::span<const double> values, const BlockGrid& grid);
+
+// Per block, 1 where every pixel of the block is selected by `mask`, else 0.
+std::vector<std::uint8_t> whole_blocks(std::span<const std::uint8_t> mask, const BlockGrid& grid);
+
+// Per block, the standard deviation of its mean from the pixels' independent ones:
+// sqrt(sum noise^2) / block^2.
+std::vector<double> block_noise(std::span<const double> noise, const BlockGrid& grid);
+
 // The factor s minimising sum (s Y - Y_ref)^2 over the mask: s = sum Y Y_ref / sum Y^2. For a
 // frame with no absolute scale (the thesis model's display-referred lighting). oer::Error
 // (InvalidInput) when the frame is black over the mask.

@@ -47,6 +47,30 @@ TEST(FrameMetrics, RelativeNoiseIsThePerPixelNoiseOverTheMaskOnly) {
     EXPECT_THROW(relative_noise(noise, reference, std::vector<std::uint8_t>{1, 1}), oer::Error);
 }
 
+TEST(FrameMetrics, BlocksTileFromTheTopLeftAndLeaveOutPartialOnes) {
+    // 5 x 3 pixels in blocks of 2: two whole blocks (columns 0-1 and 2-3 of rows 0-1); the fifth
+    // column and the third row are partial blocks, left out.
+    const oer::bench::BlockGrid grid{5, 3, 2};
+    const std::vector<double> values{1,  2,  10, 20, 99,  //
+                                     3,  4,  30, 40, 99,  //
+                                     99, 99, 99, 99, 99};
+    EXPECT_EQ(oer::bench::block_means(values, grid), (std::vector<double>{2.5, 25.0}));
+    std::vector<std::uint8_t> mask(15, 1);
+    mask[8] = 0;  // (3, 1): the second block is no longer whole
+    mask[4] = 0;  // (4, 0): a partial block's pixel changes nothing
+    EXPECT_EQ(oer::bench::whole_blocks(mask, grid), (std::vector<std::uint8_t>{1, 0}));
+    // A block's mean of 4 independent pixels: sqrt(sum sigma^2) / 4.
+    const std::vector<double> noise{0.4, 0.4, 0.0, 0.0, 9.0,  //
+                                    0.4, 0.4, 0.0, 0.8, 9.0,  //
+                                    9.0, 9.0, 9.0, 9.0, 9.0};
+    const std::vector<double> block_noise = oer::bench::block_noise(noise, grid);
+    ASSERT_EQ(block_noise.size(), 2u);
+    EXPECT_NEAR(block_noise[0], 0.2, 1e-15);
+    EXPECT_NEAR(block_noise[1], 0.2, 1e-15);
+    EXPECT_THROW(oer::bench::block_means(std::vector<double>(14), grid), oer::Error);
+    EXPECT_THROW(oer::bench::whole_blocks(mask, oer::bench::BlockGrid{5, 3, 0}), oer::Error);
+}
+
 TEST(FrameMetrics, LeastSquaresScaleUndoesAnExposure) {
     const std::vector<double> reference{0.2, 0.9, 4.0};
     const std::vector<double> frame{0.8, 3.6, 16.0};  // 4x the reference
