@@ -119,7 +119,7 @@ def rule_worlds(frames: FrameRows) -> list[str]:
 
 def order_label(row: Row) -> str:
     """"order 5", with the rig's order when the transfer is evaluated at a lower one
-    (transfer_order is the rig's, at most 5)."""
+    (transfer_order is the rig's, at most kTransferBakeOrder)."""
     label = f"order {row['transfer_order']}"
     if row["order"] != row["transfer_order"]:
         label += f" (rig order {row['order']})"
@@ -236,7 +236,8 @@ def knee_paragraph(frames: FrameRows) -> str | None:
         changes = [(own, delta) for other, own, delta in order_changes if other == order]
         text += (f" With the rig at order {order} instead of its own "
                  f"({value_range((own for own, _ in changes), str)}; the transfer is evaluated "
-                 f"at the rig's order, at most 5), the error changes by "
+                 f"at the rig's order, at most the bake's, `kTransferBakeOrder`), the error "
+                 f"changes by "
                  f"{points_range([delta for _, delta in changes])}.")
     return text
 
@@ -258,11 +259,14 @@ def occlusion_section(frames: FrameRows, figure_link: str | None) -> str:
         "compared only with the reference of the same mode: `none` (the ground lights nothing) "
         "with the direct reference, `one` (the default) with the one-bounce reference. "
         "\"OER\" is the default before issue 13 (`--occlusion off`). Errors: relative RMS of "
-        "luminance over the product's pixels and over the ground's within one bounding-sphere "
-        "radius of the product's footprint (\"ground near\"), all lights on; every surface "
-        "without its silhouette (a pixel whose four neighbours are not all of its surface "
-        "measures how a renderer integrates the pixel, not its light: under the studio lamp "
-        "behind the bunny's ears, 96 % of the product's squared error was there). \"bake ms\": the "
+        "luminance over the product and over the ground within one bounding-sphere radius of "
+        "the product's footprint (\"ground near\"), all lights on; every surface without its "
+        "silhouette (a pixel whose four neighbours are not all of its surface measures how a "
+        "renderer integrates the pixel, not its light: under the studio lamp behind the bunny's "
+        "ears, 96 % of the product's squared error was there), and over the means of 4×4-pixel "
+        "blocks inside it, not pixel by pixel (the edges of thin geometry inside a product, the "
+        "engine's fins, measure anti-aliasing too; lighting error is of low frequency, and a "
+        "block's mean has a quarter of a pixel's reference noise). \"bake ms\": the "
         "transfer's bake in that mode (once per mesh, every world shares it); \"frame ms\": the "
         "whole frame at the time size.", "",
         occlusion_table(frames), "",

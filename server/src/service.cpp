@@ -35,8 +35,8 @@ namespace {
 // Decoded maps and meshes held in memory, beside the frame cache: enough for a few large maps
 // so that a dressing room switching between them keeps them warm.
 constexpr std::size_t kAssetCacheBytes = 1ull << 30;
-// Scenes' transfers: about 400 bytes a vertex with one bounce (order 5: 25 direct and 75 bounce
-// floats), so a few bunny-sized scenes and many small products.
+// Scenes' transfers: about 800 bytes a vertex with one bounce (order 7: 49 direct and 147
+// bounce floats), so a few bunny-sized scenes and many small products.
 constexpr std::size_t kTransferCacheBytes = 256ull << 20;
 
 // The test frame every worker renders before the service reports ready: small, so start-up

@@ -14,6 +14,7 @@
 #include <string>
 #include <tuple>
 
+#include "oer/transfer/scene_transfer.hpp"
 #include "sweep_process.hpp"
 
 namespace {
@@ -155,7 +156,8 @@ TEST_F(FrameSweepQuick, FiguresAreFiniteAndConsistent) {
             EXPECT_EQ(row.at("order").get<int>(), 5);
         }
         if (row.at("occlusion").get<bool>()) {
-            EXPECT_EQ(row.at("transfer_order").get<int>(), std::min(row.at("order").get<int>(), 5));
+            EXPECT_EQ(row.at("transfer_order").get<int>(),
+                      std::min(row.at("order").get<int>(), oer::kTransferBakeOrder));
         }
     }
 }

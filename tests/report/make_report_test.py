@@ -123,7 +123,7 @@ class MakeReportTest(unittest.TestCase):
                       "to +1.48 points (positive: worse); the most rays checked improve it by "
                       "+0.10 to +0.30 points at 3.9x the bake time. With the rig at order 3 "
                       "instead of its own (7; the transfer is evaluated at the rig's order, at "
-                      "most 5), the error changes by +0.20 to +0.50 points.", self.markdown)
+                      "most the bake's, `kTransferBakeOrder`), the error changes by +0.20 to +0.50 points.", self.markdown)
 
     def test_lighting_tables_carry_the_sweep_figures(self) -> None:
         lighting = json.loads((arguments.work / "lighting.json").read_text(encoding="utf-8"))

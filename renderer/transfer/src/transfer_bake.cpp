@@ -68,7 +68,7 @@ constexpr std::uint64_t kBakeSeed = 1;
 // Stratified rays come in strata x strata cells: 8 x 8 (64) at least, below which the
 // occlusion of a single receiver is visibly noisy (the binomial error of a half-occluded point is
 // 6 %), and 32 x 32 (1024) at most, where the binomial error is at most 1.6 % and the
-// stratified one several times less, below the order-5 SH truncation's, so more rays only cost.
+// stratified one several times less, below the SH truncation's, so more rays only cost.
 constexpr int kMinStrata = 8;
 constexpr int kMaxStrata = 32;
 
