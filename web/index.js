@@ -268,6 +268,10 @@ const UPLOAD_KINDS = {
   obj: { attribute: 'mesh', route: '/v1/meshes', type: 'model/obj' },
   hdr: { attribute: 'environment', route: '/v1/environments', type: 'image/vnd.radiance' },
   exr: { attribute: 'environment', route: '/v1/environments', type: 'image/x-exr' },
+  // A phone's panorama: low dynamic range, decoded from sRGB by the server.
+  jpg: { attribute: 'environment', route: '/v1/environments', type: 'image/jpeg' },
+  jpeg: { attribute: 'environment', route: '/v1/environments', type: 'image/jpeg' },
+  png: { attribute: 'environment', route: '/v1/environments', type: 'image/png' },
 };
 // What the server does between the last byte received and its answer.
 const SERVER_WORK = { mesh: 'Reading mesh…', environment: 'Preprocessing lights…' };
@@ -368,8 +372,8 @@ async function upload(file) {
   const extension = /\.([^.]+)$/.exec(file.name)?.[1].toLowerCase();
   const kind = UPLOAD_KINDS[extension];
   if (!kind) {
-    say(`${file.name}: not a product (.glb, .gltf, .obj) or an environment (.hdr, .exr)`,
-        { error: true });
+    say(`${file.name}: not a product (.glb, .gltf, .obj) or an environment ` +
+        '(.hdr, .exr, .jpg, .png)', { error: true });
     return;
   }
   uploading = file;

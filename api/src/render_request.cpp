@@ -45,7 +45,6 @@ constexpr Range kColor{0.0, 1.0};
 constexpr Range kLightWeight{0.0, kMaxLightWeight};  // the renderer's limit
 constexpr int kMaxQuality = 100;
 constexpr int kMinShadowResolution = 64;
-constexpr std::array<int, 4> kSampleCounts = {1, 2, 4, 8};
 // The renderer rejects transforms whose |determinant| is under this (they flatten the mesh).
 constexpr double kMinDeterminant = 1e-12;
 // A valid body nests four deep (body, camera, orbit, target): reading stops long before a

@@ -157,6 +157,8 @@ Rig rig_from_json(const json& document, const json& masks) {
                      std::numeric_limits<std::uint64_t>::max());
     };
     rig.repaired = {repair_count("nan"), repair_count("inf"), repair_count("negative")};
+    rig.source_range = enum_value(member(source, "source", "dynamic_range"), "source/dynamic_range",
+                                  dynamic_range_from_string);
     try {
         rig.options = rig_options_from_json(member(document, "", "options"));
     } catch (const InvalidParameter& error) {

@@ -25,6 +25,7 @@ nlohmann::json rig_to_json(const Rig& rig, const std::string& id) {
     json["id"] = id;
     json["source"] = {{"width", rig.source_width},
                       {"height", rig.source_height},
+                      {"dynamic_range", to_string(rig.source_range)},
                       {"repaired",
                        {{"nan", rig.repaired.nan},
                         {"inf", rig.repaired.inf},

@@ -79,7 +79,7 @@ std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_v
     const auto start = std::chrono::steady_clock::now();
     LoadedImage loaded = load_image_memory(as_bytes(bytes), "upload." + extension, limits_);
     store_.put_source(SourceKind::Environment, bytes, extension);
-    auto environment = compute(loaded.image, loaded.repaired, options, source_id, rig_id);
+    auto environment = compute(loaded, options, source_id, rig_id);
     metrics_.preprocess_seconds.observe(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     auto image = std::make_shared<const HdrImage>(std::move(loaded.image));
@@ -133,19 +133,18 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
     const auto start = std::chrono::steady_clock::now();
     LoadedImage loaded =
         load_image_memory(as_bytes(source->bytes), "stored." + source->extension, limits_);
-    auto environment = compute(loaded.image, loaded.repaired,
-                               api::rig_options_from_json(provenance["options"]), source_id, id);
+    auto environment =
+        compute(loaded, api::rig_options_from_json(provenance["options"]), source_id, id);
     metrics_.preprocess_seconds.observe(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return environment;
 }
 
-std::shared_ptr<const Environment> EnvironmentRegistry::compute(const HdrImage& image,
-                                                                const RepairCounts& repaired,
+std::shared_ptr<const Environment> EnvironmentRegistry::compute(const LoadedImage& loaded,
                                                                 const RigOptions& options,
                                                                 const std::string& source_id,
                                                                 const std::string& rig_id) {
-    auto rig = std::make_shared<const Rig>(build_rig(image, repaired, options));
+    auto rig = std::make_shared<const Rig>(build_rig(loaded, options));
     metrics_.rigs_computed.increment();
     nlohmann::json json = api::rig_to_json(*rig, rig_id);
     // The record of provenance first: a crash between the two writes leaves a rig that can be

@@ -64,8 +64,7 @@ class EnvironmentRegistry {
 
   private:
     std::shared_ptr<const Environment> load_stored(const std::string& id);
-    std::shared_ptr<const Environment> compute(const HdrImage& image, const RepairCounts& repaired,
-                                               const RigOptions& options,
+    std::shared_ptr<const Environment> compute(const LoadedImage& loaded, const RigOptions& options,
                                                const std::string& source_id,
                                                const std::string& rig_id);
     void remember(const std::shared_ptr<const Environment>& environment);

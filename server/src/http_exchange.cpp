@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <string_view>
 
 #include "oer/api/invalid_parameter.hpp"
 
@@ -56,13 +57,19 @@ std::map<std::string, std::string> single_query(const httplib::Request& request,
 
 void require_api_key(const httplib::Request& request, const std::string& key) {
     const std::string given = request.get_header_value("Authorization");
-    const std::string expected = "Bearer " + key;
-    // Constant time over the expected length: the time does not tell how much of a guess
-    // was right.
-    unsigned char difference = given.size() == expected.size() ? 0 : 1;
-    for (std::size_t i = 0; i < expected.size(); ++i) {
+    // RFC 9110 section 11.4: credentials = auth-scheme [ 1*SP token68 ], the scheme
+    // case-insensitive (section 11.1), so "bearer KEY" is "Bearer KEY".
+    const std::size_t space = std::min(given.find(' '), given.size());
+    std::string scheme = given.substr(0, space);
+    std::transform(scheme.begin(), scheme.end(), scheme.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    const std::size_t token = std::min(given.find_first_not_of(' ', space), given.size());
+    const std::string_view credentials = std::string_view(given).substr(token);
+    // Constant time over the key's length: the time does not tell how much of a guess was right.
+    unsigned char difference = scheme == "bearer" && credentials.size() == key.size() ? 0 : 1;
+    for (std::size_t i = 0; i < key.size(); ++i) {
         difference |= static_cast<unsigned char>(
-            expected[i] ^ (i < given.size() ? given[i] : static_cast<char>(~expected[i])));
+            key[i] ^ (i < credentials.size() ? credentials[i] : static_cast<char>(~key[i])));
     }
     if (difference != 0) {
         throw HttpError(

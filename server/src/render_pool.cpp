@@ -15,6 +15,7 @@ struct RenderPool::Worker {
 RenderPool::RenderPool(int workers, int max_waiting, const FrameLimits& limits,
                        DepthObserver observer)
     : capacity_(std::size_t(std::max(workers, 1)) + std::size_t(std::max(max_waiting, 0))),
+      limits_(limits),
       observer_(std::move(observer)) {
     for (int i = 0; i < std::max(workers, 1); ++i) {
         auto worker = std::make_unique<Worker>();

@@ -48,6 +48,7 @@ class RenderPool {
     std::size_t waiting() const;  // jobs accepted but not yet started
     int worker_count() const { return int(workers_.size()); }
     const GlInfo& info() const;
+    const FrameLimits& limits() const { return limits_; }  // every worker's
 
   private:
     struct Worker;
@@ -55,6 +56,7 @@ class RenderPool {
     void notify();
 
     const std::size_t capacity_;
+    const FrameLimits limits_;
     const DepthObserver observer_;
     std::atomic<std::size_t> in_flight_{0};
     std::atomic<std::size_t> running_{0};

@@ -1,10 +1,14 @@
 // POST /v1/environments, GET /v1/environments/{id}, .../preview.jpg, .../irradiance.exr
+#include <span>
+#include <string_view>
+
 #include "environment_preview.hpp"
 #include "http_exchange.hpp"
 #include "oer/api/light_switches.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "oer/api/rig_options.hpp"
 #include "oer/image/image_encoding.hpp"
+#include "oer/image/image_io.hpp"
 #include "oer/lighting/irradiance_map.hpp"
 #include "service_context.hpp"
 
@@ -12,16 +16,59 @@ namespace oer::server {
 
 namespace {
 
-// The map formats an upload may be, by media type.
-std::string extension_of_media_type(const std::string& type) {
-    if (type == "image/vnd.radiance") {
-        return "hdr";
+// The map formats an upload may be: its media type, the extension it is stored under, and the
+// format its bytes must have (image_format_of), so that the decoder is the declared one. JPEG
+// and PNG are the panoramas phones make: decoded from sRGB to linear and marked in the rig as
+// of low dynamic range (source/dynamic_range "ldr").
+struct MapMediaType {
+    std::string_view media_type;
+    std::string_view extension;
+    std::string_view format;
+};
+constexpr MapMediaType kMapMediaTypes[] = {
+    {"image/vnd.radiance", "hdr", "hdr"},
+    {"image/x-exr", "exr", "openexr"},
+    {"image/jpeg", "jpg", "jpeg"},
+    {"image/png", "png", "png"},
+};
+// The media type of another format image_format_of names, for what a body really is.
+constexpr MapMediaType kOtherImageTypes[] = {
+    {"image/tiff", "tif", "tiff"},
+};
+
+const MapMediaType& map_media_type(const std::string& type) {
+    for (const MapMediaType& known : kMapMediaTypes) {
+        if (type == known.media_type) {
+            return known;
+        }
     }
-    if (type == "image/x-exr") {
-        return "exr";
+    throw HttpError(problem(415,
+                            "an environment is image/vnd.radiance, image/x-exr, image/jpeg or "
+                            "image/png, not '" +
+                                api::excerpt(type) + "'"));
+}
+
+// 415 when the body's signature is that of another image format than the declared one: a JPEG
+// sent as image/x-exr is refused as what it is, not decoded by whichever reader accepts it.
+// Bytes of no known signature go on to the declared decoder, whose error says what is wrong.
+void check_body_format(const MapMediaType& declared, const std::string& body) {
+    const std::string found = image_format_of(std::as_bytes(std::span(body.data(), body.size())));
+    if (found.empty() || found == declared.format) {
+        return;
     }
-    throw HttpError(problem(415, "an environment is image/vnd.radiance or image/x-exr, not '" +
-                                     api::excerpt(type) + "'"));
+    std::string_view found_type = found;
+    for (const std::span<const MapMediaType> list :
+         {std::span<const MapMediaType>(kMapMediaTypes),
+          std::span<const MapMediaType>(kOtherImageTypes)}) {
+        for (const MapMediaType& known : list) {
+            if (known.format == found) {
+                found_type = known.media_type;
+            }
+        }
+    }
+    throw HttpError(problem(415, "the body is " + std::string(found_type) + ", not " +
+                                     std::string(declared.media_type) +
+                                     " as its Content-Type says"));
 }
 
 std::shared_ptr<const Environment> environment_of(ServiceContext& context,
@@ -50,7 +97,7 @@ void add_environment_routes(Router& router, ServiceContext& context) {
             if (!context.config.api_key.empty()) {
                 require_api_key(request, context.config.api_key);
             }
-            extension_of_media_type(media_type(request));
+            map_media_type(media_type(request));
         },
         [&context](const httplib::Request& request, httplib::Response& response,
                    const std::string& body) {
@@ -64,8 +111,10 @@ void add_environment_routes(Router& router, ServiceContext& context) {
             if (body.empty()) {
                 throw api::InvalidParameter("body", "the body must be the map's bytes");
             }
-            const auto upload = context.environments.upload(
-                body, extension_of_media_type(media_type(request)), options);
+            const MapMediaType& declared = map_media_type(media_type(request));
+            check_body_format(declared, body);
+            const auto upload =
+                context.environments.upload(body, std::string(declared.extension), options);
             send_upload(response, upload.asset->json, upload.cached,
                         "/v1/environments/" + upload.asset->id);
         });

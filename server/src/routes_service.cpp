@@ -42,6 +42,8 @@ void add_service_routes(Router& router, ServiceContext& context) {
                               {"limits",
                                {{"max_width", limits.max_width},
                                 {"max_height", limits.max_height},
+                                {"samples", api::kSampleCounts},
+                                {"max_samples_per_frame", context.pool.limits().max_samples_total},
                                 {"max_objects", limits.max_objects},
                                 {"max_lights", limits.max_lights},
                                 {"max_shadow_resolution", limits.max_shadow_resolution},

@@ -1,4 +1,5 @@
-// GET / and GET /web/{file}: the browser client, from the files embedded at build time
+// GET / and GET /web/{file}: the browser client, and GET /v1/openapi.yaml: the API's contract,
+// from the files embedded at build time
 #include <map>
 #include <string>
 
@@ -27,6 +28,7 @@ std::string content_type(std::string_view name) {
         {".html", "text/html; charset=utf-8"},
         {".js", "text/javascript; charset=utf-8"},
         {".css", "text/css; charset=utf-8"},
+        {".yaml", "application/yaml"},  // RFC 9512
     };
     const std::size_t dot = name.rfind('.');
     const auto type = dot == std::string_view::npos ? types.end() : types.find(name.substr(dot));
@@ -39,9 +41,9 @@ std::string content_type(std::string_view name) {
 
 // The embedded files by name, each with its Content-Type and a strong ETag (the SHA-256 of its
 // text), computed once.
-std::map<std::string, ServedFile, std::less<>> served_files() {
+std::map<std::string, ServedFile, std::less<>> served_files(std::span<const WebFile> embedded) {
     std::map<std::string, ServedFile, std::less<>> files;
-    for (const WebFile& file : web_files()) {
+    for (const WebFile& file : embedded) {
         // Appended rather than "\"" + hex: GCC 12 warns (-Wrestrict) on the inlined operator+.
         std::string etag = "\"";
         etag.append(api::sha256_hex(file.text)).append("\"");
@@ -67,8 +69,8 @@ void answer_file(const ServedFile& file, const httplib::Request& request,
 
 void add_web_routes(Router& router) {
     // Shared by the handlers, which outlive this call.
-    auto files =
-        std::make_shared<const std::map<std::string, ServedFile, std::less<>>>(served_files());
+    auto files = std::make_shared<const std::map<std::string, ServedFile, std::less<>>>(
+        served_files(web_files()));
     const auto index = files->find("index.html");
     if (index == files->end()) {
         throw Error(ErrorKind::Internal, "the web files embedded have no index.html");
@@ -87,6 +89,13 @@ void add_web_routes(Router& router) {
                        throw not_found("no web file is named " + request.matches[1].str());
                    }
                    answer_file(file->second, request, response);
+               });
+    auto spec =
+        std::make_shared<const ServedFile>(served_files(api_spec_files()).at("openapi.yaml"));
+    router.get("/v1/openapi.yaml",
+               [spec](const httplib::Request& request, httplib::Response& response) {
+                   single_query(request, {});
+                   answer_file(*spec, request, response);
                });
 }
 

@@ -15,4 +15,7 @@ struct WebFile {
 // Every embedded file, in the order server/CMakeLists.txt lists them.
 std::span<const WebFile> web_files();
 
+// api/openapi.yaml, embedded the same way and served at /v1/openapi.yaml.
+std::span<const WebFile> api_spec_files();
+
 }  // namespace oer::server

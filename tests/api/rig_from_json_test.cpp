@@ -1,12 +1,16 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <random>
 
 #include "oer/api/content_id.hpp"
 #include "oer/api/rig_from_json.hpp"
 #include "oer/api/rig_json.hpp"
 #include "oer/api/rig_options.hpp"
 #include "oer/core/error.hpp"
+#include "oer/image/image_io.hpp"
 #include "oer/lighting/default_environment.hpp"
 #include "oer/lighting/rig.hpp"
 
@@ -24,6 +28,7 @@ bool same_bits(double a, double b) {
 void expect_same_rig(const Rig& a, const Rig& b) {
     EXPECT_EQ(a.source_width, b.source_width);
     EXPECT_EQ(a.source_height, b.source_height);
+    EXPECT_EQ(a.source_range, b.source_range);
     EXPECT_EQ(a.model, b.model);
     EXPECT_EQ(a.order, b.order);
     EXPECT_EQ(a.window.kind, b.window.kind);
@@ -57,8 +62,10 @@ std::vector<Rig> real_rigs() {
     RigOptions thesis;
     thesis.model = LightingModel::Thesis;
     thesis.light_count = 2;
+    // As a JPEG panorama's would be: marked as of low dynamic range.
+    LoadedImage panorama{map, {}, DynamicRange::Low};
     return {build_rig(map, {}, RigOptions{}), build_rig(map, {}, windowed),
-            build_rig(map, {}, thesis)};
+            build_rig(map, {}, thesis), build_rig(panorama, RigOptions{})};
 }
 
 // The stored pair for a rig, and a way to damage it.
@@ -155,6 +162,72 @@ TEST(RigFromJson, RejectsDamagedDocuments) {
     expect_rejected(document, "masks/0");
 
     document = good;
+    document.rig["source"]["dynamic_range"] = "medium";
+    expect_rejected(document, "source/dynamic_range");
+
+    document = good;
     document.rig = json::array();
     expect_rejected(document, "document");
+}
+
+// What the server writes it reads back: rigs of random maps and of hostile ones (what a
+// decoder may hand over before repair_radiance: NaN, +-Inf, the largest floats, denormals, a
+// black map, one blinding pixel), each written as the store keeps it and read through the
+// store's own reader, which checks every range of api/openapi.yaml. Before the shares were
+// clamped, a map with one Inf pixel gave luminance_share 1.0000000000000004 and the reader
+// dropped the rig on every restart.
+TEST(RigFromJson, RigsOfRandomAndHostileMapsReadBack) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    constexpr float kLargest = std::numeric_limits<float>::max();
+    constexpr float kDenormal = std::numeric_limits<float>::denorm_min();
+    std::mt19937 random(20261202);
+    std::vector<std::pair<std::string, HdrImage>> maps;
+    const auto add = [&](const std::string& name, const auto& radiance) {
+        HdrImage map(64, 32);
+        for (std::size_t i = 0; i < map.pixel_count(); ++i) {
+            map.set(i, radiance(i));
+        }
+        maps.emplace_back(name, std::move(map));
+    };
+    for (int seed = 0; seed < 6; ++seed) {
+        // Heavy-tailed radiance: most pixels dim, a few bright enough to be found as lights.
+        std::exponential_distribution<float> dim(1.0f);
+        std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+        add("random " + std::to_string(seed), [&](std::size_t) {
+            const float tail = unit(random) < 0.01f ? 1e4f * unit(random) : 0.0f;
+            return glm::vec3(dim(random), dim(random), dim(random)) + tail;
+        });
+    }
+    add("one Inf pixel", [](std::size_t i) { return glm::vec3(i == 700 ? kInf : 0.5f); });
+    add("every pixel Inf", [](std::size_t) { return glm::vec3(kInf); });
+    add("NaN and -Inf", [](std::size_t i) {
+        return glm::vec3(i % 3 == 0 ? std::nanf("") : 1.0f, i % 5 == 0 ? -kInf : 1.0f, 2.0f);
+    });
+    add("the largest floats", [](std::size_t) { return glm::vec3(kLargest); });
+    add("denormals", [](std::size_t i) { return glm::vec3(i % 2 == 0 ? kDenormal : 0.0f); });
+    add("black", [](std::size_t) { return glm::vec3(0.0f); });
+    add("one blinding pixel", [](std::size_t i) { return glm::vec3(i == 100 ? 1e30f : 1e-3f); });
+    for (auto& [name, map] : maps) {
+        const RepairCounts repaired = repair_radiance(map);
+        for (const RigOptions& options : {RigOptions{}, [] {
+                                              RigOptions thesis;
+                                              thesis.model = LightingModel::Thesis;
+                                              return thesis;
+                                          }()}) {
+            const Rig rig = build_rig(map, repaired, options);
+            const Stored document = stored(rig);
+            try {
+                const Rig back = api::rig_from_json(json::parse(document.rig.dump()),
+                                                    json::parse(document.masks.dump()));
+                expect_same_rig(rig, back);
+            } catch (const Error& error) {
+                ADD_FAILURE() << name
+                              << ": the reader refuses what the writer wrote: " << error.what();
+            }
+            for (const Light& light : rig.lights) {
+                EXPECT_GE(light.luminance_share, 0.0) << name;
+                EXPECT_LE(light.luminance_share, 1.0) << name;
+            }
+        }
+    }
 }

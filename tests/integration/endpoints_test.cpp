@@ -11,6 +11,7 @@
 #include <optional>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 
@@ -20,6 +21,7 @@
 #include "oer/api/rig_json.hpp"
 #include "oer/api/rig_options.hpp"
 #include "oer/api/version.hpp"
+#include "oer/image/image_encoding.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
@@ -136,6 +138,24 @@ TEST_F(Endpoints, InfoReportsVersionRendererAndTheConfiguredLimits) {
     EXPECT_EQ(info.at("limits").at("max_width"), 2000);
     EXPECT_EQ(info.at("limits").at("max_height"), 1500);
     EXPECT_EQ(info.at("limits").at("max_upload_bytes"), 64ull << 20);
+    // The true limits: every sample count it lists renders (8 too, whatever GL_MAX_SAMPLES the
+    // context has: frames are supersampled), one more than listed is refused, and a frame just
+    // over max_samples_per_frame is 413.
+    for (const Json& samples : info.at("limits").at("samples")) {
+        const auto frame = client_->Get(
+            ("/v1/render?environment=default&width=8&height=8&samples=" + samples.dump()).c_str());
+        ASSERT_TRUE(frame);
+        EXPECT_EQ(frame->status, 200) << samples << ": " << frame->body;
+    }
+    EXPECT_EQ(info.at("limits").at("samples").back(), 8);
+    EXPECT_EQ(client_->Get("/v1/render?environment=default&width=8&height=8&samples=16")->status,
+              422);
+    const auto per_frame = info.at("limits").at("max_samples_per_frame").get<std::int64_t>();
+    // 2000 x 1500 at 9 samples (the 3 x 3 grid of samples=8) is 27 M samples, over 16.8 M.
+    ASSERT_GT(std::int64_t(2000) * 1500 * 9, per_frame);
+    EXPECT_EQ(
+        client_->Get("/v1/render?environment=default&width=2000&height=1500&samples=8")->status,
+        413);
 }
 
 TEST_F(Endpoints, PresetsListTheDefaultEnvironmentAndProduct) {
@@ -156,7 +176,7 @@ TEST_F(Endpoints, PresetsListTheDefaultEnvironmentAndProduct) {
 // The browser client comes with the binary: the files of web/ as they are in the source tree
 // (embedded at build time), each with its Content-Type, the SHA-256 of its text as a strong
 // ETag (a 304 for it) and Cache-Control; no other name, and no way out of the embedded set.
-TEST_F(Endpoints, WebClientIsServedFromTheFilesEmbeddedAtBuildTime) {
+TEST_F(Endpoints, WebClientAndApiSpecAreServedFromTheFilesEmbeddedAtBuildTime) {
     const std::filesystem::path web = OER_WEB_DIR;
     const auto source = [&](const std::string& name) {
         std::ifstream file(web / name, std::ios::binary);
@@ -169,6 +189,8 @@ TEST_F(Endpoints, WebClientIsServedFromTheFilesEmbeddedAtBuildTime) {
         {"/web/index.html", "/web/{file}", "index.html", "text/html; charset=utf-8"},
         {"/web/oer-viewer.js", "/web/{file}", "oer-viewer.js", "text/javascript; charset=utf-8"},
         {"/web/index.css", "/web/{file}", "index.css", "text/css; charset=utf-8"},
+        // The API's contract as the server was built with it.
+        {"/v1/openapi.yaml", "/v1/openapi.yaml", "../api/openapi.yaml", "application/yaml"},
     };
     for (const auto& [path, route, name, type] : files) {
         SCOPED_TRACE(path);
@@ -302,7 +324,8 @@ TEST_F(Endpoints, EnvironmentUploadGivesTheRigOfTheLibraryAndIsCachedByContent) 
     // The rig is the library's rig of the same bytes.
     const LoadedImage loaded =
         load_image_memory(std::as_bytes(std::span(bytes.data(), bytes.size())), "upload.exr");
-    Json expected = api::rig_to_json(build_rig(loaded.image, loaded.repaired, options), id);
+    Json expected = api::rig_to_json(build_rig(loaded, options), id);
+    EXPECT_EQ(rig.at("source").at("dynamic_range"), "hdr");
     Json comparable = rig;
     comparable.erase("cached");
     comparable.erase("timings_ms");
@@ -352,6 +375,39 @@ TEST_F(Endpoints, RadianceHdrUploadIsReadToo) {
     EXPECT_EQ(rig.at("source").at("height"), 64);
     EXPECT_EQ(rig.at("lights").size(), 3u);
     EXPECT_EQ(rig.at("options").at("light_count"), 3);
+}
+
+// A phone's panorama (JPEG or PNG) is accepted under its own type, decoded from sRGB to linear
+// (IEC 61966-2-1) and marked as of low dynamic range. A uniform grey map's radiance is its
+// linear value everywhere, so the rig's first SH coefficient is that value times 2 sqrt(pi)
+// (the integral of Y_00 over the sphere).
+TEST_F(Endpoints, LdrPanoramasAreLinearisedFromSrgbAndMarked) {
+    constexpr std::uint8_t kGrey = 188;
+    const oer::Rgba8Image panorama{64, 32, [] {
+                                       std::vector<std::uint8_t> pixels;
+                                       for (int i = 0; i < 64 * 32; ++i) {
+                                           pixels.insert(pixels.end(), {kGrey, kGrey, kGrey, 255});
+                                       }
+                                       return pixels;
+                                   }()};
+    const double encoded = kGrey / 255.0;
+    const double linear = std::pow((encoded + 0.055) / 1.055, 2.4);
+    const std::vector<std::uint8_t> png = oer::encode_png(panorama);
+    const std::vector<std::uint8_t> jpeg = oer::encode_jpeg(panorama, 95);
+    for (const auto& [bytes, type, tolerance] :
+         {std::tuple{std::string(png.begin(), png.end()), "image/png", 1e-5},
+          std::tuple{std::string(jpeg.begin(), jpeg.end()), "image/jpeg", 0.01}}) {
+        SCOPED_TRACE(type);
+        const Json rig = upload_environment(*client_, bytes, type, "light_count=0");
+        ASSERT_TRUE(rig.is_object());
+        EXPECT_EQ(rig.at("source").at("dynamic_range"), "ldr");
+        EXPECT_EQ(rig.at("source").at("width"), 64);
+        const double expected = linear * 2.0 * std::sqrt(std::acos(-1.0));
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(rig.at("sh").at("radiance")[0][c].get<double>(), expected,
+                        tolerance * expected);
+        }
+    }
 }
 
 TEST_F(Endpoints, PreviewIsA512By256JpegShowingTheMap) {

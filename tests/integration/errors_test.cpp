@@ -178,6 +178,35 @@ TEST_F(Errors, WrongMediaTypesAre415) {
                    client_->Post("/v1/meshes", box_obj({0, 0, 0}, {1, 1, 1}), "image/png"), 415);
 }
 
+// The decoder is the declared type's: bytes of another image format are refused as what they
+// are (both names in the detail), not decoded by whichever reader accepts them, and nothing of
+// them is stored.
+TEST_F(Errors, ABodyOfAnotherImageFormatThanDeclaredIs415NamingBoth) {
+    const oer::HdrImage map = three_disc_environment(64, 32).image;
+    const oer::Rgba8Image photo{8, 4, std::vector<std::uint8_t>(8 * 4 * 4, 128)};
+    const std::vector<std::uint8_t> jpeg = oer::encode_jpeg(photo, 90);
+    const struct {
+        std::string body, declared, actual;
+    } cases[] = {
+        {std::string(jpeg.begin(), jpeg.end()), "image/x-exr", "image/jpeg"},
+        {exr_bytes(map), "image/vnd.radiance", "image/x-exr"},
+        {hdr_bytes(map), "image/x-exr", "image/vnd.radiance"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.actual + " as " + c.declared);
+        const auto result = client_->Post("/v1/environments", c.body, c.declared);
+        expect_problem("POST", "/v1/environments", result, 415);
+        ASSERT_TRUE(result);
+        const std::string detail = Json::parse(result->body).at("detail").get<std::string>();
+        EXPECT_EQ(detail,
+                  "the body is " + c.actual + ", not " + c.declared + " as its Content-Type says");
+    }
+    // The same bytes under their own type are accepted (201, or 200 if stored before).
+    const auto accepted = client_->Post("/v1/environments", exr_bytes(map), "image/x-exr");
+    ASSERT_TRUE(accepted);
+    EXPECT_TRUE(accepted->status == 201 || accepted->status == 200) << accepted->status;
+}
+
 TEST_F(Errors, InvalidMembersAre422NamingThem) {
     const std::vector<std::pair<Json, std::string>> cases = {
         {{{"environment", "default"}, {"width", 0}}, "width"},
@@ -262,7 +291,10 @@ TEST(ErrorsApiKey, UploadsNeedTheKeyAndProbesDoNot) {
     const std::set<std::filesystem::path> at_start = stored_files();
     for (const httplib::Headers& headers :
          {httplib::Headers{}, httplib::Headers{{"Authorization", "Bearer wrong"}},
-          httplib::Headers{{"Authorization", "s3cret-key"}}}) {
+          httplib::Headers{{"Authorization", "s3cret-key"}},
+          httplib::Headers{{"Authorization", "Basic s3cret-key"}},
+          httplib::Headers{{"Authorization", "Bearer s3cret-keyX"}},
+          httplib::Headers{{"Authorization", "Bearers3cret-key"}}}) {
         SCOPED_TRACE(headers.empty() ? "no key" : headers.begin()->second);
         const auto upload = client->Post("/v1/environments", headers, map, "image/x-exr");
         expect_problem("POST", "/v1/environments", upload, 401);
@@ -277,7 +309,9 @@ TEST(ErrorsApiKey, UploadsNeedTheKeyAndProbesDoNot) {
     const auto upload = client->Post("/v1/environments", key, map, "image/x-exr");
     ASSERT_TRUE(upload);
     EXPECT_EQ(upload->status, 201) << upload->body;
-    const auto mesh = client->Post("/v1/meshes", key, obj, "model/obj");
+    // The scheme is case-insensitive (RFC 9110 section 11.1), and spaces may precede the key.
+    const httplib::Headers lower_case{{"Authorization", "bearer   s3cret-key"}};
+    const auto mesh = client->Post("/v1/meshes", lower_case, obj, "model/obj");
     ASSERT_TRUE(mesh);
     EXPECT_EQ(mesh->status, 201) << mesh->body;
     for (const char* probe : {"/healthz", "/readyz", "/metrics"}) {

@@ -51,8 +51,7 @@ int irradiance_map_command(const std::vector<std::string>& arguments) {
                   << (samples == 0 ? input.loaded.image.pixel_count() : samples)
                   << " samples at most\n";
     } else {
-        const Rig rig =
-            build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(environment));
+        const Rig rig = build_rig(input.loaded, rig_options_from(environment));
         const std::vector<double> visibility = api::parse_light_switches(lights, rig.lights.size());
         map = irradiance_map_from_sh(
             irradiance_coefficients(visibility_coefficients(rig.sh, visibility), rig.window), width,

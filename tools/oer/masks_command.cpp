@@ -27,8 +27,7 @@ int masks_command(const std::vector<std::string>& arguments) {
     const double exposure_ev = parse_double("exposure", exposure);
     const ToneMapper mapper = tone_mapper_from_string(tonemap);
     const EnvironmentInput input = read_environment(maps[0], environment);
-    const Rig rig =
-        build_rig(input.loaded.image, input.loaded.repaired, rig_options_from(environment));
+    const Rig rig = build_rig(input.loaded, rig_options_from(environment));
     const HdrImage display = to_display(input.loaded.image, exposure_ev, mapper);
     write_image_file(draw_light_overlay(display, rig.lights), output);
     return 0;

@@ -21,7 +21,7 @@ int preprocess_command(const std::vector<std::string>& arguments) {
     }
     const RigOptions options = rig_options_from(environment);
     const EnvironmentInput input = read_environment(maps[0], environment);
-    const Rig rig = build_rig(input.loaded.image, input.loaded.repaired, options);
+    const Rig rig = build_rig(input.loaded, options);
     std::cout << api::rig_to_json(rig, api::rig_id(input.digest, options)).dump(2) << "\n";
     return 0;
 }

@@ -115,8 +115,7 @@ RenderScene read_render_scene(const RenderInputs& inputs, const std::string& for
     }
     const RigOptions rig_options = rig_options_from(inputs.environment);
     const EnvironmentInput input = read_environment(inputs.environment_path, inputs.environment);
-    scene.rig = std::make_shared<const Rig>(
-        build_rig(input.loaded.image, input.loaded.repaired, rig_options));
+    scene.rig = std::make_shared<const Rig>(build_rig(input.loaded, rig_options));
     std::vector<std::shared_ptr<const Mesh>> meshes;
     for (const std::string& path : inputs.mesh_paths) {
         meshes.push_back(std::make_shared<const Mesh>(path == "default" ? make_default_product()

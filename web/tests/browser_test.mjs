@@ -559,7 +559,7 @@ try {
     await page.locator('#upload-file').setInputFiles({ name: 'notes.txt', mimeType: 'text/plain',
                                                        buffer: Buffer.from('hello') });
     assert.equal(await uploadStatus.textContent(),
-                 'notes.txt: not a product (.glb, .gltf, .obj) or an environment (.hdr, .exr)');
+                 'notes.txt: not a product (.glb, .gltf, .obj) or an environment (.hdr, .exr, .jpg, .png)');
     await page.locator('#upload-file').setInputFiles({ name: 'huge.exr', mimeType: 'image/x-exr',
                                                        buffer: Buffer.alloc(UPLOAD_LIMIT + 1) });
     await uploadEnded();

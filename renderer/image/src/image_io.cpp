@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "image_io_errors.hpp"
+#include "oer/core/enum_names.hpp"
 #include "oer/core/error.hpp"
 
 namespace oer {
@@ -157,6 +158,7 @@ LoadedImage read_opened(OIIO::ImageInput& in, const std::string& name, const Ima
         fail(ErrorKind::InvalidInput, name, "error while reading pixels: " + reader_error(in));
     }
     result.repaired = repair_radiance(image);
+    result.range = is_float_format(format) ? DynamicRange::High : DynamicRange::Low;
     return result;
 }
 
@@ -178,37 +180,6 @@ auto guarded(const std::string& name, F&& body) {
 // Choosing a reader. Files and memory alike are read through an IOProxy, so that both take
 // the same path; a reader that cannot use one would open the given name on disk, so it is only
 // ever used for real files (load_through_proxy, step 4).
-
-std::string format_from_magic(std::span<const std::byte> bytes) {
-    auto starts_with = [&](std::initializer_list<int> magic) {
-        if (bytes.size() < magic.size()) {
-            return false;
-        }
-        std::size_t i = 0;
-        for (int b : magic) {
-            if (std::to_integer<int>(bytes[i++]) != b) {
-                return false;
-            }
-        }
-        return true;
-    };
-    if (starts_with({'#', '?'})) {
-        return "hdr";
-    }
-    if (starts_with({0x76, 0x2f, 0x31, 0x01})) {
-        return "openexr";
-    }
-    if (starts_with({0x89, 'P', 'N', 'G'})) {
-        return "png";
-    }
-    if (starts_with({0xff, 0xd8, 0xff})) {
-        return "jpeg";
-    }
-    if (starts_with({'I', 'I', 0x2a, 0x00}) || starts_with({'M', 'M', 0x00, 0x2a})) {
-        return "tiff";
-    }
-    return {};
-}
 
 // The input format named by a format name ("openexr") or one of its extensions ("exr",
 // case-insensitive); empty if OpenImageIO has no reader for it. Only known names ever reach
@@ -304,7 +275,7 @@ LoadedImage load_through_proxy(OIIO::Filesystem::IOProxy& proxy, std::span<const
         return try_open(std::move(in), proxy, name);
     };
 
-    if (const std::string magic = format_from_magic(head); !magic.empty()) {
+    if (const std::string magic = image_format_of(head); !magic.empty()) {
         OpenAttempt opened = attempt(magic);
         if (opened.input) {
             return read_opened(*opened.input, name, limits);
@@ -403,6 +374,50 @@ LoadedImage load_image_file(const std::string& path, const ImageLimits& limits) 
         const std::size_t got = proxy.pread(head.data(), head.size(), 0);
         return load_through_proxy(proxy, std::span(head.data(), got), path, &path, limits);
     });
+}
+
+namespace {
+constexpr EnumNames<DynamicRange, 2> kRangeNames = {
+    {{DynamicRange::High, "hdr"}, {DynamicRange::Low, "ldr"}}};
+}  // namespace
+
+std::string to_string(DynamicRange range) {
+    return name_of(range, kRangeNames);
+}
+
+DynamicRange dynamic_range_from_string(const std::string& name) {
+    return value_named(name, kRangeNames, "dynamic range");
+}
+
+std::string image_format_of(std::span<const std::byte> bytes) {
+    auto starts_with = [&](std::initializer_list<int> magic) {
+        if (bytes.size() < magic.size()) {
+            return false;
+        }
+        std::size_t i = 0;
+        for (int b : magic) {
+            if (std::to_integer<int>(bytes[i++]) != b) {
+                return false;
+            }
+        }
+        return true;
+    };
+    if (starts_with({'#', '?'})) {
+        return "hdr";
+    }
+    if (starts_with({0x76, 0x2f, 0x31, 0x01})) {
+        return "openexr";
+    }
+    if (starts_with({0x89, 'P', 'N', 'G'})) {
+        return "png";
+    }
+    if (starts_with({0xff, 0xd8, 0xff})) {
+        return "jpeg";
+    }
+    if (starts_with({'I', 'I', 0x2a, 0x00}) || starts_with({'M', 'M', 0x00, 0x2a})) {
+        return "tiff";
+    }
+    return {};
 }
 
 LoadedImage load_image_memory(std::span<const std::byte> bytes, const std::string& name,

@@ -311,8 +311,12 @@ Light measure_light(const HdrImage& image, const equirect::Grid& grid,
         light.direction = fallback_direction;
     }
     light.angular_radius = std::acos(std::clamp(1.0 - light.solid_angle / (2.0 * pi), -1.0, 1.0));
-    // luminance(intensity) rather than the sum of the weights, exactly as the map's total.
-    light.luminance_share = total_energy > 0.0 ? luminance(light.intensity) / total_energy : 0.0;
+    // luminance(intensity) rather than the sum of the weights, exactly as the map's total. At
+    // most 1 by construction: the two sums round differently, and a light holding the whole
+    // map's energy (one repaired Inf pixel) came out at 1.0000000000000004, which the rig's own
+    // reader (api/rig_from_json, the spec's range [0, 1]) then refused.
+    light.luminance_share =
+        total_energy > 0.0 ? std::min(luminance(light.intensity) / total_energy, 1.0) : 0.0;
     light.pixels = std::move(pixels);
     return light;
 }

@@ -232,6 +232,12 @@ double default_window_cutoff(WindowKind kind, int order) {
                 "default_window_cutoff: a window of kind none has no cutoff");
 }
 
+Rig build_rig(const LoadedImage& loaded, const RigOptions& options) {
+    Rig rig = build_rig(loaded.image, loaded.repaired, options);
+    rig.source_range = loaded.range;
+    return rig;
+}
+
 Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOptions& options) {
     validate(options);
     if (image.width < 1 || image.height < 1) {

@@ -34,6 +34,7 @@
 // anything else, naming the member by its path ("objects/1/transform", "camera/orbit/pitch",
 // "body" for the document itself) or, in the GET form, the query parameter (422). Unknown
 // members and parameters are errors, so that a typo is never silently ignored.
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -50,6 +51,10 @@
 #include "oer/mesh/camera.hpp"
 
 namespace oer::api {
+
+// The values `samples` may take (the frame renderer supersamples a square grid of
+// ceil(sqrt(samples))^2 per pixel).
+inline constexpr std::array<int, 4> kSampleCounts = {1, 2, 4, 8};
 
 struct RenderLimits {
     int max_width = 4096;

@@ -41,13 +41,28 @@ struct RepairCounts {
     std::uint64_t negative = 0;
 };
 
+// What a source's values are: scene-referred radiance (High: float formats such as EXR and
+// Radiance RGBE) or display-referred values decoded from sRGB and clipped at white (Low: the
+// integer formats, such as the JPEG and PNG panoramas phones make), whose lights are as bright
+// as the white the camera clipped them to.
+enum class DynamicRange : std::uint8_t { High, Low };
+std::string to_string(DynamicRange range);                        // "hdr", "ldr"
+DynamicRange dynamic_range_from_string(const std::string& name);  // throws oer::Error
+
 struct LoadedImage {
     HdrImage image;
     RepairCounts repaired;
+    DynamicRange range = DynamicRange::High;
 };
 
 // Repairs in place and counts (also used for generated or resampled maps).
 RepairCounts repair_radiance(HdrImage& image);
+
+// The image format the bytes' signature names: "hdr" (Radiance RGBE, "#?"), "openexr", "png",
+// "jpeg" or "tiff"; empty when they start with none of these. Looks at the first 4 bytes only:
+// the loaders try this format first, and the service checks an upload's declared media type
+// against it.
+std::string image_format_of(std::span<const std::byte> bytes);
 
 LoadedImage load_image_file(const std::string& path, const ImageLimits& limits = {});
 // name is used in error messages (and its extension as a format hint); the format is

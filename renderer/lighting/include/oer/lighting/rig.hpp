@@ -43,7 +43,8 @@ struct Rig {
     int source_width = 0;
     int source_height = 0;
     RepairCounts repaired;
-    RigOptions options;  // as given
+    DynamicRange source_range = DynamicRange::High;  // set by whoever decoded the map
+    RigOptions options;                              // as given
     LightingModel model = LightingModel::Hdr;
     std::vector<Light> lights;
     std::string light_count_reason;
@@ -75,5 +76,7 @@ struct Rig {
 double default_window_cutoff(WindowKind kind, int order);
 
 Rig build_rig(const HdrImage& image, const RepairCounts& repaired, const RigOptions& options);
+// A decoded map's rig, which records the map's repairs and dynamic range.
+Rig build_rig(const LoadedImage& loaded, const RigOptions& options);
 
 }  // namespace oer
