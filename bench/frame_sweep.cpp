@@ -420,12 +420,14 @@ ReferenceImage render_reference(const oer::FrameRequest& request, oer::Bounce bo
 
 // A frame's luminance as compared with a reference: for a scale-fitted configuration, times
 // the least-squares factor over the reference's object and ground (the thesis's best case).
+// Its block means are over the reference's blocks, computed once for every surface.
 struct ComparedFrame {
     std::vector<double> luminance;
+    std::vector<double> block_luminance;
     double scale = 1.0;
 };
 ComparedFrame compared(const OurFrame& frame, const ReferenceImage& reference) {
-    ComparedFrame out{frame.luminance, 1.0};
+    ComparedFrame out{frame.luminance, {}, 1.0};
     if (frame.configuration->scale_fitted) {
         out.scale = oer::bench::least_squares_scale(frame.luminance, reference.luminance,
                                                     reference.surface_mask);
@@ -433,6 +435,7 @@ ComparedFrame compared(const OurFrame& frame, const ReferenceImage& reference) {
             y *= out.scale;
         }
     }
+    out.block_luminance = oer::bench::block_means(out.luminance, reference.grid);
     return out;
 }
 
@@ -467,8 +470,8 @@ std::vector<Surface> surfaces_of(const ReferenceImage& reference) {
 // The relative RMS of luminance of a compared frame over a surface's blocks.
 double block_error(const ComparedFrame& frame, const ReferenceImage& reference,
                    const Surface& surface) {
-    return oer::bench::relative_rms_error(oer::bench::block_means(frame.luminance, reference.grid),
-                                          reference.block_luminance, surface.block_mask);
+    return oer::bench::relative_rms_error(frame.block_luminance, reference.block_luminance,
+                                          surface.block_mask);
 }
 
 // Whether `frame` is compared with the reference of `bounce`: a frame without occlusion with
@@ -489,15 +492,17 @@ ReferenceImage converged_reference(const oer::FrameRequest& request, oer::Bounce
     int samples = arguments.min_samples;
     for (;;) {
         ReferenceImage reference = render_reference(request, bounce, samples);
+        std::vector<ComparedFrame> compared_frames;
+        for (const OurFrame& frame : frames) {
+            if (compared_in(frame, bounce)) {
+                compared_frames.push_back(compared(frame, reference));
+            }
+        }
         double needed = 0.0;  // the sample factor that the noisiest surface needs
         for (const Surface& surface : surfaces_of(reference)) {
             double smallest = 1e30;
-            for (const OurFrame& frame : frames) {
-                if (!compared_in(frame, bounce)) {
-                    continue;
-                }
-                smallest =
-                    std::min(smallest, block_error(compared(frame, reference), reference, surface));
+            for (const ComparedFrame& frame : compared_frames) {
+                smallest = std::min(smallest, block_error(frame, reference, surface));
             }
             const double ratio = surface.noise / (kNoiseFraction * smallest);
             needed = std::max(needed, ratio * ratio);

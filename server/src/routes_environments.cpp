@@ -1,4 +1,6 @@
 // POST /v1/environments, GET /v1/environments/{id}, .../preview.jpg, .../irradiance.exr
+#include <algorithm>
+#include <iterator>
 #include <span>
 #include <string_view>
 
@@ -16,57 +18,50 @@ namespace oer::server {
 
 namespace {
 
-// The map formats an upload may be: its media type, the extension it is stored under, and the
-// format its bytes must have (image_format_of), so that the decoder is the declared one. JPEG
-// and PNG are the panoramas phones make: decoded from sRGB to linear and marked in the rig as
-// of low dynamic range (source/dynamic_range "ldr").
-struct MapMediaType {
+// The image formats image_format_of names, each with its media type and the extension it is
+// stored under; `map` for those an environment may be uploaded as, so that the decoder is the
+// declared one. JPEG and PNG are the panoramas phones make: decoded from sRGB to linear and
+// marked in the rig as of low dynamic range (source/dynamic_range "ldr").
+struct ImageMediaType {
     std::string_view media_type;
     std::string_view extension;
     std::string_view format;
+    bool map;
 };
-constexpr MapMediaType kMapMediaTypes[] = {
-    {"image/vnd.radiance", "hdr", "hdr"},
-    {"image/x-exr", "exr", "openexr"},
-    {"image/jpeg", "jpg", "jpeg"},
-    {"image/png", "png", "png"},
-};
-// The media type of another format image_format_of names, for what a body really is.
-constexpr MapMediaType kOtherImageTypes[] = {
-    {"image/tiff", "tif", "tiff"},
+constexpr ImageMediaType kImageMediaTypes[] = {
+    {"image/vnd.radiance", "hdr", "hdr", true}, {"image/x-exr", "exr", "openexr", true},
+    {"image/jpeg", "jpg", "jpeg", true},        {"image/png", "png", "png", true},
+    {"image/tiff", "tif", "tiff", false},
 };
 
-const MapMediaType& map_media_type(const std::string& type) {
-    for (const MapMediaType& known : kMapMediaTypes) {
-        if (type == known.media_type) {
+const ImageMediaType& map_media_type(const std::string& type) {
+    std::string accepted;
+    for (const ImageMediaType& known : kImageMediaTypes) {
+        if (known.map && type == known.media_type) {
             return known;
         }
+        if (known.map) {
+            accepted.append(accepted.empty() ? "" : ", ").append(known.media_type);
+        }
     }
-    throw HttpError(problem(415,
-                            "an environment is image/vnd.radiance, image/x-exr, image/jpeg or "
-                            "image/png, not '" +
-                                api::excerpt(type) + "'"));
+    throw HttpError(problem(
+        415, "an environment is one of " + accepted + ", not '" + api::excerpt(type) + "'"));
 }
 
 // 415 when the body's signature is that of another image format than the declared one: a JPEG
 // sent as image/x-exr is refused as what it is, not decoded by whichever reader accepts it.
 // Bytes of no known signature go on to the declared decoder, whose error says what is wrong.
-void check_body_format(const MapMediaType& declared, const std::string& body) {
+void check_body_format(const ImageMediaType& declared, const std::string& body) {
     const std::string found = image_format_of(std::as_bytes(std::span(body.data(), body.size())));
     if (found.empty() || found == declared.format) {
         return;
     }
-    std::string_view found_type = found;
-    for (const std::span<const MapMediaType> list :
-         {std::span<const MapMediaType>(kMapMediaTypes),
-          std::span<const MapMediaType>(kOtherImageTypes)}) {
-        for (const MapMediaType& known : list) {
-            if (known.format == found) {
-                found_type = known.media_type;
-            }
-        }
-    }
-    throw HttpError(problem(415, "the body is " + std::string(found_type) + ", not " +
+    const auto actual =
+        std::find_if(std::begin(kImageMediaTypes), std::end(kImageMediaTypes),
+                     [&found](const ImageMediaType& known) { return known.format == found; });
+    const std::string_view actual_type =
+        actual == std::end(kImageMediaTypes) ? std::string_view(found) : actual->media_type;
+    throw HttpError(problem(415, "the body is " + std::string(actual_type) + ", not " +
                                      std::string(declared.media_type) +
                                      " as its Content-Type says"));
 }
@@ -111,7 +106,7 @@ void add_environment_routes(Router& router, ServiceContext& context) {
             if (body.empty()) {
                 throw api::InvalidParameter("body", "the body must be the map's bytes");
             }
-            const MapMediaType& declared = map_media_type(media_type(request));
+            const ImageMediaType& declared = map_media_type(media_type(request));
             check_body_format(declared, body);
             const auto upload =
                 context.environments.upload(body, std::string(declared.extension), options);

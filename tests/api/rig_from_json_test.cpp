@@ -173,9 +173,9 @@ TEST(RigFromJson, RejectsDamagedDocuments) {
 // What the server writes it reads back: rigs of random maps and of hostile ones (what a
 // decoder may hand over before repair_radiance: NaN, +-Inf, the largest floats, denormals, a
 // black map, one blinding pixel), each written as the store keeps it and read through the
-// store's own reader, which checks every range of api/openapi.yaml. Before the shares were
-// clamped, a map with one Inf pixel gave luminance_share 1.0000000000000004 and the reader
-// dropped the rig on every restart.
+// store's own reader, which checks every range of api/openapi.yaml. Without the clamp of
+// luminance_share, the denormal map's light came out above 1 and the reader refused it (issue
+// 14 saw the same with Inf pixels: 1.0000000000000004, the rig dropped on every restart).
 TEST(RigFromJson, RigsOfRandomAndHostileMapsReadBack) {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     constexpr float kLargest = std::numeric_limits<float>::max();

@@ -313,8 +313,8 @@ Light measure_light(const HdrImage& image, const equirect::Grid& grid,
     light.angular_radius = std::acos(std::clamp(1.0 - light.solid_angle / (2.0 * pi), -1.0, 1.0));
     // luminance(intensity) rather than the sum of the weights, exactly as the map's total. At
     // most 1 by construction: the two sums round differently, and a light holding the whole
-    // map's energy (one repaired Inf pixel) came out at 1.0000000000000004, which the rig's own
-    // reader (api/rig_from_json, the spec's range [0, 1]) then refused.
+    // map's energy (a map with Inf pixels, or of denormals) came out just above 1, which the
+    // rig's own reader (api/rig_from_json, the spec's range [0, 1]) then refused.
     light.luminance_share =
         total_energy > 0.0 ? std::min(luminance(light.intensity) / total_energy, 1.0) : 0.0;
     light.pixels = std::move(pixels);
