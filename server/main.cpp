@@ -1,5 +1,7 @@
 // oer-server: the HTTP service (README.md, server/README.md). Serves until SIGINT or SIGTERM,
 // then stops cleanly: the listener closes, requests in progress finish, the workers stop.
+#include <sys/resource.h>
+
 #include <csignal>
 #include <iostream>
 #include <string>
@@ -32,6 +34,14 @@ int main(int argc, char** argv) {
     sigaddset(&stop_signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
     std::signal(SIGPIPE, SIG_IGN);  // a client that hangs up is an error on its socket only
+    // Every connection is a descriptor: the soft limit (often 1024) up to the hard one, as Go
+    // and nginx's worker_rlimit_nofile do, so that a crowd of clients is answered, not refused
+    // by accept().
+    rlimit files{};
+    if (::getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
+        files.rlim_cur = files.rlim_max;
+        ::setrlimit(RLIMIT_NOFILE, &files);
+    }
 
     try {
         Service service(command_line.config);

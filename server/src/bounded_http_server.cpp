@@ -10,6 +10,7 @@
 #include <array>
 #include <cstring>
 
+#include "http_errors.hpp"
 #include "request_state.hpp"
 
 namespace oer::server {
@@ -107,11 +108,13 @@ class BoundedStream : public httplib::Stream {
         const auto now = Clock::now();
         if (read_bytes_ == 0) {
             deadline_ = now + limits_.read_deadline;
+            header_deadline_ = std::min(deadline_, now + limits_.header_deadline);
         }
-        if (now > deadline_ || read_bytes_ >= limits_.request_bytes) {
+        const Clock::time_point deadline = headers_read_ ? deadline_ : header_deadline_;
+        if (now > deadline || read_bytes_ >= limits_.request_bytes) {
             return -1;
         }
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - now);
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
         const ssize_t got =
             connection_.read(out, std::min(size, limits_.request_bytes - read_bytes_),
                              std::min(read_timeout_, left + std::chrono::milliseconds(1)));
@@ -122,8 +125,12 @@ class BoundedStream : public httplib::Stream {
         // cpp-httplib reads request, header and chunk-size lines a byte at a time: a line is
         // a run of one-byte reads, bounded here as cpp-httplib does not bound it.
         if (size == 1) {
-            line_bytes_ = *out == '\n' ? 0 : line_bytes_ + 1;
-            if (line_bytes_ > kMaxLineBytes) {
+            if (*out == '\n') {
+                // An empty line ("\r\n", or "\n" as RFC 9112 section 2.2 lets a server
+                // accept) ends the headers.
+                headers_read_ = headers_read_ || line_bytes_ <= 1;
+                line_bytes_ = 0;
+            } else if (++line_bytes_ > kMaxLineBytes) {
                 return -1;
             }
         } else {
@@ -158,8 +165,26 @@ class BoundedStream : public httplib::Stream {
     const std::chrono::milliseconds write_timeout_;
     std::size_t read_bytes_ = 0;
     std::size_t line_bytes_ = 0;
+    bool headers_read_ = false;
     Clock::time_point deadline_{};
+    Clock::time_point header_deadline_{};
 };
+
+// The answer to a connection over its address's limit, written before reading anything: the
+// connection closes after it (RFC 6585 section 4's 429, with when to come back).
+void refuse_connection(socket_t sock, const std::string& address, std::size_t limit) {
+    Problem answer =
+        problem(429, "too many connections from " + address + " (at most " + std::to_string(limit) +
+                         " at once); close one or retry later");
+    const std::string body = problem_to_json(answer).dump();
+    const std::string response =
+        "HTTP/1.1 429 Too Many Requests\r\nContent-Type: " + std::string(kProblemContentType) +
+        "\r\nRetry-After: " + std::to_string(kRetryAfterSeconds) +
+        "\r\nConnection: close\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" +
+        body;
+    // One non-blocking attempt: a client that does not read its answer gets none.
+    (void)::send(sock, response.data(), response.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+}
 
 std::chrono::milliseconds milliseconds(time_t seconds, time_t microseconds) {
     return std::chrono::milliseconds(seconds * 1000 + microseconds / 1000);
@@ -182,7 +207,50 @@ bool BoundedHttpServer::wait_for_request(socket_t sock, bool buffered) const {
     return false;
 }
 
+bool ConnectionsPerClient::enter(const std::string& address) {
+    if (limit_ == 0) {
+        return true;
+    }
+    const std::lock_guard lock(mutex_);
+    std::size_t& open = open_[address];
+    if (open >= limit_) {
+        return false;
+    }
+    ++open;
+    return true;
+}
+
+void ConnectionsPerClient::leave(const std::string& address) {
+    if (limit_ == 0) {
+        return;
+    }
+    const std::lock_guard lock(mutex_);
+    const auto found = open_.find(address);
+    if (found != open_.end() && --found->second == 0) {
+        open_.erase(found);
+    }
+}
+
 bool BoundedHttpServer::process_and_close_socket(socket_t sock) {
+    std::string address;
+    int port = 0;
+    address_of(sock, true, address, port);
+    bool served = false;
+    if (connections_.enter(address)) {
+        served = serve_connection(sock);
+        connections_.leave(address);
+    } else {
+        refuse_connection(sock, address, limits_.max_connections_per_client);
+        if (on_refused_) {
+            on_refused_(address);
+        }
+    }
+    ::shutdown(sock, SHUT_RDWR);
+    ::close(sock);
+    return served;
+}
+
+bool BoundedHttpServer::serve_connection(socket_t sock) {
     Connection connection(sock);
     bool served = false;
     for (std::size_t left = keep_alive_max_count_; left > 0; --left) {
@@ -199,8 +267,6 @@ bool BoundedHttpServer::process_and_close_socket(socket_t sock) {
             break;
         }
     }
-    ::shutdown(sock, SHUT_RDWR);
-    ::close(sock);
     return served;
 }
 

@@ -50,6 +50,11 @@ ErrorAnswer error_answer(std::exception_ptr error) {
         std::rethrow_exception(error);
     } catch (const HttpError& e) {
         return {e.problem(), e.headers(), false, e.what()};
+    } catch (const RendererUnavailable& e) {
+        return {problem(503, e.what()),
+                {{"Retry-After", std::to_string(kRendererRetrySeconds)}},
+                false,
+                e.what()};
     } catch (const QueueFull& e) {
         return {problem(503, e.what()),
                 {{"Retry-After", std::to_string(kRetryAfterSeconds)}},

@@ -1,7 +1,8 @@
 #pragma once
 // Failures as HTTP answers, mapped in one place: the exceptions of the renderer (oer::Error by
-// kind), of the api (MalformedRequest, InvalidParameter), of the render pool (QueueFull) and
-// the answers a route decides itself (HttpError: 401, 404, 405, 413, 415, 503).
+// kind), of the api (MalformedRequest, InvalidParameter), of the render pool (QueueFull,
+// RendererUnavailable) and the answers a route decides itself (HttpError: 401, 404, 405, 413, 415,
+// 503).
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,9 @@ HttpError unavailable(const std::string& detail, int retry_after_seconds = 1);
 
 // Seconds a client is told to wait after a 503.
 inline constexpr int kRetryAfterSeconds = 1;
+// Seconds between two attempts to start a renderer that could not start, which a client is
+// told to wait after a render refused meanwhile.
+inline constexpr int kRendererRetrySeconds = 5;
 
 int status_of(ErrorKind kind);
 

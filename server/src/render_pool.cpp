@@ -14,18 +14,10 @@ struct RenderPool::Worker {
 
 RenderPool::RenderPool(int workers, int max_waiting, const FrameLimits& limits,
                        DepthObserver observer)
-    : capacity_(std::size_t(std::max(workers, 1)) + std::size_t(std::max(max_waiting, 0))),
+    : worker_target_(std::max(workers, 1)),
+      capacity_(std::size_t(worker_target_) + std::size_t(std::max(max_waiting, 0))),
       limits_(limits),
-      observer_(std::move(observer)) {
-    for (int i = 0; i < std::max(workers, 1); ++i) {
-        auto worker = std::make_unique<Worker>();
-        Worker* raw = worker.get();
-        raw->thread
-            .submit([raw, limits] { raw->renderer = std::make_unique<FrameRenderer>(limits); })
-            .get();
-        workers_.push_back(std::move(worker));
-    }
-}
+      observer_(std::move(observer)) {}
 
 RenderPool::~RenderPool() {
     for (const auto& worker : workers_) {
@@ -34,7 +26,55 @@ RenderPool::~RenderPool() {
     }
 }
 
+void RenderPool::start(const Job& test) {
+    if (started()) {
+        return;
+    }
+    try {
+        for (int i = 0; i < worker_target_; ++i) {
+            auto worker = std::make_unique<Worker>();
+            Worker* raw = worker.get();
+            workers_.push_back(std::move(worker));
+            raw->thread
+                .submit([raw, this] { raw->renderer = std::make_unique<FrameRenderer>(limits_); })
+                .get();
+        }
+        std::vector<std::future<Frame>> results;
+        for (const auto& worker : workers_) {
+            in_flight_.fetch_add(1);
+            results.push_back(enqueue(*worker, test));
+        }
+        for (auto& result : results) {
+            result.get();
+        }
+    } catch (const std::exception& error) {
+        for (const auto& worker : workers_) {
+            Worker* raw = worker.get();
+            raw->thread.submit([raw] { raw->renderer.reset(); }).wait();
+        }
+        workers_.clear();
+        const std::lock_guard lock(failure_mutex_);
+        failure_ = error.what();
+        throw;
+    }
+    {
+        const std::lock_guard lock(failure_mutex_);
+        failure_.clear();
+    }
+    started_.store(true, std::memory_order_release);
+}
+
+std::string RenderPool::failure() const {
+    const std::lock_guard lock(failure_mutex_);
+    return failure_;
+}
+
 std::future<Frame> RenderPool::submit(Job job) {
+    if (!started()) {
+        const std::string why = failure();
+        throw RendererUnavailable(why.empty() ? "the renderer has not started yet"
+                                              : "the renderer could not start: " + why);
+    }
     if (in_flight_.fetch_add(1) >= capacity_) {
         in_flight_.fetch_sub(1);
         throw QueueFull("the render queue is full (" + std::to_string(capacity_) +
@@ -44,17 +84,6 @@ std::future<Frame> RenderPool::submit(Job job) {
         workers_.begin(), workers_.end(),
         [](const auto& a, const auto& b) { return a->pending.load() < b->pending.load(); });
     return enqueue(worker, std::move(job));
-}
-
-void RenderPool::run_on_every_worker(const Job& job) {
-    std::vector<std::future<Frame>> results;
-    for (const auto& worker : workers_) {
-        in_flight_.fetch_add(1);
-        results.push_back(enqueue(*worker, job));
-    }
-    for (auto& result : results) {
-        result.get();
-    }
 }
 
 std::future<Frame> RenderPool::enqueue(Worker& worker, Job job) {
@@ -90,8 +119,8 @@ std::size_t RenderPool::waiting() const {
     return in_flight > running ? in_flight - running : 0;
 }
 
-const GlInfo& RenderPool::info() const {
-    return workers_.front()->thread.info();
+const GlInfo* RenderPool::info() const {
+    return started() ? &workers_.front()->thread.info() : nullptr;
 }
 
 }  // namespace oer::server

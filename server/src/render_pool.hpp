@@ -4,12 +4,18 @@
 // deadline. The number of jobs in flight is bounded (every worker busy plus max_waiting
 // queued): past it submit() throws QueueFull at once, so a burst of requests gets prompt 503s
 // instead of an ever longer queue.
+//
+// A pool starts without workers: start() makes them and may fail (no GL device, a driver that
+// cannot make a context), and the service keeps running meanwhile, answering renders 503
+// (RendererUnavailable) and saying why, while it tries again.
 #include <atomic>
 #include <cstddef>
 #include <functional>
 #include <future>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "oer/gl/frame_renderer.hpp"
@@ -22,14 +28,19 @@ class QueueFull : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// The pool has no workers: not started yet, or its start failed (the message says why).
+class RendererUnavailable : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
 class RenderPool {
   public:
     using Job = std::function<Frame(FrameRenderer&)>;
     // Called with the number of jobs waiting for a worker whenever it changes (for a gauge).
     using DepthObserver = std::function<void(std::size_t waiting)>;
 
-    // Starts `workers` threads, each creating its GL context and FrameRenderer; throws what
-    // GlContext::create throws.
+    // Makes no worker yet: start() does.
     RenderPool(int workers, int max_waiting, const FrameLimits& limits,
                DepthObserver observer = {});
     // Finishes the jobs in flight, then destroys each renderer on its own thread.
@@ -37,17 +48,24 @@ class RenderPool {
     RenderPool(const RenderPool&) = delete;
     RenderPool& operator=(const RenderPool&) = delete;
 
+    // Starts the worker threads, each creating its GL context and FrameRenderer, and runs
+    // `test` once on every worker (the test frame that makes the pool ready). On any failure
+    // it destroys what it made, remembers the failure (failure()) and rethrows it. Not to be
+    // called by two threads at once; a started pool ignores it.
+    void start(const Job& test);
+    bool started() const { return started_.load(std::memory_order_acquire); }
+    // Why the last start failed; empty when none did.
+    std::string failure() const;
+
     // Runs job on the worker with the fewest jobs; the future carries its frame or exception.
-    // Throws QueueFull when workers + max_waiting jobs are already in flight.
+    // Throws RendererUnavailable before the pool has started, QueueFull when workers +
+    // max_waiting jobs are already in flight.
     std::future<Frame> submit(Job job);
 
-    // Runs job once on every worker and waits (the test frame that makes the pool ready);
-    // rethrows the first failure.
-    void run_on_every_worker(const Job& job);
-
     std::size_t waiting() const;  // jobs accepted but not yet started
-    int worker_count() const { return int(workers_.size()); }
-    const GlInfo& info() const;
+    int worker_count() const { return started() ? int(workers_.size()) : 0; }
+    // The first worker's GL; nullptr before the pool has started.
+    const GlInfo* info() const;
     const FrameLimits& limits() const { return limits_; }  // every worker's
 
   private:
@@ -55,12 +73,18 @@ class RenderPool {
     std::future<Frame> enqueue(Worker& worker, Job job);
     void notify();
 
+    const int worker_target_;
     const std::size_t capacity_;
     const FrameLimits limits_;
     const DepthObserver observer_;
     std::atomic<std::size_t> in_flight_{0};
     std::atomic<std::size_t> running_{0};
+    // Written by start() only before started_ is set (release), read only after it is seen
+    // set (acquire).
     std::vector<std::unique_ptr<Worker>> workers_;
+    std::atomic<bool> started_{false};
+    mutable std::mutex failure_mutex_;
+    std::string failure_;
 };
 
 }  // namespace oer::server

@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -46,6 +48,9 @@ constexpr int kTestFrameSize = 64;
 // Room for a request's line and headers beside its body.
 constexpr std::size_t kMaxHeaderBytes = 64 << 10;
 
+// The admin listener's threads: probes and scrapes are few and quick.
+constexpr int kAdminThreads = 4;
+
 std::string mebibytes(std::uint64_t bytes) {
     std::ostringstream text;
     text << double(bytes) / double(1 << 20) << " MiB";
@@ -78,7 +83,22 @@ struct Service::Impl {
 
     void start();
     void stop();
-    void configure_server();
+    // Starts the render workers with the test frame; on failure, logs why and keeps trying
+    // every kRendererRetrySeconds on a thread of its own until it succeeds or the service
+    // stops, renders answering 503 meanwhile.
+    void start_renderer();
+    void retry_renderer(FrameRequest test_frame);
+    // One HTTP listener: its server, its routes, the thread its accept loop runs on.
+    struct Listener {
+        std::unique_ptr<BoundedHttpServer> http;
+        std::unique_ptr<Router> routes;
+        std::thread thread;
+        int port = -1;
+    };
+    Listener make_listener(const ConnectionLimits& limits, std::size_t threads);
+    void configure_server(httplib::Server& http, const Router& routes, std::size_t threads);
+    // Binds the listener to host:port (0: any free port) and serves it from its thread.
+    void listen(Listener& listener, int port);
     FrameRequest test_frame_request();
 
     const ServiceConfig config;
@@ -91,15 +111,17 @@ struct Service::Impl {
     TransferRegistry transfers;
     ByteLruCache frames;
     api::RenderLimits render_limits;
-    std::atomic<bool> ready{false};
 
     std::unique_ptr<RenderPool> pool;
     std::unique_ptr<FrameService> frame_service;
-    std::unique_ptr<httplib::Server> server;
-    std::unique_ptr<Router> router;
+    Listener api;
+    Listener admin;  // no http when config.admin_port < 0
     std::unique_ptr<ServiceContext> context;
-    std::thread listener;
-    int port = -1;
+
+    std::thread renderer_retries;
+    std::mutex stopping_mutex;
+    std::condition_variable stopping_changed;
+    bool stopping = false;
 };
 
 // The default scene (the preset environment and product, untransformed, on the ground, with
@@ -123,7 +145,7 @@ FrameRequest Service::Impl::test_frame_request() {
 }
 
 void Service::Impl::start() {
-    if (server) {
+    if (api.http) {
         throw Error(ErrorKind::Internal, "Service::start: already started");
     }
     FrameLimits frame_limits;
@@ -132,48 +154,112 @@ void Service::Impl::start() {
     pool = std::make_unique<RenderPool>(
         config.render_workers, config.max_queue_depth, frame_limits,
         [this](std::size_t waiting) { metrics.render_queue_depth.set(double(waiting)); });
-    const FrameRequest test_frame = test_frame_request();
-    pool->run_on_every_worker(
-        [&test_frame](FrameRenderer& renderer) { return renderer.render(test_frame); });
-    ready = true;
-    metrics.render_workers_ready.set(pool->worker_count());
-
     frame_service =
         std::make_unique<FrameService>(environments, meshes, transfers, *pool, frames, metrics,
                                        std::chrono::seconds(config.request_timeout_seconds));
+    start_renderer();
+
     const std::size_t max_body =
         std::max<std::size_t>(config.max_upload_bytes, render_limits.max_body_bytes);
-    server = std::make_unique<BoundedHttpServer>(ConnectionLimits{
-        max_body + kMaxHeaderBytes, std::chrono::seconds(config.request_timeout_seconds)});
-    router = std::make_unique<Router>(*server, log);
-    context = std::make_unique<ServiceContext>(ServiceContext{config, render_limits, metrics,
-                                                              environments, meshes, frames, *pool,
-                                                              *frame_service, ready, log});
-    configure_server();
-    add_environment_routes(*router, *context);
-    add_mesh_routes(*router, *context);
-    add_render_routes(*router, *context);
-    add_service_routes(*router, *context);
-    add_web_routes(*router);
-
-    if (config.port == 0) {
-        port = server->bind_to_any_port(config.host);
-    } else {
-        port = server->bind_to_port(config.host, config.port) ? config.port : -1;
+    ConnectionLimits limits;
+    limits.request_bytes = max_body + kMaxHeaderBytes;
+    limits.read_deadline = std::chrono::seconds(config.request_timeout_seconds);
+    limits.header_deadline = std::chrono::seconds(config.header_timeout_seconds);
+    limits.max_connections_per_client = std::size_t(config.max_connections_per_client);
+    api = make_listener(limits, std::size_t(std::max(config.http_threads, 1)));
+    context = std::make_unique<ServiceContext>(ServiceContext{
+        config, render_limits, metrics, environments, meshes, frames, *pool, *frame_service, log});
+    add_environment_routes(*api.routes, *context);
+    add_mesh_routes(*api.routes, *context);
+    add_render_routes(*api.routes, *context);
+    add_service_routes(*api.routes, *context);
+    add_web_routes(*api.routes);
+    if (config.admin_port >= 0) {
+        // Probes carry no body: the headers' room is all a request needs.
+        ConnectionLimits admin_limits = limits;
+        admin_limits.request_bytes = kMaxHeaderBytes;
+        admin_limits.max_connections_per_client = 0;
+        admin = make_listener(admin_limits, kAdminThreads);
+        add_probe_routes(*admin.routes, *context);
     }
-    if (port < 0) {
-        const std::string where = config.host + ":" + std::to_string(config.port);
+
+    listen(api, config.port);
+    if (admin.http) {
+        listen(admin, config.admin_port);
+    }
+}
+
+void Service::Impl::start_renderer() {
+    FrameRequest test_frame = test_frame_request();
+    try {
+        pool->start([&test_frame](FrameRenderer& renderer) { return renderer.render(test_frame); });
+        metrics.render_workers_ready.set(pool->worker_count());
+    } catch (const std::exception& error) {
+        log(std::string("error: the renderer could not start: ") + error.what() +
+            "; renders answer 503 and /readyz is false until it does; trying again every " +
+            std::to_string(kRendererRetrySeconds) + " s");
+        renderer_retries =
+            std::thread([this, test_frame = std::move(test_frame)] { retry_renderer(test_frame); });
+    }
+}
+
+void Service::Impl::retry_renderer(FrameRequest test_frame) {
+    std::string last_failure = pool->failure();
+    for (int attempt = 2;; ++attempt) {
+        {
+            std::unique_lock lock(stopping_mutex);
+            if (stopping_changed.wait_for(lock, std::chrono::seconds(kRendererRetrySeconds),
+                                          [this] { return stopping; })) {
+                return;
+            }
+        }
+        try {
+            pool->start(
+                [&test_frame](FrameRenderer& renderer) { return renderer.render(test_frame); });
+            metrics.render_workers_ready.set(pool->worker_count());
+            log("the renderer started at attempt " + std::to_string(attempt));
+            return;
+        } catch (const std::exception& error) {
+            // Each new cause once, not one line every few seconds.
+            if (error.what() != last_failure) {
+                last_failure = error.what();
+                log("error: the renderer could not start (attempt " + std::to_string(attempt) +
+                    "): " + last_failure);
+            }
+        }
+    }
+}
+
+Service::Impl::Listener Service::Impl::make_listener(const ConnectionLimits& limits,
+                                                     std::size_t threads) {
+    Listener listener;
+    listener.http = std::make_unique<BoundedHttpServer>(
+        limits, [this](const std::string&) { metrics.connections_refused.increment(); });
+    listener.routes = std::make_unique<Router>(*listener.http, log);
+    configure_server(*listener.http, *listener.routes, threads);
+    return listener;
+}
+
+void Service::Impl::listen(Listener& listener, int wanted_port) {
+    httplib::Server& http = *listener.http;
+    const int bound = wanted_port == 0
+                          ? http.bind_to_any_port(config.host)
+                          : (http.bind_to_port(config.host, wanted_port) ? wanted_port : -1);
+    if (bound < 0) {
+        const std::string where = config.host + ":" + std::to_string(wanted_port);
         stop();
         throw Error(ErrorKind::Io, "cannot listen on " + where);
     }
-    if (!widen_listen_backlog(port)) {
-        log("warning: the listen backlog stays at cpp-httplib's 5 (its socket was not found)");
+    if (!widen_listen_backlog(bound)) {
+        log("warning: the listen backlog of port " + std::to_string(bound) +
+            " stays at cpp-httplib's 5 (its socket was not found)");
     }
-    listener = std::thread([this] { server->listen_after_bind(); });
+    listener.port = bound;
+    listener.thread = std::thread([&http] { http.listen_after_bind(); });
     // cpp-httplib's stop() does nothing until the listening loop has begun, so a service stopped
-    // right after it started would wait on that loop for ever. Start returns once it runs.
+    // right after it started would wait on that loop for ever. Listening returns once it runs.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while (!server->is_running()) {
+    while (!http.is_running()) {
         if (std::chrono::steady_clock::now() > deadline) {
             stop();
             throw Error(ErrorKind::Internal, "the HTTP listener did not start within 10 s");
@@ -182,31 +268,31 @@ void Service::Impl::start() {
     }
 }
 
-void Service::Impl::configure_server() {
-    const std::size_t threads = std::size_t(std::max(config.http_threads, 1));
-    server->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+void Service::Impl::configure_server(httplib::Server& http, const Router& routes,
+                                     std::size_t threads) {
+    http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
     // The largest body any route reads; each route bounds its own below that.
-    server->set_payload_max_length(
+    http.set_payload_max_length(
         std::max<std::size_t>(config.max_upload_bytes, render_limits.max_body_bytes));
     // A sender that pauses longer than the idle timeout mid-request is dropped, so that slow
     // clients cannot hold the HTTP threads.
-    server->set_read_timeout(config.idle_timeout_seconds);
-    server->set_write_timeout(config.request_timeout_seconds);
-    server->set_keep_alive_timeout(config.idle_timeout_seconds);
+    http.set_read_timeout(config.idle_timeout_seconds);
+    http.set_write_timeout(config.request_timeout_seconds);
+    http.set_keep_alive_timeout(config.idle_timeout_seconds);
     // Headers and body leave in separate writes: without TCP_NODELAY, Nagle's algorithm holds
     // the body until the client's delayed ACK (about 40 ms on Linux), even for a cached frame.
-    server->set_tcp_nodelay(true);
-    server->set_keep_alive_max_count(std::size_t(std::max(config.keep_alive_max_count, 1)));
+    http.set_tcp_nodelay(true);
+    http.set_keep_alive_max_count(std::size_t(std::max(config.keep_alive_max_count, 1)));
 
-    server->set_pre_routing_handler(
-        [this](const httplib::Request& request, httplib::Response& response) {
+    http.set_pre_routing_handler(
+        [this, &routes](const httplib::Request& request, httplib::Response& response) {
             RequestState& state = current_request();
             state = RequestState{};
             state.start = std::chrono::steady_clock::now();
             add_cors_headers(config.cors_origins, request, response);
             if (request.method == "OPTIONS") {
                 state.route = "preflight";
-                answer_preflight(router->methods_for(request.path), response);
+                answer_preflight(routes.methods_for(request.path), response);
                 return httplib::Server::HandlerResponse::Handled;
             }
             return httplib::Server::HandlerResponse::Unhandled;
@@ -214,13 +300,13 @@ void Service::Impl::configure_server() {
 
     // Answers that cpp-httplib makes itself (no route, a malformed request) and routes that
     // set a status without a body become problem+json too.
-    server->set_error_handler(httplib::Server::HandlerWithResponse(
-        [this](const httplib::Request& request, httplib::Response& response) {
+    http.set_error_handler(httplib::Server::HandlerWithResponse(
+        [this, &routes](const httplib::Request& request, httplib::Response& response) {
             if (!response.body.empty()) {
                 return httplib::Server::HandlerResponse::Unhandled;
             }
             if (response.status == 404 && current_request().route == "unmatched") {
-                const std::vector<std::string> methods = router->methods_for(request.path);
+                const std::vector<std::string> methods = routes.methods_for(request.path);
                 if (methods.empty()) {
                     send_problem(response, {problem(404, "no route has this path"), {}, false, ""});
                 } else {
@@ -246,8 +332,8 @@ void Service::Impl::configure_server() {
             return httplib::Server::HandlerResponse::Handled;
         }));
 
-    server->set_exception_handler([this](const httplib::Request& request,
-                                         httplib::Response& response, std::exception_ptr error) {
+    http.set_exception_handler([this](const httplib::Request& request, httplib::Response& response,
+                                      std::exception_ptr error) {
         const ErrorAnswer answer = error_answer(error);
         if (answer.internal) {
             log("error: " + request.method + " " + current_request().route + ": " + answer.cause);
@@ -255,13 +341,13 @@ void Service::Impl::configure_server() {
         send_problem(response, answer);
     });
 
-    server->set_post_routing_handler([](const httplib::Request&, httplib::Response& response) {
+    http.set_post_routing_handler([](const httplib::Request&, httplib::Response& response) {
         if (current_request().close_connection) {
             response.set_header("Connection", "close");
         }
     });
 
-    server->set_logger([this](const httplib::Request& request, const httplib::Response& response) {
+    http.set_logger([this](const httplib::Request& request, const httplib::Response& response) {
         RequestState& state = current_request();
         const auto now = std::chrono::steady_clock::now();
         const double seconds = state.start == std::chrono::steady_clock::time_point{}
@@ -276,20 +362,29 @@ void Service::Impl::configure_server() {
 }
 
 void Service::Impl::stop() {
-    if (server) {
-        server->stop();
+    {
+        const std::lock_guard lock(stopping_mutex);
+        stopping = true;
     }
-    if (listener.joinable()) {
-        listener.join();
+    stopping_changed.notify_all();
+    if (renderer_retries.joinable()) {
+        renderer_retries.join();
+    }
+    for (Listener* listener : {&api, &admin}) {
+        if (listener->http) {
+            listener->http->stop();
+        }
+        if (listener->thread.joinable()) {
+            listener->thread.join();
+        }
     }
     context.reset();
-    router.reset();
-    server.reset();
+    api = Listener{};
+    admin = Listener{};
     // The pool first: a frame whose client timed out may still be running, and its job uses
     // the frame service.
     pool.reset();
     frame_service.reset();
-    ready = false;
     metrics.render_workers_ready.set(0);
 }
 
@@ -309,31 +404,41 @@ void Service::stop() {
 }
 
 int Service::port() const {
-    return impl_->port;
+    return impl_->api.port;
+}
+
+int Service::admin_port() const {
+    return impl_->admin.port;
 }
 
 std::string Service::url() const {
-    return "http://" + impl_->config.host + ":" + std::to_string(impl_->port);
+    return "http://" + impl_->config.host + ":" + std::to_string(impl_->api.port);
 }
 
 std::string Service::banner() const {
     const ServiceConfig& c = impl_->config;
     std::ostringstream text;
     text << "oer-server " << api::kVersion << " listening on " << url() << "\n";
-    if (impl_->pool) {
-        const GlInfo& gl = impl_->pool->info();
-        text << "  renderer: " << gl.vendor << ", " << gl.renderer << ", OpenGL " << gl.version
-             << " (" << gl.platform << "), " << impl_->pool->worker_count() << " worker(s)\n";
+    if (const GlInfo* gl = impl_->pool ? impl_->pool->info() : nullptr) {
+        text << "  renderer: " << gl->vendor << ", " << gl->renderer << ", OpenGL " << gl->version
+             << " (" << gl->platform << "), " << impl_->pool->worker_count() << " worker(s)\n";
     } else {
-        text << "  renderer: not started\n";
+        text << "  renderer: not running (" << (impl_->pool ? impl_->pool->failure() : "")
+             << "); renders answer 503 until it starts\n";
+    }
+    if (impl_->admin.port >= 0) {
+        text << "  admin listener (/healthz, /readyz, /metrics): http://" << c.host << ":"
+             << impl_->admin.port << "\n";
     }
     text << "  data folder: " << c.data_dir.string() << "\n";
     text << "  limits: upload " << mebibytes(c.max_upload_bytes) << ", image " << c.max_image_pixels
          << " pixels, " << c.max_triangles << " triangles, frame " << c.max_frame_width << "x"
          << c.max_frame_height << ", queue " << c.max_queue_depth << ", request timeout "
-         << c.request_timeout_seconds << " s, idle timeout " << c.idle_timeout_seconds
-         << " s, keep-alive " << c.keep_alive_max_count << " requests, " << c.http_threads
-         << " HTTP threads, frame cache " << mebibytes(c.frame_cache_bytes) << "\n";
+         << c.request_timeout_seconds << " s, header timeout " << c.header_timeout_seconds
+         << " s, idle timeout " << c.idle_timeout_seconds << " s, keep-alive "
+         << c.keep_alive_max_count << " requests, " << c.http_threads << " HTTP threads, "
+         << c.max_connections_per_client << " connections per client (0: any), frame cache "
+         << mebibytes(c.frame_cache_bytes) << "\n";
     text << "  uploads: " << (c.api_key.empty() ? "open (no API key)" : "need the API key")
          << "; CORS origins: ";
     if (c.cors_origins.empty()) {

@@ -110,6 +110,28 @@ const std::vector<Option>& options() {
         text_option("host", "ADDRESS", "address to listen on", &ServiceConfig::host, false),
         integer_option("port", "PORT", "TCP port to listen on; 0 picks a free one",
                        &ServiceConfig::port, 0, 65535),
+        Option{"admin-port", "PORT|off",
+               "TCP port of the admin listener (/healthz, /readyz, /metrics on threads of their "
+               "own); 0 picks a free one, off: none",
+               [](ServiceConfig& config, const std::string& source, const std::string& text) {
+                   if (text == "off") {
+                       config.admin_port = -1;
+                       return;
+                   }
+                   int value = -1;
+                   const auto [end, error] =
+                       std::from_chars(text.data(), text.data() + text.size(), value);
+                   if (error != std::errc() || end != text.data() + text.size() || value < 0 ||
+                       value > 65535) {
+                       throw InvalidParameter(source, "expected an integer 0..65535 or off, got " +
+                                                          quoted_excerpt(text));
+                   }
+                   config.admin_port = value;
+               },
+               [](const ServiceConfig& config) {
+                   return config.admin_port < 0 ? std::string("off")
+                                                : std::to_string(config.admin_port);
+               }},
         Option{"data-dir", "DIR", "folder of the asset store, created if missing",
                [](ServiceConfig& config, const std::string& source, const std::string& text) {
                    if (text.empty()) {
@@ -148,10 +170,17 @@ const std::vector<Option>& options() {
         integer_option("idle-timeout-seconds", "SECONDS",
                        "longest an idle keep-alive connection stays open",
                        &ServiceConfig::idle_timeout_seconds, 1, 3600),
+        integer_option("header-timeout-seconds", "SECONDS",
+                       "longest a request's line and headers may take to arrive",
+                       &ServiceConfig::header_timeout_seconds, 1, 3600),
         integer_option("keep-alive-max-count", "COUNT", "most requests on one connection",
                        &ServiceConfig::keep_alive_max_count, 1, 100000),
         integer_option("http-threads", "COUNT", "threads serving HTTP connections",
-                       &ServiceConfig::http_threads, 1, 1024),
+                       &ServiceConfig::http_threads, 1, 4096),
+        integer_option("max-connections-per-client", "COUNT",
+                       "connections one client address may hold; more are answered 429; 0: no "
+                       "limit (behind a proxy)",
+                       &ServiceConfig::max_connections_per_client, 0, 1'000'000),
         integer_option("frame-cache-bytes", "BYTES", "memory for encoded frames; 0: no cache",
                        &ServiceConfig::frame_cache_bytes, 0, 1ull << 40),
         integer_option("transfer-ray-budget", "RAYS",

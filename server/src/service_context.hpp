@@ -1,6 +1,5 @@
 #pragma once
 // Everything the routes use, owned by the Service and handed to each group of routes.
-#include <atomic>
 #include <functional>
 #include <string_view>
 
@@ -25,7 +24,6 @@ struct ServiceContext {
     ByteLruCache& frames;  // encoded frames, and previews
     RenderPool& pool;
     FrameService& frame_service;
-    const std::atomic<bool>& ready;  // every worker rendered its test frame
     std::function<void(std::string_view)> log;
 };
 
@@ -33,7 +31,9 @@ struct ServiceContext {
 void add_environment_routes(Router& router, ServiceContext& context);
 void add_mesh_routes(Router& router, ServiceContext& context);
 void add_render_routes(Router& router, ServiceContext& context);
-void add_service_routes(Router& router, ServiceContext& context);
+void add_service_routes(Router& router, ServiceContext& context);  // with the probes
+// GET /healthz, /readyz, /metrics: also the whole of the admin listener.
+void add_probe_routes(Router& router, ServiceContext& context);
 // GET / and /web/{file}: the browser client (web/), embedded at build time.
 void add_web_routes(Router& router);
 

@@ -57,6 +57,9 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
           registry.gauge("oer_render_queue_depth", "Frames waiting for a render worker")),
       render_workers_ready(registry.gauge(
           "oer_render_workers_ready", "Render workers with a GL context and a test frame done")),
+      connections_refused(registry.counter(
+          "oer_http_connections_refused_total",
+          "Connections answered 429 because their client address held as many as it may")),
       registry_(registry) {
     for (const CacheName cache :
          {CacheName::Frame, CacheName::Rig, CacheName::Mesh, CacheName::Environment,

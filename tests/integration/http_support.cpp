@@ -124,6 +124,10 @@ int TestServer::port() const {
     return service_->port();
 }
 
+int TestServer::admin_port() const {
+    return service_->admin_port();
+}
+
 std::unique_ptr<httplib::Client> TestServer::client(int read_timeout_seconds) const {
     auto client = std::make_unique<httplib::Client>("127.0.0.1", port());
     client->set_connection_timeout(5, 0);
@@ -342,10 +346,20 @@ Rgba8Image decode_image(const httplib::Result& result) {
     return decode_8bit(bytes_of(result));
 }
 
-RawSocket::RawSocket(int port) {
+RawSocket::RawSocket(int port, const char* source) {
     fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
     if (fd_ < 0) {
         return;
+    }
+    if (source) {
+        sockaddr_in local{};
+        local.sin_family = AF_INET;
+        if (::inet_pton(AF_INET, source, &local.sin_addr) != 1 ||
+            ::bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0) {
+            ::close(fd_);
+            fd_ = -1;
+            return;
+        }
     }
     sockaddr_in address{};
     address.sin_family = AF_INET;

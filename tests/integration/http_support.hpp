@@ -54,6 +54,7 @@ class TestServer {
     ~TestServer();
     void stop();
     int port() const;
+    int admin_port() const;  // -1: no admin listener
     const server::ServiceConfig& config() const { return config_; }
     // A client on the loopback port with generous timeouts (no test may hang forever).
     std::unique_ptr<httplib::Client> client(int read_timeout_seconds = 120) const;
@@ -103,7 +104,9 @@ Rgba8Image decode_image(const httplib::Result& result);
 // Raw TCP to the loopback port, for clients that httplib would not let us be.
 class RawSocket {
   public:
-    explicit RawSocket(int port);
+    // From source (another loopback address such as "127.0.0.2", to be another client) when
+    // given.
+    explicit RawSocket(int port, const char* source = nullptr);
     ~RawSocket();
     RawSocket(const RawSocket&) = delete;
     RawSocket& operator=(const RawSocket&) = delete;

@@ -11,6 +11,7 @@
 
 using namespace oer;
 using oer::server::QueueFull;
+using oer::server::RendererUnavailable;
 using oer::server::RenderPool;
 
 namespace {
@@ -22,6 +23,10 @@ RenderPool::Job blocking_job(std::shared_future<void> release, std::atomic<int>&
         release.wait();
         return Frame{};
     };
+}
+
+Frame no_frame(FrameRenderer&) {
+    return Frame{};
 }
 
 bool eventually(const std::function<bool()>& condition) {
@@ -40,6 +45,7 @@ bool eventually(const std::function<bool()>& condition) {
 TEST(RenderPool, RefusesJobsBeyondTheWorkersAndTheQueueAtOnce) {
     std::atomic<std::size_t> observed{0};
     RenderPool pool(1, 2, FrameLimits{}, [&observed](std::size_t waiting) { observed = waiting; });
+    pool.start(no_frame);
     std::promise<void> gate;
     const std::shared_future<void> release = gate.get_future().share();
     std::atomic<int> started{0};
@@ -68,6 +74,7 @@ TEST(RenderPool, RefusesJobsBeyondTheWorkersAndTheQueueAtOnce) {
 
 TEST(RenderPool, AFailingJobFreesItsPlace) {
     RenderPool pool(1, 0, FrameLimits{});
+    pool.start(no_frame);
     for (int i = 0; i < 3; ++i) {
         auto failing = pool.submit(
             [](FrameRenderer&) -> Frame { throw Error(ErrorKind::InvalidInput, "bad frame"); });
@@ -76,15 +83,51 @@ TEST(RenderPool, AFailingJobFreesItsPlace) {
     EXPECT_EQ(pool.waiting(), 0u);
 }
 
-TEST(RenderPool, RunsAJobOnEveryWorker) {
+TEST(RenderPool, StartRunsTheTestOnEveryWorker) {
     RenderPool pool(2, 0, FrameLimits{});
+    EXPECT_EQ(pool.info(), nullptr);
+    EXPECT_EQ(pool.worker_count(), 0);
     std::mutex mutex;
     std::set<std::thread::id> threads;
-    pool.run_on_every_worker([&](FrameRenderer&) {
+    pool.start([&](FrameRenderer&) {
         const std::lock_guard lock(mutex);
         threads.insert(std::this_thread::get_id());
         return Frame{};
     });
     EXPECT_EQ(threads.size(), 2u);
-    EXPECT_FALSE(pool.info().renderer.empty());
+    EXPECT_TRUE(pool.started());
+    EXPECT_EQ(pool.worker_count(), 2);
+    ASSERT_NE(pool.info(), nullptr);
+    EXPECT_FALSE(pool.info()->renderer.empty());
+}
+
+// A pool whose start failed keeps no worker, answers every job with the reason, and starts
+// when asked again once the cause is gone.
+TEST(RenderPool, AFailedStartIsReportedUntilAStartSucceeds) {
+    RenderPool pool(2, 4, FrameLimits{});
+    try {
+        pool.submit(no_frame);
+        ADD_FAILURE() << "a pool that has not started took a job";
+    } catch (const RendererUnavailable& error) {
+        EXPECT_STREQ(error.what(), "the renderer has not started yet");
+    }
+    EXPECT_THROW(pool.start([](FrameRenderer&) -> Frame {
+        throw Error(ErrorKind::Internal, "no GL device");
+    }),
+                 Error);
+    EXPECT_FALSE(pool.started());
+    EXPECT_EQ(pool.worker_count(), 0);
+    EXPECT_EQ(pool.failure(), "no GL device");
+    EXPECT_EQ(pool.waiting(), 0u);
+    try {
+        pool.submit(no_frame);
+        ADD_FAILURE() << "a pool whose start failed took a job";
+    } catch (const RendererUnavailable& error) {
+        EXPECT_STREQ(error.what(), "the renderer could not start: no GL device");
+    }
+
+    pool.start(no_frame);
+    EXPECT_TRUE(pool.started());
+    EXPECT_EQ(pool.failure(), "");
+    EXPECT_NO_THROW(pool.submit(no_frame).get());
 }

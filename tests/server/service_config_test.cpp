@@ -49,6 +49,7 @@ Failure failure(const std::vector<std::string>& arguments,
 const std::vector<std::string> kEveryFlag{
     "host",
     "port",
+    "admin-port",
     "data-dir",
     "api-key",
     "cors-origins",
@@ -61,8 +62,10 @@ const std::vector<std::string> kEveryFlag{
     "render-workers",
     "request-timeout-seconds",
     "idle-timeout-seconds",
+    "header-timeout-seconds",
     "keep-alive-max-count",
     "http-threads",
+    "max-connections-per-client",
     "frame-cache-bytes",
     "transfer-ray-budget",
     "access-log",
@@ -70,15 +73,23 @@ const std::vector<std::string> kEveryFlag{
 
 // One value per flag, none of them a default, in kEveryFlag's order.
 const std::vector<std::string> kEveryValue{
-    "0.0.0.0", "9000", "/var/lib/oer", "secret", "https://a.example, http://b.example:3000",
-    "1000",    "2000", "3000",         "640",    "480",
-    "4",       "2",    "60",           "10",     "50",
-    "16",      "0",    "250000",       "off",
+    "0.0.0.0", "9000",
+    "9001",    "/var/lib/oer",
+    "secret",  "https://a.example, http://b.example:3000",
+    "1000",    "2000",
+    "3000",    "640",
+    "480",     "4",
+    "2",       "60",
+    "10",      "7",
+    "50",      "16",
+    "8",       "0",
+    "250000",  "off",
 };
 
 void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.host, "0.0.0.0");
     EXPECT_EQ(config.port, 9000);
+    EXPECT_EQ(config.admin_port, 9001);
     EXPECT_EQ(config.data_dir, "/var/lib/oer");
     EXPECT_EQ(config.api_key, "secret");
     EXPECT_EQ(config.cors_origins,
@@ -92,8 +103,10 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.render_workers, 2);
     EXPECT_EQ(config.request_timeout_seconds, 60);
     EXPECT_EQ(config.idle_timeout_seconds, 10);
+    EXPECT_EQ(config.header_timeout_seconds, 7);
     EXPECT_EQ(config.keep_alive_max_count, 50);
     EXPECT_EQ(config.http_threads, 16);
+    EXPECT_EQ(config.max_connections_per_client, 8);
     EXPECT_EQ(config.frame_cache_bytes, 0u);
     EXPECT_EQ(config.transfer_ray_budget, 250'000u);
     EXPECT_FALSE(config.access_log);
@@ -105,6 +118,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     const ServiceConfig config = parse({});
     EXPECT_EQ(config.host, "127.0.0.1");
     EXPECT_EQ(config.port, 8080);
+    EXPECT_EQ(config.admin_port, -1);
     EXPECT_EQ(config.data_dir, "./oer-data");
     EXPECT_EQ(config.api_key, "");
     EXPECT_TRUE(config.cors_origins.empty());
@@ -117,8 +131,10 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.render_workers, 1);
     EXPECT_EQ(config.request_timeout_seconds, 30);
     EXPECT_EQ(config.idle_timeout_seconds, 5);
+    EXPECT_EQ(config.header_timeout_seconds, 5);
     EXPECT_EQ(config.keep_alive_max_count, 100);
-    EXPECT_EQ(config.http_threads, 64);
+    EXPECT_EQ(config.http_threads, 256);
+    EXPECT_EQ(config.max_connections_per_client, 64);
     EXPECT_EQ(config.frame_cache_bytes, 268'435'456u);
     EXPECT_EQ(config.transfer_ray_budget, 6'000'000u);
     EXPECT_TRUE(config.access_log);
@@ -221,6 +237,11 @@ TEST(ServiceConfig, InvalidTextValues) {
     EXPECT_EQ(failure({"--data-dir="}).second, "--data-dir: expected a folder, got an empty value");
     EXPECT_EQ(failure({"--access-log", "yes"}).second,
               "--access-log: expected on or off, got \"yes\"");
+    EXPECT_EQ(failure({"--admin-port", "none"}).second,
+              "--admin-port: expected an integer 0..65535 or off, got \"none\"");
+    EXPECT_EQ(failure({"--admin-port", "70000"}).second,
+              "--admin-port: expected an integer 0..65535 or off, got \"70000\"");
+    EXPECT_EQ(parse({"--admin-port", "9001", "--admin-port", "off"}).admin_port, -1);
     for (const char* origins : {"shop.example", "https://a.example/", "https://a.example,",
                                 "https://a b.example", "https://a.example,,https://b.example"}) {
         EXPECT_EQ(failure({"--cors-origins", origins}).first, "--cors-origins") << origins;

@@ -22,13 +22,16 @@ class Service {
     Service& operator=(const Service&) = delete;
 
     // Starts the render workers (a GL context each, a test frame rendered), binds host:port
-    // (port 0: a free port) and serves from a background thread; returns once the socket
-    // listens. Throws oer::Error when a worker or the socket cannot start.
+    // (port 0: a free port) and the admin port if configured, and serves from background
+    // threads; returns once the sockets listen. Throws oer::Error when a socket cannot listen.
+    // A renderer that cannot start does not stop the service: it logs why, answers renders
+    // 503 and /readyz false, and tries again every few seconds.
     void start();
     // Stops listening and the workers; idempotent.
     void stop();
 
     int port() const;         // the bound port, after start()
+    int admin_port() const;   // the admin listener's bound port; -1 when there is none
     std::string url() const;  // "http://host:port"
     // The start-up banner: URL, GL vendor and renderer, data folder, limits; several lines.
     std::string banner() const;

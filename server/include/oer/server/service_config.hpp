@@ -16,6 +16,10 @@ namespace oer::server {
 struct ServiceConfig {
     std::string host = "127.0.0.1";
     int port = 8080;  // 0: the system picks a free port
+    // The admin listener (same host): /healthz, /readyz and /metrics only, on threads of their
+    // own, so that probes and scrapes never queue behind client traffic (as Envoy's admin
+    // port). -1: none; 0: the system picks a free port.
+    int admin_port = -1;
     std::filesystem::path data_dir = "./oer-data";
     std::string api_key;                    // empty: no key required
     std::vector<std::string> cors_origins;  // empty: no CORS headers; "*" allows any origin
@@ -28,13 +32,20 @@ struct ServiceConfig {
     int render_workers = 1;
     int request_timeout_seconds = 30;
     int idle_timeout_seconds = 5;  // keep-alive connections idle longer are closed
+    // From a request's first byte to the end of its headers (slowloris: a client that sends
+    // its headers a byte at a time holds a thread at most this long). Bodies keep the longer
+    // request timeout, and the idle timeout between two reads.
+    int header_timeout_seconds = 5;
     int keep_alive_max_count = 100;
-    // A connection holds a thread for its whole life, idle keep-alive time included: 64 keeps
-    // /healthz and real clients answered while 32 idle keep-alive connections and a slow
-    // sender hold one each (tests/integration/hostile_clients_test.cpp; 8 could not, and 32
-    // could not once the listen backlog let all 32 in at once). Idle ones close after
-    // idle_timeout_seconds.
-    int http_threads = 64;
+    // A connection holds a thread for its whole life, idle keep-alive time included; an idle
+    // thread costs a few pages of stack, so there are many. Slow and idle clients of one
+    // address hold at most max_connections_per_client of them, which leaves the rest to
+    // everyone else (tests/integration/slow_clients_test.cpp measures it).
+    int http_threads = 256;
+    // Connections one client address may hold at once; more are answered 429 and closed.
+    // 0: no limit (behind a proxy, whose address every connection has, and which limits
+    // clients itself: docker/README.md).
+    int max_connections_per_client = 64;
     std::uint64_t frame_cache_bytes = 256ull << 20;  // 0: no frame cache
     // Rays per phase of a scene's transfer bake, shared by its points (transfer_bake.hpp's
     // kTransferRayBudget: the bunny in under 2 s on 2 cores with one bounce).
