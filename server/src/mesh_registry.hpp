@@ -12,6 +12,7 @@
 #include "oer/mesh/mesh_loading.hpp"
 #include "oer/server/asset_store.hpp"
 #include "service_metrics.hpp"
+#include "upload_budget.hpp"
 
 namespace oer::server {
 
@@ -23,12 +24,13 @@ struct StoredMesh {
 
 class MeshRegistry {
   public:
-    MeshRegistry(AssetStore& store, ServiceMetrics& metrics, const MeshLimits& limits,
-                 std::size_t cache_bytes);
+    MeshRegistry(AssetStore& store, ServiceMetrics& metrics, UploadBudget& budget,
+                 const MeshLimits& limits, std::size_t cache_bytes);
 
     // The mesh, and whether these bytes were there already (nothing was loaded).
     using Upload = AssetRegistry<StoredMesh>::Upload;
-    // Throws oer::Error for bytes that do not load (InvalidInput) or are over the limits.
+    // Throws oer::Error for bytes that do not load (InvalidInput) or are over the limits, and
+    // HttpError 503 when the upload budget has no room for it now.
     // Concurrent uploads of the same bytes load and store them once (AssetRegistry): the later
     // ones wait for the first and answer as cached (or with the same error).
     Upload upload(std::string_view bytes, MeshFormat format);
@@ -44,6 +46,7 @@ class MeshRegistry {
 
     AssetStore& store_;
     ServiceMetrics& metrics_;
+    UploadBudget& budget_;
     const MeshLimits limits_;
     AssetRegistry<StoredMesh> meshes_;
 };

@@ -29,6 +29,7 @@
 #include "service_context.hpp"
 #include "service_metrics.hpp"
 #include "transfer_registry.hpp"
+#include "upload_budget.hpp"
 
 namespace oer::server {
 
@@ -65,9 +66,11 @@ struct Service::Impl {
           log(std::move(log_)),
           store(config.data_dir, log),
           metrics(registry),
+          uploads(UploadBudgetLimits{config.upload_memory_bytes, config.max_concurrent_uploads,
+                                     config.max_upload_expansion}),
           environments(store, metrics, log, ImageLimits{config.max_image_pixels, 32768},
                        kAssetCacheBytes),
-          meshes(store, metrics, mesh_limits(config), kAssetCacheBytes / 2),
+          meshes(store, metrics, uploads, mesh_limits(config), kAssetCacheBytes / 2),
           transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget)),
           frames(config.frame_cache_bytes) {
         render_limits.max_width = config.max_frame_width;
@@ -106,6 +109,7 @@ struct Service::Impl {
     AssetStore store;
     MetricsRegistry registry;
     ServiceMetrics metrics;
+    UploadBudget uploads;
     EnvironmentRegistry environments;
     MeshRegistry meshes;
     TransferRegistry transfers;

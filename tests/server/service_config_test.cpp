@@ -56,6 +56,9 @@ const std::vector<std::string> kEveryFlag{
     "max-upload-bytes",
     "max-image-pixels",
     "max-triangles",
+    "max-concurrent-uploads",
+    "upload-memory-bytes",
+    "max-upload-expansion",
     "max-frame-width",
     "max-frame-height",
     "max-queue-depth",
@@ -72,19 +75,14 @@ const std::vector<std::string> kEveryFlag{
 };
 
 // One value per flag, none of them a default, in kEveryFlag's order.
+// clang-format off
 const std::vector<std::string> kEveryValue{
-    "0.0.0.0", "9000",
-    "9001",    "/var/lib/oer",
-    "secret",  "https://a.example, http://b.example:3000",
-    "1000",    "2000",
-    "3000",    "640",
-    "480",     "4",
-    "2",       "60",
-    "10",      "7",
-    "50",      "16",
-    "8",       "0",
-    "250000",  "off",
+    "0.0.0.0", "9000", "9001", "/var/lib/oer", "secret",
+    "https://a.example, http://b.example:3000",
+    "1000", "2000", "3000", "3", "5000000", "20",
+    "640", "480", "4", "2", "60", "10", "7", "50", "16", "8", "0", "250000", "off",
 };
+// clang-format on
 
 void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.host, "0.0.0.0");
@@ -97,6 +95,9 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.max_upload_bytes, 1000u);
     EXPECT_EQ(config.max_image_pixels, 2000u);
     EXPECT_EQ(config.max_triangles, 3000u);
+    EXPECT_EQ(config.max_concurrent_uploads, 3);
+    EXPECT_EQ(config.upload_memory_bytes, 5'000'000u);
+    EXPECT_EQ(config.max_upload_expansion, 20u);
     EXPECT_EQ(config.max_frame_width, 640);
     EXPECT_EQ(config.max_frame_height, 480);
     EXPECT_EQ(config.max_queue_depth, 4);
@@ -125,6 +126,9 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.max_upload_bytes, 268'435'456u);
     EXPECT_EQ(config.max_image_pixels, 67'108'864u);
     EXPECT_EQ(config.max_triangles, 5'000'000u);
+    EXPECT_EQ(config.max_concurrent_uploads, 2);
+    EXPECT_EQ(config.upload_memory_bytes, 2'147'483'648u);
+    EXPECT_EQ(config.max_upload_expansion, 40u);
     EXPECT_EQ(config.max_frame_width, 4096);
     EXPECT_EQ(config.max_frame_height, 4096);
     EXPECT_EQ(config.max_queue_depth, 16);

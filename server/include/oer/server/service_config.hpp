@@ -26,6 +26,12 @@ struct ServiceConfig {
     std::uint64_t max_upload_bytes = 256ull << 20;
     std::uint64_t max_image_pixels = 64ull << 20;  // 8192 x 8192
     std::uint64_t max_triangles = 5'000'000;
+    // Uploads decoded and preprocessed at once, the memory they may hold together (estimated
+    // before decoding: upload_budget.hpp), and how many times its own size one upload may
+    // expand to (0: any). Over the first two: 503 with Retry-After; over the last: 413.
+    int max_concurrent_uploads = 2;
+    std::uint64_t upload_memory_bytes = 2ull << 30;
+    std::uint64_t max_upload_expansion = 40;
     int max_frame_width = 4096;
     int max_frame_height = 4096;
     int max_queue_depth = 16;  // render requests waiting; more are answered 503
