@@ -1,6 +1,7 @@
 #include "process_memory.hpp"
 
 #include <fstream>
+#include <string>
 
 #include <malloc.h>
 #include <unistd.h>
@@ -26,6 +27,27 @@ long resident_kib() {
     long size = 0, resident = 0;
     statm >> size >> resident;
     return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+long peak_resident_kib() {
+    std::ifstream status("/proc/self/status");
+    std::string key;
+    long value = 0;
+    while (status >> key) {
+        if (key == "VmHWM:") {
+            status >> value;
+            return value;
+        }
+        status.ignore(1 << 10, '\n');
+    }
+    return 0;
+}
+
+bool reset_peak_resident() {
+    std::ofstream clear_refs("/proc/self/clear_refs");
+    clear_refs << "5";
+    clear_refs.flush();
+    return bool(clear_refs);
 }
 
 }  // namespace oer::testing

@@ -14,4 +14,13 @@ std::size_t live_heap_bytes();
 // mappings. Under AddressSanitizer it includes the quarantine (up to 256 MiB).
 long resident_kib();
 
+// The peak resident set size since the last reset_peak_resident() (or since the process
+// started), KiB: /proc/self/status's VmHWM.
+long peak_resident_kib();
+
+// Sets the peak resident set size to the current one (writes 5 to /proc/self/clear_refs, Linux
+// 4.0 and later), so that peak_resident_kib() measures what follows. False if the kernel refused;
+// the peak then still counts from the process's start.
+bool reset_peak_resident();
+
 }  // namespace oer::testing

@@ -75,8 +75,9 @@ std::vector<std::uint8_t> write_to_memory(const char* format, const OIIO::ImageS
 constexpr const char* unassociated_alpha = "oiio:UnassociatedAlpha";
 
 Rgba8Image decode_png(const std::vector<std::uint8_t>& bytes) {
-    if (const std::string error = png_detail::structure_error(bytes); !error.empty()) {
-        throw Error(ErrorKind::InvalidInput, error);
+    if (const png_detail::PngLayout layout = png_detail::read_layout(bytes);
+        !layout.error.empty()) {
+        throw Error(ErrorKind::InvalidInput, layout.error);
     }
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create("png");
     if (!in || !in->supports("ioproxy")) {

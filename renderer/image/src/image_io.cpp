@@ -10,10 +10,13 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <system_error>
+#include <variant>
 #include <vector>
 
+#include "image_claims.hpp"
 #include "image_io_errors.hpp"
 #include "oer/core/enum_names.hpp"
 #include "oer/core/error.hpp"
@@ -22,7 +25,10 @@ namespace oer {
 
 namespace {
 
+using image_io_detail::ClaimResult;
 using image_io_detail::fail;
+using image_io_detail::HeaderClaim;
+using image_io_detail::NotThisFormat;
 using image_io_detail::one_line;
 
 // ---------------------------------------------------------------------------------------------
@@ -62,6 +68,41 @@ bool declared_linear(const OIIO::ImageSpec& spec) {
 // ---------------------------------------------------------------------------------------------
 // Validation of the header, before any pixel memory is allocated.
 
+std::string size_text(int width, int height) {
+    return std::to_string(width) + "x" + std::to_string(height);
+}
+
+// A claimed size against the limits (the file's own header, then OpenImageIO's).
+void check_size(int width, int height, const std::string& name, const ImageLimits& limits) {
+    if (width <= 0 || height <= 0) {
+        fail(ErrorKind::InvalidInput, name, "invalid image size " + size_text(width, height));
+    }
+    const std::string size = size_text(width, height);
+    if (width > limits.max_dimension || height > limits.max_dimension) {
+        fail(ErrorKind::LimitExceeded, name,
+             "image is " + size + ", a side over the limit of " +
+                 std::to_string(limits.max_dimension) + " pixels");
+    }
+    const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+    if (pixels > limits.max_pixels) {
+        fail(ErrorKind::LimitExceeded, name,
+             "image is " + size + " = " + std::to_string(pixels) + " pixels, over the limit of " +
+                 std::to_string(limits.max_pixels));
+    }
+}
+
+// A format's own header, read before its reader sees the bytes: its size against the limits,
+// then against the bytes.
+void check_claim(const HeaderClaim& claim, std::uint64_t file_bytes, const std::string& name,
+                 const ImageLimits& limits) {
+    check_size(claim.width, claim.height, name, limits);
+    if (claim.available < claim.needed) {
+        fail(ErrorKind::InvalidInput, name,
+             "claims " + size_text(claim.width, claim.height) + " pixels but " +
+                 std::to_string(file_bytes) + " bytes cannot hold them (" + claim.minimum + ")");
+    }
+}
+
 void check_header(const OIIO::ImageSpec& spec, const std::string& name, const ImageLimits& limits) {
     if (spec.deep) {
         fail(ErrorKind::Unsupported, name, "deep images are not supported");
@@ -70,25 +111,9 @@ void check_header(const OIIO::ImageSpec& spec, const std::string& name, const Im
         fail(ErrorKind::Unsupported, name,
              "volume images (depth " + std::to_string(spec.depth) + ") are not supported");
     }
-    if (spec.width <= 0 || spec.height <= 0) {
-        fail(
-            ErrorKind::InvalidInput, name,
-            "invalid image size " + std::to_string(spec.width) + "x" + std::to_string(spec.height));
-    }
+    check_size(spec.width, spec.height, name, limits);
     if (spec.nchannels < 1) {
         fail(ErrorKind::InvalidInput, name, "image has no channels");
-    }
-    const std::string size = std::to_string(spec.width) + "x" + std::to_string(spec.height);
-    if (spec.width > limits.max_dimension || spec.height > limits.max_dimension) {
-        fail(ErrorKind::LimitExceeded, name,
-             "image is " + size + ", a side over the limit of " +
-                 std::to_string(limits.max_dimension) + " pixels");
-    }
-    const std::uint64_t pixels = std::uint64_t(spec.width) * std::uint64_t(spec.height);
-    if (pixels > limits.max_pixels) {
-        fail(ErrorKind::LimitExceeded, name,
-             "image is " + size + " = " + std::to_string(pixels) + " pixels, over the limit of " +
-                 std::to_string(limits.max_pixels));
     }
 }
 
@@ -118,22 +143,72 @@ void read_srgb_integers(OIIO::ImageInput& in, int channels_used, OIIO::TypeDesc 
     }
 }
 
-LoadedImage read_opened(OIIO::ImageInput& in, const std::string& name, const ImageLimits& limits) {
-    const OIIO::ImageSpec spec = in.spec(0, 0);
-    check_header(spec, name, limits);
+// Grey (1 channel) and grey + alpha (2) read their first channel; RGB, RGBA and more read the
+// first three (OpenImageIO orders R, G, B, A first where the file names them).
+int channels_read(const OIIO::ImageSpec& spec) {
+    return spec.nchannels >= 3 ? 3 : 1;
+}
 
-    // Grey (1 channel) and grey + alpha (2) read their first channel; RGB, RGBA and more read
-    // the first three (OpenImageIO orders R, G, B, A first where the file names them).
-    const int channels_used = spec.nchannels >= 3 ? 3 : 1;
+// Integer pixels taken as sRGB and read as 8 or 16 bits first: their size, or 0 when the pixels
+// are read straight into the float image.
+std::size_t integer_bytes(const OIIO::ImageSpec& spec) {
+    if (is_float_format(spec.format) || declared_linear(spec)) {
+        return 0;
+    }
+    return spec.format.basetype == OIIO::TypeDesc::UINT8    ? 1
+           : spec.format.basetype == OIIO::TypeDesc::UINT16 ? 2
+                                                            : 0;
+}
+
+// See ImageHeader::decode_bytes. OpenImageIO 2.4's ImageInput::read_image (imageinput.cpp)
+// converts a scanline image in chunks of max(2^26 / scanline bytes, the "read_chunk" attribute)
+// lines, rounded up to a multiple of 64 (or of TIFF's rows per strip), into a buffer of the
+// channels read, through a second one of every channel when only some are read (except for
+// OpenEXR's reader, which reads a channel range itself); a tiled image a row of tiles at a time.
+std::uint64_t decode_bytes(const OIIO::ImageSpec& spec, const std::string& format,
+                           std::uint64_t reader_bytes) {
+    const std::uint64_t width = std::uint64_t(spec.width);
+    const std::uint64_t pixels = width * std::uint64_t(spec.height);
+    const int channels = channels_read(spec);
+    std::uint64_t bytes = pixels * 3 * sizeof(float) + pixels * channels * integer_bytes(spec);
+    const std::uint64_t all_channels = spec.pixel_bytes(true);
+    if (spec.tile_width > 0) {
+        const std::uint64_t tile_columns =
+            (width + std::uint64_t(spec.tile_width) - 1) / std::uint64_t(spec.tile_width);
+        bytes += tile_columns * std::uint64_t(spec.tile_width) *
+                 std::uint64_t(std::max(1, spec.tile_height)) * all_channels;
+    } else {
+        const int rows_per_strip = std::max(1, spec.get_int_attribute("tiff:RowsPerStrip", 64));
+        std::uint64_t chunk = std::max<std::uint64_t>(
+            1, (std::uint64_t(1) << 26) / std::max<std::uint64_t>(1, width * all_channels));
+        chunk =
+            std::max<std::uint64_t>(chunk, std::uint64_t(OIIO::get_int_attribute("read_chunk")));
+        chunk = (chunk + rows_per_strip - 1) / rows_per_strip * rows_per_strip;
+        const std::uint64_t lines = std::min<std::uint64_t>(chunk, std::uint64_t(spec.height));
+        bytes += lines * width * spec.pixel_bytes(0, channels, true);
+        if (channels < spec.nchannels && format != "openexr") {
+            bytes += lines * width * all_channels;
+        }
+    }
+    if (format == "png") {
+        bytes += spec.image_bytes(true);  // pnginput.cpp: readimg decodes the whole image first
+    }
+    return bytes + reader_bytes;
+}
+
+// The pixels of an input opened and checked by open_checked.
+LoadedImage read_pixels(OIIO::ImageInput& in, const std::string& name) {
+    const OIIO::ImageSpec spec = in.spec(0, 0);
+    const int channels_used = channels_read(spec);
     LoadedImage result;
     result.image = HdrImage(spec.width, spec.height);
     HdrImage& image = result.image;
 
     const OIIO::TypeDesc format = spec.format;
     const bool srgb = !is_float_format(format) && !declared_linear(spec);
-    if (srgb && format.basetype == OIIO::TypeDesc::UINT8) {
+    if (integer_bytes(spec) == 1) {
         read_srgb_integers<std::uint8_t>(in, channels_used, OIIO::TypeDesc::UINT8, image, name);
-    } else if (srgb && format.basetype == OIIO::TypeDesc::UINT16) {
+    } else if (integer_bytes(spec) == 2) {
         read_srgb_integers<std::uint16_t>(in, channels_used, OIIO::TypeDesc::UINT16, image, name);
     } else {
         // Straight into the interleaved RGB buffer: 3 channels, or 1 channel strided by 3
@@ -242,29 +317,71 @@ const OIIO::ImageSpec& open_config() {
 struct OpenAttempt {
     std::unique_ptr<OIIO::ImageInput> input;
     std::string error;
+    std::optional<HeaderClaim> claim;  // what the format's own header said, when it was read
 };
 
+// An input and what a load would allocate, every check before reading pixels passed.
+struct Opened {
+    std::unique_ptr<OIIO::ImageInput> input;
+    ImageHeader header;
+};
+
+// Opens proxy with `in`. The format's own header is read first (image_claims.hpp) and checked
+// against the limits and the bytes, so that no reader allocates for a claim the bytes cannot
+// hold; bytes that are not a header of that format are not given to its reader.
 OpenAttempt try_open(std::unique_ptr<OIIO::ImageInput> in, OIIO::Filesystem::IOProxy& proxy,
-                     const std::string& name) {
+                     const std::string& name, const ImageLimits& limits) {
+    OpenAttempt attempt;
+    const ClaimResult claim = image_io_detail::read_claim(in->format_name(), proxy);
+    if (const auto* refused = std::get_if<NotThisFormat>(&claim)) {
+        attempt.error = refused->reason;
+        return attempt;
+    }
+    if (const auto* claimed = std::get_if<HeaderClaim>(&claim)) {
+        check_claim(*claimed, proxy.size(), name, limits);
+        attempt.claim = *claimed;
+    }
     proxy.seek(0);
     OIIO::ImageSpec spec;
     if (in->set_ioproxy(&proxy) && in->open(name, spec, open_config())) {
-        return {std::move(in), {}};
+        attempt.input = std::move(in);
+    } else {
+        attempt.error = one_line(in->geterror());
     }
-    return {nullptr, one_line(in->geterror())};
+    return attempt;
 }
 
-// Opens and reads an image whose bytes come through proxy; head holds its first bytes.
-// Readers are tried in this order:
+// The header of an opened input checked, and what reading it will allocate.
+Opened checked(std::unique_ptr<OIIO::ImageInput> in, const std::optional<HeaderClaim>& claim,
+               const std::string& name, const ImageLimits& limits) {
+    const OIIO::ImageSpec& spec = in->spec(0, 0);
+    check_header(spec, name, limits);
+    if (claim && (claim->width != spec.width || claim->height != spec.height)) {
+        fail(ErrorKind::InvalidInput, name,
+             "its header says " + size_text(claim->width, claim->height) + " pixels, " +
+                 in->format_name() + "'s reader " + size_text(spec.width, spec.height));
+    }
+    Opened opened;
+    opened.header.format = in->format_name();
+    opened.header.width = spec.width;
+    opened.header.height = spec.height;
+    opened.header.channels = spec.nchannels;
+    opened.header.decode_bytes =
+        decode_bytes(spec, opened.header.format, claim ? claim->reader_bytes : 0);
+    opened.input = std::move(in);
+    return opened;
+}
+
+// Opens an image whose bytes come through proxy, head holding its first bytes, and checks its
+// header. Readers are tried in this order:
 //  1. the format the bytes announce (their signature): if that fails, its reason is the
 //     precise one (a truncated or corrupt file of that format) and no other reader is tried;
 //  2. the format the name's extension suggests (for formats without a signature, .tga);
 //  3. every other reader that checks a signature and reads through an IOProxy;
 //  4. for a file on disk (path != nullptr), the readers that cannot use an IOProxy
 //     (cineon, dicom, fits, heif, raw, sgi, ...), which open the path themselves.
-LoadedImage load_through_proxy(OIIO::Filesystem::IOProxy& proxy, std::span<const std::byte> head,
-                               const std::string& name, const std::string* path,
-                               const ImageLimits& limits) {
+Opened open_checked(OIIO::Filesystem::IOProxy& proxy, std::span<const std::byte> head,
+                    const std::string& name, const std::string* path, const ImageLimits& limits) {
     std::vector<std::string> tried;
     auto attempt = [&](const std::string& format) -> OpenAttempt {
         std::unique_ptr<OIIO::ImageInput> in = proxy_reader(format);
@@ -272,13 +389,13 @@ LoadedImage load_through_proxy(OIIO::Filesystem::IOProxy& proxy, std::span<const
             return {};
         }
         tried.emplace_back(in->format_name());
-        return try_open(std::move(in), proxy, name);
+        return try_open(std::move(in), proxy, name, limits);
     };
 
     if (const std::string magic = image_format_of(head); !magic.empty()) {
         OpenAttempt opened = attempt(magic);
         if (opened.input) {
-            return read_opened(*opened.input, name, limits);
+            return checked(std::move(opened.input), opened.claim, name, limits);
         }
         if (!tried.empty()) {
             fail(ErrorKind::InvalidInput, name,
@@ -290,7 +407,7 @@ LoadedImage load_through_proxy(OIIO::Filesystem::IOProxy& proxy, std::span<const
     if (extension.size() > 1) {
         OpenAttempt opened = attempt(extension.substr(1));
         if (opened.input) {
-            return read_opened(*opened.input, name, limits);
+            return checked(std::move(opened.input), opened.claim, name, limits);
         }
         if (!opened.error.empty()) {
             extension_error = "; as " + tried.back() + ": " + opened.error;
@@ -303,7 +420,7 @@ LoadedImage load_through_proxy(OIIO::Filesystem::IOProxy& proxy, std::span<const
             continue;  // has no signature: only by extension
         }
         if (OpenAttempt opened = attempt(format); opened.input) {
-            return read_opened(*opened.input, name, limits);
+            return checked(std::move(opened.input), opened.claim, name, limits);
         }
     }
     if (path != nullptr) {
@@ -318,7 +435,7 @@ LoadedImage load_through_proxy(OIIO::Filesystem::IOProxy& proxy, std::span<const
             }
             OIIO::ImageSpec spec;
             if (in->open(*path, spec, open_config())) {
-                return read_opened(*in, name, limits);
+                return checked(std::move(in), std::nullopt, name, limits);
             }
         }
     }
@@ -372,7 +489,8 @@ LoadedImage load_image_file(const std::string& path, const ImageLimits& limits) 
         }
         std::array<std::byte, 16> head{};
         const std::size_t got = proxy.pread(head.data(), head.size(), 0);
-        return load_through_proxy(proxy, std::span(head.data(), got), path, &path, limits);
+        Opened opened = open_checked(proxy, std::span(head.data(), got), path, &path, limits);
+        return read_pixels(*opened.input, path);
     });
 }
 
@@ -420,16 +538,34 @@ std::string image_format_of(std::span<const std::byte> bytes) {
     return {};
 }
 
-LoadedImage load_image_memory(std::span<const std::byte> bytes, const std::string& name,
-                              const ImageLimits& limits) {
+namespace {
+
+// What reads the bytes with every check passed: the pixels (load) or the header alone (probe).
+template <typename Then>
+auto through_memory(std::span<const std::byte> bytes, const std::string& name,
+                    const ImageLimits& limits, Then then) {
     if (bytes.empty()) {
         fail(ErrorKind::InvalidInput, name, "empty input");
     }
     return guarded(name, [&] {
         OIIO::geterror();  // start from a clean global error
         OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-        return load_through_proxy(proxy, bytes, name, nullptr, limits);
+        Opened opened = open_checked(proxy, bytes, name, nullptr, limits);
+        return then(opened);
     });
+}
+
+}  // namespace
+
+ImageHeader probe_image_memory(std::span<const std::byte> bytes, const std::string& name,
+                               const ImageLimits& limits) {
+    return through_memory(bytes, name, limits, [](const Opened& opened) { return opened.header; });
+}
+
+LoadedImage load_image_memory(std::span<const std::byte> bytes, const std::string& name,
+                              const ImageLimits& limits) {
+    return through_memory(bytes, name, limits,
+                          [&name](Opened& opened) { return read_pixels(*opened.input, name); });
 }
 
 }  // namespace oer

@@ -13,10 +13,15 @@
 // - half, float and double data is linear radiance as is; integer data (8-bit PNG / JPEG,
 //   16-bit PNG / TIFF) is taken as sRGB-encoded and decoded to linear, unless the file declares
 //   a linear color space;
-// - the header is validated before any pixel memory is allocated;
+// - the header is validated before any pixel memory is allocated: the size against the limits,
+//   then, for Radiance RGBE, OpenEXR, PNG and JPEG, against the bytes: a file smaller than the
+//   fewest bytes that can encode the pixels it claims is refused (image_claims.cpp derives each
+//   format's minimum from its specification), before any reader allocates for it;
 // - every load runs repair_radiance and returns its counts.
 // Errors: ErrorKind::Io (missing or unreadable file), InvalidInput (not an image, truncated,
-// corrupt, zero size), LimitExceeded (over ImageLimits), Unsupported (deep or volume images).
+// corrupt, zero size, a size its bytes cannot hold: "claims 8192x8192 pixels but 155 bytes
+// cannot hold them (RLE needs at least ...)"), LimitExceeded (over ImageLimits), Unsupported
+// (deep or volume images).
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -63,6 +68,26 @@ RepairCounts repair_radiance(HdrImage& image);
 // the loaders try this format first, and the service checks an upload's declared media type
 // against it.
 std::string image_format_of(std::span<const std::byte> bytes);
+
+// What a load would read and allocate, known from the header alone.
+struct ImageHeader {
+    std::string format;  // OpenImageIO's reader: "hdr", "openexr", "png", "jpeg", "tiff", ...
+    int width = 0;
+    int height = 0;
+    int channels = 0;  // in the file
+    // The most memory a full load of these bytes allocates at once: the loaded image (12 bytes
+    // a pixel), the 8- or 16-bit buffer integer pixels are read into first, OpenImageIO's
+    // buffer for converting a chunk of scanlines or a row of tiles, and a reader's buffer of
+    // the whole image (PNG's decoded rows, a progressive JPEG's coefficients); the reader's
+    // buffers of a few rows are left out.
+    std::uint64_t decode_bytes = 0;
+};
+
+// Every check load_image_memory makes before it reads pixels (the header against the limits
+// and against the bytes), without reading pixels; throws what load_image_memory would throw
+// for them.
+ImageHeader probe_image_memory(std::span<const std::byte> bytes, const std::string& name,
+                               const ImageLimits& limits = {});
 
 LoadedImage load_image_file(const std::string& path, const ImageLimits& limits = {});
 // name is used in error messages (and its extension as a format hint); the format is
