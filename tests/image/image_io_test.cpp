@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -21,6 +22,7 @@
 
 #include "oer/core/error.hpp"
 #include "oer/image/image_io.hpp"
+#include "process_memory.hpp"
 
 using namespace oer;
 namespace fs = std::filesystem;
@@ -560,6 +562,205 @@ TEST(ImageIo, LimitsAreCheckedAgainstTheHeader) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Claims against the bytes: a file at the fewest bytes its claim needs loads, one byte fewer is
+// refused (image_claims.cpp derives each minimum).
+
+std::size_t ceil_div(std::size_t a, std::size_t b) {
+    return (a + b - 1) / b;
+}
+
+// The message of a refused claim, up to the parenthesis that explains the minimum.
+std::string claim_refusal(const std::string& name, int width, int height, std::size_t bytes) {
+    return name + ": claims " + std::to_string(width) + "x" + std::to_string(height) +
+           " pixels but " + std::to_string(bytes) + " bytes cannot hold them (";
+}
+
+TEST(ImageIo, RadianceRleAtItsMinimumLoadsAndAByteLessIsRefused) {
+    // A constant map: OpenImageIO's writer codes each channel of a scanline as runs of 127,
+    // which is the minimum: a 4-byte start and 2 bytes per 127 pixels of each channel.
+    TempDir dir;
+    HdrImage image(1000, 37);
+    std::fill(image.pixels.begin(), image.pixels.end(), 0.75f);
+    const std::string path = dir.file("flat.hdr");
+    write_image_file(image, path);
+    const std::vector<std::byte> bytes = read_bytes(path);
+    const std::size_t minimum = hdr_header_end(bytes) + 37 * (4 + 8 * ceil_div(1000, 127));
+    ASSERT_EQ(bytes.size(), minimum);
+    EXPECT_EQ(load_image_memory(bytes, "flat.hdr").image.pixels, image.pixels);
+    const std::span<const std::byte> short_one(bytes.data(), bytes.size() - 1);
+    expect_error([&] { load_image_memory(short_one, "short.hdr"); }, ErrorKind::InvalidInput,
+                 claim_refusal("short.hdr", 1000, 37, minimum - 1) + "RLE needs at least " +
+                     std::to_string(minimum) + " bytes",
+                 "one byte under the minimum");
+}
+
+TEST(ImageIo, UncompressedExrAtItsMinimumLoadsAndAByteLessIsRefused) {
+    if (!have_oiiotool()) {
+        GTEST_SKIP() << "*** oiiotool not found (package openimageio-tools): the uncompressed "
+                        "EXR's minimum is NOT tested ***";
+    }
+    // Uncompressed, the file is its header, the chunk offset table, each scanline's 8-byte
+    // chunk header and the pixels: exactly the minimum.
+    TempDir dir;
+    const std::string path = dir.file("plain.exr");
+    run("oiiotool --pattern constant:color=1,2,3 64x32 3 -d half --compression none -o " + path);
+    const std::vector<std::byte> bytes = read_bytes(path);
+    const std::size_t minimum = exr_header_end(bytes) + 32 * 8 + 32 * 8 + 64 * 32 * 3 * 2;
+    ASSERT_EQ(bytes.size(), minimum);
+    EXPECT_EQ(load_image_memory(bytes, "plain.exr").image.rgb(0), glm::vec3(1, 2, 3));
+    const std::span<const std::byte> short_one(bytes.data(), bytes.size() - 1);
+    expect_error([&] { load_image_memory(short_one, "short.exr"); }, ErrorKind::InvalidInput,
+                 claim_refusal("short.exr", 64, 32, minimum - 1) +
+                     "a chunk offset table of 32 entries, 32 chunk headers and the 12288 bytes of "
+                     "pixels uncompressed need at least " +
+                     std::to_string(minimum) + " bytes)",
+                 "one byte under the minimum");
+}
+
+// A progressive grey JPEG of its first DC scan only, at 1 bit per block: the one Huffman code
+// (1 bit, "0") means a DC difference of 0, so every block is mid-grey (128).
+std::vector<std::byte> dc_only_jpeg(int width, int height, std::size_t scan_bytes) {
+    std::vector<std::uint8_t> j = {0xFF, 0xD8, 0xFF, 0xDB, 0x00, 0x43, 0x00};
+    j.insert(j.end(), 64, 1);  // quantisation table 0, all 1
+    const std::vector<std::uint8_t> frame = {0xFF,
+                                             0xC2,
+                                             0x00,
+                                             0x0B,
+                                             8,
+                                             std::uint8_t(height >> 8),
+                                             std::uint8_t(height),
+                                             std::uint8_t(width >> 8),
+                                             std::uint8_t(width),
+                                             1,
+                                             1,
+                                             0x11,
+                                             0};
+    j.insert(j.end(), frame.begin(), frame.end());
+    const std::vector<std::uint8_t> table = {0xFF, 0xC4, 0x00, 0x14, 0x00, 1, 0, 0, 0, 0, 0,
+                                             0,    0,    0,    0,    0,    0, 0, 0, 0, 0, 0};
+    j.insert(j.end(), table.begin(), table.end());
+    const std::vector<std::uint8_t> scan = {0xFF, 0xDA, 0x00, 0x08, 1, 1, 0x00, 0, 0, 0};
+    j.insert(j.end(), scan.begin(), scan.end());
+    j.insert(j.end(), scan_bytes, 0);
+    j.push_back(0xFF);
+    j.push_back(0xD9);
+    std::vector<std::byte> bytes(j.size());
+    std::memcpy(bytes.data(), j.data(), j.size());
+    return bytes;
+}
+
+TEST(ImageIo, JpegAtOneBitPerBlockLoadsAndAByteLessIsRefused) {
+    // 1024x512 grey: 128 x 64 = 8192 blocks, 1024 bytes of scan at the minimum.
+    const std::vector<std::byte> at_minimum = dc_only_jpeg(1024, 512, 1024);
+    const LoadedImage loaded = load_image_memory(at_minimum, "grey.jpg");
+    ASSERT_EQ(loaded.image.width, 1024);
+    EXPECT_NEAR(loaded.image.rgb(0).g, srgb_decode(128.0f / 255.0f), 1e-6f);
+    EXPECT_NEAR(loaded.image.rgb(1024 * 512 - 1).r, srgb_decode(128.0f / 255.0f), 1e-6f);
+    const std::vector<std::byte> short_one = dc_only_jpeg(1024, 512, 1023);
+    expect_error([&] { load_image_memory(short_one, "short.jpg"); }, ErrorKind::InvalidInput,
+                 claim_refusal("short.jpg", 1024, 512, short_one.size()) +
+                     "Huffman coding needs at least 1 bit per 8x8 block: 1024 bytes of scan data "
+                     "for 8192 blocks; the file has 1023)",
+                 "one byte under the minimum");
+}
+
+TEST(ImageIo, ConstantPngIsNearItsDeflateMinimumAndLoads) {
+    // zlib's deflate of a constant image (at OpenImageIO's default level) comes within a factor
+    // 1.5 of its 1032:1 limit: the minimum is not far below what real files reach.
+    TempDir dir;
+    HdrImage image(2048, 1024);
+    std::fill(image.pixels.begin(), image.pixels.end(), 0.5f);
+    const std::string path = dir.file("flat.png");
+    write_image_file(image, path);
+    const std::vector<std::byte> bytes = read_bytes(path);
+    const std::size_t minimum = ceil_div(1024 * (1 + 2048 * 3), 1032);
+    EXPECT_GT(bytes.size(), minimum);
+    EXPECT_LT(bytes.size(), minimum * 3 / 2) << "zlib got nowhere near 1032:1";
+    EXPECT_EQ(load_image_memory(bytes, "flat.png").image.width, 2048);
+}
+
+TEST(ImageIo, ProbeChecksLikeALoadWithoutReadingPixels) {
+    TempDir dir;
+    const std::string path = dir.file("map.exr");
+    write_image_file(noise_image(300, 200, 11), path);
+    const std::vector<std::byte> bytes = read_bytes(path);
+    const ImageHeader header = probe_image_memory(bytes, "map.exr");
+    EXPECT_EQ(header.format, "openexr");
+    EXPECT_EQ(header.width, 300);
+    EXPECT_EQ(header.height, 200);
+    EXPECT_EQ(header.channels, 3);
+    EXPECT_GE(header.decode_bytes, 300u * 200u * 12u);
+    ImageLimits limits;
+    limits.max_pixels = 50000;
+    expect_error([&] { probe_image_memory(bytes, "map.exr", limits); }, ErrorKind::LimitExceeded,
+                 "map.exr: image is 300x200 = 60000 pixels, over the limit of 50000",
+                 "probe over the limit");
+    // Short of the chunk offset table's 13 entries: refused without reading pixels.
+    const std::span<const std::byte> no_table(bytes.data(), exr_header_end(bytes) + 50);
+    expect_error([&] { probe_image_memory(no_table, "no-table.exr"); }, ErrorKind::InvalidInput,
+                 claim_refusal("no-table.exr", 300, 200, no_table.size()) +
+                     "a chunk offset table of 13 entries",
+                 "probe without the chunk table");
+    // Half the file holds more than the minimum: only reading the pixels finds it truncated.
+    const std::span<const std::byte> half(bytes.data(), bytes.size() / 2);
+    EXPECT_EQ(probe_image_memory(half, "half.exr").width, 300);
+    EXPECT_THROW(load_image_memory(half, "half.exr"), Error);
+}
+
+// Peak resident growth of loading bytes, KiB (the pages a load touches; new ones, as freed
+// memory is handed back to the system first).
+long load_growth_kib(const std::vector<std::byte>& bytes, const std::string& name) {
+    malloc_trim(0);
+    oer::testing::reset_peak_resident();
+    const long before = oer::testing::resident_kib();
+    const LoadedImage loaded = load_image_memory(bytes, name);
+    EXPECT_GT(loaded.image.width, 0);
+    return oer::testing::peak_resident_kib() - before;
+}
+
+TEST(ImageIo, ProbePredictsTheMemoryOfALoad) {
+    if (!have_oiiotool()) {
+        GTEST_SKIP() << "*** oiiotool not found (package openimageio-tools): the probe's memory "
+                        "figure is NOT tested on RGBA and tiled maps ***";
+    }
+    if (!oer::testing::reset_peak_resident()) {
+        GTEST_SKIP() << "*** /proc/self/clear_refs is not writable: the peak resident memory "
+                        "of a load cannot be measured ***";
+    }
+    // Maps of 2048x1024 in each format and layout the loader reads differently: the growth of
+    // resident memory while loading is the prediction, within the pages the readers' row
+    // buffers, the libraries' tables and the allocator add.
+    TempDir dir;
+    std::string command = "oiiotool";
+    const std::vector<std::pair<std::string, std::string>> made = {
+        {"rgba_half.exr", "--pattern noise 2048x1024 4 -d half"},
+        {"tiled.exr", "--pattern noise 2048x1024 3 -d float --tile 64 64"},
+        {"rgb8.png", "--pattern noise 2048x1024 3 -d uint8"},
+        {"rgba16.png", "--pattern noise 2048x1024 4 -d uint16"},
+        {"progressive.jpg", "--pattern noise 2048x1024 3 -d uint8 --attrib jpeg:progressive 1"},
+    };
+    for (const auto& [file, pattern] : made) {
+        command += " " + pattern + " -o " + dir.file(file);
+    }
+    run(command);
+    const HdrImage noise = noise_image(2048, 1024, 12);
+    for (const std::string file : {"rgb.hdr", "rgb.exr"}) {
+        write_image_file(noise, dir.file(file));
+    }
+    for (const std::string file : {"rgb.hdr", "rgb.exr", "rgba_half.exr", "tiled.exr", "rgb8.png",
+                                   "rgba16.png", "progressive.jpg"}) {
+        const std::vector<std::byte> bytes = read_bytes(dir.file(file));
+        const ImageHeader header = probe_image_memory(bytes, file);
+        const long predicted_kib = long(header.decode_bytes / 1024);
+        const long measured_kib = load_growth_kib(bytes, file);
+        std::cout << "[          ] " << file << ": predicted " << predicted_kib
+                  << " KiB, resident growth " << measured_kib << " KiB\n";
+        EXPECT_LE(measured_kib, predicted_kib * 21 / 20 + 4096) << file;
+        EXPECT_GE(measured_kib, predicted_kib * 3 / 4) << file;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
 // Writing
 
 TEST(ImageIo, WriteErrorsNameThePath) {
@@ -598,6 +799,12 @@ TEST(ImageIo, LoadsBlenderStudioWorlds) {
     std::sort(files.begin(), files.end());
     for (const fs::path& file : files) {
         const LoadedImage loaded = load_image_file(file.string());
+        // Real maps pass the checks of their claims against their bytes, and the probe says
+        // what the load found.
+        const ImageHeader header = probe_image_memory(read_bytes(file.string()), file.string());
+        EXPECT_EQ(header.width, loaded.image.width) << file;
+        EXPECT_EQ(header.height, loaded.image.height) << file;
+        EXPECT_GE(header.decode_bytes, loaded.image.pixels.size() * sizeof(float)) << file;
         EXPECT_GT(loaded.image.width, 0) << file;
         EXPECT_GT(loaded.image.height, 0) << file;
         ASSERT_EQ(loaded.image.pixels.size(), loaded.image.pixel_count() * 3) << file;
