@@ -22,6 +22,7 @@
 #include "oer/server/asset_store.hpp"
 #include "oer/server/shared_lru_cache.hpp"
 #include "service_metrics.hpp"
+#include "upload_budget.hpp"
 
 namespace oer::server {
 
@@ -36,13 +37,14 @@ class EnvironmentRegistry {
   public:
     using Log = std::function<void(std::string_view)>;
 
-    EnvironmentRegistry(AssetStore& store, ServiceMetrics& metrics, Log log,
+    EnvironmentRegistry(AssetStore& store, ServiceMetrics& metrics, UploadBudget& budget, Log log,
                         const ImageLimits& limits, std::size_t cache_bytes);
 
     // The environment, and whether its rig was there already (nothing was computed).
     using Upload = AssetRegistry<Environment>::Upload;
     // extension: "hdr" or "exr". Throws oer::Error for a map that does not decode (InvalidInput)
-    // or is over the limits (LimitExceeded).
+    // or is over the limits (LimitExceeded), and HttpError 503 when the upload budget has no
+    // room for it now (its cost is known from its header, before anything is decoded).
     // Concurrent uploads of the same bytes and options compute the rig once (AssetRegistry):
     // the later ones wait for it and answer as cached (or with the same error).
     Upload upload(std::string_view bytes, const std::string& extension, const RigOptions& options);
@@ -78,6 +80,7 @@ class EnvironmentRegistry {
 
     AssetStore& store_;
     ServiceMetrics& metrics_;
+    UploadBudget& budget_;
     const Log log_;
     const ImageLimits limits_;
     std::shared_ptr<const HdrImage> preset_image_;

@@ -67,8 +67,12 @@ struct Service::Impl {
           store(config.data_dir, log),
           metrics(registry),
           uploads(UploadBudgetLimits{config.upload_memory_bytes, config.max_concurrent_uploads,
-                                     config.max_upload_expansion}),
-          environments(store, metrics, log, ImageLimits{config.max_image_pixels, 32768},
+                                     config.max_upload_expansion},
+                  [this](int busy, std::uint64_t reserved) {
+                      metrics.uploads_decoding.set(busy);
+                      metrics.upload_reserved_bytes.set(double(reserved));
+                  }),
+          environments(store, metrics, uploads, log, ImageLimits{config.max_image_pixels, 32768},
                        kAssetCacheBytes),
           meshes(store, metrics, uploads, mesh_limits(config), kAssetCacheBytes / 2),
           transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget)),

@@ -57,6 +57,10 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
           registry.gauge("oer_render_queue_depth", "Frames waiting for a render worker")),
       render_workers_ready(registry.gauge(
           "oer_render_workers_ready", "Render workers with a GL context and a test frame done")),
+      uploads_decoding(registry.gauge(
+          "oer_uploads_decoding", "Uploads being decoded and preprocessed (upload budget slots)")),
+      upload_reserved_bytes(registry.gauge(
+          "oer_upload_reserved_bytes", "Memory reserved by the uploads being decoded, in bytes")),
       connections_refused(registry.counter(
           "oer_http_connections_refused_total",
           "Connections answered 429 because their client address held as many as it may")),

@@ -32,6 +32,8 @@ class ServiceMetrics {
     Counter& meshes_loaded;         // each mesh actually decoded (upload or store), never a hit
     Gauge& render_queue_depth;      // frames waiting for a render worker
     Gauge& render_workers_ready;    // workers with a GL context that rendered a test frame
+    Gauge& uploads_decoding;        // uploads holding a slot of the upload budget
+    Gauge& upload_reserved_bytes;   // memory they reserved
     // Connections answered 429 because their address held max_connections_per_client.
     Counter& connections_refused;
 

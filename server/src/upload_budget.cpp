@@ -56,6 +56,9 @@ UploadBudget::Lease UploadBudget::acquire(std::uint64_t cost, std::uint64_t uplo
     }
     ++busy_;
     reserved_ += cost;
+    if (observer_) {
+        observer_(busy_, reserved_);
+    }
     return Lease(this, cost);
 }
 
@@ -63,6 +66,9 @@ void UploadBudget::release(std::uint64_t cost) {
     const std::lock_guard lock(mutex_);
     --busy_;
     reserved_ -= cost;
+    if (observer_) {
+        observer_(busy_, reserved_);
+    }
 }
 
 std::uint64_t UploadBudget::reserved_bytes() const {

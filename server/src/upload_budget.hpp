@@ -11,6 +11,7 @@
 // bytes), which bounds what any one upload of N bytes can make the server hold (issue 14's
 // figure, 40 x N).
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 
@@ -27,7 +28,11 @@ struct UploadBudgetLimits {
 
 class UploadBudget {
   public:
-    explicit UploadBudget(const UploadBudgetLimits& limits) : limits_(limits) {}
+    // Called with the busy slots and reserved bytes whenever they change (for gauges).
+    using Observer = std::function<void(int busy_slots, std::uint64_t reserved_bytes)>;
+
+    explicit UploadBudget(const UploadBudgetLimits& limits, Observer observer = {})
+        : limits_(limits), observer_(std::move(observer)) {}
 
     // A reservation, given back when it is destroyed.
     class Lease {
@@ -57,6 +62,7 @@ class UploadBudget {
     void release(std::uint64_t cost);
 
     const UploadBudgetLimits limits_;
+    const Observer observer_;
     mutable std::mutex mutex_;
     std::uint64_t reserved_ = 0;
     int busy_ = 0;
