@@ -47,9 +47,6 @@ constexpr int kMaxQuality = 100;
 constexpr int kMinShadowResolution = 64;
 // The renderer rejects transforms whose |determinant| is under this (they flatten the mesh).
 constexpr double kMinDeterminant = 1e-12;
-// A valid body nests four deep (body, camera, orbit, target): reading stops long before a
-// hostile body's depth costs anything.
-constexpr int kMaxJsonDepth = 16;
 
 using Names = std::span<const std::string_view>;
 constexpr std::array<std::string_view, 17> kBodyMembers = {
@@ -245,28 +242,37 @@ const Json* find(const Json& object, std::string_view name) {
     return checked_json::find(object, name);
 }
 
+// What a valid body can hold, checked while it is parsed, so that a body of many small values
+// costs no more than a valid one. A valid body nests 4 levels deep (body, camera, orbit,
+// target); its values are: 23 per object (the object, its mesh, its transform array and 16
+// numbers, its base_color array and 3 numbers), one per light switch, and 42 others (the body,
+// its 13 scalar members, the objects and lights arrays, the camera's 22 with its vectors and
+// orbit, shadows' 4): under 64.
+checked_json::JsonBounds request_bounds(const RenderLimits& limits) {
+    checked_json::JsonBounds bounds;
+    bounds.max_depth = 16;
+    bounds.max_elements = 64 + 23 * limits.max_objects + limits.max_lights;
+    return bounds;
+}
+
 Json read_body(std::string_view body, const RenderLimits& limits) {
     if (body.size() > limits.max_body_bytes) {
         throw Error(ErrorKind::LimitExceeded,
                     "render request: the body has " + std::to_string(body.size()) +
                         " bytes, over the limit of " + std::to_string(limits.max_body_bytes));
     }
-    const Json::parser_callback_t depth_guard = [](int depth, Json::parse_event_t, Json&) {
-        if (depth > kMaxJsonDepth) {
-            throw MalformedRequest("JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
-                                   " levels");
-        }
-        return true;
-    };
     try {
-        return Json::parse(body, depth_guard);
-    } catch (const Json::exception& error) {
-        // nlohmann's message without its "[json.exception.parse_error.101] " tag; it says
-        // where reading stopped ("parse error at line 1, column 7: ...").
-        const std::string message = error.what();
-        const std::size_t tag_end = message.find("] ");
-        throw MalformedRequest(tag_end == std::string::npos ? message
-                                                            : message.substr(tag_end + 2));
+        return checked_json::parse_bounded(body, request_bounds(limits));
+    } catch (const checked_json::JsonParseError& error) {
+        if (error.cause() == checked_json::JsonParseError::Cause::TooMany) {
+            throw Error(ErrorKind::LimitExceeded,
+                        std::string("render request: ") + error.what() +
+                            ", more than any request within the "
+                            "limits (at most " +
+                            std::to_string(limits.max_objects) + " objects and " +
+                            std::to_string(limits.max_lights) + " light switches)");
+        }
+        throw MalformedRequest(error.what());
     }
 }
 

@@ -138,6 +138,13 @@ json light_masks_to_json(const Rig& rig) {
     return masks;
 }
 
+checked_json::JsonBounds stored_rig_bounds(std::uint64_t max_map_pixels) {
+    checked_json::JsonBounds bounds;
+    bounds.max_elements = std::size_t((1u << 18) + 64 + 2 * max_map_pixels);
+    bounds.max_depth = 16;
+    return bounds;
+}
+
 Rig rig_from_json(const json& document, const json& masks) {
     Rig rig;
     if (!is_content_id(text(member(document, "", "id"), "id"))) {

@@ -8,6 +8,7 @@
 #include "oer/api/rig_from_json.hpp"
 #include "oer/api/rig_json.hpp"
 #include "oer/api/rig_options.hpp"
+#include "oer/core/checked_json.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/default_environment.hpp"
 
@@ -111,8 +112,16 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
     if (!provenance_text) {
         return nullptr;  // never preprocessed here (or its record is gone: so is the way back)
     }
-    const auto provenance = nlohmann::json::parse(*provenance_text, nullptr, false);
-    if (provenance.is_discarded() || !provenance.contains("source") ||
+    // The record of where the rig came from: its source's id and the options (a few dozen
+    // values).
+    constexpr checked_json::JsonBounds kProvenanceBounds{1024, 8};
+    nlohmann::json provenance;
+    try {
+        provenance = checked_json::parse_bounded(*provenance_text, kProvenanceBounds);
+    } catch (const checked_json::JsonParseError&) {
+        provenance = nullptr;  // unreadable: dropped below
+    }
+    if (!provenance.is_object() || !provenance.contains("source") ||
         !provenance["source"].is_string() || !provenance.contains("options")) {
         log_("environments: record of rig " + id + " is unreadable; dropped");
         store_.remove(DerivedKind::RigSource, id);
@@ -121,7 +130,8 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
     const std::string source_id = provenance["source"].get<std::string>();
     if (const auto stored = store_.get_derived(DerivedKind::Rig, id)) {
         try {
-            const auto document = nlohmann::json::parse(*stored);
+            const auto document =
+                checked_json::parse_bounded(*stored, api::stored_rig_bounds(limits_.max_pixels));
             auto rig = std::make_shared<const Rig>(
                 api::rig_from_json(document.at("rig"), document.at("masks")));
             auto environment = std::make_shared<const Environment>(

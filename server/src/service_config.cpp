@@ -151,7 +151,9 @@ const std::vector<Option>& options() {
                [](const ServiceConfig& config) { return join(config.cors_origins); }},
         integer_option("max-upload-bytes", "BYTES", "largest request body",
                        &ServiceConfig::max_upload_bytes, 1, 1ull << 40),
-        integer_option("max-image-pixels", "PIXELS", "largest environment map (width x height)",
+        integer_option("max-image-pixels", "PIXELS",
+                       "largest environment map (width x height; the default is an 8k map, "
+                       "8192 x 4096)",
                        &ServiceConfig::max_image_pixels, 1, 1ull << 32),
         integer_option("max-triangles", "COUNT", "most triangles in one mesh",
                        &ServiceConfig::max_triangles, 1, 1ull << 32),

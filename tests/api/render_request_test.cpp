@@ -494,6 +494,42 @@ TEST(RenderRequest, LargeInputsStopAtTheLimits) {
         EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded);
     }
     EXPECT_EQ(rejected_member(huge.substr(0, 1000) + "]}"), "");
+    // A body within the byte limit but of more values than any valid request (64 objects of 23
+    // values, 64 light switches and under 64 others: 1600) is refused while it is parsed.
+    std::string zeros = "[0";
+    for (int i = 1; i < 100'000; ++i) {
+        zeros += ",0";
+    }
+    try {
+        api::parse_render_json(with("lights", zeros + "]"));
+        FAIL() << "accepted 10^5 light switches";
+    } catch (const InvalidParameter& error) {
+        FAIL() << "counted after parsing: " << error.what();
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded);
+        EXPECT_EQ(std::string(error.what()),
+                  "render request: the JSON holds more than 1600 values, more than any request "
+                  "within the limits (at most 64 objects and 64 light switches)");
+    }
+    // The largest valid body is within the bound.
+    std::string full_objects = "[";
+    for (int i = 0; i < 64; ++i) {
+        full_objects += std::string(i == 0 ? "" : ",") +
+                        R"({"mesh": "default", "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],
+                            "base_color": [0.5, 0.5, 0.5]})";
+    }
+    std::string all_on = "[true";
+    for (int i = 1; i < 64; ++i) {
+        all_on += ",true";
+    }
+    const std::string largest = R"({"environment": "default", "objects": )" + full_objects +
+                                R"(], "lights": )" + all_on + R"(],
+        "camera": {"eye": [0, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y": 40},
+        "ground": true, "occlusion": false, "width": 64, "height": 64, "format": "png",
+        "quality": 90, "exposure": 0, "tonemap": "aces", "background": "transparent",
+        "shadows": {"enabled": true, "resolution": 1024, "filter": "pcf"}, "samples": 4,
+        "environment_yaw": 10})";
+    EXPECT_EQ(api::parse_render_json(largest).objects.size(), 64u);
 }
 
 TEST(RenderRequest, QueryErrorsNameTheParameter) {

@@ -9,6 +9,7 @@
 #include "oer/api/rig_from_json.hpp"
 #include "oer/api/rig_json.hpp"
 #include "oer/api/rig_options.hpp"
+#include "oer/core/checked_json.hpp"
 #include "oer/core/error.hpp"
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/default_environment.hpp"
@@ -110,6 +111,26 @@ TEST(RigFromJson, MasksAreRunsOfConsecutivePixels) {
     light.pixels = {3, 4, 5, 9, 20, 21};
     rig.lights.push_back(light);
     EXPECT_EQ(api::light_masks_to_json(rig), json::parse("[[3, 3, 9, 1, 20, 2]]"));
+}
+
+TEST(RigFromJson, TheLargestMasksAreWithinTheStoredRigBounds) {
+    // The most values masks can have: a light of every other pixel of the map, a run each.
+    const HdrImage map = make_default_environment(1024, 512);
+    Rig rig = build_rig(map, {}, RigOptions{});
+    ASSERT_FALSE(rig.lights.empty());
+    rig.lights.resize(1);
+    rig.lights[0].pixels.clear();
+    for (std::uint32_t i = 0; i < map.pixel_count(); i += 2) {
+        rig.lights[0].pixels.push_back(i);
+    }
+    const std::string text =
+        json{{"rig", api::rig_to_json(rig, kId)}, {"masks", api::light_masks_to_json(rig)}}.dump();
+    const json parsed =
+        checked_json::parse_bounded(text, api::stored_rig_bounds(map.pixel_count()));
+    EXPECT_EQ(parsed.at("masks").at(0).size(), map.pixel_count());
+    // A map of an eighth of the pixels could not have written it.
+    EXPECT_THROW(checked_json::parse_bounded(text, api::stored_rig_bounds(map.pixel_count() / 8)),
+                 checked_json::JsonParseError);
 }
 
 TEST(RigFromJson, RejectsDamagedDocuments) {
@@ -217,8 +238,12 @@ TEST(RigFromJson, RigsOfRandomAndHostileMapsReadBack) {
             const Rig rig = build_rig(map, repaired, options);
             const Stored document = stored(rig);
             try {
-                const Rig back = api::rig_from_json(json::parse(document.rig.dump()),
-                                                    json::parse(document.masks.dump()));
+                // As the store writes and reads it: one text, parsed within the bounds of a
+                // stored rig of this map's size.
+                const json text = checked_json::parse_bounded(
+                    json{{"rig", document.rig}, {"masks", document.masks}}.dump(),
+                    api::stored_rig_bounds(map.pixel_count()));
+                const Rig back = api::rig_from_json(text.at("rig"), text.at("masks"));
                 expect_same_rig(rig, back);
             } catch (const Error& error) {
                 ADD_FAILURE() << name

@@ -124,7 +124,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.api_key, "");
     EXPECT_TRUE(config.cors_origins.empty());
     EXPECT_EQ(config.max_upload_bytes, 268'435'456u);
-    EXPECT_EQ(config.max_image_pixels, 67'108'864u);
+    EXPECT_EQ(config.max_image_pixels, 33'554'432u);  // 8192 x 4096
     EXPECT_EQ(config.max_triangles, 5'000'000u);
     EXPECT_EQ(config.max_concurrent_uploads, 2);
     EXPECT_EQ(config.upload_memory_bytes, 2'147'483'648u);

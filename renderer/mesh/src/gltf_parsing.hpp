@@ -6,7 +6,8 @@
 // limit on bytes, and every other one is refused;
 // its image callback checks each image's bufferView and header against the limits and keeps
 // the encoded bytes, so that only the images the materials use are decoded, later. The JSON is
-// checked first: its nesting, a .glb's container, and the schema (gltf_schema.hpp).
+// checked first: a .glb's container, then its values and nesting as it is parsed, and the
+// schema (gltf_schema.hpp).
 #include <tiny_gltf.h>
 
 #include <cstddef>

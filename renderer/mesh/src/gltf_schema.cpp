@@ -4,6 +4,7 @@
 #include "gltf_schema.hpp"
 
 #include <initializer_list>
+#include <string_view>
 
 #include "mesh_errors.hpp"
 #include "oer/core/checked_json.hpp"
@@ -15,6 +16,18 @@ namespace oer::mesh_detail {
 namespace {
 
 using checked_json::Json;
+
+// The JSON a glTF may hold, checked while it is parsed, before tinygltf parses it again (into
+// its own DOM, and extras into tinygltf::Value, some 300 bytes a member). The samples of
+// assimp-testmodels hold at most 3865 values (2CylinderEngine) and nest 9 levels
+// (TextureTransformTest); glmark2's models converted by assimp, fewer: a glTF's arrays of
+// numbers (vertices, indices) are in its buffers, not its JSON. 2^17 values leave room for
+// scenes of several thousand nodes and meshes (about 20 values each), and the costliest
+// document within them (65000 one-member objects in extras) loads with under 64 MiB of
+// resident growth (tests/mesh/hostile_meshes_test.cpp; 2^18 took 73 MiB). Nesting as before:
+// glTF's schema nests under 10 levels, extras and extensions may nest more; tinygltf recurses
+// into them.
+constexpr checked_json::JsonBounds kGltfJsonBounds{std::size_t(1) << 17, 128};
 
 // The glTF loader's wording: "invalid glTF: <path> must be <kind>, not <what it is>".
 struct GltfWording {
@@ -267,10 +280,20 @@ class SchemaChecker {
 void check_gltf_schema(std::span<const std::byte> text, const std::string& asset) {
     Json root;
     try {
-        const auto* begin = reinterpret_cast<const char*>(text.data());
-        root = Json::parse(begin, begin + text.size());
-    } catch (const Json::exception& error) {
-        fail(ErrorKind::InvalidInput, asset, std::string("not valid JSON: ") + error.what());
+        root = checked_json::parse_bounded(
+            std::string_view(reinterpret_cast<const char*>(text.data()), text.size()),
+            kGltfJsonBounds);
+    } catch (const checked_json::JsonParseError& error) {
+        switch (error.cause()) {
+            case checked_json::JsonParseError::Cause::Syntax:
+                fail(ErrorKind::InvalidInput, asset,
+                     std::string("not valid JSON: ") + error.what());
+            case checked_json::JsonParseError::Cause::TooDeep:
+                fail(ErrorKind::InvalidInput, asset, error.what());
+            case checked_json::JsonParseError::Cause::TooMany:
+                fail(ErrorKind::LimitExceeded, asset,
+                     std::string(error.what()) + ", over the limit for a glTF's JSON");
+        }
     }
     SchemaChecker(asset).check(root);
 }

@@ -29,8 +29,10 @@
 // neither, the scene is framed automatically. An orbit without target or distance takes them
 // from that automatic framing.
 //
-// Errors: MalformedRequest when the body is not readable JSON (HTTP 400); oer::Error
-// (LimitExceeded) for a body over RenderLimits::max_body_bytes (413); InvalidParameter for
+// Errors: MalformedRequest when the body is not readable JSON or nests more than 16 levels
+// (HTTP 400); oer::Error (LimitExceeded) for a body over RenderLimits::max_body_bytes, or
+// holding more JSON values than a request within the limits can (checked while parsing, 413);
+// InvalidParameter for
 // anything else, naming the member by its path ("objects/1/transform", "camera/orbit/pitch",
 // "body" for the document itself) or, in the GET form, the query parameter (422). Unknown
 // members and parameters are errors, so that a typo is never silently ignored.

@@ -24,7 +24,9 @@ struct ServiceConfig {
     std::string api_key;                    // empty: no key required
     std::vector<std::string> cors_origins;  // empty: no CORS headers; "*" allows any origin
     std::uint64_t max_upload_bytes = 256ull << 20;
-    std::uint64_t max_image_pixels = 64ull << 20;  // 8192 x 8192
+    // A real 8k equirectangular map, 8192 x 4096 (384 MiB as the loaded float image); more with
+    // --max-image-pixels.
+    std::uint64_t max_image_pixels = 8192ull * 4096;
     std::uint64_t max_triangles = 5'000'000;
     // Uploads decoded and preprocessed at once, the memory they may hold together (estimated
     // before decoding: upload_budget.hpp), and how many times its own size one upload may

@@ -1,6 +1,7 @@
 #pragma once
-// The one reader of checked JSON: members of the expected type, or a failure that names the
-// member's path. The render request and stored rigs (api/), glTF (renderer/mesh) and the
+// The one parser of untrusted JSON (parse_bounded: element count and nesting bounded while
+// parsing) and the one reader of checked JSON: members of the expected type, or a failure that
+// names the member's path. The render request and stored rigs (api/), glTF (renderer/mesh) and the
 // tests' schema support all read through it. It is header-only in core, the library every
 // other one may depend on (dependencies point server -> api -> renderer, so the mesh library
 // cannot use api/), and oer_core's interface brings nlohmann_json for it.
@@ -20,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -28,6 +30,107 @@
 namespace oer::checked_json {
 
 using Json = nlohmann::json;
+
+// What a document may hold, checked as it is parsed: a document over a bound is refused as soon
+// as the parser reaches the value that passes it, before any value is built, so that its
+// memory is at most that of max_elements values, whatever the size of its text (a 20 MB array
+// of 10^7 zeros would take 160 MB as nlohmann values, more as the objects a reader makes of
+// them).
+struct JsonBounds {
+    std::size_t max_elements = 0;  // values of every kind, objects and arrays included
+    int max_depth = 0;             // objects and arrays inside each other (a top-level one: 1)
+};
+
+// A document that is not JSON (Syntax), or passes a bound (TooDeep, TooMany), so that each
+// caller can answer in its own words and kinds. The message says which and where, without
+// nlohmann's "[json.exception.parse_error.101] " tag: "parse error at line 1, column 7: ...",
+// "the JSON holds more than 1000 values", "the JSON is nested more than 16 levels deep".
+class JsonParseError : public std::runtime_error {
+  public:
+    enum class Cause { Syntax, TooDeep, TooMany };
+    JsonParseError(const std::string& message, Cause cause)
+        : std::runtime_error(message), cause_(cause) {}
+    Cause cause() const { return cause_; }
+
+  private:
+    Cause cause_;
+};
+
+namespace detail {
+
+// nlohmann's SAX interface, counting values and nesting without building anything; it stops
+// the parse at the value that passes a bound.
+class BoundsCounter : public nlohmann::json_sax<Json> {
+  public:
+    explicit BoundsCounter(const JsonBounds& bounds) : bounds_(bounds) {}
+
+    bool null() override { return value(); }
+    bool boolean(bool) override { return value(); }
+    bool number_integer(number_integer_t) override { return value(); }
+    bool number_unsigned(number_unsigned_t) override { return value(); }
+    bool number_float(number_float_t, const string_t&) override { return value(); }
+    bool string(string_t&) override { return value(); }
+    bool binary(binary_t&) override { return value(); }
+    bool start_object(std::size_t) override { return open(); }
+    bool key(string_t&) override { return true; }
+    bool end_object() override { return close(); }
+    bool start_array(std::size_t) override { return open(); }
+    bool end_array() override { return close(); }
+    bool parse_error(std::size_t, const std::string&,
+                     const nlohmann::detail::exception& error) override {
+        const std::string message = error.what();
+        const std::size_t tag_end = message.find("] ");
+        failure_ =
+            JsonParseError(tag_end == std::string::npos ? message : message.substr(tag_end + 2),
+                           JsonParseError::Cause::Syntax);
+        return false;
+    }
+
+    const JsonParseError& failure() const { return failure_; }
+
+  private:
+    bool value() {
+        if (++values_ > bounds_.max_elements) {
+            failure_ = JsonParseError(
+                "the JSON holds more than " + std::to_string(bounds_.max_elements) + " values",
+                JsonParseError::Cause::TooMany);
+            return false;
+        }
+        return true;
+    }
+    bool open() {
+        if (++depth_ > bounds_.max_depth) {
+            failure_ = JsonParseError("the JSON is nested more than " +
+                                          std::to_string(bounds_.max_depth) + " levels deep",
+                                      JsonParseError::Cause::TooDeep);
+            return false;
+        }
+        return value();
+    }
+    bool close() {
+        --depth_;
+        return true;
+    }
+
+    JsonBounds bounds_;
+    std::size_t values_ = 0;
+    int depth_ = 0;
+    JsonParseError failure_{"", JsonParseError::Cause::Syntax};
+};
+
+}  // namespace detail
+
+// The document, parsed only once a first pass that builds nothing has found it within bounds:
+// a document over them costs the time to read up to the value that passes one, and no memory.
+// (nlohmann's parser callback would count while building, but it scans the enclosing array
+// each time an object in it ends: quadratic, 21 s for an array of 131000 small objects.)
+inline Json parse_bounded(std::string_view text, const JsonBounds& bounds) {
+    detail::BoundsCounter counter(bounds);
+    if (!Json::sax_parse(text, &counter)) {
+        throw counter.failure();
+    }
+    return Json::parse(text);
+}
 
 // What a value is, in words for messages.
 inline const char* kind_of(const Json& value) {
