@@ -340,8 +340,8 @@ export class OerViewer extends HTMLElement {
 
   #dispatchError(error, url) {
     const detail = error instanceof ProblemError
-      ? { status: error.status, title: error.title, detail: error.message, url }
-      : { status: 0, title: 'Network error', detail: String(error.message ?? error), url };
+      ? { status: error.status, type: error.type, title: error.title, detail: error.message, url }
+      : { status: 0, type: null, title: 'Network error', detail: String(error.message ?? error), url };
     this.dispatchEvent(new CustomEvent('error', { detail }));
   }
 
@@ -607,11 +607,13 @@ function cameraDistance(header) {
   return Number.isFinite(distance) ? distance : null;
 }
 
-// An answer that is not 2xx, with the problem+json `detail` verbatim when there is one.
+// An answer that is not 2xx, with the problem+json `detail` verbatim when there is one, and its
+// `type` (what a page switches on; RFC 9457: absent means about:blank).
 class ProblemError extends Error {
-  constructor(status, title, detail) {
+  constructor(status, type, title, detail) {
     super(detail);
     this.status = status;
+    this.type = type;
     this.title = title;
   }
 }
@@ -623,7 +625,8 @@ export async function problemOf(response, url) {
   } catch {
     // Not problem+json (a proxy's page, say): the status line is all there is.
   }
-  return new ProblemError(response.status, body.title ?? response.statusText,
+  return new ProblemError(response.status, body.type ?? 'about:blank',
+                          body.title ?? response.statusText,
                           body.detail ?? `${response.status} ${response.statusText} from ${url}`);
 }
 

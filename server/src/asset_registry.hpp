@@ -5,18 +5,46 @@
 // decode and store them once: the later ones wait for the first and answer as cached (or with
 // its error). What differs between kinds (how an asset is decoded, stored and read back) comes
 // in as functions.
+//
+// Removal: remove() takes the store lock exclusively, while every read or write of the store
+// through this registry (read_stored, make, guarded) holds it shared; so a removal waits for the
+// uploads and reads under way, and none of them can put back in memory or in the store what it
+// removed. Readers that got the asset before keep it (shared ownership): a frame in flight
+// finishes.
+#include <chrono>
 #include <functional>
 #include <future>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <shared_mutex>
 #include <string>
+#include <vector>
 
 #include "oer/api/content_id.hpp"
+#include "oer/server/asset_store.hpp"
 #include "oer/server/shared_lru_cache.hpp"
 #include "service_metrics.hpp"
 
 namespace oer::server {
+
+// An entry of a listing (GET /v1/environments, GET /v1/meshes).
+struct ListedAsset {
+    std::string id;
+    std::string source_id;  // the uploaded file's content id (a mesh's is its id)
+    // The uploaded file's size and extension; nullopt when it is no longer stored (a damaged
+    // store: the entry still answers, its map must be uploaded again).
+    std::optional<StoredEntryInfo> source;
+    std::chrono::system_clock::time_point stored;  // when the entry was stored
+};
+
+// One page of a listing in ascending order of id. A page may hold fewer than the limit (an
+// entry that could not be read is left out); next_after, when set, is the cursor of the next.
+struct ListedPage {
+    std::vector<ListedAsset> entries;
+    std::optional<std::string> next_after;
+};
 
 template <typename Asset>
 class AssetRegistry {
@@ -47,6 +75,7 @@ class AssetRegistry {
         if (auto known = cached(id)) {
             return known;
         }
+        const std::shared_lock store_lock(store_mutex_);
         return read_stored();
     }
 
@@ -61,8 +90,9 @@ class AssetRegistry {
         return nullptr;
     }
 
-    // known(): the asset when id is there already (cached), else nullptr. make(): decodes,
-    // stores and remember()s it; run once per id however many uploads of it overlap.
+    // known(): the asset when id is there already (cached), else nullptr; it runs without the
+    // store lock, so it may call find() (and guarded() for writes). make(): decodes, stores and
+    // remember()s it, under the store lock; run once per id however many uploads of it overlap.
     Upload upload(const std::string& id, const Make& known, const Make& make) {
         if (auto found = known()) {
             return {std::move(found), true};
@@ -88,7 +118,10 @@ class AssetRegistry {
             in_flight_.erase(id);
         };
         try {
-            Pointer made = make();
+            Pointer made = [&] {
+                const std::shared_lock store_lock(store_mutex_);
+                return make();
+            }();
             promise.set_value(made);
             finish();
             return {std::move(made), false};
@@ -103,6 +136,23 @@ class AssetRegistry {
         assets_.put(id, asset, charge);
     }
 
+    // Runs action (a read or write of the store outside find and upload's make) under the
+    // store lock, shared.
+    template <typename Action>
+    auto guarded(Action action) {
+        const std::shared_lock store_lock(store_mutex_);
+        return action();
+    }
+
+    // Runs erase_stored() (which removes id's entries from the store, and says whether there
+    // were any) with the store lock held exclusively, then forgets id in memory.
+    bool remove(const std::string& id, const std::function<bool()>& erase_stored) {
+        const std::unique_lock store_lock(store_mutex_);
+        const bool removed = erase_stored();
+        assets_.erase(id);
+        return removed;
+    }
+
   private:
     ServiceMetrics& metrics_;
     const CacheName cache_;
@@ -111,6 +161,8 @@ class AssetRegistry {
     // Assets being made, by id.
     std::mutex in_flight_mutex_;
     std::map<std::string, std::shared_future<Pointer>> in_flight_;
+    // Shared by reads and writes of the store, exclusive for removals.
+    std::shared_mutex store_mutex_;
 };
 
 }  // namespace oer::server

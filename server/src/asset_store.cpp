@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <iterator>
+#include <set>
 #include <utility>
 
 #include "oer/api/content_id.hpp"
@@ -149,14 +151,68 @@ std::optional<std::string> read_file(const fs::path& path) {
     return bytes;
 }
 
+// Removes path and flushes its folder, so that the removal survives a crash as a write does.
 bool remove_file(const fs::path& path) {
-    if (::unlink(path.c_str()) == 0) {
-        return true;
+    if (::unlink(path.c_str()) != 0) {
+        if (errno != ENOENT) {
+            throw_io("remove", path, errno);
+        }
+        return false;
     }
-    if (errno != ENOENT) {
-        throw_io("remove", path, errno);
+    fsync_folder(path.parent_path());
+    return true;
+}
+
+// The size and time of writing of a file, or nullopt if it does not exist.
+std::optional<StoredEntryInfo> file_info(const fs::path& path, std::string extension) {
+    struct stat status {};
+    if (::stat(path.c_str(), &status) != 0) {
+        if (errno == ENOENT) {
+            return std::nullopt;
+        }
+        throw_io("inspect", path, errno);
     }
-    return false;
+    const auto since_epoch = std::chrono::seconds(status.st_mtim.tv_sec) +
+                             std::chrono::nanoseconds(status.st_mtim.tv_nsec);
+    return StoredEntryInfo{
+        std::uintmax_t(status.st_size), std::move(extension),
+        std::chrono::system_clock::time_point(
+            std::chrono::duration_cast<std::chrono::system_clock::duration>(since_epoch))};
+}
+
+// The smallest `limit` ids after `after` among the files of folder named <id>.<extension>
+// with an extension `accepts`; temporary files and other names are not entries.
+template <typename Accepts>
+std::vector<std::string> list_folder(const fs::path& folder, std::string_view after,
+                                     std::size_t limit, Accepts accepts) {
+    if (!after.empty()) {
+        check_id(after);
+    }
+    std::set<std::string> smallest;
+    std::error_code error;
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
+        const std::string name = entry.path().filename().string();
+        const std::size_t dot = name.find('.');
+        if (dot == std::string::npos || !is_asset_id(std::string_view(name).substr(0, dot)) ||
+            !accepts(std::string_view(name).substr(dot + 1))) {
+            continue;
+        }
+        std::string id = name.substr(0, dot);
+        if (id <= after || limit == 0) {
+            continue;
+        }
+        if (smallest.size() == limit) {
+            if (id >= *smallest.rbegin()) {
+                continue;
+            }
+            smallest.erase(std::prev(smallest.end()));
+        }
+        smallest.insert(std::move(id));
+    }
+    if (error) {
+        throw_io("list", folder, error.value());
+    }
+    return {smallest.begin(), smallest.end()};
 }
 
 std::string seal(std::string_view payload) {
@@ -331,6 +387,32 @@ bool AssetStore::remove(DerivedKind kind, std::string_view id) {
     check_id(id);
     const std::lock_guard lock(lock_for(id));
     return remove_file(derived_path(kind, id));
+}
+
+std::vector<std::string> AssetStore::list(SourceKind kind, std::string_view after,
+                                          std::size_t limit) const {
+    const auto allowed = allowed_extensions(kind);
+    return list_folder(
+        folder_ / folder_name(kind), after, limit, [&allowed](std::string_view extension) {
+            return std::find(allowed.begin(), allowed.end(), extension) != allowed.end();
+        });
+}
+
+std::vector<std::string> AssetStore::list(DerivedKind kind, std::string_view after,
+                                          std::size_t limit) const {
+    return list_folder(folder_ / folder_name(kind), after, limit,
+                       [](std::string_view extension) { return extension == "sealed"; });
+}
+
+std::optional<StoredEntryInfo> AssetStore::info(SourceKind kind, std::string_view id) const {
+    check_id(id);
+    const auto path = find_source(kind, id);
+    return path ? file_info(*path, path->extension().string().substr(1)) : std::nullopt;
+}
+
+std::optional<StoredEntryInfo> AssetStore::info(DerivedKind kind, std::string_view id) const {
+    check_id(id);
+    return file_info(derived_path(kind, id), "sealed");
 }
 
 std::optional<fs::path> AssetStore::find_source(SourceKind kind, std::string_view id) const {

@@ -173,9 +173,9 @@ class BoundedStream : public httplib::Stream {
 // The answer to a connection over its address's limit, written before reading anything: the
 // connection closes after it (RFC 6585 section 4's 429, with when to come back).
 void refuse_connection(socket_t sock, const std::string& address, std::size_t limit) {
-    Problem answer =
-        problem(429, "too many connections from " + address + " (at most " + std::to_string(limit) +
-                         " at once); close one or retry later");
+    Problem answer = problem(ProblemKind::TooManyConnections,
+                             "too many connections from " + address + " (at most " +
+                                 std::to_string(limit) + " at once); close one or retry later");
     const std::string body = problem_to_json(answer).dump();
     const std::string response =
         "HTTP/1.1 429 Too Many Requests\r\nContent-Type: " + std::string(kProblemContentType) +

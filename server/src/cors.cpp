@@ -26,7 +26,8 @@ void add_cors_headers(const std::vector<std::string>& origins, const httplib::Re
 
 void answer_preflight(const std::vector<std::string>& methods, httplib::Response& response) {
     if (methods.empty()) {
-        send_problem(response, {problem(404, "no route has this path"), {}, false, ""});
+        send_problem(response,
+                     {problem(ProblemKind::NotFound, "no route has this path"), {}, false, ""});
         return;
     }
     std::string allow = "OPTIONS";

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <span>
 
 #include "oer/api/content_id.hpp"
@@ -37,6 +38,39 @@ std::size_t charge_of(const HdrImage& image) {
     return image.pixels.size() * sizeof(float);
 }
 
+// A rig's record of provenance (DerivedKind::RigSource): the content id of its map and the
+// options it was made with.
+struct Provenance {
+    std::string source_id;
+    nlohmann::json options;
+};
+
+std::string provenance_json(const std::string& source_id, const RigOptions& options) {
+    return nlohmann::json{{"source", source_id}, {"options", api::rig_options_to_json(options)}}
+        .dump();
+}
+
+// nullopt when the record is not one provenance_json wrote.
+std::optional<Provenance> read_provenance(const std::string& text) {
+    // The record of where a rig came from: its source's id and the options (a few dozen
+    // values).
+    constexpr checked_json::JsonBounds kProvenanceBounds{1024, 8};
+    nlohmann::json record;
+    try {
+        record = checked_json::parse_bounded(text, kProvenanceBounds);
+    } catch (const checked_json::JsonParseError&) {
+        return std::nullopt;
+    }
+    if (!record.is_object() || !record.contains("source") || !record["source"].is_string() ||
+        !record.contains("options")) {
+        return std::nullopt;
+    }
+    return Provenance{record["source"].get<std::string>(), record["options"]};
+}
+
+// Rig ids are read from the store this many at a time when every record must be read.
+constexpr std::size_t kRecordBatch = 256;
+
 }  // namespace
 
 EnvironmentRegistry::EnvironmentRegistry(AssetStore& store, ServiceMetrics& metrics,
@@ -70,8 +104,14 @@ EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
         rig_id,
         [&] {
             auto known = find(rig_id);
-            if (known && !store_.contains(SourceKind::Environment, source_id)) {
-                store_.put_source(SourceKind::Environment, bytes, extension);
+            if (known) {
+                // The map again if it was lost, unless the rig was removed since find().
+                rigs_.guarded([&] {
+                    if (store_.contains(DerivedKind::RigSource, rig_id) &&
+                        !store_.contains(SourceKind::Environment, source_id)) {
+                        store_.put_source(SourceKind::Environment, bytes, extension);
+                    }
+                });
             }
             return known;
         },
@@ -112,22 +152,13 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
     if (!provenance_text) {
         return nullptr;  // never preprocessed here (or its record is gone: so is the way back)
     }
-    // The record of where the rig came from: its source's id and the options (a few dozen
-    // values).
-    constexpr checked_json::JsonBounds kProvenanceBounds{1024, 8};
-    nlohmann::json provenance;
-    try {
-        provenance = checked_json::parse_bounded(*provenance_text, kProvenanceBounds);
-    } catch (const checked_json::JsonParseError&) {
-        provenance = nullptr;  // unreadable: dropped below
-    }
-    if (!provenance.is_object() || !provenance.contains("source") ||
-        !provenance["source"].is_string() || !provenance.contains("options")) {
+    const auto provenance = read_provenance(*provenance_text);
+    if (!provenance) {
         log_("environments: record of rig " + id + " is unreadable; dropped");
         store_.remove(DerivedKind::RigSource, id);
         return nullptr;
     }
-    const std::string source_id = provenance["source"].get<std::string>();
+    const std::string& source_id = provenance->source_id;
     if (const auto stored = store_.get_derived(DerivedKind::Rig, id)) {
         try {
             const auto document =
@@ -159,7 +190,7 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
     LoadedImage loaded =
         load_image_memory(as_bytes(source->bytes), "stored." + source->extension, limits_);
     auto environment =
-        compute(loaded, api::rig_options_from_json(provenance["options"]), source_id, id);
+        compute(loaded, api::rig_options_from_json(provenance->options), source_id, id);
     metrics_.preprocess_seconds.observe(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return environment;
@@ -174,10 +205,7 @@ std::shared_ptr<const Environment> EnvironmentRegistry::compute(const LoadedImag
     nlohmann::json json = api::rig_to_json(*rig, rig_id);
     // The record of provenance first: a crash between the two writes leaves a rig that can be
     // recomputed, never a rig whose source is unknown.
-    store_.put_derived(
-        DerivedKind::RigSource, rig_id,
-        nlohmann::json{{"source", source_id}, {"options", api::rig_options_to_json(options)}}
-            .dump());
+    store_.put_derived(DerivedKind::RigSource, rig_id, provenance_json(source_id, options));
     store_.put_derived(
         DerivedKind::Rig, rig_id,
         nlohmann::json{{"rig", json}, {"masks", api::light_masks_to_json(*rig)}}.dump());
@@ -226,7 +254,7 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::specular(
                 if (auto cached = specular_.cached(id)) {
                     return cached;
                 }
-                return load_stored_specular(id);
+                return specular_.guarded([&] { return load_stored_specular(id); });
             },
             [&] { return compute_specular(environment); })
         .asset;
@@ -269,9 +297,92 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::compute_specular(
     log_("environments: specular cube of rig " + environment.id + " computed in " +
          std::to_string(int(std::lround(seconds * 1000.0))) + " ms, " +
          std::to_string(cube->byte_size()) + " bytes");
-    store_.put_derived(DerivedKind::Specular, environment.id, encode_prefiltered_cube(*cube));
-    specular_.remember(environment.id, cube, cube->byte_size());
+    // Kept only while the rig is: a frame of an environment removed meanwhile still gets its
+    // cube, which the store and memory then no longer hold (remove() waits for this
+    // computation, under specular_'s lock, and removes what it stored).
+    if (store_.contains(DerivedKind::RigSource, environment.id)) {
+        store_.put_derived(DerivedKind::Specular, environment.id, encode_prefiltered_cube(*cube));
+        specular_.remember(environment.id, cube, cube->byte_size());
+    }
     return cube;
+}
+
+ListedPage EnvironmentRegistry::list(std::string_view after, std::size_t limit) {
+    return rigs_.guarded([&] {
+        ListedPage page;
+        std::vector<std::string> ids = store_.list(DerivedKind::RigSource, after, limit + 1);
+        if (ids.size() > limit) {
+            ids.pop_back();
+            page.next_after = ids.back();
+        }
+        for (const std::string& id : ids) {
+            const auto record = store_.get_derived(DerivedKind::RigSource, id);
+            const auto provenance = record ? read_provenance(*record) : std::nullopt;
+            const auto written = store_.info(DerivedKind::RigSource, id);
+            if (!provenance || !written || !api::is_content_id(provenance->source_id)) {
+                continue;  // damaged: find() drops it and says so
+            }
+            page.entries.push_back({id, provenance->source_id,
+                                    store_.info(SourceKind::Environment, provenance->source_id),
+                                    written->written});
+        }
+        return page;
+    });
+}
+
+bool EnvironmentRegistry::map_used_by_another_rig(const std::string& source_id,
+                                                  const std::string& rig_id) {
+    for (std::string after;;) {
+        const std::vector<std::string> ids =
+            store_.list(DerivedKind::RigSource, after, kRecordBatch);
+        for (const std::string& id : ids) {
+            if (id == rig_id) {
+                continue;
+            }
+            const auto record = store_.get_derived(DerivedKind::RigSource, id);
+            const auto provenance = record ? read_provenance(*record) : std::nullopt;
+            if (provenance && provenance->source_id == source_id) {
+                return true;
+            }
+        }
+        if (ids.size() < kRecordBatch) {
+            return false;
+        }
+        after = ids.back();
+    }
+}
+
+bool EnvironmentRegistry::remove(const std::string& id) {
+    if (!api::is_content_id(id)) {
+        return false;
+    }
+    std::string removed_map;
+    const bool removed = rigs_.remove(id, [&] {
+        const auto record = store_.get_derived(DerivedKind::RigSource, id);
+        const auto provenance = record ? read_provenance(*record) : std::nullopt;
+        // The cube and the rig first: until the record goes, they can be recomputed from it and
+        // the map, so a crash here leaves the environment whole. The record is the commit:
+        // without it neither find() nor list() knows the rig. The map last, when no other rig
+        // was made from it.
+        store_.remove(DerivedKind::Specular, id);
+        store_.remove(DerivedKind::Rig, id);
+        if (!store_.remove(DerivedKind::RigSource, id)) {
+            return false;
+        }
+        if (provenance && api::is_content_id(provenance->source_id) &&
+            !map_used_by_another_rig(provenance->source_id, id)) {
+            store_.remove(SourceKind::Environment, provenance->source_id);
+            removed_map = provenance->source_id;
+        }
+        return true;
+    });
+    // A cube computed for a frame under way is stored only while the record is there: waiting
+    // for such computations and removing what they stored leaves no cube behind.
+    specular_.remove(id, [&] { return store_.remove(DerivedKind::Specular, id); });
+    if (!removed_map.empty()) {
+        images_.erase(removed_map);
+    }
+    return removed;
 }
 
 }  // namespace oer::server

@@ -7,7 +7,8 @@
 // start-up (the default product is glossy: the first frame and the readiness check need it).
 // Each uploaded rig's specular cube (its residual map prefiltered, specular_environment.hpp) is
 // made only when a frame needs it, then kept like the rig: in memory (LRU by bytes) and in the
-// store by rig id.
+// store by rig id. Uploaded environments are listed by rig id and removed with all that was
+// derived from them.
 #include <functional>
 #include <memory>
 #include <string>
@@ -64,6 +65,19 @@ class EnvironmentRegistry {
     // longer stored.
     std::shared_ptr<const PrefilteredCube> specular(const Environment& environment);
 
+    // The uploaded environments (the preset is not listed) with ids after `after` ("" for the
+    // first page), at most limit of them, by rig id; each with its map's id, size and format and
+    // when its rig was stored.
+    ListedPage list(std::string_view after, std::size_t limit);
+
+    // Removes the uploaded environment id (a content id: the preset is not removed) and what
+    // was derived from it: its rig, its record of provenance and its specular cube, in the store
+    // and in memory, and its map too unless another rig was made from the same map. False when
+    // no environment has that id. A crash part way leaves the environment whole (its rig and
+    // cube are recomputed from its record and map) or gone (at worst its map stays, unlisted
+    // and never served: the next upload of the same bytes uses it).
+    bool remove(const std::string& id);
+
   private:
     std::shared_ptr<const Environment> load_stored(const std::string& id);
     std::shared_ptr<const Environment> compute(const LoadedImage& loaded, const RigOptions& options,
@@ -77,6 +91,8 @@ class EnvironmentRegistry {
                                                   const RigOptions& options,
                                                   const std::string& source_id,
                                                   const std::string& rig_id);
+    // Whether the record of a rig other than rig_id names source_id as its map.
+    bool map_used_by_another_rig(const std::string& source_id, const std::string& rig_id);
 
     AssetStore& store_;
     ServiceMetrics& metrics_;

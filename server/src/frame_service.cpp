@@ -45,13 +45,20 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         const auto mesh = meshes_.find(spec.objects[i].mesh);
         if (!mesh) {
             throw not_found(
-                "no mesh with id '" + spec.objects[i].mesh + "'",
+                ProblemKind::UnknownId, "no mesh with id '" + spec.objects[i].mesh + "'",
                 form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
         }
         meshes.push_back(mesh->mesh);
         mesh_ids.push_back(mesh->id);
     }
-    // Before the cache, so that a cached frame names its camera too (a few map lookups).
+    // The environment and meshes are found before the cache, so that a frame of one removed
+    // since (DELETE) is 404, never served from the cache; and a cached frame names its camera
+    // too (a few map lookups).
+    const auto environment = environments_.find(spec.environment);
+    if (!environment) {
+        throw not_found(ProblemKind::UnknownId, "no environment with id '" + spec.environment + "'",
+                        "environment");
+    }
     result.camera = api::resolved_camera(spec, meshes);
     if (auto cached = frames_.get(result.etag)) {
         metrics_.cache(CacheName::Frame, true);
@@ -61,15 +68,12 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     }
     metrics_.cache(CacheName::Frame, false);
 
-    const auto environment = environments_.find(spec.environment);
-    if (!environment) {
-        throw not_found("no environment with id '" + spec.environment + "'", "environment");
-    }
     std::shared_ptr<const HdrImage> map;
     if (spec.background.kind == BackgroundKind::Environment) {
         map = environments_.source_image(*environment);
         if (!map) {
-            throw not_found("the map of environment '" + spec.environment +
+            throw not_found(ProblemKind::MapNotStored,
+                            "the map of environment '" + spec.environment +
                                 "' is no longer stored; upload it again",
                             "environment");
         }
@@ -78,7 +82,8 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     if (api::needs_specular(frame_request)) {
         frame_request.specular = environments_.specular(*environment);
         if (!frame_request.specular) {
-            throw not_found("the map of environment '" + spec.environment +
+            throw not_found(ProblemKind::MapNotStored,
+                            "the map of environment '" + spec.environment +
                                 "' is no longer stored, and its glossy materials need it; "
                                 "upload it again",
                             "environment");

@@ -6,15 +6,15 @@
 
 namespace oer::server {
 
-Problem problem(int status, std::string detail) {
+Problem problem(ProblemKind kind, std::string detail) {
     Problem result;
-    result.status = status;
+    result.kind = kind;
     result.detail = std::move(detail);
     return result;
 }
 
-HttpError not_found(const std::string& detail, const std::string& parameter) {
-    Problem answer = problem(404, detail);
+HttpError not_found(ProblemKind kind, const std::string& detail, const std::string& parameter) {
+    Problem answer = problem(kind, detail);
     if (!parameter.empty()) {
         answer.extensions["parameter"] = parameter;
     }
@@ -22,21 +22,22 @@ HttpError not_found(const std::string& detail, const std::string& parameter) {
 }
 
 HttpError unavailable(const std::string& detail, int retry_after_seconds) {
-    return HttpError(problem(503, detail), {{"Retry-After", std::to_string(retry_after_seconds)}});
+    return HttpError(problem(ProblemKind::Unavailable, detail),
+                     {{"Retry-After", std::to_string(retry_after_seconds)}});
 }
 
-int status_of(ErrorKind kind) {
+ProblemKind problem_kind_of(ErrorKind kind) {
     switch (kind) {
         case ErrorKind::InvalidInput:
         case ErrorKind::Unsupported:  // a well-formed upload of a kind we do not handle
-            return 422;
+            return ProblemKind::InvalidContent;
         case ErrorKind::LimitExceeded:
-            return 413;
+            return ProblemKind::LimitExceeded;
         case ErrorKind::Io:
         case ErrorKind::Internal:
-            return 500;
+            return ProblemKind::Internal;
     }
-    return 500;
+    return ProblemKind::Internal;
 }
 
 ErrorAnswer error_answer(std::exception_ptr error) {
@@ -44,34 +45,40 @@ ErrorAnswer error_answer(std::exception_ptr error) {
     // server); the log has it.
     const auto internal = [](const std::string& cause) {
         return ErrorAnswer{
-            problem(500, "internal error; the server log has the details"), {}, true, cause};
+            problem(ProblemKind::Internal, "internal error; the server log has the details"),
+            {},
+            true,
+            cause};
     };
     try {
         std::rethrow_exception(error);
     } catch (const HttpError& e) {
         return {e.problem(), e.headers(), false, e.what()};
     } catch (const RendererUnavailable& e) {
-        return {problem(503, e.what()),
+        return {problem(ProblemKind::Unavailable, e.what()),
                 {{"Retry-After", std::to_string(kRendererRetrySeconds)}},
                 false,
                 e.what()};
     } catch (const QueueFull& e) {
-        return {problem(503, e.what()),
+        return {problem(ProblemKind::Unavailable, e.what()),
                 {{"Retry-After", std::to_string(kRetryAfterSeconds)}},
                 false,
                 e.what()};
     } catch (const api::MalformedRequest& e) {
-        return {problem(400, e.what()), {}, false, e.what()};
+        return {problem(ProblemKind::MalformedRequest, e.what()), {}, false, e.what()};
     } catch (const api::InvalidParameter& e) {
-        Problem answer = problem(e.kind() == ErrorKind::LimitExceeded ? 413 : 422, e.what());
+        Problem answer =
+            problem(e.kind() == ErrorKind::LimitExceeded ? ProblemKind::LimitExceeded
+                                                         : ProblemKind::InvalidParameter,
+                    e.what());
         answer.extensions["parameter"] = e.parameter();
         return {std::move(answer), {}, false, e.what()};
     } catch (const Error& e) {
-        const int status = status_of(e.kind());
-        if (status == 500) {
+        const ProblemKind kind = problem_kind_of(e.kind());
+        if (kind == ProblemKind::Internal) {
             return internal(e.what());
         }
-        return {problem(status, e.what()), {}, false, e.what()};
+        return {problem(kind, e.what()), {}, false, e.what()};
     } catch (const std::exception& e) {
         return internal(e.what());
     } catch (...) {

@@ -1,8 +1,9 @@
 #pragma once
 // Failures as HTTP answers, mapped in one place: the exceptions of the renderer (oer::Error by
 // kind), of the api (MalformedRequest, InvalidParameter), of the render pool (QueueFull,
-// RendererUnavailable) and the answers a route decides itself (HttpError: 401, 404, 405, 413, 415,
-// 503).
+// RendererUnavailable) and the answers a route decides itself (HttpError: 401, 404, 405, 409,
+// 413, 415, 503), each as a problem of one kind (problem_json.hpp), which sets its status and
+// type.
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -16,8 +17,8 @@ namespace oer::server {
 
 using HeaderList = std::vector<std::pair<std::string, std::string>>;
 
-// A problem with this status and detail, every other member at its default.
-Problem problem(int status, std::string detail);
+// A problem of this kind with this detail, every other member at its default.
+Problem problem(ProblemKind kind, std::string detail);
 
 // An answer a route decides: the problem and any headers it needs (Retry-After, Allow,
 // WWW-Authenticate).
@@ -35,9 +36,10 @@ class HttpError : public std::runtime_error {
     HeaderList headers_;
 };
 
-// 404 naming the member or parameter that held the unknown id (empty: the path's id).
-HttpError not_found(const std::string& detail, const std::string& parameter = "");
-// 503 with Retry-After.
+// 404 of a kind (UnknownId, MapNotStored, NotFound) naming the member or parameter that held
+// the id (empty: the path's, or no id).
+HttpError not_found(ProblemKind kind, const std::string& detail, const std::string& parameter = "");
+// 503 (Unavailable) with Retry-After.
 HttpError unavailable(const std::string& detail, int retry_after_seconds = 1);
 
 // Seconds a client is told to wait after a 503.
@@ -46,7 +48,8 @@ inline constexpr int kRetryAfterSeconds = 1;
 // told to wait after a render refused meanwhile.
 inline constexpr int kRendererRetrySeconds = 5;
 
-int status_of(ErrorKind kind);
+// The kind of problem an oer::Error of this kind is answered as.
+ProblemKind problem_kind_of(ErrorKind kind);
 
 struct ErrorAnswer {
     Problem problem;

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <ctime>
 #include <string_view>
 
+#include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
+#include "oer/api/parameter_text.hpp"
 
 namespace oer::server {
 
@@ -23,7 +26,7 @@ void send_upload(httplib::Response& response, nlohmann::json asset, bool cached,
 }
 
 void send_problem(httplib::Response& response, const ErrorAnswer& answer) {
-    response.status = answer.problem.status;
+    response.status = answer.problem.status();
     for (const auto& [name, value] : answer.headers) {
         response.set_header(name, value);
     }
@@ -55,6 +58,42 @@ std::map<std::string, std::string> single_query(const httplib::Request& request,
     return values;
 }
 
+ListingQuery listing_query(const httplib::Request& request) {
+    const auto query = single_query(request, {"limit", "after"});
+    ListingQuery listing;
+    if (const auto limit = query.find("limit"); limit != query.end()) {
+        listing.limit = std::size_t(api::parse_integer("limit", limit->second, 1, kMaxListLimit));
+    }
+    if (const auto after = query.find("after"); after != query.end()) {
+        if (!api::is_content_id(after->second)) {
+            throw api::InvalidParameter(
+                "after", "must be an id of the listing (64 lowercase hexadecimal digits), got '" +
+                             api::excerpt(after->second) + "'");
+        }
+        listing.after = after->second;
+    }
+    return listing;
+}
+
+void send_listing(httplib::Response& response, const std::string& path, const std::string& member,
+                  nlohmann::json entries, const std::optional<std::string>& next_after,
+                  std::size_t limit) {
+    nlohmann::json body = {{member, std::move(entries)}};
+    if (next_after) {
+        body["next"] = path + "?limit=" + std::to_string(limit) + "&after=" + *next_after;
+    }
+    send_json(response, 200, body);
+}
+
+std::string rfc3339(std::chrono::system_clock::time_point time) {
+    const std::time_t seconds = std::chrono::system_clock::to_time_t(time);
+    std::tm utc{};
+    gmtime_r(&seconds, &utc);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+    return text;
+}
+
 void require_api_key(const httplib::Request& request, const std::string& key) {
     const std::string given = request.get_header_value("Authorization");
     // RFC 9110 section 11.4: credentials = auth-scheme [ 1*SP token68 ], the scheme
@@ -72,10 +111,10 @@ void require_api_key(const httplib::Request& request, const std::string& key) {
             key[i] ^ (i < credentials.size() ? credentials[i] : static_cast<char>(~key[i])));
     }
     if (difference != 0) {
-        throw HttpError(
-            problem(401, given.empty() ? "this route needs Authorization: Bearer <api key>"
-                                       : "the API key is wrong"),
-            {{"WWW-Authenticate", "Bearer"}});
+        throw HttpError(problem(ProblemKind::Unauthorized,
+                                given.empty() ? "this route needs Authorization: Bearer <api key>"
+                                              : "the API key is wrong"),
+                        {{"WWW-Authenticate", "Bearer"}});
     }
 }
 

@@ -1,6 +1,9 @@
 #pragma once
 // Small pieces of reading requests and writing answers shared by the routes.
+#include <chrono>
+#include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +27,27 @@ std::string media_type(const httplib::Request& request);
 // The query parameters, each at most once and each one of `allowed` (else 422 naming it).
 std::map<std::string, std::string> single_query(const httplib::Request& request,
                                                 const std::vector<std::string>& allowed);
+
+// A listing's query (GET /v1/environments, GET /v1/meshes): ?limit= entries a page (1 to
+// kMaxListLimit, kDefaultListLimit when absent) and ?after= (the id a page starts after, as
+// the previous page's `next` gives it); each at most once, any other parameter unknown.
+inline constexpr std::size_t kDefaultListLimit = 100;
+inline constexpr std::size_t kMaxListLimit = 1000;
+struct ListingQuery {
+    std::string after;  // "" for the first page
+    std::size_t limit = kDefaultListLimit;
+};
+// Throws InvalidParameter (422) naming the parameter at fault.
+ListingQuery listing_query(const httplib::Request& request);
+
+// 200 with {"<member>": entries, "next": "<path>?limit=..&after=.."}, `next` present only when
+// next_after is (more entries follow).
+void send_listing(httplib::Response& response, const std::string& path, const std::string& member,
+                  nlohmann::json entries, const std::optional<std::string>& next_after,
+                  std::size_t limit);
+
+// RFC 3339 in UTC to the second: "2026-12-01T09:30:00Z".
+std::string rfc3339(std::chrono::system_clock::time_point time);
 
 // Throws 401 (with WWW-Authenticate: Bearer) unless the request carries
 // "Authorization: Bearer <key>"; the comparison takes the same time wherever they differ.

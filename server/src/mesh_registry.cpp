@@ -81,6 +81,31 @@ std::shared_ptr<const StoredMesh> MeshRegistry::read_stored(const std::string& i
     return remember(id, load(source->bytes, "stored." + source->extension, format), format);
 }
 
+ListedPage MeshRegistry::list(std::string_view after, std::size_t limit) {
+    return meshes_.guarded([&] {
+        ListedPage page;
+        std::vector<std::string> ids = store_.list(SourceKind::Mesh, after, limit + 1);
+        if (ids.size() > limit) {
+            ids.pop_back();
+            page.next_after = ids.back();
+        }
+        for (const std::string& id : ids) {
+            if (auto source = store_.info(SourceKind::Mesh, id)) {
+                const auto stored = source->written;
+                page.entries.push_back({id, id, std::move(source), stored});
+            }
+        }
+        return page;
+    });
+}
+
+bool MeshRegistry::remove(const std::string& id) {
+    if (!api::is_content_id(id)) {
+        return false;
+    }
+    return meshes_.remove(id, [&] { return store_.remove(SourceKind::Mesh, id); });
+}
+
 Mesh MeshRegistry::load(std::string_view bytes, const std::string& name, MeshFormat format) {
     Mesh mesh = load_mesh_memory(as_bytes(bytes), name, format, limits_);
     metrics_.meshes_loaded.increment();

@@ -1,7 +1,8 @@
 #pragma once
 // Meshes: uploads stored by content id, decoded meshes kept in memory (LRU by bytes) so that
 // the render workers' per-mesh GPU caches stay warm between frames, and read back from the
-// asset store after a restart. The preset `default` is the built-in product.
+// asset store after a restart. The preset `default` is the built-in product. Uploaded meshes are
+// listed by id and removed from the store and from memory.
 #include <memory>
 #include <string>
 #include <string_view>
@@ -37,6 +38,16 @@ class MeshRegistry {
 
     // nullptr when no mesh has that id.
     std::shared_ptr<const StoredMesh> find(const std::string& id);
+
+    // The uploaded meshes (the preset is not listed) with ids after `after` ("" for the first
+    // page), at most limit of them; each with its file's size and format and when it was stored.
+    ListedPage list(std::string_view after, std::size_t limit);
+
+    // Removes the uploaded mesh id (a content id: the preset is not removed) from the store and
+    // from memory; false when no mesh has that id. A mesh is one file, removed at once. The
+    // transfers of scenes holding it are not removed: their ids hash its id, so no frame reaches
+    // them without the mesh, and the same bytes uploaded again make them valid again.
+    bool remove(const std::string& id);
 
   private:
     std::shared_ptr<const StoredMesh> read_stored(const std::string& id);

@@ -12,8 +12,8 @@ namespace {
 
 HttpError too_large(std::size_t limit) {
     current_request().close_connection = true;
-    return HttpError(
-        problem(413, "the body is over this route's limit of " + std::to_string(limit) + " bytes"));
+    return HttpError(problem(ProblemKind::LimitExceeded, "the body is over this route's limit of " +
+                                                             std::to_string(limit) + " bytes"));
 }
 
 }  // namespace
@@ -39,11 +39,19 @@ void Router::guarded(const std::string& route, const httplib::Request& request,
 }
 
 void Router::get(const std::string& route, Handler handler) {
-    routes_.push_back({"GET", std::regex(route_regex(route))});
-    server_.Get(route_regex(route), [this, route, handler](const httplib::Request& request,
-                                                           httplib::Response& response) {
+    server_.Get(route_regex(route), without_body("GET", route, std::move(handler)));
+}
+
+void Router::del(const std::string& route, Handler handler) {
+    server_.Delete(route_regex(route), without_body("DELETE", route, std::move(handler)));
+}
+
+httplib::Server::Handler Router::without_body(const std::string& method, const std::string& route,
+                                              Handler handler) {
+    routes_.push_back({method, std::regex(route_regex(route))});
+    return [this, route, handler](const httplib::Request& request, httplib::Response& response) {
         guarded(route, request, response, [&] { handler(request, response); });
-    });
+    };
 }
 
 void Router::post(const std::string& route, std::size_t max_body, Handler before_body,
@@ -77,7 +85,8 @@ void Router::post(const std::string& route, std::size_t max_body, Handler before
                              throw too_large(max_body);
                          }
                          if (!complete) {
-                             throw HttpError(problem(400, "the body could not be read to its end"));
+                             throw HttpError(problem(ProblemKind::MalformedRequest,
+                                                     "the body could not be read to its end"));
                          }
                          current_request().close_connection = false;
                          handler(request, response, body);

@@ -25,6 +25,8 @@ class Router {
     Router(httplib::Server& server, Log log);
 
     void get(const std::string& route, Handler handler);
+    // DELETE (`delete` is C++'s).
+    void del(const std::string& route, Handler handler);
     // before_body runs first (authentication, media type), so that a refused upload is never
     // read; then the body (at most max_body bytes) goes to handler.
     void post(const std::string& route, std::size_t max_body, Handler before_body,
@@ -38,6 +40,10 @@ class Router {
         std::string method;
         std::regex pattern;
     };
+    // Adds method and route to the table and returns handler run as route's, for a route whose
+    // body (if any) is cpp-httplib's to read.
+    httplib::Server::Handler without_body(const std::string& method, const std::string& route,
+                                          Handler handler);
     // Runs handler as route's, answering any exception it throws.
     void guarded(const std::string& route, const httplib::Request& request,
                  httplib::Response& response, const std::function<void()>& handler) const;

@@ -1,4 +1,5 @@
-// POST /v1/environments, GET /v1/environments/{id}, .../preview.jpg, .../irradiance.exr
+// POST and GET /v1/environments, GET and DELETE /v1/environments/{id}, .../preview.jpg,
+// .../irradiance.exr
 #include <algorithm>
 #include <iterator>
 #include <span>
@@ -44,8 +45,9 @@ const ImageMediaType& map_media_type(const std::string& type) {
             accepted.append(accepted.empty() ? "" : ", ").append(known.media_type);
         }
     }
-    throw HttpError(problem(
-        415, "an environment is one of " + accepted + ", not '" + api::excerpt(type) + "'"));
+    throw HttpError(
+        problem(ProblemKind::UnsupportedMediaType,
+                "an environment is one of " + accepted + ", not '" + api::excerpt(type) + "'"));
 }
 
 // 415 when the body's signature is that of another image format than the declared one: a JPEG
@@ -61,9 +63,24 @@ void check_body_format(const ImageMediaType& declared, const std::string& body) 
                      [&found](const ImageMediaType& known) { return known.format == found; });
     const std::string_view actual_type =
         actual == std::end(kImageMediaTypes) ? std::string_view(found) : actual->media_type;
-    throw HttpError(problem(415, "the body is " + std::string(actual_type) + ", not " +
-                                     std::string(declared.media_type) +
-                                     " as its Content-Type says"));
+    throw HttpError(problem(ProblemKind::UnsupportedMediaType,
+                            "the body is " + std::string(actual_type) + ", not " +
+                                std::string(declared.media_type) + " as its Content-Type says"));
+}
+
+// The media type of a map stored under this extension (nullptr for one no upload makes).
+nlohmann::json media_type_of_extension(const std::string& extension) {
+    for (const ImageMediaType& known : kImageMediaTypes) {
+        if (known.map && known.extension == extension) {
+            return known.media_type;
+        }
+    }
+    return nullptr;
+}
+
+// The key of an environment's preview in the cache of encoded frames.
+std::string preview_key(const std::string& id) {
+    return "preview:" + id;
 }
 
 std::shared_ptr<const Environment> environment_of(ServiceContext& context,
@@ -71,7 +88,8 @@ std::shared_ptr<const Environment> environment_of(ServiceContext& context,
     const std::string& id = request.matches[1];
     auto environment = context.environments.find(id);
     if (!environment) {
-        throw not_found("no environment with id '" + api::excerpt(id) + "'");
+        throw not_found(ProblemKind::UnknownId,
+                        "no environment with id '" + api::excerpt(id) + "'");
     }
     return environment;
 }
@@ -114,23 +132,63 @@ void add_environment_routes(Router& router, ServiceContext& context) {
                         "/v1/environments/" + upload.asset->id);
         });
 
+    router.get("/v1/environments", [&context](const httplib::Request& request,
+                                              httplib::Response& response) {
+        const ListingQuery query = listing_query(request);
+        const ListedPage page = context.environments.list(query.after, query.limit);
+        nlohmann::json entries = nlohmann::json::array();
+        for (const ListedAsset& entry : page.entries) {
+            entries.push_back(
+                {{"id", entry.id},
+                 {"url", "/v1/environments/" + entry.id},
+                 {"source", entry.source_id},
+                 {"media_type",
+                  entry.source ? media_type_of_extension(entry.source->extension) : nullptr},
+                 {"bytes", entry.source ? nlohmann::json(entry.source->bytes) : nullptr},
+                 {"created", rfc3339(entry.stored)}});
+        }
+        send_listing(response, "/v1/environments", "environments", std::move(entries),
+                     page.next_after, query.limit);
+    });
+
     router.get("/v1/environments/{id}",
                [&context](const httplib::Request& request, httplib::Response& response) {
                    single_query(request, {});
                    send_json(response, 200, environment_of(context, request)->json);
                });
 
+    router.del("/v1/environments/{id}", [&context](const httplib::Request& request,
+                                                   httplib::Response& response) {
+        if (!context.config.api_key.empty()) {
+            require_api_key(request, context.config.api_key);
+        }
+        single_query(request, {});
+        const std::string& id = request.matches[1];
+        if (id == api::kDefaultPresetId) {
+            throw HttpError(problem(ProblemKind::PresetNotDeletable,
+                                    "'default' is the built-in studio environment: it is part of "
+                                    "the server, not of its store, and cannot be deleted"));
+        }
+        if (!context.environments.remove(id)) {
+            throw not_found(ProblemKind::UnknownId,
+                            "no environment with id '" + api::excerpt(id) + "'");
+        }
+        context.frames.erase(preview_key(id));
+        response.status = 204;
+    });
+
     router.get("/v1/environments/{id}/preview.jpg", [&context](const httplib::Request& request,
                                                                httplib::Response& response) {
         single_query(request, {});
         const auto environment = environment_of(context, request);
-        const std::string key = "preview:" + environment->id;
+        const std::string key = preview_key(environment->id);
         auto preview = context.frames.get(key);
         if (!preview) {
             const auto map = context.environments.source_image(*environment);
             if (!map) {
-                throw not_found("the map of environment '" + environment->id +
-                                "' is no longer stored; upload it again");
+                throw not_found(ProblemKind::MapNotStored,
+                                "the map of environment '" + environment->id +
+                                    "' is no longer stored; upload it again");
             }
             preview = std::make_shared<const std::string>(preview_jpeg(*map, *environment->rig));
             context.frames.put(key, preview);

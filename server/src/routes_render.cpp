@@ -56,7 +56,8 @@ void add_render_routes(Router& router, ServiceContext& context) {
         [](const httplib::Request& request, httplib::Response&) {
             if (const std::string type = media_type(request); type != "application/json") {
                 throw HttpError(problem(
-                    415, "a render request is application/json, not '" + api::excerpt(type) + "'"));
+                    ProblemKind::UnsupportedMediaType,
+                    "a render request is application/json, not '" + api::excerpt(type) + "'"));
             }
         },
         [&context](const httplib::Request& request, httplib::Response& response,

@@ -86,7 +86,8 @@ void add_web_routes(Router& router) {
                    single_query(request, {});
                    const auto file = files->find(request.matches[1].str());
                    if (file == files->end()) {
-                       throw not_found("no web file is named " + request.matches[1].str());
+                       throw not_found(ProblemKind::NotFound,
+                                       "no web file is named " + request.matches[1].str());
                    }
                    answer_file(file->second, request, response);
                });

@@ -316,23 +316,31 @@ void Service::Impl::configure_server(httplib::Server& http, const Router& routes
             if (response.status == 404 && current_request().route == "unmatched") {
                 const std::vector<std::string> methods = routes.methods_for(request.path);
                 if (methods.empty()) {
-                    send_problem(response, {problem(404, "no route has this path"), {}, false, ""});
+                    send_problem(
+                        response,
+                        {problem(ProblemKind::NotFound, "no route has this path"), {}, false, ""});
                 } else {
                     std::string allow;
                     for (const std::string& method : methods) {
                         allow += (allow.empty() ? "" : ", ") + method;
                     }
-                    send_problem(
-                        response,
-                        {problem(405, "this path allows " + allow), {{"Allow", allow}}, false, ""});
+                    send_problem(response, {problem(ProblemKind::MethodNotAllowed,
+                                                    "this path allows " + allow),
+                                            {{"Allow", allow}},
+                                            false,
+                                            ""});
                 }
             } else if (response.status == 413) {
-                send_problem(response,
-                             {problem(413, "the body is over the server's limit"), {}, false, ""});
+                send_problem(response, {problem(ProblemKind::LimitExceeded,
+                                                "the body is over the server's limit"),
+                                        {},
+                                        false,
+                                        ""});
             } else {
                 // Other statuses cpp-httplib answers with (414, 431, ...) mean a malformed request.
-                send_problem(response, {problem(400, "the request could not be read (HTTP " +
-                                                         std::to_string(response.status) + ")"),
+                send_problem(response, {problem(ProblemKind::MalformedRequest,
+                                                "the request could not be read (HTTP " +
+                                                    std::to_string(response.status) + ")"),
                                         {},
                                         false,
                                         ""});

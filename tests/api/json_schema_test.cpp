@@ -55,7 +55,7 @@ TEST(JsonSchemaOpenApi, TheWholeSpecConvertsWithItsStructure) {
               Json({{"$ref", "#/components/schemas/RigUpload"}}));
     EXPECT_EQ(spec.at("paths").at("/v1/render").at("get").at("parameters")[0],
               Json({{"$ref", "#/components/parameters/IfNoneMatch"}}));
-    EXPECT_EQ(upload.at("security"), Json::parse(R"([{"apiKey": []}])"));
+    EXPECT_EQ(upload.at("security"), Json::parse(R"([{}, {"apiKey": []}])"));
     const Json& schemas = spec.at("components").at("schemas");
     EXPECT_EQ(schemas.at("Background").at("pattern"), "^(env|transparent|#[0-9a-fA-F]{6})$");
     EXPECT_EQ(schemas.at("RenderRequest")

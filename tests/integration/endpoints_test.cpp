@@ -30,6 +30,7 @@
 
 using namespace oer;
 using namespace oer::itest;
+using oer::server::ProblemKind;
 
 namespace {
 
@@ -217,7 +218,7 @@ TEST_F(Endpoints, WebClientAndApiSpecAreServedFromTheFilesEmbeddedAtBuildTime) {
     for (const std::string path :
          {"/web/embed-test.html", "/web/README.md", "/web/..%2FCMakeLists.txt", "/web/.."}) {
         SCOPED_TRACE(path);
-        expect_problem("GET", "/web/{file}", client_->Get(path), 404);
+        expect_problem("GET", "/web/{file}", client_->Get(path), ProblemKind::NotFound);
     }
     EXPECT_EQ(client_->Get("/web/")->status, 404);
     EXPECT_EQ(client_->Get("/web/../CMakeLists.txt")->status, 404);

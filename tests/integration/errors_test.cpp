@@ -9,6 +9,7 @@
 
 using namespace oer;
 using namespace oer::itest;
+using oer::server::ProblemKind;
 
 namespace {
 
@@ -57,7 +58,7 @@ TEST_F(Errors, MalformedJsonIs400) {
     for (const std::string body : {"{\"environment\": ", "{\"environment\": \"default\",}", "nul",
                                    "{\"width\": 1e999999}"}) {
         const auto result = client_->Post("/v1/render", body, "application/json");
-        expect_problem("POST", "/v1/render", result, 400);
+        expect_problem("POST", "/v1/render", result, ProblemKind::MalformedRequest);
     }
 }
 
@@ -71,19 +72,19 @@ TEST_F(Errors, UnknownIdsAre404NamingWhereTheyCameFrom) {
             : path.find("preview.jpg") != std::string::npos ? "/v1/environments/{id}/preview.jpg"
             : path.find("irradiance") != std::string::npos  ? "/v1/environments/{id}/irradiance.exr"
                                                             : "/v1/environments/{id}";
-        expect_problem("GET", route, client_->Get(path.c_str()), 404);
+        expect_problem("GET", route, client_->Get(path.c_str()), ProblemKind::UnknownId);
     }
     expect_problem("POST", "/v1/render",
-                   post_json(*client_, "/v1/render", {{"environment", kUnknownId}}), 404,
-                   "environment");
+                   post_json(*client_, "/v1/render", {{"environment", kUnknownId}}),
+                   ProblemKind::UnknownId, "environment");
     expect_problem("POST", "/v1/render",
                    post_json(*client_, "/v1/render",
                              {{"environment", "default"},
                               {"objects", {{{"mesh", "default"}}, {{"mesh", kUnknownId}}}}}),
-                   404, "objects/1/mesh");
+                   ProblemKind::UnknownId, "objects/1/mesh");
     expect_problem("GET", "/v1/render",
-                   client_->Get(("/v1/render?environment=" + kUnknownId).c_str()), 404,
-                   "environment");
+                   client_->Get(("/v1/render?environment=" + kUnknownId).c_str()),
+                   ProblemKind::UnknownId, "environment");
 }
 
 TEST_F(Errors, BadIdsAreRejectedWithoutTouchingTheFileSystem) {
@@ -109,16 +110,17 @@ TEST_F(Errors, BadIdsAreRejectedWithoutTouchingTheFileSystem) {
           std::pair{"/v1/meshes/" + upper, std::string("/v1/meshes/{id}")}}) {
         const auto result = client_->Get(path.c_str());
         ASSERT_TRUE(result);
-        const int status = result->status == 422 ? 422 : 404;
-        expect_problem("GET", route, result, status,
-                       status == 422 ? std::optional<std::string>("id") : std::nullopt);
+        const bool invalid = result->status == 422;
+        expect_problem("GET", route, result,
+                       invalid ? ProblemKind::InvalidParameter : ProblemKind::UnknownId,
+                       invalid ? std::optional<std::string>("id") : std::nullopt);
     }
     expect_problem("POST", "/v1/render",
-                   post_json(*client_, "/v1/render", {{"environment", "../../etc/passwd"}}), 422,
-                   "environment");
+                   post_json(*client_, "/v1/render", {{"environment", "../../etc/passwd"}}),
+                   ProblemKind::InvalidParameter, "environment");
     expect_problem("GET", "/v1/render",
-                   client_->Get("/v1/render?environment=..%2F..%2Fetc%2Fpasswd"), 422,
-                   "environment");
+                   client_->Get("/v1/render?environment=..%2F..%2Fetc%2Fpasswd"),
+                   ProblemKind::InvalidParameter, "environment");
     // Nothing appeared beside the data folder, and inside it only the store's own folders.
     std::set<std::string> beside;
     for (const auto& entry : std::filesystem::directory_iterator(root_->root())) {
@@ -136,6 +138,9 @@ TEST_F(Errors, UnsupportedMethodsAre405) {
     ASSERT_TRUE(remove);
     EXPECT_EQ(remove->status, 405);
     EXPECT_EQ(remove->get_header_value("Content-Type"), "application/problem+json");
+    EXPECT_EQ(remove->get_header_value("Allow"), "POST, GET");
+    EXPECT_EQ(Json::parse(remove->body).at("type"),
+              server::problem_type(ProblemKind::MethodNotAllowed).type);
     const auto put = client_->Put("/v1/render", "{}", "application/json");
     ASSERT_TRUE(put);
     EXPECT_EQ(put->status, 405);
@@ -143,39 +148,51 @@ TEST_F(Errors, UnsupportedMethodsAre405) {
     const auto post = client_->Post("/healthz", "", "text/plain");
     ASSERT_TRUE(post);
     EXPECT_EQ(post->status, 405);
+    EXPECT_EQ(post->get_header_value("Allow"), "GET");
+    // No route at all: 404 of the kind that names no id.
+    const auto nowhere = client_->Get("/v1/nowhere");
+    ASSERT_TRUE(nowhere);
+    EXPECT_EQ(nowhere->status, 404);
+    EXPECT_EQ(Json::parse(nowhere->body).at("type"),
+              server::problem_type(ProblemKind::NotFound).type);
 }
 
 TEST_F(Errors, OverTheLimitsIs413) {
     // A body over max_upload_bytes (256 KiB).
     const std::string big(300 << 10, 'x');
     expect_problem("POST", "/v1/environments",
-                   client_->Post("/v1/environments", big, "image/x-exr"), 413);
-    expect_problem("POST", "/v1/meshes", client_->Post("/v1/meshes", big, "model/obj"), 413);
+                   client_->Post("/v1/environments", big, "image/x-exr"),
+                   ProblemKind::LimitExceeded);
+    expect_problem("POST", "/v1/meshes", client_->Post("/v1/meshes", big, "model/obj"),
+                   ProblemKind::LimitExceeded);
     // An image over max_image_pixels (128 x 64), however small its file.
     const std::string large_map = exr_bytes(three_disc_environment(256, 128).image);
     ASSERT_LT(large_map.size(), std::size_t(256 << 10));
     expect_problem("POST", "/v1/environments",
-                   client_->Post("/v1/environments", large_map, "image/x-exr"), 413);
+                   client_->Post("/v1/environments", large_map, "image/x-exr"),
+                   ProblemKind::LimitExceeded);
     // A frame wider than max_frame_width (256).
     expect_problem("POST", "/v1/render",
                    post_json(*client_, "/v1/render", {{"environment", "default"}, {"width", 300}}),
-                   413);
+                   ProblemKind::LimitExceeded);
     expect_problem("GET", "/v1/render", client_->Get("/v1/render?environment=default&height=257"),
-                   413);
+                   ProblemKind::LimitExceeded);
     // A render body over the API's max_body_bytes (256 KiB), valid JSON throughout.
     const Json padded = {{"environment", "default"}, {"background", std::string(300 << 10, ' ')}};
-    expect_problem("POST", "/v1/render", post_json(*client_, "/v1/render", padded), 413);
+    expect_problem("POST", "/v1/render", post_json(*client_, "/v1/render", padded),
+                   ProblemKind::LimitExceeded);
 }
 
 TEST_F(Errors, WrongMediaTypesAre415) {
     const std::string map = exr_bytes(three_disc_environment(64, 32).image);
     expect_problem("POST", "/v1/environments", client_->Post("/v1/environments", map, "text/plain"),
-                   415);
+                   ProblemKind::UnsupportedMediaType);
     expect_problem("POST", "/v1/render",
                    client_->Post("/v1/render", "{\"environment\": \"default\"}", "text/plain"),
-                   415);
+                   ProblemKind::UnsupportedMediaType);
     expect_problem("POST", "/v1/meshes",
-                   client_->Post("/v1/meshes", box_obj({0, 0, 0}, {1, 1, 1}), "image/png"), 415);
+                   client_->Post("/v1/meshes", box_obj({0, 0, 0}, {1, 1, 1}), "image/png"),
+                   ProblemKind::UnsupportedMediaType);
 }
 
 // The decoder is the declared type's: bytes of another image format are refused as what they
@@ -195,7 +212,7 @@ TEST_F(Errors, ABodyOfAnotherImageFormatThanDeclaredIs415NamingBoth) {
     for (const auto& c : cases) {
         SCOPED_TRACE(c.actual + " as " + c.declared);
         const auto result = client_->Post("/v1/environments", c.body, c.declared);
-        expect_problem("POST", "/v1/environments", result, 415);
+        expect_problem("POST", "/v1/environments", result, ProblemKind::UnsupportedMediaType);
         ASSERT_TRUE(result);
         const std::string detail = Json::parse(result->body).at("detail").get<std::string>();
         EXPECT_EQ(detail,
@@ -221,53 +238,55 @@ TEST_F(Errors, InvalidMembersAre422NamingThem) {
     };
     for (const auto& [body, parameter] : cases) {
         SCOPED_TRACE(body.dump());
-        expect_problem("POST", "/v1/render", post_json(*client_, "/v1/render", body), 422,
-                       parameter);
+        expect_problem("POST", "/v1/render", post_json(*client_, "/v1/render", body),
+                       ProblemKind::InvalidParameter, parameter);
     }
     expect_problem("GET", "/v1/render", client_->Get("/v1/render?environment=default&color=red"),
-                   422, "color");
+                   ProblemKind::InvalidParameter, "color");
     expect_problem("GET", "/v1/render", client_->Get("/v1/render?environment=default&samples=3"),
-                   422, "samples");
+                   ProblemKind::InvalidParameter, "samples");
     // Light switches must match the rig's lights.
     ASSERT_TRUE(rig().is_object());
     ASSERT_EQ(rig().at("lights").size(), 3u);
     expect_problem(
         "POST", "/v1/render",
         post_json(*client_, "/v1/render", {{"environment", rig().at("id")}, {"lights", {true}}}),
-        422, "lights");
+        ProblemKind::InvalidParameter, "lights");
     expect_problem("GET", "/v1/render",
                    client_->Get(("/v1/render?environment=" + rig().at("id").get<std::string>() +
                                  "&lights=1,0,1,1")
                                     .c_str()),
-                   422, "lights");
+                   ProblemKind::InvalidParameter, "lights");
     expect_problem("GET", "/v1/environments/{id}/irradiance.exr",
                    client_->Get(("/v1/environments/" + rig().at("id").get<std::string>() +
                                  "/irradiance.exr?lights=1")
                                     .c_str()),
-                   422, "lights");
+                   ProblemKind::InvalidParameter, "lights");
     // Upload options.
     const std::string map = exr_bytes(three_disc_environment(64, 32).image);
     expect_problem("POST", "/v1/environments",
-                   client_->Post("/v1/environments?light_count=99", map, "image/x-exr"), 422,
-                   "light_count");
+                   client_->Post("/v1/environments?light_count=99", map, "image/x-exr"),
+                   ProblemKind::InvalidParameter, "light_count");
     expect_problem("POST", "/v1/environments",
-                   client_->Post("/v1/environments?bogus=1", map, "image/x-exr"), 422, "bogus");
+                   client_->Post("/v1/environments?bogus=1", map, "image/x-exr"),
+                   ProblemKind::InvalidParameter, "bogus");
     // Uploads that do not decode.
     expect_problem("POST", "/v1/environments",
                    client_->Post("/v1/environments",
                                  "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 64 "
                                  "+X 128\n\x02\x02garbage",
                                  "image/vnd.radiance"),
-                   422);
+                   ProblemKind::InvalidContent);
     std::string truncated = map.substr(0, map.size() / 2);
     expect_problem("POST", "/v1/environments",
-                   client_->Post("/v1/environments", truncated, "image/x-exr"), 422);
+                   client_->Post("/v1/environments", truncated, "image/x-exr"),
+                   ProblemKind::InvalidContent);
     expect_problem(
         "POST", "/v1/meshes",
         client_->Post("/v1/meshes", std::string("glTF\x02\0\0\0garbage", 15), "model/gltf-binary"),
-        422);
+        ProblemKind::InvalidContent);
     expect_problem("POST", "/v1/meshes", client_->Post("/v1/meshes", "f 1 2 3\n", "model/obj"),
-                   422);
+                   ProblemKind::InvalidContent);
 }
 
 TEST(ErrorsApiKey, UploadsNeedTheKeyAndProbesDoNot) {
@@ -297,11 +316,11 @@ TEST(ErrorsApiKey, UploadsNeedTheKeyAndProbesDoNot) {
           httplib::Headers{{"Authorization", "Bearers3cret-key"}}}) {
         SCOPED_TRACE(headers.empty() ? "no key" : headers.begin()->second);
         const auto upload = client->Post("/v1/environments", headers, map, "image/x-exr");
-        expect_problem("POST", "/v1/environments", upload, 401);
+        expect_problem("POST", "/v1/environments", upload, ProblemKind::Unauthorized);
         ASSERT_TRUE(upload);
         EXPECT_NE(upload->get_header_value("WWW-Authenticate").find("Bearer"), std::string::npos);
         expect_problem("POST", "/v1/meshes", client->Post("/v1/meshes", headers, obj, "model/obj"),
-                       401);
+                       ProblemKind::Unauthorized);
     }
     // Nothing was stored by the refused uploads.
     EXPECT_EQ(stored_files(), at_start);
@@ -321,8 +340,9 @@ TEST(ErrorsApiKey, UploadsNeedTheKeyAndProbesDoNot) {
     }
 }
 
-// api/openapi.yaml: with an API key, the uploads need it and every other route does not.
-TEST(ErrorsApiKey, OnlyUploadsNeedTheKey) {
+// api/openapi.yaml: with an API key, the uploads and deletions need it (StoredAssetsApiKey
+// for the deletions) and every other route does not.
+TEST(ErrorsApiKey, OnlyUploadsAndDeletionsNeedTheKey) {
     TempRoot root;
     server::ServiceConfig config = test_config(root.data());
     config.api_key = "s3cret-key";
@@ -330,7 +350,7 @@ TEST(ErrorsApiKey, OnlyUploadsNeedTheKey) {
     auto client = server.client();
     for (const char* path :
          {"/v1/info", "/v1/presets", "/v1/environments/default", "/v1/meshes/default",
-          "/v1/render?environment=default&width=8&height=8"}) {
+          "/v1/environments", "/v1/meshes", "/v1/render?environment=default&width=8&height=8"}) {
         const auto result = client->Get(path);
         ASSERT_TRUE(result) << path;
         EXPECT_EQ(result->status, 200) << path << ": " << result->body;

@@ -223,8 +223,10 @@ Json expect_conforms(const std::string& method, const std::string& route,
 }
 
 void expect_problem(const std::string& method, const std::string& route,
-                    const httplib::Result& result, int status,
+                    const httplib::Result& result, server::ProblemKind kind,
                     const std::optional<std::string>& parameter) {
+    const server::ProblemType& type = server::problem_type(kind);
+    const int status = type.status;
     ASSERT_TRUE(result) << method << " " << route << ": " << describe(result);
     ASSERT_EQ(result->status, status) << method << " " << route << ": " << describe(result);
     EXPECT_EQ(media_type(result->get_header_value("Content-Type")).first,
@@ -233,6 +235,8 @@ void expect_problem(const std::string& method, const std::string& route,
     const Json body = expect_conforms(method, route, result);
     ASSERT_TRUE(body.is_object()) << describe(result);
     EXPECT_EQ(body.value("status", 0), status) << body.dump();
+    EXPECT_EQ(body.value("type", ""), type.type) << body.dump();
+    EXPECT_EQ(body.value("title", ""), type.title) << body.dump();
     EXPECT_FALSE(body.value("detail", std::string()).empty()) << "no detail: " << body.dump();
     if (parameter) {
         EXPECT_EQ(body.value("parameter", std::string("<absent>")), *parameter) << body.dump();
@@ -592,6 +596,26 @@ std::string box_glb(glm::dvec3 low, glm::dvec3 high) {
     word(0x004E4942);  // "BIN\0"
     glb += bin;
     return glb;
+}
+
+std::string grid_obj(int n) {
+    std::string text;
+    text.reserve(std::size_t(n + 1) * std::size_t(n + 1) * 24 +
+                 std::size_t(n) * std::size_t(n) * 60);
+    for (int z = 0; z <= n; ++z) {
+        for (int x = 0; x <= n; ++x) {
+            text += "v " + std::to_string(x) + " 0 " + std::to_string(z) + "\n";
+        }
+    }
+    const auto vertex = [n](int x, int z) { return std::to_string(z * (n + 1) + x + 1); };
+    for (int z = 0; z < n; ++z) {
+        for (int x = 0; x < n; ++x) {
+            text += "f " + vertex(x, z) + " " + vertex(x, z + 1) + " " + vertex(x + 1, z + 1) +
+                    "\nf " + vertex(x, z) + " " + vertex(x + 1, z + 1) + " " + vertex(x + 1, z) +
+                    "\n";
+        }
+    }
+    return text;
 }
 
 Json upload_environment(httplib::Client& client, const std::string& bytes,

@@ -21,6 +21,7 @@
 
 #include "oer/core/image.hpp"
 #include "oer/image/image_encoding.hpp"
+#include "oer/server/problem_json.hpp"
 #include "oer/server/service.hpp"
 #include "oer/server/service_config.hpp"
 
@@ -74,10 +75,10 @@ class TestServer {
 Json expect_conforms(const std::string& method, const std::string& route,
                      const httplib::Result& result);
 
-// The answer is problem+json with this status, conforming to the spec, with a non-empty
-// detail; when `parameter` is given, the body's `parameter` equals it.
+// The answer is problem+json of this kind (its status, its type and title), conforming to the
+// spec, with a non-empty detail; when `parameter` is given, the body's `parameter` equals it.
 void expect_problem(const std::string& method, const std::string& route,
-                    const httplib::Result& result, int status,
+                    const httplib::Result& result, server::ProblemKind kind,
                     const std::optional<std::string>& parameter = std::nullopt);
 
 // Prometheus text: every sample as name{labels} -> value.
@@ -139,6 +140,9 @@ std::string hdr_bytes(const HdrImage& image);  // Radiance RGBE, through a tempo
 std::string box_obj(glm::dvec3 low, glm::dvec3 high);
 // The same box as a binary glTF (positions, normals, indices; one primitive, no material).
 std::string box_glb(glm::dvec3 low, glm::dvec3 high);
+// A square grid of n x n quads on y = 0 (2 n^2 triangles) as OBJ text: about 45 n^2 bytes, for
+// uploads and transfer bakes that take a while.
+std::string grid_obj(int n);
 
 // Uploads and renders, checked to succeed (fatal failures inside; check HasFatalFailure).
 Json upload_environment(httplib::Client& client, const std::string& bytes,

@@ -19,6 +19,7 @@
 
 using namespace oer;
 using namespace oer::itest;
+using oer::server::ProblemKind;
 using oer::testing::hits_box;
 using oer::testing::pixel_ray;
 
@@ -564,7 +565,7 @@ TEST(RenderBackPressure, RequestsOverCapacityGet503PromptlyAndNoneHang) {
             ++refused;
             EXPECT_LT(outcome.seconds, 1.0) << "request " << i << " waited for its 503";
             EXPECT_FALSE(outcome.retry_after.empty()) << "503 without Retry-After";
-            expect_problem("POST", "/v1/render", *outcome.result, 503);
+            expect_problem("POST", "/v1/render", *outcome.result, ProblemKind::Unavailable);
         } else {
             ++rendered;
         }

@@ -184,35 +184,10 @@ TEST(Store, ConcurrentUploadsOfOneMapComputeItsRigOnce) {
     EXPECT_EQ(scrape(*client).sum("oer_rigs_computed_total"), 1.0);
 }
 
-namespace {
-
-// An OBJ of a square grid of n x n quads on y = 0 (2 n^2 triangles): large enough (n = 300,
-// 4 MB) that loading it overlaps every concurrent upload.
-std::string grid_obj(int n) {
-    std::string text;
-    text.reserve(std::size_t(n + 1) * std::size_t(n + 1) * 24 +
-                 std::size_t(n) * std::size_t(n) * 60);
-    for (int z = 0; z <= n; ++z) {
-        for (int x = 0; x <= n; ++x) {
-            text += "v " + std::to_string(x) + " 0 " + std::to_string(z) + "\n";
-        }
-    }
-    const auto vertex = [n](int x, int z) { return std::to_string(z * (n + 1) + x + 1); };
-    for (int z = 0; z < n; ++z) {
-        for (int x = 0; x < n; ++x) {
-            text += "f " + vertex(x, z) + " " + vertex(x, z + 1) + " " + vertex(x + 1, z + 1) +
-                    "\nf " + vertex(x, z) + " " + vertex(x + 1, z + 1) + " " + vertex(x + 1, z) +
-                    "\n";
-        }
-    }
-    return text;
-}
-
-}  // namespace
-
 TEST(Store, ConcurrentUploadsOfOneMeshLoadItOnce) {
     TempRoot root;
     TestServer server(test_config(root.data()));
+    // Large enough (4 MB) that loading it overlaps every concurrent upload.
     const std::string bytes = grid_obj(300);
     const std::vector<Json> answers = at_once(
         server, [&](httplib::Client& client) { return upload_mesh(client, bytes, "model/obj"); });

@@ -16,6 +16,7 @@
 
 using namespace oer;
 using namespace oer::itest;
+using oer::server::ProblemKind;
 
 namespace {
 
@@ -118,13 +119,15 @@ TEST(Transfer, TheSwitchesReadInBothFormsAndBadValuesAreProblems) {
                                         std::pair<std::string, Json>{"bounce", true}}) {
         Json bad = box_scene("default");
         bad[member] = value;
-        expect_problem("POST", "/v1/render", render(*client, bad), 422, member);
+        expect_problem("POST", "/v1/render", render(*client, bad), ProblemKind::InvalidParameter,
+                       member);
     }
     for (const auto& [parameter, value] : {std::pair<std::string, std::string>{"occlusion", "true"},
                                            std::pair<std::string, std::string>{"bounce", "One"}}) {
         const std::string path =
             "/v1/render?environment=default&mesh=default&" + parameter + "=" + value;
-        expect_problem("GET", "/v1/render", client->Get(path.c_str()), 422, parameter);
+        expect_problem("GET", "/v1/render", client->Get(path.c_str()),
+                       ProblemKind::InvalidParameter, parameter);
     }
     EXPECT_EQ(transfers_computed(*client), at_start)
         << "the default scene's transfer is baked at start-up, and occlusion off needs none";

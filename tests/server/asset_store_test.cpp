@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -205,6 +206,61 @@ TEST_F(AssetStoreTest, RemoveDeletesTheEntryOnce) {
     EXPECT_FALSE(store.get_derived(DerivedKind::Rig, kRigId).has_value());
     EXPECT_TRUE(file_names(folder_ / "meshes").empty());
     EXPECT_TRUE(file_names(folder_ / "rigs").empty());
+}
+
+// Listings page through a kind's ids in ascending order after a cursor; temporary files,
+// other kinds' entries and names that are not entries are not listed.
+TEST_F(AssetStoreTest, ListGivesIdsInOrderAfterTheCursorAtMostTheLimit) {
+    AssetStore store = open();
+    std::vector<std::string> ids;
+    for (const std::string bytes : {"a", "b", "c", "d", "e"}) {
+        ids.push_back(store.put_source(SourceKind::Mesh, bytes, bytes == "b" ? "obj" : "glb"));
+    }
+    store.put_source(SourceKind::Environment, "f", "exr");
+    store.put_derived(DerivedKind::Rig, kRigId, "rig");
+    write_bytes(folder_ / "meshes" / (".tmp-" + ids[0] + ".glb-abc123"), "partial");
+    write_bytes(folder_ / "meshes" / "README", "not an entry");
+    write_bytes(folder_ / "meshes" / (std::string(64, 'F') + ".glb"), "not an id");
+    write_bytes(folder_ / "meshes" / (std::string(64, '0') + ".txt"), "not an extension");
+    std::sort(ids.begin(), ids.end());
+
+    EXPECT_EQ(store.list(SourceKind::Mesh, "", 100), ids);
+    EXPECT_EQ(store.list(SourceKind::Mesh, "", 2), (std::vector<std::string>{ids[0], ids[1]}));
+    EXPECT_EQ(store.list(SourceKind::Mesh, ids[1], 2), (std::vector<std::string>{ids[2], ids[3]}));
+    EXPECT_EQ(store.list(SourceKind::Mesh, ids[3], 2), std::vector<std::string>{ids[4]});
+    EXPECT_TRUE(store.list(SourceKind::Mesh, ids[4], 2).empty());
+    EXPECT_TRUE(store.list(SourceKind::Mesh, "", 0).empty());
+    // A cursor need not be stored (its entry may have been removed since).
+    EXPECT_EQ(store.list(SourceKind::Mesh, std::string(64, '0'), 1),
+              std::vector<std::string>{ids[0]});
+    EXPECT_EQ(store.list(SourceKind::Environment, "", 10),
+              std::vector<std::string>{api::sha256_hex("f")});
+    EXPECT_EQ(store.list(DerivedKind::Rig, "", 10), std::vector<std::string>{kRigId});
+    EXPECT_TRUE(store.list(DerivedKind::Specular, "", 10).empty());
+    EXPECT_EQ(kind_of_failure([&] { store.list(SourceKind::Mesh, "../etc", 10); }),
+              ErrorKind::InvalidInput);
+}
+
+TEST_F(AssetStoreTest, InfoGivesSizeExtensionAndTimeOfWriting) {
+    AssetStore store = open();
+    const auto before = std::chrono::system_clock::now() - std::chrono::seconds(2);
+    const std::string id = store.put_source(SourceKind::Environment, "hello", "hdr");
+    store.put_derived(DerivedKind::RigSource, kRigId, "record");
+    const auto after = std::chrono::system_clock::now() + std::chrono::seconds(2);
+
+    const auto source = store.info(SourceKind::Environment, id);
+    ASSERT_TRUE(source.has_value());
+    EXPECT_EQ(source->bytes, 5u);
+    EXPECT_EQ(source->extension, "hdr");
+    EXPECT_GT(source->written, before);
+    EXPECT_LT(source->written, after);
+    const auto record = store.info(DerivedKind::RigSource, kRigId);
+    ASSERT_TRUE(record.has_value());
+    EXPECT_EQ(record->bytes, read_bytes(folder_ / "rig-sources" / (kRigId + ".sealed")).size());
+    EXPECT_EQ(record->extension, "sealed");
+    EXPECT_FALSE(store.info(SourceKind::Mesh, id).has_value());
+    EXPECT_FALSE(store.info(DerivedKind::Rig, kRigId).has_value());
+    EXPECT_EQ(kind_of_failure([&] { store.info(SourceKind::Mesh, "x"); }), ErrorKind::InvalidInput);
 }
 
 TEST_F(AssetStoreTest, SourceWithAFlippedByteIsDetectedDroppedAndLogged) {

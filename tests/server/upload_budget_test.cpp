@@ -24,9 +24,10 @@ std::optional<std::pair<int, std::string>> refusal(UploadBudget& budget, std::ui
     } catch (const HttpError& error) {
         EXPECT_EQ(error.headers(),
                   (HeaderList{{"Retry-After", std::to_string(kRetryAfterSeconds)}}));
-        return std::pair(error.problem().status, std::string(error.what()));
+        return std::pair(error.problem().status(), std::string(error.what()));
     } catch (const Error& error) {
-        return std::pair(status_of(error.kind()), std::string(error.what()));
+        return std::pair(problem_type(problem_kind_of(error.kind())).status,
+                         std::string(error.what()));
     }
     return std::nullopt;
 }

@@ -668,7 +668,7 @@ try {
     await again.close();
   });
 
-  await check('an error event carries the server\'s problem+json detail verbatim', async () => {
+  await check('an error event carries the server\'s problem+json type and detail verbatim', async () => {
     const missing = '0'.repeat(64);
     const problem = await (await fetch(`${server.url}/v1/render?environment=${missing}&mesh=default`)).json();
     const errors = await page.evaluate(() => window.oerErrors.length);
@@ -679,6 +679,8 @@ try {
       errors, { timeout: 30000 });
     const error = await handle.jsonValue();
     assert.equal(error.status, problem.status);
+    assert.equal(error.type, '/v1/problems/unknown-id');
+    assert.equal(error.type, problem.type);
     assert.equal(error.detail, problem.detail);
     assert.equal(await page.locator('#status').textContent(), problem.detail);
   });

@@ -16,9 +16,16 @@
 // reported absent, so the caller recomputes it (or asks for the upload again) instead of
 // serving damaged data. Ids are validated before any path is built from them.
 //
+// Removals mirror the writes: one file goes at once (unlink), and the folder is flushed before
+// remove() returns, so a removal that was acknowledged stays done after a crash, as a write
+// does. An entry made of several files is removed by its owner in an order where every state a
+// crash can leave is the whole entry or none (EnvironmentRegistry::remove).
+//
 // Thread-safe: operations on one id are serialised (by a lock chosen from the id), operations
 // on different ids mostly run in parallel. A data folder belongs to one process at a time.
 #include <array>
+#include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <mutex>
@@ -26,6 +33,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "oer/server/log_line.hpp"
 
@@ -42,6 +50,13 @@ enum class DerivedKind { Rig, RigSource, Specular, Transfer };
 struct StoredSource {
     std::string bytes;
     std::string extension;  // as given to put_source, e.g. "glb"
+};
+
+// What a listing shows of a stored entry.
+struct StoredEntryInfo {
+    std::uintmax_t bytes = 0;  // of the file: a source's own bytes, a derived entry's sealed form
+    std::string extension;     // a source's, as given to put_source; "sealed" for derived entries
+    std::chrono::system_clock::time_point written;  // when the entry was last written
 };
 
 // Exactly 64 lowercase hexadecimal digits (a SHA-256 in hex), the only ids the store accepts.
@@ -78,8 +93,20 @@ class AssetStore {
     bool contains(SourceKind kind, std::string_view id) const;
     bool contains(DerivedKind kind, std::string_view id) const;
 
-    bool remove(SourceKind kind, std::string_view id);  // true if there was an entry
+    // true if there was an entry; durable when it returns (the folder is flushed).
+    bool remove(SourceKind kind, std::string_view id);
     bool remove(DerivedKind kind, std::string_view id);
+
+    // The ids of kind's entries in ascending order: those after `after` (every id when empty),
+    // at most limit of them. Memory and time grow with limit and the folder's size, never with
+    // more than limit ids at once. Unchecked, like contains().
+    std::vector<std::string> list(SourceKind kind, std::string_view after, std::size_t limit) const;
+    std::vector<std::string> list(DerivedKind kind, std::string_view after,
+                                  std::size_t limit) const;
+
+    // The entry's size, extension and time of writing, or nullopt when absent.
+    std::optional<StoredEntryInfo> info(SourceKind kind, std::string_view id) const;
+    std::optional<StoredEntryInfo> info(DerivedKind kind, std::string_view id) const;
 
     // Every operation taking an id throws oer::Error (InvalidInput) for one that is not
     // is_asset_id, and every operation throws oer::Error (Io) when the file system fails.
