@@ -31,19 +31,30 @@ fi
 wanted=("${build_packages[@]}")
 if $with_test_data; then
     wanted+=("${test_packages[@]}")
-    # Node.js runs the browser test; a machine may have it from elsewhere (NodeSource's nodejs
-    # carries its own npm, which Debian's npm package would conflict with).
+    # Node.js runs the browser test and the API's linters; a machine may have it from elsewhere
+    # (NodeSource's nodejs carries its own npm, which Debian's npm package would conflict with).
     if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
         wanted+=(nodejs npm)
     fi
 fi
 
-# playwright-core, pinned by web/tests/package-lock.json (npm, not Debian: Debian has none).
-install_browser_test_modules() {
-    if $with_test_data && [[ ! -d "$root/web/tests/node_modules/playwright-core" ]]; then
-        echo "setup: npm ci in web/tests" >&2
-        (cd "$root/web/tests" && npm ci --no-audit --no-fund)
+# The tests' node modules, each folder pinned by its package-lock.json (npm, not Debian: Debian
+# has none of them): playwright-core in web/tests (the browser test), Redocly's and Spectral's
+# linters in api/lint (the api_lint test). Installed when missing or older than the lock file,
+# without install scripts, as cmake/npm_modules.cmake does when a test runs.
+npm_test_folders=(web/tests api/lint)
+install_npm_test_modules() {
+    if ! $with_test_data; then
+        return
     fi
+    for folder in "${npm_test_folders[@]}"; do
+        local modules="$root/$folder/node_modules"
+        if [[ ! -f "$modules/.package-lock.json" ||
+            "$root/$folder/package-lock.json" -nt "$modules/.package-lock.json" ]]; then
+            echo "setup: npm ci in $folder" >&2
+            (cd "$root/$folder" && npm ci --ignore-scripts --no-audit --no-fund)
+        fi
+    done
 }
 
 missing=()
@@ -54,7 +65,7 @@ for package in "${wanted[@]}"; do
 done
 
 if ((${#missing[@]} == 0)); then
-    install_browser_test_modules
+    install_npm_test_modules
     exit 0
 fi
 
@@ -66,4 +77,4 @@ echo "setup: installing ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
-install_browser_test_modules
+install_npm_test_modules

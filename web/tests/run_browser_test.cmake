@@ -1,6 +1,6 @@
 # Runs browser_test.mjs (the ctest `browser`, tests/CMakeLists.txt), installing playwright-core
-# from package-lock.json first when node_modules is missing (scripts/setup-debian.sh does the
-# same with --with-test-data):
+# from package-lock.json first when needed (cmake/npm_modules.cmake; scripts/setup-debian.sh
+# does the same with --with-test-data):
 #   cmake -DNODE=node -DNPM=npm -DTESTS_DIR=web/tests -DSERVER=oer-server -DARTIFACTS=dir -P ...
 foreach(variable NODE NPM TESTS_DIR SERVER ARTIFACTS)
     if(NOT DEFINED ${variable})
@@ -17,13 +17,8 @@ if(NOT EXISTS /usr/bin/chromium)
     message(FATAL_ERROR "run_browser_test.cmake: /usr/bin/chromium is missing; run "
         "scripts/setup-debian.sh --with-test-data")
 endif()
-if(NOT EXISTS ${TESTS_DIR}/node_modules/playwright-core)
-    execute_process(COMMAND ${NPM} ci --no-audit --no-fund WORKING_DIRECTORY ${TESTS_DIR}
-        RESULT_VARIABLE installed)
-    if(NOT installed EQUAL 0)
-        message(FATAL_ERROR "run_browser_test.cmake: npm ci in ${TESTS_DIR} failed (${installed})")
-    endif()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/../../cmake/npm_modules.cmake)
+oer_npm_ci(${NPM} ${TESTS_DIR})
 execute_process(COMMAND ${NODE} ${TESTS_DIR}/browser_test.mjs --server ${SERVER}
     --artifacts ${ARTIFACTS} RESULT_VARIABLE result)
 if(NOT result EQUAL 0)
