@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "oer/api/content_id.hpp"
+#include "oer/core/error.hpp"
 #include "oer/server/asset_store.hpp"
 #include "oer/server/shared_lru_cache.hpp"
 #include "service_metrics.hpp"
@@ -45,6 +46,27 @@ struct ListedPage {
     std::vector<ListedAsset> entries;
     std::optional<std::string> next_after;
 };
+
+// The page of ids (in ascending order, as the store lists up to limit + 1 of them after the
+// cursor): the first limit described (an id describe() gives nothing for is left out), and
+// next_after when more follow. A limit of 0 is a bug of the caller (oer::Error, Internal).
+template <typename Describe>
+ListedPage listed_page(std::vector<std::string> ids, std::size_t limit, Describe describe) {
+    if (limit == 0) {
+        throw Error(ErrorKind::Internal, "a listing's page holds at least one entry");
+    }
+    ListedPage page;
+    if (ids.size() > limit) {
+        ids.resize(limit);
+        page.next_after = ids.back();
+    }
+    for (const std::string& id : ids) {
+        if (std::optional<ListedAsset> entry = describe(id)) {
+            page.entries.push_back(std::move(*entry));
+        }
+    }
+    return page;
+}
 
 template <typename Asset>
 class AssetRegistry {

@@ -309,24 +309,19 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::compute_specular(
 
 ListedPage EnvironmentRegistry::list(std::string_view after, std::size_t limit) {
     return rigs_.guarded([&] {
-        ListedPage page;
-        std::vector<std::string> ids = store_.list(DerivedKind::RigSource, after, limit + 1);
-        if (ids.size() > limit) {
-            ids.pop_back();
-            page.next_after = ids.back();
-        }
-        for (const std::string& id : ids) {
-            const auto record = store_.get_derived(DerivedKind::RigSource, id);
-            const auto provenance = record ? read_provenance(*record) : std::nullopt;
-            const auto written = store_.info(DerivedKind::RigSource, id);
-            if (!provenance || !written || !api::is_content_id(provenance->source_id)) {
-                continue;  // damaged: find() drops it and says so
-            }
-            page.entries.push_back({id, provenance->source_id,
-                                    store_.info(SourceKind::Environment, provenance->source_id),
-                                    written->written});
-        }
-        return page;
+        return listed_page(
+            store_.list(DerivedKind::RigSource, after, limit + 1), limit,
+            [&](const std::string& id) -> std::optional<ListedAsset> {
+                const auto record = store_.get_derived(DerivedKind::RigSource, id);
+                const auto provenance = record ? read_provenance(*record) : std::nullopt;
+                const auto written = store_.info(DerivedKind::RigSource, id);
+                if (!provenance || !written || !api::is_content_id(provenance->source_id)) {
+                    return std::nullopt;  // damaged: find() drops it and says so
+                }
+                return ListedAsset{id, provenance->source_id,
+                                   store_.info(SourceKind::Environment, provenance->source_id),
+                                   written->written};
+            });
     });
 }
 

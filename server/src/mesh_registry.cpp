@@ -83,19 +83,15 @@ std::shared_ptr<const StoredMesh> MeshRegistry::read_stored(const std::string& i
 
 ListedPage MeshRegistry::list(std::string_view after, std::size_t limit) {
     return meshes_.guarded([&] {
-        ListedPage page;
-        std::vector<std::string> ids = store_.list(SourceKind::Mesh, after, limit + 1);
-        if (ids.size() > limit) {
-            ids.pop_back();
-            page.next_after = ids.back();
-        }
-        for (const std::string& id : ids) {
-            if (auto source = store_.info(SourceKind::Mesh, id)) {
-                const auto stored = source->written;
-                page.entries.push_back({id, id, std::move(source), stored});
-            }
-        }
-        return page;
+        return listed_page(store_.list(SourceKind::Mesh, after, limit + 1), limit,
+                           [&](const std::string& id) -> std::optional<ListedAsset> {
+                               auto source = store_.info(SourceKind::Mesh, id);
+                               if (!source) {
+                                   return std::nullopt;
+                               }
+                               const auto stored = source->written;
+                               return ListedAsset{id, id, std::move(source), stored};
+                           });
     });
 }
 

@@ -6,6 +6,7 @@
 
 #include "mesh_registry.hpp"
 #include "oer/api/content_id.hpp"
+#include "oer/core/error.hpp"
 #include "oer/server/metrics.hpp"
 
 using namespace oer;
@@ -74,6 +75,12 @@ TEST_F(MeshRegistryTest, ListPagesByIdWithEachFilesSizeAndFormat) {
     const ListedPage second = meshes_.list(*first.next_after, 3);
     ASSERT_EQ(second.entries.size(), 2u);
     EXPECT_FALSE(second.next_after.has_value());
+    try {
+        meshes_.list("", 0);
+        ADD_FAILURE() << "a page of no entries";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::Internal);
+    }
     auto expected = bytes_of.begin();
     for (const ListedPage* page : {&first, &second}) {
         for (const ListedAsset& entry : page->entries) {
