@@ -128,7 +128,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.max_triangles, 5'000'000u);
     EXPECT_EQ(config.max_concurrent_uploads, 2);
     EXPECT_EQ(config.upload_memory_bytes, 2'147'483'648u);
-    EXPECT_EQ(config.max_upload_expansion, 40u);
+    EXPECT_EQ(config.max_upload_expansion, 200u);
     EXPECT_EQ(config.max_frame_width, 4096);
     EXPECT_EQ(config.max_frame_height, 4096);
     EXPECT_EQ(config.max_queue_depth, 16);

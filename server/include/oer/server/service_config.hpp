@@ -33,7 +33,7 @@ struct ServiceConfig {
     // expand to (0: any). Over the first two: 503 with Retry-After; over the last: 413.
     int max_concurrent_uploads = 2;
     std::uint64_t upload_memory_bytes = 2ull << 30;
-    std::uint64_t max_upload_expansion = 40;
+    std::uint64_t max_upload_expansion = 200;
     int max_frame_width = 4096;
     int max_frame_height = 4096;
     int max_queue_depth = 16;  // render requests waiting; more are answered 503
