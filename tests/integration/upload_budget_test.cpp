@@ -12,6 +12,7 @@
 
 using namespace oer;
 using namespace oer::itest;
+using oer::server::ProblemKind;
 
 namespace {
 
@@ -52,7 +53,7 @@ TEST(UploadBudgetOverHttp, AMapThatExpandsBeyondItsMultipleIs413BeforeDecoding) 
     const long before = oer::testing::resident_kib();
     const auto refused = post_map(*client, bomb);
     const long growth_mib = (oer::testing::resident_kib() - before) / 1024;
-    expect_problem("POST", "/v1/environments", refused, 413);
+    expect_problem("POST", "/v1/environments", refused, ProblemKind::LimitExceeded);
     ASSERT_TRUE(refused);
     EXPECT_NE(refused->body.find("a 4096x2048 map would take"), std::string::npos) << refused->body;
     EXPECT_NE(refused->body.find("200 times their size"), std::string::npos) << refused->body;
@@ -83,7 +84,7 @@ TEST(UploadBudgetOverHttp, AnUploadThatFindsTheSlotsTakenIs503UntilOneIsFree) {
     const auto refused = post_map(*client, constant_rle_hdr(64, 32));
     uploader.join();
     ASSERT_TRUE(decoding) << "the first upload was never seen decoding";
-    expect_problem("POST", "/v1/environments", refused, 503);
+    expect_problem("POST", "/v1/environments", refused, ProblemKind::Unavailable);
     ASSERT_TRUE(refused);
     EXPECT_EQ(refused->get_header_value("Retry-After"), "1");
     EXPECT_NE(refused->body.find("as many uploads as it may at once (1 of 1"), std::string::npos)

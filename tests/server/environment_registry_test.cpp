@@ -60,7 +60,7 @@ class EnvironmentRegistryTest : public ::testing::Test {
     void restart() {
         environments_.reset();
         environments_ = std::make_unique<EnvironmentRegistry>(
-            store_, metrics_, [this](std::string_view line) { log(line); }, ImageLimits{},
+            store_, metrics_, budget_, [this](std::string_view line) { log(line); }, ImageLimits{},
             64 << 20);
     }
 
@@ -93,6 +93,7 @@ class EnvironmentRegistryTest : public ::testing::Test {
     AssetStore store_;
     MetricsRegistry registry_;
     ServiceMetrics metrics_;
+    UploadBudget budget_{UploadBudgetLimits{}};
     std::unique_ptr<EnvironmentRegistry> environments_;
     std::mutex log_mutex_;
     std::vector<std::string> log_;

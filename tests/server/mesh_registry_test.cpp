@@ -30,13 +30,14 @@ class MeshRegistryTest : public ::testing::Test {
                    ::testing::UnitTest::GetInstance()->current_test_info()->name())),
           store_(folder_, [](std::string_view) {}),
           metrics_(registry_),
-          meshes_(store_, metrics_, MeshLimits{}, 64 << 20) {}
+          meshes_(store_, metrics_, budget_, MeshLimits{}, 64 << 20) {}
     ~MeshRegistryTest() override { fs::remove_all(folder_); }
 
     const fs::path folder_;
     AssetStore store_;
     MetricsRegistry registry_;
     ServiceMetrics metrics_;
+    UploadBudget budget_{UploadBudgetLimits{}};
     MeshRegistry meshes_;
 };
 
