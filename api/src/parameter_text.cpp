@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "oer/core/one_line.hpp"
+
 namespace oer::api {
 
 namespace {
@@ -26,7 +28,7 @@ std::string number_text(double value) {
 }
 
 std::string excerpt(const std::string& text) {
-    return text.size() <= kExcerptLength ? text : text.substr(0, kExcerptLength) + "...";
+    return detail::shortened(detail::valid_utf8(text), kExcerptLength);
 }
 
 double parse_number(const std::string& name, const std::string& text, double low, double high) {

@@ -591,6 +591,53 @@ TEST(RenderRequest, QueryErrorsNameTheParameter) {
               "lights");
 }
 
+// Found by tests/fuzz/fuzz_render_json: a body that is not UTF-8 was refused with a message
+// quoting its bytes, which the service's problem body (JSON) could not hold: a 500. Bytes that
+// are not UTF-8 are escaped as \xNN, and excerpts are never cut inside a character.
+TEST(RenderRequest, MessagesEscapeBytesThatAreNotUtf8) {
+    const auto expect_json_text = [](const std::string& text) {
+        EXPECT_NO_THROW((void)Json(text).dump())
+            << Json(text).dump(-1, ' ', true, Json::error_handler_t::replace);
+    };
+    try {
+        api::parse_render_json("{\"environment\": \"\xff\"}");
+        FAIL() << "accepted";
+    } catch (const MalformedRequest& error) {
+        EXPECT_NE(std::string(error.what()).find("\\xFF"), std::string::npos) << error.what();
+        expect_json_text(error.what());
+    }
+    try {
+        api::parse_render_query({{"environment", "default"}, {"width", "4\xe9\x80"}});
+        FAIL() << "accepted";
+    } catch (const InvalidParameter& error) {
+        EXPECT_EQ(error.parameter(), "width");
+        EXPECT_NE(std::string(error.what()).find("got '4\\xE9\\x80'"), std::string::npos)
+            << error.what();
+        expect_json_text(error.what());
+    }
+    try {
+        api::parse_render_query({{"environment", "default"}, {"\xc3", "1"}});
+        FAIL() << "accepted";
+    } catch (const InvalidParameter& error) {
+        EXPECT_EQ(error.parameter(), "\\xC3");
+        expect_json_text(error.what());
+    }
+    // 40 two-byte characters (80 bytes): the excerpt of 64 bytes ends after the 32nd.
+    std::string accented;
+    for (int i = 0; i < 40; ++i) {
+        accented += "\u00e9";
+    }
+    try {
+        api::parse_render_query({{"environment", "default"}, {"height", "1" + accented}});
+        FAIL() << "accepted";
+    } catch (const InvalidParameter& error) {
+        EXPECT_NE(std::string(error.what()).find("got '1" + accented.substr(0, 62) + "...'"),
+                  std::string::npos)
+            << error.what();
+        expect_json_text(error.what());
+    }
+}
+
 // Issue 13's switches say what they accept, in both forms, in the words of their neighbours
 // (ground's on/off, tonemap's list of names).
 TEST(RenderRequest, OcclusionAndBounceMessagesNameWhatTheyAccept) {

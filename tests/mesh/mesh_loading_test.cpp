@@ -1058,6 +1058,29 @@ TEST(MeshLoadingObj, MtllibIsNeverRead) {
         << mesh.warnings[0];
 }
 
+// Found by tests/fuzz/fuzz_obj: an mtllib name that is not UTF-8 was quoted as is in the mesh's
+// warnings, which the service's answer (JSON) could not hold: the upload was a 500. Such bytes
+// are escaped as \xNN, and a long name is cut between characters.
+TEST(MeshLoadingObj, WarningsEscapeBytesThatAreNotUtf8) {
+    const std::string triangle = "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const Mesh mesh = load_obj_text("mtllib \x8droduct.mtl" + triangle);
+    ASSERT_FALSE(mesh.warnings.empty());
+    EXPECT_NE(mesh.warnings[0].find("mtllib '\\x8Droduct.mtl' ignored"), std::string::npos)
+        << mesh.warnings[0];
+    EXPECT_NO_THROW((void)nlohmann::json(mesh.warnings).dump());
+    // 150 two-byte characters (300 bytes), quoted up to 200 bytes: 100 characters and "...".
+    std::string accented;
+    for (int i = 0; i < 150; ++i) {
+        accented += "\u00e9";
+    }
+    const Mesh long_name = load_obj_text("mtllib " + accented + triangle);
+    ASSERT_FALSE(long_name.warnings.empty());
+    EXPECT_NE(long_name.warnings[0].find("mtllib '" + accented.substr(0, 200) + "...'"),
+              std::string::npos)
+        << long_name.warnings[0];
+    EXPECT_NO_THROW((void)nlohmann::json(long_name.warnings).dump());
+}
+
 TEST(MeshLoadingObj, GarbageAndEmptyFilesGiveClearErrors) {
     expect_error([] { load_obj_text(""); }, ErrorKind::InvalidInput, {"test.obj", "empty"});
     expect_error([] { load_obj_text("# nothing but a comment\n\n"); }, ErrorKind::InvalidInput,

@@ -4,15 +4,19 @@
 #include <string>
 
 #include "oer/core/error.hpp"
+#include "oer/core/one_line.hpp"
 
 namespace oer::api {
 
 class InvalidParameter : public Error {
   public:
     // kind: LimitExceeded for a value past a configured limit (HTTP 413), else InvalidInput.
-    InvalidParameter(std::string parameter, const std::string& detail,
+    // Both are made valid UTF-8 (oer::detail::valid_utf8), as the JSON of a problem body needs:
+    // a parameter's name or value can quote any bytes a client sent.
+    InvalidParameter(const std::string& parameter, const std::string& detail,
                      ErrorKind kind = ErrorKind::InvalidInput)
-        : Error(kind, parameter + ": " + detail), parameter_(std::move(parameter)) {}
+        : Error(kind, oer::detail::valid_utf8(parameter) + ": " + oer::detail::valid_utf8(detail)),
+          parameter_(oer::detail::valid_utf8(parameter)) {}
     const std::string& parameter() const { return parameter_; }
 
   private:

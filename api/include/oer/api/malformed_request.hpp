@@ -5,13 +5,17 @@
 #include <string>
 
 #include "oer/core/error.hpp"
+#include "oer/core/one_line.hpp"
 
 namespace oer::api {
 
 class MalformedRequest : public Error {
   public:
+    // The detail is made valid UTF-8 (oer::detail::valid_utf8): the JSON parser's message quotes
+    // the bytes where it stopped, which a problem body could not hold otherwise.
     explicit MalformedRequest(const std::string& detail)
-        : Error(ErrorKind::InvalidInput, "malformed request body: " + detail) {}
+        : Error(ErrorKind::InvalidInput,
+                "malformed request body: " + oer::detail::valid_utf8(detail)) {}
 };
 
 }  // namespace oer::api
