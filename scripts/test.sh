@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing (test data included), builds, and runs every test: once in an
-# optimised build, then the unit tests again under AddressSanitizer and UBSan.
+# optimised build, then the unit tests again under AddressSanitizer and UBSan, then the fuzzers
+# for a bounded time.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 jobs=$(nproc)
@@ -16,3 +17,7 @@ ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
     -DCMAKE_CXX_FLAGS=-O1 -DOER_BUILD_BENCHMARKS=OFF
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$jobs" -LE slow
+
+# The fuzzers (tests/fuzz, built with clang into build-fuzz): each parser of untrusted input for
+# 15 s from its seeds; a finding fails the run. Longer runs by hand: tests/fuzz/README.md.
+"$root/scripts/fuzz.sh" 15
