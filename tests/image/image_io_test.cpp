@@ -19,6 +19,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
 
 #include "oer/core/error.hpp"
 #include "oer/image/image_io.hpp"
@@ -511,6 +512,30 @@ std::vector<std::byte> exr_claiming(const TempDir& dir, std::int32_t width, std:
     const std::int32_t window[4] = {0, 0, width - 1, height - 1};
     std::memcpy(&bytes[at + 17 + 4], window, sizeof window);
     return bytes;
+}
+
+// Found by tests/fuzz/fuzz_image: an EXR attribute whose name is not UTF-8 was quoted as is in
+// the error, which the service's problem body (JSON) could not hold: a 500. Such bytes are
+// escaped as \xNN.
+TEST(ImageIo, ErrorsEscapeHeaderBytesThatAreNotUtf8) {
+    TempDir dir;
+    const std::string path = dir.file("tiny.exr");
+    write_image_file(noise_image(4, 2, 6), path);
+    std::vector<std::byte> bytes = read_bytes(path);
+    const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    const std::string attribute("compression\0compression\0", 24);
+    const std::size_t at = text.find(attribute);
+    ASSERT_NE(at, std::string::npos) << "no compression attribute in the EXR header";
+    bytes[at] = std::byte{0x9A};  // the name's first byte
+    const std::int32_t size = 0x7FFFFFFF;
+    std::memcpy(&bytes[at + attribute.size()], &size, sizeof size);
+    try {
+        load_image_memory(bytes, "upload.exr");
+        FAIL() << "loaded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("\\x9Aompression"), std::string::npos) << e.what();
+        EXPECT_NO_THROW((void)nlohmann::json(std::string(e.what())).dump());
+    }
 }
 
 TEST(ImageIo, ExrHeaderOverTheLimitsFailsFast) {

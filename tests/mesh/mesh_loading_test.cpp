@@ -674,6 +674,15 @@ TEST(MeshLoadingGltf, GlbLoadsLikeGltfAndCorruptContainersAreRejected) {
 TEST(MeshLoadingGltf, GarbageAndDeeplyNestedJsonAreRejected) {
     expect_error([] { load_gltf_text("this is not json"); }, ErrorKind::InvalidInput,
                  {"test.gltf: not valid JSON", "line 1, column 2"});
+    // Found by tests/fuzz/fuzz_gltf: the JSON parser's message quotes the bytes it stopped at,
+    // which the service's problem body could not hold when they are not UTF-8 (a 500).
+    try {
+        load_gltf_text("{\"asset\": \x83}");
+        ADD_FAILURE() << "loaded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("\\x83"), std::string::npos) << e.what();
+        EXPECT_NO_THROW((void)nlohmann::json(std::string(e.what())).dump());
+    }
     // Valid JSON, but not what tinygltf needs.
     expect_error([] { load_gltf_text("{\"asset\": 5}"); }, ErrorKind::InvalidInput,
                  {"not a valid glTF 2.0 asset", "asset"});

@@ -1,6 +1,7 @@
 #pragma once
 // Private to the mesh loaders: their errors, which always name the asset first (one_line.hpp
-// flattens the libraries' multi-line messages).
+// flattens the libraries' multi-line messages). Messages may quote the asset's bytes (the JSON
+// parser's "last read"): bytes that are not UTF-8 are escaped, for the service's JSON answers.
 #include <cstddef>
 #include <string>
 
@@ -10,7 +11,7 @@
 namespace oer::mesh_detail {
 
 [[noreturn]] inline void fail(ErrorKind kind, const std::string& asset, const std::string& what) {
-    throw Error(kind, asset + ": " + what);
+    throw Error(kind, detail::valid_utf8(asset + ": " + what));
 }
 
 using detail::one_line;
