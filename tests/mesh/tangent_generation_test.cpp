@@ -224,4 +224,32 @@ TEST(TangentGeneration, CornersWithoutUvAreaGetAUnitPerpendicular) {
     }
 }
 
+// Found by tests/fuzz/fuzz_gltf: MikkTSpace hashes positions on a grid over their widest
+// extent, (x - min) / (max - min), and casts that to int: undefined for a primitive whose
+// positions are all one point (0 / 0) or span more than the largest float (inf / inf). Such a
+// primitive has no surface to take tangents from: every vertex gets the unit perpendicular to
+// its normal that corners without uv area get (Duff et al.), with w = +1, and none is split.
+TEST(TangentGeneration, APointOrAnExtentPastTheFloatRangeGetsPerpendiculars) {
+    const glm::vec3 n = glm::normalize(glm::vec3(0.48f, 0.6f, 0.64f));
+    // Duff et al.'s basis vector for n (n.z > 0), written out.
+    const float a = -1.0f / (1.0f + n.z);
+    const glm::vec3 expected(1.0f + n.x * n.x * a, n.x * n.y * a, -n.x);
+    Primitive point = square([](float x, float z) { return glm::vec2(x, z); });
+    point.positions.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
+    point.normals.assign(4, n);
+    Primitive huge = square([](float x, float z) { return glm::vec2(x, z); });
+    for (glm::vec3& position : huge.positions) {
+        position.x = position.x > 0.5f ? 3e38f : -3e38f;
+    }
+    huge.normals.assign(4, n);
+    for (Primitive* p : {&point, &huge}) {
+        EXPECT_EQ(mesh_detail::generate_tangents(*p, "test"), 0u) << "vertices split";
+        ASSERT_EQ(p->tangents.size(), 4u);
+        for (std::size_t v = 0; v < 4; ++v) {
+            EXPECT_LT(glm::length(glm::vec3(p->tangents[v]) - expected), 1e-6f) << "vertex " << v;
+            EXPECT_EQ(p->tangents[v].w, 1.0f) << "vertex " << v;
+        }
+    }
+}
+
 }  // namespace

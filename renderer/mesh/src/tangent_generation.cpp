@@ -8,11 +8,13 @@
 
 #include <mikktspace.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -93,6 +95,22 @@ glm::vec4 usable(const glm::vec4& tangent, const glm::vec3& normal) {
     return glm::vec4(perpendicular(normal), sign);
 }
 
+// Whether MikkTSpace can weld the primitive's corners: it hashes each position on a grid over
+// the widest extent of the corners' positions, int(2048 * (x - min) / (max - min))
+// (mikktspace.c, FindGridCell), which is undefined behaviour, a NaN cast to int, when every
+// position is one point (0 / 0) or the extent passes the largest float (inf / inf).
+bool weldable(const Primitive& primitive) {
+    glm::vec3 low(std::numeric_limits<float>::max());
+    glm::vec3 high(std::numeric_limits<float>::lowest());
+    for (const std::uint32_t vertex : primitive.indices) {
+        low = glm::min(low, primitive.positions[vertex]);
+        high = glm::max(high, primitive.positions[vertex]);
+    }
+    const glm::vec3 extent = high - low;
+    const float widest = std::max({extent.x, extent.y, extent.z});
+    return widest > 0.0f && widest <= std::numeric_limits<float>::max();
+}
+
 }  // namespace
 
 std::size_t generate_tangents(Primitive& primitive, const std::string& asset) {
@@ -110,7 +128,10 @@ std::size_t generate_tangents(Primitive& primitive, const std::string& asset) {
     callbacks.m_getTexCoord = &texcoord;
     callbacks.m_setTSpaceBasic = &store;
     const SMikkTSpaceContext context{&callbacks, &input};
-    if (genTangSpaceDefault(&context) == 0) {
+    // A primitive MikkTSpace cannot weld (a point, which has no surface to take tangents from,
+    // or positions spanning past the float range, whose tangents float cannot compute) is not
+    // given to it: its corners keep no tangent and get the perpendicular below.
+    if (weldable(primitive) && genTangSpaceDefault(&context) == 0) {
         fail(ErrorKind::LimitExceeded, asset,
              primitive.name + ": out of memory while generating tangents");
     }
