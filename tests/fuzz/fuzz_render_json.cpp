@@ -10,7 +10,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view body(reinterpret_cast<const char*>(data), size);
-    const oer::api::RenderLimits limits;  // the service's defaults
+    const oer::api::RenderLimits limits = oer::fuzz::service_render_limits();
     oer::fuzz::parse_or_refuse([&] {
         oer::fuzz::check_accepted_or_refused(
             [&] { return oer::api::parse_render_json(body, limits); }, limits);

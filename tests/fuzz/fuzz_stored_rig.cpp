@@ -1,7 +1,9 @@
-// A rig read back from the store: oer::api::rig_from_json
-// (api/include/oer/api/rig_from_json.hpp) on the stored document {"rig": ..., "masks": ...}, as
-// server/src/environment_registry.cpp (load_stored) reads it after a restart. Text that is not a
-// JSON object with both members is the store's refusal, before the reader.
+// A rig read back from the store, as server/src/environment_registry.cpp (load_stored) reads it
+// after a restart: the stored text parsed within oer::api::stored_rig_bounds at the service's
+// default pixel limit (oer::checked_json::parse_bounded), then oer::api::rig_from_json
+// (api/include/oer/api/rig_from_json.hpp) on its "rig" and "masks". Text that is not JSON within
+// the bounds (JsonParseError), or not an object with both members, is the store's refusal
+// before the reader: the rig is dropped and recomputed.
 //
 // Property (issue 14, "what the server writes it can read"): a rig the reader accepts is written
 // by rig_to_json and light_masks_to_json, and that document reads back to a rig that writes the
@@ -15,14 +17,20 @@
 #include "fuzz_support.hpp"
 #include "oer/api/rig_from_json.hpp"
 #include "oer/api/rig_json.hpp"
+#include "oer/core/checked_json.hpp"
 
 namespace {
 
 void read_stored(std::string_view text) {
-    const nlohmann::json stored = nlohmann::json::parse(text, nullptr, false);
-    if (stored.is_discarded() || !stored.is_object() || !stored.contains("rig") ||
-        !stored.contains("masks")) {
-        return;  // the store's own refusal: the rig is dropped and recomputed
+    nlohmann::json stored;
+    try {
+        stored = oer::checked_json::parse_bounded(
+            text, oer::api::stored_rig_bounds(oer::fuzz::service_image_limits().max_pixels));
+    } catch (const oer::checked_json::JsonParseError&) {
+        return;  // the store's refusal
+    }
+    if (!stored.is_object() || !stored.contains("rig") || !stored.contains("masks")) {
+        return;  // the store's refusal
     }
     const oer::Rig rig = oer::api::rig_from_json(stored["rig"], stored["masks"]);
     // Accepted: the document holds a content id under "id" (the reader checks it).

@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "oer/core/error.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/server/service_config.hpp"
 #include "process_memory.hpp"
 #include "upload_budget.hpp"
 
@@ -59,6 +61,11 @@ void parse_or_refuse(Body&& body) {
 
 inline std::span<const std::byte> as_bytes(const std::uint8_t* data, std::size_t size) {
     return std::as_bytes(std::span(data, size));
+}
+
+// The limits the service reads maps with at its default configuration (server/src/service.cpp).
+inline ImageLimits service_image_limits() {
+    return ImageLimits{server::ServiceConfig{}.max_image_pixels, 32768};
 }
 
 // What the service lets one upload of `upload_bytes` bytes cost to decode

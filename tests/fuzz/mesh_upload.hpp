@@ -15,8 +15,17 @@
 
 namespace oer::fuzz {
 
+// The limits the service reads meshes with at its default configuration (server/src/service.cpp).
+inline MeshLimits service_mesh_limits() {
+    const server::ServiceConfig config;
+    MeshLimits limits;
+    limits.max_bytes = config.max_upload_bytes;
+    limits.max_triangles = config.max_triangles;
+    return limits;
+}
+
 inline void load_uploaded_mesh(std::span<const std::byte> bytes, MeshFormat format) {
-    const MeshLimits limits;  // the service's defaults (ServiceConfig::max_upload_bytes...)
+    const MeshLimits limits = service_mesh_limits();
     const std::string name = "upload." + api::to_string(format);
     ResidentGrowth growth;
     const Mesh mesh = load_mesh_memory(bytes, name, format, limits);

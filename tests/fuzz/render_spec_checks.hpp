@@ -44,6 +44,16 @@ inline const PresetScene& preset_scene() {
     return scene;
 }
 
+// The limits the service parses requests with at its default configuration
+// (server/src/service.cpp).
+inline api::RenderLimits service_render_limits() {
+    const server::ServiceConfig config;
+    api::RenderLimits limits;
+    limits.max_width = config.max_frame_width;
+    limits.max_height = config.max_frame_height;
+    return limits;
+}
+
 inline bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

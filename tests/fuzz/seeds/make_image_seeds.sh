@@ -23,5 +23,3 @@ oiiotool $(noise 8x4 1 1) -d uint8 -o grey8.png
 oiiotool $(noise 16x8 3 1) -d uint8 -o baseline.jpg
 oiiotool $(noise 16x8 3 1) -d uint8 --attrib jpeg:progressive 1 -o progressive.jpg
 oiiotool $(noise 16x8 1 1) -d uint8 -o grey.jpg
-# TIFF, whose signature the loader also knows.
-oiiotool $(noise 8x4 3 1) -d uint16 -o rgb16.tif
