@@ -31,13 +31,16 @@ std::string camera_header(const Camera& camera) {
 void answer_frame(ServiceContext& context, const httplib::Request& request,
                   httplib::Response& response, const api::RenderSpec& spec, RequestForm form) {
     const std::string etag = api::render_etag(spec);
-    response.set_header("Cache-Control", kFrameCacheControl);
     if (etag_matches(request, etag)) {
         response.status = 304;
+        response.set_header("Cache-Control", kFrameCacheControl);
         response.set_header("ETag", etag);
         return;
     }
     const EncodedFrame frame = context.frame_service.render(spec, etag, form);
+    // Set only now: an error answer (a 503 while the renderer cannot start) must not be kept
+    // by caches for a day.
+    response.set_header("Cache-Control", kFrameCacheControl);
     response.status = 200;
     response.set_header("ETag", frame.etag);
     response.set_header("X-Oer-Cache", frame.cache_hit ? "hit" : "miss");
