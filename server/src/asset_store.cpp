@@ -55,6 +55,38 @@ std::string_view kind_name(SourceKind kind) {
                                    std::strerror(error));
 }
 
+// throw_io, but StorageFull when the file system is full or the quota used up: entry says what
+// could not be stored, without the path.
+[[noreturn]] void throw_write_failure(const std::string& action, const fs::path& path, int error,
+                                      const std::string& entry) {
+    if (error == ENOSPC || error == EDQUOT) {
+        throw StorageFull(
+            entry, std::strerror(error),
+            "asset store: cannot " + action + " " + path.string() + ": " + std::strerror(error));
+    }
+    throw_io(action, path, error);
+}
+
+// What a client may be told a write was for: the entry's kind and id.
+std::string entry_name(SourceKind kind, std::string_view id) {
+    return std::string(kind == SourceKind::Environment ? "the map " : "the mesh ") +
+           std::string(id);
+}
+
+std::string entry_name(DerivedKind kind, std::string_view id) {
+    switch (kind) {
+        case DerivedKind::Rig:
+            return "the rig " + std::string(id);
+        case DerivedKind::RigSource:
+            return "the record of rig " + std::string(id);
+        case DerivedKind::Specular:
+            return "the specular cube of rig " + std::string(id);
+        case DerivedKind::Transfer:
+            return "the transfer " + std::string(id);
+    }
+    throw Error(ErrorKind::Internal, "asset store: unknown derived kind");
+}
+
 void check_id(std::string_view id) {
     if (!is_asset_id(id)) {
         throw Error(ErrorKind::InvalidInput,
@@ -89,31 +121,32 @@ void fsync_folder(const fs::path& folder) {
 }
 
 // Writes bytes to a new temporary file beside path, flushes it, renames it over path and
-// flushes the folder, so that path holds either its old content or all of bytes.
-void write_atomically(const fs::path& path, std::string_view bytes) {
+// flushes the folder, so that path holds either its old content or all of bytes. entry names
+// what is written, for StorageFull.
+void write_atomically(const fs::path& path, std::string_view bytes, const std::string& entry) {
     std::string temporary = (path.parent_path() /
                              (std::string(kTemporaryPrefix) + path.filename().string() + "-XXXXXX"))
                                 .string();
     FileDescriptor fd(::mkostemp(temporary.data(), O_CLOEXEC));
     if (fd.get() < 0) {
-        throw_io("create a temporary file for", path, errno);
+        throw_write_failure("create a temporary file for", path, errno, entry);
     }
     try {
         for (std::size_t done = 0; done < bytes.size();) {
             const ssize_t written = ::write(fd.get(), bytes.data() + done, bytes.size() - done);
             if (written < 0 && errno != EINTR) {
-                throw_io("write", temporary, errno);
+                throw_write_failure("write", temporary, errno, entry);
             }
             done += std::size_t(std::max<ssize_t>(written, 0));
         }
         if (::fsync(fd.get()) != 0) {
-            throw_io("flush", temporary, errno);
+            throw_write_failure("flush", temporary, errno, entry);
         }
         if (fd.close() != 0) {
-            throw_io("close", temporary, errno);
+            throw_write_failure("close", temporary, errno, entry);
         }
         if (::rename(temporary.c_str(), path.c_str()) != 0) {
-            throw_io("rename " + temporary + " to", path, errno);
+            throw_write_failure("rename " + temporary + " to", path, errno, entry);
         }
     } catch (...) {
         ::unlink(temporary.c_str());
@@ -316,7 +349,7 @@ std::string AssetStore::put_source(SourceKind kind, std::string_view bytes,
                         std::string(kind_name(kind)) + " " + existing->filename().string() +
                         "; the same bytes cannot also be a ." + std::string(extension));
     }
-    write_atomically(path, bytes);
+    write_atomically(path, bytes, entry_name(kind, id));
     return id;
 }
 
@@ -343,7 +376,19 @@ void AssetStore::put_derived(DerivedKind kind, std::string_view id, std::string_
     const fs::path path = derived_path(kind, id);
     const std::string entry = seal(bytes);
     const std::lock_guard lock(lock_for(id));
-    write_atomically(path, entry);
+    write_atomically(path, entry, entry_name(kind, id));
+}
+
+bool AssetStore::put_derived_if_room(DerivedKind kind, std::string_view id,
+                                     std::string_view bytes) {
+    try {
+        put_derived(kind, id, bytes);
+        return true;
+    } catch (const StorageFull& full) {
+        log_(std::string(full.what()) + "; " + full.entry() +
+             " is kept in memory only (computed again after a restart)");
+        return false;
+    }
 }
 
 std::optional<std::string> AssetStore::get_derived(DerivedKind kind, std::string_view id) {

@@ -135,7 +135,8 @@ std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_v
     const auto start = std::chrono::steady_clock::now();
     LoadedImage loaded = load_image_memory(as_bytes(bytes), name, limits_);
     store_.put_source(SourceKind::Environment, bytes, extension);
-    auto environment = compute(loaded, options, source_id, rig_id);
+    // A 201 promises that the rig is stored: without room for it the upload is refused (507).
+    auto environment = compute(loaded, options, source_id, rig_id, Storing::Required);
     metrics_.preprocess_seconds.observe(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     auto image = std::make_shared<const HdrImage>(std::move(loaded.image));
@@ -189,8 +190,9 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
     const auto start = std::chrono::steady_clock::now();
     LoadedImage loaded =
         load_image_memory(as_bytes(source->bytes), "stored." + source->extension, limits_);
-    auto environment =
-        compute(loaded, api::rig_options_from_json(provenance->options), source_id, id);
+    // Its upload was answered already: a rig the disk has no room for is served from memory.
+    auto environment = compute(loaded, api::rig_options_from_json(provenance->options), source_id,
+                               id, Storing::IfRoom);
     metrics_.preprocess_seconds.observe(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return environment;
@@ -199,16 +201,31 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
 std::shared_ptr<const Environment> EnvironmentRegistry::compute(const LoadedImage& loaded,
                                                                 const RigOptions& options,
                                                                 const std::string& source_id,
-                                                                const std::string& rig_id) {
+                                                                const std::string& rig_id,
+                                                                Storing storing) {
     auto rig = std::make_shared<const Rig>(build_rig(loaded, options));
     metrics_.rigs_computed.increment();
     nlohmann::json json = api::rig_to_json(*rig, rig_id);
     // The record of provenance first: a crash between the two writes leaves a rig that can be
     // recomputed, never a rig whose source is unknown.
-    store_.put_derived(DerivedKind::RigSource, rig_id, provenance_json(source_id, options));
-    store_.put_derived(
-        DerivedKind::Rig, rig_id,
-        nlohmann::json{{"rig", json}, {"masks", api::light_masks_to_json(*rig)}}.dump());
+    const std::string record = provenance_json(source_id, options);
+    const std::string stored =
+        nlohmann::json{{"rig", json}, {"masks", api::light_masks_to_json(*rig)}}.dump();
+    if (storing == Storing::IfRoom) {
+        if (store_.put_derived_if_room(DerivedKind::RigSource, rig_id, record)) {
+            store_.put_derived_if_room(DerivedKind::Rig, rig_id, stored);
+        }
+    } else {
+        store_.put_derived(DerivedKind::RigSource, rig_id, record);
+        try {
+            store_.put_derived(DerivedKind::Rig, rig_id, stored);
+        } catch (const StorageFull&) {
+            // The upload is refused: its record goes too, so that the id stays unknown (404)
+            // rather than recomputed on every lookup until the upload is made again.
+            store_.remove(DerivedKind::RigSource, rig_id);
+            throw;
+        }
+    }
     auto environment = std::make_shared<const Environment>(
         Environment{rig_id, std::move(rig), std::move(json), source_id});
     remember(environment);
@@ -301,7 +318,8 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::compute_specular(
     // cube, which the store and memory then no longer hold (remove() waits for this
     // computation, under specular_'s lock, and removes what it stored).
     if (store_.contains(DerivedKind::RigSource, environment.id)) {
-        store_.put_derived(DerivedKind::Specular, environment.id, encode_prefiltered_cube(*cube));
+        store_.put_derived_if_room(DerivedKind::Specular, environment.id,
+                                   encode_prefiltered_cube(*cube));
         specular_.remember(environment.id, cube, cube->byte_size());
     }
     return cube;

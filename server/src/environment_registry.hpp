@@ -8,7 +8,8 @@
 // Each uploaded rig's specular cube (its residual map prefiltered, specular_environment.hpp) is
 // made only when a frame needs it, then kept like the rig: in memory (LRU by bytes) and in the
 // store by rig id. Uploaded environments are listed by rig id and removed with all that was
-// derived from them.
+// derived from them. A cube, or a rig recomputed for a lookup, that the disk has no room for is
+// kept in memory only (logged): frames and lookups do not fail for want of space, uploads do.
 #include <functional>
 #include <memory>
 #include <string>
@@ -44,8 +45,10 @@ class EnvironmentRegistry {
     // The environment, and whether its rig was there already (nothing was computed).
     using Upload = AssetRegistry<Environment>::Upload;
     // extension: "hdr" or "exr". Throws oer::Error for a map that does not decode (InvalidInput)
-    // or is over the limits (LimitExceeded), and HttpError 503 when the upload budget has no
-    // room for it now (its cost is known from its header, before anything is decoded).
+    // or is over the limits (LimitExceeded), HttpError 503 when the upload budget has no
+    // room for it now (its cost is known from its header, before anything is decoded), and
+    // StorageFull when the disk has no room for the map or its rig: the rig is then neither
+    // stored nor known, and the map, if it was stored, waits for the upload to be made again.
     // Concurrent uploads of the same bytes and options compute the rig once (AssetRegistry):
     // the later ones wait for it and answer as cached (or with the same error).
     Upload upload(std::string_view bytes, const std::string& extension, const RigOptions& options);
@@ -79,10 +82,13 @@ class EnvironmentRegistry {
     bool remove(const std::string& id);
 
   private:
+    // Whether a rig must be stored (an upload's, refused with StorageFull when the disk is
+    // full) or is kept in memory when there is no room (one recomputed for a lookup).
+    enum class Storing { Required, IfRoom };
     std::shared_ptr<const Environment> load_stored(const std::string& id);
     std::shared_ptr<const Environment> compute(const LoadedImage& loaded, const RigOptions& options,
                                                const std::string& source_id,
-                                               const std::string& rig_id);
+                                               const std::string& rig_id, Storing storing);
     void remember(const std::shared_ptr<const Environment>& environment);
     std::shared_ptr<const PrefilteredCube> load_stored_specular(const std::string& id);
     std::shared_ptr<const PrefilteredCube> compute_specular(const Environment& environment);

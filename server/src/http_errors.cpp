@@ -2,6 +2,7 @@
 
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/malformed_request.hpp"
+#include "oer/server/asset_store.hpp"
 #include "render_pool.hpp"
 
 namespace oer::server {
@@ -63,6 +64,16 @@ ErrorAnswer error_answer(std::exception_ptr error) {
         return {problem(ProblemKind::Unavailable, e.what()),
                 {{"Retry-After", std::to_string(kRetryAfterSeconds)}},
                 false,
+                e.what()};
+    } catch (const StorageFull& e) {
+        // RFC 4918 section 11.5: the server cannot store what the request needs stored. The
+        // detail says what and why, never where (the log has the path).
+        return {problem(ProblemKind::InsufficientStorage,
+                        e.entry() + " could not be stored: " + e.reason() +
+                            "; the server's storage is full, so nothing of this request "
+                            "was kept; send it again once space is freed"),
+                {},
+                true,
                 e.what()};
     } catch (const api::MalformedRequest& e) {
         return {problem(ProblemKind::MalformedRequest, e.what()), {}, false, e.what()};

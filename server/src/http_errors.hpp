@@ -1,9 +1,9 @@
 #pragma once
 // Failures as HTTP answers, mapped in one place: the exceptions of the renderer (oer::Error by
 // kind), of the api (MalformedRequest, InvalidParameter), of the render pool (QueueFull,
-// RendererUnavailable) and the answers a route decides itself (HttpError: 401, 404, 405, 409,
-// 413, 415, 503), each as a problem of one kind (problem_json.hpp), which sets its status and
-// type.
+// RendererUnavailable), of the asset store (StorageFull: 507) and the answers a route decides
+// itself (HttpError: 401, 404, 405, 409, 413, 415, 503), each as a problem of one kind
+// (problem_json.hpp), which sets its status and type.
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -54,7 +54,7 @@ ProblemKind problem_kind_of(ErrorKind kind);
 struct ErrorAnswer {
     Problem problem;
     HeaderList headers;
-    bool internal = false;  // a 500: the server's fault, logged with its cause
+    bool internal = false;  // a 500 or 507: the server's fault, logged with its cause
     std::string cause;      // the exception's own message, for the log
 };
 

@@ -30,8 +30,9 @@ class MeshRegistry {
 
     // The mesh, and whether these bytes were there already (nothing was loaded).
     using Upload = AssetRegistry<StoredMesh>::Upload;
-    // Throws oer::Error for bytes that do not load (InvalidInput) or are over the limits, and
-    // HttpError 503 when the upload budget has no room for it now.
+    // Throws oer::Error for bytes that do not load (InvalidInput) or are over the limits,
+    // HttpError 503 when the upload budget has no room for it now, and StorageFull when the
+    // disk has no room for them (nothing is kept then).
     // Concurrent uploads of the same bytes load and store them once (AssetRegistry): the later
     // ones wait for the first and answer as cached (or with the same error).
     Upload upload(std::string_view bytes, MeshFormat format);

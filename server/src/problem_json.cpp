@@ -14,7 +14,7 @@ namespace {
 // would name someone else's, and a tag: URI needs an authority we do not have), and it resolves
 // against whichever server answered, in the API's own path space. Clients compare it as given.
 // The types are part of the contract: a kind may be added, never renamed.
-constexpr std::array<ProblemType, 14> kProblemTypes{{
+constexpr std::array<ProblemType, 15> kProblemTypes{{
     {ProblemKind::MalformedRequest, 400, "/v1/problems/malformed-request", "Malformed request"},
     {ProblemKind::Unauthorized, 401, "/v1/problems/unauthorized", "API key missing or wrong"},
     {ProblemKind::NotFound, 404, "/v1/problems/not-found", "Nothing at this path"},
@@ -34,6 +34,9 @@ constexpr std::array<ProblemType, 14> kProblemTypes{{
      "Too many connections from this address"},
     {ProblemKind::Internal, 500, "/v1/problems/internal-error", "Internal error"},
     {ProblemKind::Unavailable, 503, "/v1/problems/unavailable", "Unavailable; retry later"},
+    // RFC 4918 section 11.5.
+    {ProblemKind::InsufficientStorage, 507, "/v1/problems/insufficient-storage",
+     "The server's storage is full"},
 }};
 
 constexpr bool in_enum_order() {
@@ -42,7 +45,7 @@ constexpr bool in_enum_order() {
             return false;
         }
     }
-    return kProblemTypes.back().kind == ProblemKind::Unavailable;
+    return kProblemTypes.back().kind == ProblemKind::InsufficientStorage;
 }
 static_assert(in_enum_order(), "kProblemTypes lists every ProblemKind once, in order");
 

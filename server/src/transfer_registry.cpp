@@ -135,7 +135,7 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::bake(const std::string& i
          " object(s) computed in " + std::to_string(int(std::lround(seconds * 1000.0))) + " ms, " +
          std::to_string(encoded.size()) + " bytes, " + std::to_string(transfer->rays) +
          " rays per point");
-    store_.put_derived(DerivedKind::Transfer, id, encoded);
+    store_.put_derived_if_room(DerivedKind::Transfer, id, encoded);
     transfers_.remember(id, transfer, encoded.size());
     return transfer;
 }

@@ -5,7 +5,8 @@
 // asset store (an entry that is damaged, or does not fit its scene, is logged, dropped and baked
 // again, never served), else baked once however many frames of the scene arrive together
 // (AssetRegistry), on the calling thread (an HTTP thread, or start-up: never a GL render
-// worker), stored and remembered. A bake of the Stanford bunny takes up to about 2 s.
+// worker), stored and remembered (in memory only when the disk is full: the frame is not
+// refused for it). A bake of the Stanford bunny takes up to about 2 s.
 #include <functional>
 #include <memory>
 #include <string>

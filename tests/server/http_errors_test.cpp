@@ -3,6 +3,7 @@
 #include "http_errors.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/malformed_request.hpp"
+#include "oer/server/asset_store.hpp"
 #include "render_pool.hpp"
 
 using namespace oer;
@@ -83,4 +84,19 @@ TEST(HttpErrors, InternalFailuresHideTheirCauseFromTheClient) {
     EXPECT_EQ(io.problem.detail.find("/secret/path"), std::string::npos);
     EXPECT_NE(io.cause.find("/secret/path"), std::string::npos);
     EXPECT_EQ(answer_to(std::runtime_error("boom")).problem.status(), 500);
+}
+
+TEST(HttpErrors, AFullDiskIs507NamingTheEntryNotThePath) {
+    const ErrorAnswer full = answer_to(StorageFull(
+        "the mesh 3f2a", "No space left on device",
+        "asset store: cannot write /secret/meshes/.tmp-3f2a.glb-x: No space left on device"));
+    EXPECT_EQ(full.problem.kind, ProblemKind::InsufficientStorage);
+    EXPECT_EQ(full.problem.status(), 507);
+    EXPECT_NE(full.problem.detail.find("the mesh 3f2a could not be stored"), std::string::npos)
+        << full.problem.detail;
+    EXPECT_NE(full.problem.detail.find("No space left on device"), std::string::npos);
+    EXPECT_NE(full.problem.detail.find("storage is full"), std::string::npos);
+    EXPECT_EQ(full.problem.detail.find("/secret"), std::string::npos) << full.problem.detail;
+    EXPECT_TRUE(full.internal);
+    EXPECT_NE(full.cause.find("/secret/meshes"), std::string::npos);
 }

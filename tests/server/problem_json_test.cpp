@@ -57,7 +57,7 @@ TEST(ProblemJson, EveryKindHasItsOwnTypeTitleAndAnErrorStatus) {
         EXPECT_GE(type.status, 400);
         EXPECT_LE(type.status, 599);
     }
-    EXPECT_EQ(std::size_t(ProblemKind::Unavailable) + 1, problem_types().size())
+    EXPECT_EQ(std::size_t(ProblemKind::InsufficientStorage) + 1, problem_types().size())
         << "the last kind closes the table";
 }
 

@@ -21,6 +21,10 @@
 // does. An entry made of several files is removed by its owner in an order where every state a
 // crash can leave is the whole entry or none (EnvironmentRegistry::remove).
 //
+// A write that fails because the file system is full (ENOSPC) or the data folder's quota is used
+// up (EDQUOT) throws StorageFull and leaves nothing behind (its temporary file is removed), so
+// the same write succeeds once space is freed.
+//
 // Thread-safe: operations on one id are serialised (by a lock chosen from the id), operations
 // on different ids mostly run in parallel. A data folder belongs to one process at a time.
 #include <array>
@@ -35,6 +39,7 @@
 #include <string_view>
 #include <vector>
 
+#include "oer/core/error.hpp"
 #include "oer/server/log_line.hpp"
 
 namespace oer::server {
@@ -57,6 +62,22 @@ struct StoredEntryInfo {
     std::uintmax_t bytes = 0;  // of the file: a source's own bytes, a derived entry's sealed form
     std::string extension;     // a source's, as given to put_source; "sealed" for derived entries
     std::chrono::system_clock::time_point written;  // when the entry was last written
+};
+
+// A write refused for want of space (ENOSPC) or quota (EDQUOT): an oer::Error of kind Io whose
+// message, for the log, names the file; entry() names what could not be stored without any
+// path ("the map 3f2a...", "the rig 9c01..."), and reason() is the system's words
+// ("No space left on device"), for an answer to a client.
+class StorageFull : public Error {
+  public:
+    StorageFull(std::string entry, std::string reason, const std::string& message)
+        : Error(ErrorKind::Io, message), entry_(std::move(entry)), reason_(std::move(reason)) {}
+    const std::string& entry() const { return entry_; }
+    const std::string& reason() const { return reason_; }
+
+  private:
+    std::string entry_;
+    std::string reason_;
 };
 
 // Exactly 64 lowercase hexadecimal digits (a SHA-256 in hex), the only ids the store accepts.
@@ -86,6 +107,11 @@ class AssetStore {
     std::optional<StoredSource> get_source(SourceKind kind, std::string_view id);
 
     void put_derived(DerivedKind kind, std::string_view id, std::string_view bytes);
+    // put_derived for an entry that can be computed again when missing (a specular cube, a
+    // transfer, a rig recomputed from its source): when the disk is full it logs that the entry
+    // is kept in memory only and returns false instead of throwing StorageFull, so that a frame
+    // is not refused for want of room to keep what it computed. Other failures throw.
+    bool put_derived_if_room(DerivedKind kind, std::string_view id, std::string_view bytes);
     // nullopt when absent, or when the entry was corrupt (then it is logged and deleted).
     std::optional<std::string> get_derived(DerivedKind kind, std::string_view id);
 

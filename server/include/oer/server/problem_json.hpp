@@ -31,6 +31,7 @@ enum class ProblemKind {
     TooManyConnections,    // 429: the client's address holds as many connections as it may
     Internal,              // 500: the server's fault; its log has the cause
     Unavailable,           // 503: try again after Retry-After
+    InsufficientStorage,   // 507: the server's storage is full; nothing of the request was kept
 };
 
 struct ProblemType {
