@@ -132,6 +132,7 @@ std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_v
             kPreprocessBytesPerPixel * std::uint64_t(header.width) * std::uint64_t(header.height),
         bytes.size(),
         "a " + std::to_string(header.width) + "x" + std::to_string(header.height) + " map");
+    const InProgress in_progress(metrics_.rigs_in_progress);
     const auto start = std::chrono::steady_clock::now();
     LoadedImage loaded = load_image_memory(as_bytes(bytes), name, limits_);
     store_.put_source(SourceKind::Environment, bytes, extension);
@@ -187,6 +188,7 @@ std::shared_ptr<const Environment> EnvironmentRegistry::load_stored(const std::s
     }
     log_("environments: rig " + id + " is missing or was damaged; recomputing it from source " +
          source_id);
+    const InProgress in_progress(metrics_.rigs_in_progress);
     const auto start = std::chrono::steady_clock::now();
     LoadedImage loaded =
         load_image_memory(as_bytes(source->bytes), "stored." + source->extension, limits_);
@@ -298,6 +300,7 @@ std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::load_stored_specular
 
 std::shared_ptr<const PrefilteredCube> EnvironmentRegistry::compute_specular(
     const Environment& environment) {
+    const InProgress in_progress(metrics_.specular_in_progress);
     const auto image = source_image(environment);
     if (!image) {
         log_("environments: specular cube of rig " + environment.id +

@@ -8,6 +8,9 @@ constexpr const char* kRequestsHelp = "HTTP requests answered, by route pattern,
 constexpr const char* kRequestSecondsHelp = "Time to answer an HTTP request, by route pattern";
 constexpr const char* kHitsHelp = "Cache hits, by cache";
 constexpr const char* kMissesHelp = "Cache misses, by cache";
+constexpr const char* kInProgressHelp =
+    "Computations running now: rigs (a map decoded and preprocessed), specular cubes, scene "
+    "transfers";
 
 const char* name_of(CacheName cache) {
     switch (cache) {
@@ -53,6 +56,12 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
       meshes_loaded(
           registry.counter("oer_meshes_loaded_total",
                            "Meshes decoded from uploads or from the store (cache hits excluded)")),
+      rigs_in_progress(registry.gauge("oer_computations_in_progress", kInProgressHelp,
+                                      {{"computation", "rig"}})),
+      specular_in_progress(registry.gauge("oer_computations_in_progress", kInProgressHelp,
+                                          {{"computation", "specular"}})),
+      transfers_in_progress(registry.gauge("oer_computations_in_progress", kInProgressHelp,
+                                           {{"computation", "transfer"}})),
       render_queue_depth(
           registry.gauge("oer_render_queue_depth", "Frames waiting for a render worker")),
       render_workers_ready(registry.gauge(

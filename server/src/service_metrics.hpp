@@ -8,6 +8,18 @@
 
 namespace oer::server {
 
+// Counts one computation in progress on a gauge for as long as it lives.
+class InProgress {
+  public:
+    explicit InProgress(Gauge& gauge) : gauge_(gauge) { gauge_.add(1.0); }
+    ~InProgress() { gauge_.add(-1.0); }
+    InProgress(const InProgress&) = delete;
+    InProgress& operator=(const InProgress&) = delete;
+
+  private:
+    Gauge& gauge_;
+};
+
 // The caches whose hits and misses are counted.
 enum class CacheName { Frame, Rig, Mesh, Environment, Specular, Transfer };
 
@@ -30,10 +42,16 @@ class ServiceMetrics {
     Histogram& transfer_seconds;    // baking a scene's transfer
     Counter& transfers_computed;    // each transfer actually baked, never a memory or store hit
     Counter& meshes_loaded;         // each mesh actually decoded (upload or store), never a hit
-    Gauge& render_queue_depth;      // frames waiting for a render worker
-    Gauge& render_workers_ready;    // workers with a GL context that rendered a test frame
-    Gauge& uploads_decoding;        // uploads holding a slot of the upload budget
-    Gauge& upload_reserved_bytes;   // memory they reserved
+    // Computations running now (an operator sees what a slow request waits for; a test sees
+    // the moment one is under way): rigs (decoding the map and preprocessing it), specular
+    // cubes, scene transfers.
+    Gauge& rigs_in_progress;
+    Gauge& specular_in_progress;
+    Gauge& transfers_in_progress;
+    Gauge& render_queue_depth;     // frames waiting for a render worker
+    Gauge& render_workers_ready;   // workers with a GL context that rendered a test frame
+    Gauge& uploads_decoding;       // uploads holding a slot of the upload budget
+    Gauge& upload_reserved_bytes;  // memory they reserved
     // Connections answered 429 because their address held max_connections_per_client.
     Counter& connections_refused;
 

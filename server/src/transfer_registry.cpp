@@ -121,6 +121,7 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::load_stored(const std::st
 
 std::shared_ptr<const SceneTransfer> TransferRegistry::bake(const std::string& id,
                                                             const FrameRequest& request, int rays) {
+    const InProgress in_progress(metrics_.transfers_in_progress);
     const auto start = std::chrono::steady_clock::now();
     TransferBakeOptions options;
     options.bounce = request.bounce;
