@@ -34,34 +34,6 @@ using oer::server::ProblemKind;
 
 namespace {
 
-// Numbers within rel of each other (relative to the larger magnitude), everything else equal.
-void expect_json_near(const Json& got, const Json& expected, double rel, const std::string& where) {
-    if (got.is_number() && expected.is_number()) {
-        const double a = got.get<double>(), b = expected.get<double>();
-        EXPECT_LE(std::abs(a - b), rel * std::max(std::abs(a), std::abs(b)) + 1e-12)
-            << where << ": " << a << " vs " << b;
-        return;
-    }
-    ASSERT_EQ(got.type(), expected.type())
-        << where << ": " << got.dump() << " vs " << expected.dump();
-    if (got.is_object()) {
-        for (const auto& [key, value] : expected.items()) {
-            ASSERT_TRUE(got.contains(key)) << where << " lacks " << key;
-            expect_json_near(got.at(key), value, rel, where + "/" + key);
-        }
-        for (const auto& [key, value] : got.items()) {
-            EXPECT_TRUE(expected.contains(key)) << where << " has unexpected " << key;
-        }
-    } else if (got.is_array()) {
-        ASSERT_EQ(got.size(), expected.size()) << where;
-        for (std::size_t i = 0; i < got.size(); ++i) {
-            expect_json_near(got[i], expected[i], rel, where + "/" + std::to_string(i));
-        }
-    } else {
-        EXPECT_EQ(got, expected) << where;
-    }
-}
-
 ShRgb sh_of(const Json& coefficients) {
     const int order = int(std::lround(std::sqrt(double(coefficients.size()))));
     ShRgb sh(order);
@@ -276,6 +248,11 @@ TEST_F(Endpoints, MetricsAreValidPrometheusTextCountingRequestsAndCaches) {
     })) << "the transfer cache's series are not there from the first scrape";
     EXPECT_EQ(after.sum("oer_render_queue_depth"), 0.0);
     EXPECT_EQ(after.sum("oer_render_workers_ready"), 1.0);
+    // Each gauge went up and back down around its computation (the process tests see it up).
+    for (const char* computation : {"rig", "specular", "transfer"}) {
+        EXPECT_EQ(after.sum("oer_computations_in_progress", {{"computation", computation}}), 0.0)
+            << computation;
+    }
 
     const std::map<std::string, std::string> families = {
         {"oer_http_requests_total", "counter"}, {"oer_http_request_seconds", "histogram"},
@@ -283,7 +260,7 @@ TEST_F(Endpoints, MetricsAreValidPrometheusTextCountingRequestsAndCaches) {
         {"oer_rigs_computed_total", "counter"}, {"oer_cache_hits_total", "counter"},
         {"oer_cache_misses_total", "counter"},  {"oer_render_queue_depth", "gauge"},
         {"oer_render_workers_ready", "gauge"},  {"oer_transfers_computed_total", "counter"},
-        {"oer_transfer_seconds", "histogram"}};
+        {"oer_transfer_seconds", "histogram"},  {"oer_computations_in_progress", "gauge"}};
     for (const auto& [family, type] : families) {
         EXPECT_EQ(after.types.count(family) ? after.types.at(family) : "<absent>", type) << family;
     }

@@ -1,6 +1,7 @@
 #include "http_support.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -13,6 +14,8 @@
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
+
+#include <glm/vec2.hpp>
 
 #include "json_schema.hpp"
 #include "oer/image/image_io.hpp"
@@ -240,6 +243,33 @@ void expect_problem(const std::string& method, const std::string& route,
     EXPECT_FALSE(body.value("detail", std::string()).empty()) << "no detail: " << body.dump();
     if (parameter) {
         EXPECT_EQ(body.value("parameter", std::string("<absent>")), *parameter) << body.dump();
+    }
+}
+
+void expect_json_near(const Json& got, const Json& expected, double rel, const std::string& where) {
+    if (got.is_number() && expected.is_number()) {
+        const double a = got.get<double>(), b = expected.get<double>();
+        EXPECT_LE(std::abs(a - b), rel * std::max(std::abs(a), std::abs(b)) + 1e-12)
+            << where << ": " << a << " vs " << b;
+        return;
+    }
+    ASSERT_EQ(got.type(), expected.type())
+        << where << ": " << got.dump() << " vs " << expected.dump();
+    if (got.is_object()) {
+        for (const auto& [key, value] : expected.items()) {
+            ASSERT_TRUE(got.contains(key)) << where << " lacks " << key;
+            expect_json_near(got.at(key), value, rel, where + "/" + key);
+        }
+        for (const auto& [key, value] : got.items()) {
+            EXPECT_TRUE(expected.contains(key)) << where << " has unexpected " << key;
+        }
+    } else if (got.is_array()) {
+        ASSERT_EQ(got.size(), expected.size()) << where;
+        for (std::size_t i = 0; i < got.size(); ++i) {
+            expect_json_near(got[i], expected[i], rel, where + "/" + std::to_string(i));
+        }
+    } else {
+        EXPECT_EQ(got, expected) << where;
     }
 }
 
@@ -485,6 +515,7 @@ namespace {
 
 struct BoxGeometry {
     std::vector<glm::vec3> positions, normals;
+    std::vector<glm::vec2> texcoords;  // each face the whole texture
     std::vector<std::uint32_t> indices;
 };
 
@@ -501,6 +532,7 @@ BoxGeometry box_geometry(glm::dvec3 low_d, glm::dvec3 high_d) {
         for (const auto& [a, b] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
             box.positions.push_back(centre + half * (n + float(a) * u + float(b) * v));
             box.normals.push_back(n);
+            box.texcoords.emplace_back(float(a + 1) * 0.5f, float(b + 1) * 0.5f);
         }
         box.indices.insert(box.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
     }
@@ -531,56 +563,71 @@ std::string box_obj(glm::dvec3 low, glm::dvec3 high) {
     return out.str();
 }
 
-std::string box_glb(glm::dvec3 low, glm::dvec3 high) {
+std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint8_t>& png) {
     const BoxGeometry box = box_geometry(low, high);
     std::string bin;
     const auto append = [&bin](const void* data, std::size_t size) {
         bin.append(static_cast<const char*>(data), size);
+        while (bin.size() % 4 != 0) {
+            bin += '\0';
+        }
     };
-    append(box.positions.data(), box.positions.size() * sizeof(glm::vec3));
-    append(box.normals.data(), box.normals.size() * sizeof(glm::vec3));
-    append(box.indices.data(), box.indices.size() * sizeof(std::uint32_t));
-    const std::size_t vertex_bytes = box.positions.size() * sizeof(glm::vec3);
-    const Json gltf = {
-        {"asset", {{"version", "2.0"}}},
-        {"scene", 0},
-        {"scenes", {{{"nodes", {0}}}}},
-        {"nodes", {{{"mesh", 0}}}},
-        {"meshes",
-         {{{"primitives",
-            {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"mode", 4}}}}}}},
-        {"buffers", {{{"byteLength", bin.size()}}}},
-        {"bufferViews",
-         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", vertex_bytes}, {"target", 34962}},
-          {{"buffer", 0},
-           {"byteOffset", vertex_bytes},
-           {"byteLength", vertex_bytes},
-           {"target", 34962}},
-          {{"buffer", 0},
-           {"byteOffset", 2 * vertex_bytes},
-           {"byteLength", box.indices.size() * 4},
-           {"target", 34963}}}},
-        {"accessors",
-         {{{"bufferView", 0},
-           {"componentType", 5126},
-           {"count", box.positions.size()},
-           {"type", "VEC3"},
-           {"min", {low.x, low.y, low.z}},
-           {"max", {high.x, high.y, high.z}}},
-          {{"bufferView", 1},
-           {"componentType", 5126},
-           {"count", box.normals.size()},
-           {"type", "VEC3"}},
-          {{"bufferView", 2},
-           {"componentType", 5125},
-           {"count", box.indices.size()},
-           {"type", "SCALAR"}}}}};
+    Json views = Json::array();
+    const auto view = [&](const void* data, std::size_t size, std::optional<int> target) {
+        Json entry = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", size}};
+        if (target) {
+            entry["target"] = *target;
+        }
+        append(data, size);
+        views.push_back(entry);
+        return int(views.size()) - 1;
+    };
+    const int positions =
+        view(box.positions.data(), box.positions.size() * sizeof(glm::vec3), 34962);
+    const int normals = view(box.normals.data(), box.normals.size() * sizeof(glm::vec3), 34962);
+    const int indices = view(box.indices.data(), box.indices.size() * sizeof(std::uint32_t), 34963);
+    Json attributes = {{"POSITION", 0}, {"NORMAL", 1}};
+    Json accessors = {{{"bufferView", positions},
+                       {"componentType", 5126},
+                       {"count", box.positions.size()},
+                       {"type", "VEC3"},
+                       {"min", {low.x, low.y, low.z}},
+                       {"max", {high.x, high.y, high.z}}},
+                      {{"bufferView", normals},
+                       {"componentType", 5126},
+                       {"count", box.normals.size()},
+                       {"type", "VEC3"}},
+                      {{"bufferView", indices},
+                       {"componentType", 5125},
+                       {"count", box.indices.size()},
+                       {"type", "SCALAR"}}};
+    Json primitive = {{"attributes", attributes}, {"indices", 2}, {"mode", 4}};
+    Json gltf = {{"asset", {{"version", "2.0"}}},
+                 {"scene", 0},
+                 {"scenes", {{{"nodes", {0}}}}},
+                 {"nodes", {{{"mesh", 0}}}}};
+    if (!png.empty()) {
+        const int texcoords =
+            view(box.texcoords.data(), box.texcoords.size() * sizeof(glm::vec2), 34962);
+        accessors.push_back({{"bufferView", texcoords},
+                             {"componentType", 5126},
+                             {"count", box.texcoords.size()},
+                             {"type", "VEC2"}});
+        primitive["attributes"]["TEXCOORD_0"] = 3;
+        primitive["material"] = 0;
+        gltf["materials"] = {{{"pbrMetallicRoughness",
+                               {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.0}}}}};
+        gltf["textures"] = {{{"source", 0}}};
+        gltf["images"] = {{{"bufferView", view(png.data(), png.size(), std::nullopt)},
+                           {"mimeType", "image/png"}}};
+    }
+    gltf["meshes"] = {{{"primitives", {primitive}}}};
+    gltf["accessors"] = accessors;
+    gltf["bufferViews"] = views;
+    gltf["buffers"] = {{{"byteLength", bin.size()}}};
     std::string json = gltf.dump();
     while (json.size() % 4 != 0) {
         json += ' ';
-    }
-    while (bin.size() % 4 != 0) {
-        bin += '\0';
     }
     std::string glb;
     const auto word = [&glb](std::uint32_t value) {

@@ -81,6 +81,10 @@ void expect_problem(const std::string& method, const std::string& route,
                     const httplib::Result& result, server::ProblemKind kind,
                     const std::optional<std::string>& parameter = std::nullopt);
 
+// Numbers within rel of each other (relative to the larger magnitude), everything else equal,
+// members and elements alike; where names the document in failures.
+void expect_json_near(const Json& got, const Json& expected, double rel, const std::string& where);
+
 // Prometheus text: every sample as name{labels} -> value.
 struct Sample {
     std::string name;
@@ -138,8 +142,10 @@ std::string exr_bytes(const HdrImage& image);
 std::string hdr_bytes(const HdrImage& image);  // Radiance RGBE, through a temporary file
 // An axis-aligned box as OBJ text: positions, flat normals, 12 triangles, no material.
 std::string box_obj(glm::dvec3 low, glm::dvec3 high);
-// The same box as a binary glTF (positions, normals, indices; one primitive, no material).
-std::string box_glb(glm::dvec3 low, glm::dvec3 high);
+// The same box as a binary glTF (positions, normals, indices; one primitive, no material), or,
+// given a PNG's bytes, with texture coordinates and a dielectric material whose base colour is
+// that image, embedded (each face shows all of it).
+std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint8_t>& png = {});
 // A square grid of n x n quads on y = 0 (2 n^2 triangles) as OBJ text: about 45 n^2 bytes, for
 // uploads and transfer bakes that take a while.
 std::string grid_obj(int n);

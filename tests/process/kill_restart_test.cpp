@@ -1,0 +1,515 @@
+// kill -9 and a restart on the same data folder: nothing the server acknowledged is lost and
+// nothing damaged is served. The server is killed while an upload's body arrives, while a map is
+// preprocessed, while a frame makes a specular cube and bakes a scene's transfer, and while a
+// mesh is written to the store, each a few times at different moments; the moments are found by
+// watching the server (its oer_computations_in_progress gauge, inotify on its store), never by
+// guessing a delay. After every restart each rig, mesh and frame that was answered 200 or 201
+// before is served the same (the same JSON, the same frame bytes and ETag), no temporary file of an
+// interrupted write is left, and what was never acknowledged is unknown (404) or, uploaded or drawn
+// again, computed as an uninterrupted server computes it. (tests/integration/store_test.cpp and
+// tests/server/asset_store_test.cpp cover restarts after a clean stop, damaged entries and leftover
+// temporary files in-process.)
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/inotify.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <optional>
+#include <random>
+#include <thread>
+
+#include "http_support.hpp"
+#include "oer/api/content_id.hpp"
+#include "oer/api/mesh_json.hpp"
+#include "oer/api/rig_json.hpp"
+#include "oer/api/rig_options.hpp"
+#include "oer/image/image_encoding.hpp"
+#include "oer/image/image_io.hpp"
+#include "oer/lighting/rig.hpp"
+#include "oer/mesh/material_spheres.hpp"
+#include "oer/mesh/mesh_loading.hpp"
+#include "server_process.hpp"
+
+using namespace oer;
+using namespace oer::itest;
+using namespace oer::ptest;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Where in a computation a kill lands: at its start, half way, near its end (fractions of how
+// long an uninterrupted one took).
+constexpr double kMoments[] = {0.0, 0.5, 0.9};
+
+// A map whose preprocessing takes long enough to be killed at several moments (0.85 s measured
+// on 2 cores at a load of 10) and whose upload stays small (the discs compress well).
+constexpr int kLargeMapWidth = 2048;
+
+// The material spheres (oer/mesh/material_spheres.hpp) at their default 32 rings: 21 k
+// vertices, whose scene transfer takes a second or two to bake at the test servers' smallest
+// budget of 64 rays a point (2.1 s measured on 2 cores at a load of 10).
+constexpr int kSceneRings = 32;
+// The side of the noise texture of the boxes written to the store: a 15 MB file (noise does not
+// compress), whose write and flush last long enough to be interrupted, while the mesh is a box,
+// quick to load and draw.
+constexpr int kTextureSide = 2048;
+
+// A box whose base colour is a texture of noise from seed, as a binary glTF.
+std::string textured_box(unsigned seed) {
+    Rgba8Image noise;
+    noise.width = noise.height = kTextureSide;
+    noise.pixels.resize(std::size_t(kTextureSide) * kTextureSide * 4);
+    std::mt19937 random(seed);
+    for (std::size_t i = 0; i < noise.pixels.size(); i += 4) {
+        const std::uint32_t bits = random();
+        std::memcpy(&noise.pixels[i], &bits, 3);
+        noise.pixels[i + 3] = 255;
+    }
+    return box_glb({-0.5, 0, -0.5}, {0.5, 1, 0.5}, encode_png(noise));
+}
+
+std::string_view as_text(const std::vector<std::byte>& bytes) {
+    return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
+std::chrono::milliseconds since(Clock::time_point start) {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
+}
+
+// An upload or a frame answered before the kill.
+struct Acknowledged {
+    std::map<std::string, Json> rigs;    // id -> the upload's answer, "cached" removed
+    std::map<std::string, Json> meshes;  // id -> the upload's answer, "cached" removed
+    struct Frame {
+        Json request;
+        std::string etag;
+        std::string body;
+    };
+    std::vector<Frame> frames;
+
+    void add_rig(Json answer) {
+        answer.erase("cached");
+        const std::string id = answer.at("id");
+        rigs[id] = std::move(answer);
+    }
+    void add_mesh(Json answer) {
+        answer.erase("cached");
+        const std::string id = answer.at("id");
+        meshes[id] = std::move(answer);
+    }
+};
+
+// A small frame of one object; occlusion off keeps dense meshes from needing a transfer bake.
+Json frame_request(const std::string& environment, const std::string& mesh, bool occlusion) {
+    return {{"environment", environment},
+            {"objects", {{{"mesh", mesh}}}},
+            {"width", 64},
+            {"height", 48},
+            {"samples", 1},
+            {"shadows", {{"resolution", 256}}},
+            {"occlusion", occlusion},
+            {"format", "png"}};
+}
+
+// An answer kept past its connection: the status (0 without an answer), ETag and body.
+struct Answer {
+    int status = 0;
+    std::string etag;
+    std::string body;
+};
+
+Answer answer_of(const httplib::Result& result) {
+    if (!result) {
+        return {};
+    }
+    return {result->status, result->get_header_value("ETag"), result->body};
+}
+
+Answer render(const ServerProcess& server, const Json& request) {
+    return answer_of(post_json(*server.client(), "/v1/render", request));
+}
+
+// Every acknowledged rig, mesh and frame is served as it was answered.
+void expect_served(const ServerProcess& server, const Acknowledged& acknowledged) {
+    auto client = server.client();
+    for (const auto& [id, rig] : acknowledged.rigs) {
+        const auto result = client->Get(("/v1/environments/" + id).c_str());
+        ASSERT_TRUE(result && result->status == 200) << "rig " << id << " is lost";
+        // Equal with its timings: read back, not recomputed.
+        EXPECT_EQ(Json::parse(result->body), rig) << "rig " << id << " changed";
+    }
+    for (const auto& [id, mesh] : acknowledged.meshes) {
+        const auto result = client->Get(("/v1/meshes/" + id).c_str());
+        ASSERT_TRUE(result && result->status == 200) << "mesh " << id << " is lost";
+        EXPECT_EQ(Json::parse(result->body), mesh) << "mesh " << id << " changed";
+    }
+    for (const Acknowledged::Frame& frame : acknowledged.frames) {
+        const Answer again = render(server, frame.request);
+        ASSERT_EQ(again.status, 200) << frame.request.dump();
+        EXPECT_EQ(again.etag, frame.etag) << frame.request.dump();
+        EXPECT_TRUE(again.body == frame.body) << "the frame differs: " << frame.request.dump();
+    }
+}
+
+// Polls until the computation's gauge is up; false after the deadline.
+bool computation_started(const ServerProcess& server, const std::string& computation) {
+    return eventually(
+        [&] {
+            return admin_metric(server, "oer_computations_in_progress",
+                                {{"computation", computation}}) >= 1.0;
+        },
+        std::chrono::seconds(60));
+}
+
+class KillRestart : public ::testing::Test {
+  protected:
+    void start(const fs::path& data) {
+        server_.reset();
+        server_ = std::make_unique<ServerProcess>(ServerLaunch(data, root_.root()));
+    }
+
+    // After a kill -9: a server on the same data folder that serves everything acknowledged,
+    // whose store removed (and logged) any temporary file the killed write left.
+    void restart() {
+        const bool leftovers = !temporary_files(root_.data()).empty();
+        start(root_.data());
+        if (::testing::Test::HasFatalFailure()) {
+            return;
+        }
+        EXPECT_EQ(temporary_files(root_.data()), std::vector<fs::path>{});
+        EXPECT_EQ(server_->log().find("left by an interrupted write") != std::string::npos,
+                  leftovers)
+            << "the store's start-up and the temporary files left disagree";
+        expect_served(*server_, acknowledged_);
+    }
+
+    void acknowledge_frame(const Json& request) {
+        const Answer frame = render(*server_, request);
+        ASSERT_EQ(frame.status, 200) << request.dump();
+        acknowledged_.frames.push_back({request, frame.etag, frame.body});
+    }
+
+    TempRoot root_;
+    Acknowledged acknowledged_;
+    std::unique_ptr<ServerProcess> server_;
+};
+
+}  // namespace
+
+TEST_F(KillRestart, DuringAnUploadsBody) {
+    start(root_.data());
+    ASSERT_FALSE(HasFatalFailure());
+    auto client = server_->client();
+    acknowledged_.add_rig(upload_environment(
+        *client, exr_bytes(three_disc_environment(128, 64).image), "image/x-exr", "light_count=3"));
+    acknowledged_.add_mesh(
+        upload_mesh(*client, box_obj({-0.5, 0, -0.5}, {0.5, 1, 0.5}), "model/obj"));
+    ASSERT_FALSE(HasFatalFailure());
+    acknowledge_frame(frame_request(acknowledged_.rigs.begin()->first,
+                                    acknowledged_.meshes.begin()->first, true));
+
+    const std::string map = exr_bytes(three_disc_environment(192, 96).image);
+    const std::string map_id = api::sha256_hex(map);
+    const std::string rig_id = api::rig_id(map_id, api::parse_rig_options({{"light_count", "2"}}));
+    for (const std::size_t sent : {std::size_t(0), map.size() / 2, map.size() - 1}) {
+        SCOPED_TRACE(std::to_string(sent) + " of the body's " + std::to_string(map.size()) +
+                     " bytes sent");
+        RawSocket socket(server_->port());
+        ASSERT_TRUE(socket.ok());
+        ASSERT_TRUE(
+            socket.send_all("POST /v1/environments?light_count=2 HTTP/1.1\r\n"
+                            "Host: 127.0.0.1\r\nContent-Type: image/x-exr\r\n"
+                            "Content-Length: " +
+                            std::to_string(map.size()) + "\r\n\r\n" + map.substr(0, sent)));
+        // The server waits for the rest: it has not answered.
+        EXPECT_EQ(socket.receive(std::chrono::milliseconds(200)), std::string());
+        server_->kill();
+        restart();
+        ASSERT_FALSE(HasFatalFailure());
+        expect_problem("GET", "/v1/environments/{id}",
+                       server_->client()->Get(("/v1/environments/" + rig_id).c_str()),
+                       server::ProblemKind::UnknownId);
+        for (const auto& entry : fs::directory_iterator(root_.data() / "environments")) {
+            EXPECT_FALSE(entry.path().filename().string().starts_with(map_id)) << entry.path();
+        }
+    }
+    EXPECT_EQ(server_->stop(), 0);
+}
+
+TEST_F(KillRestart, DuringPreprocessingSlow) {
+    start(root_.data());
+    ASSERT_FALSE(HasFatalFailure());
+    const std::string map =
+        exr_bytes(three_disc_environment(kLargeMapWidth, kLargeMapWidth / 2).image);
+    const std::string map_id = api::sha256_hex(map);
+    const auto started = Clock::now();
+    acknowledged_.add_rig(
+        upload_environment(*server_->client(), map, "image/x-exr", "light_count=4"));
+    const auto duration = since(started);
+    ASSERT_FALSE(HasFatalFailure());
+    acknowledge_frame(frame_request(acknowledged_.rigs.begin()->first, "default", true));
+    std::cerr << "preprocessing a " << kLargeMapWidth << "x" << kLargeMapWidth / 2 << " map took "
+              << duration.count() << " ms\n";
+
+    // Each kill with other options (another rig of the same map), so that none is cached.
+    const LoadedImage loaded =
+        load_image_memory(std::as_bytes(std::span(map.data(), map.size())), "map.exr");
+    int killed_while_computing = 0;
+    for (int lights = 1; lights <= int(std::size(kMoments)); ++lights) {
+        const double moment = kMoments[lights - 1];
+        SCOPED_TRACE("killed at " + std::to_string(moment) + " of the preprocessing time");
+        const std::string query = "light_count=" + std::to_string(lights);
+        const RigOptions options =
+            api::parse_rig_options({{"light_count", std::to_string(lights)}});
+        const std::string rig_id = api::rig_id(map_id, options);
+
+        Answer answer;
+        std::thread upload([&, client = server_->client()] {
+            answer =
+                answer_of(client->Post(("/v1/environments?" + query).c_str(), map, "image/x-exr"));
+        });
+        const bool computing = computation_started(*server_, "rig");
+        std::this_thread::sleep_for(duration * moment);
+        const bool still_computing =
+            admin_metric(*server_, "oer_computations_in_progress", {{"computation", "rig"}}) >= 1;
+        server_->kill();
+        upload.join();
+        ASSERT_TRUE(computing) << "the rig's preprocessing never started";
+        killed_while_computing += still_computing;
+        if (answer.status == 200 || answer.status == 201) {
+            acknowledged_.add_rig(Json::parse(answer.body));
+        }
+        restart();
+        ASSERT_FALSE(HasFatalFailure());
+
+        // Unknown, or (had it been stored whole) the rig of the map; uploaded again, the rig of
+        // the map, as the library computes it.
+        Json expected = api::rig_to_json(build_rig(loaded, options), rig_id);
+        expected.erase("timings_ms");
+        auto client = server_->client();
+        const auto lookup = client->Get(("/v1/environments/" + rig_id).c_str());
+        ASSERT_TRUE(lookup);
+        std::cerr << "killed at " << moment << " of the preprocessing time: while computing "
+                  << still_computing << ", answered " << answer.status
+                  << ", its rig after the restart " << lookup->status << "\n";
+        if (lookup->status != 404) {
+            Json rig = expect_conforms("GET", "/v1/environments/{id}", lookup);
+            ASSERT_TRUE(rig.is_object());
+            rig.erase("timings_ms");
+            expect_json_near(rig, expected, 1e-9, "rig read after the kill");
+        }
+        Json again = upload_environment(*client, map, "image/x-exr", query);
+        ASSERT_TRUE(again.is_object());
+        EXPECT_EQ(again.at("id"), rig_id);
+        acknowledged_.add_rig(again);
+        again.erase("cached");
+        again.erase("timings_ms");
+        expect_json_near(again, expected, 1e-9, "rig uploaded again");
+        acknowledge_frame(frame_request(rig_id, "default", true));
+    }
+    // The gauge said so just before the kill (the last moment may fall after the end).
+    EXPECT_GE(killed_while_computing, 2);
+    EXPECT_EQ(server_->stop(), 0);
+}
+
+TEST_F(KillRestart, DuringAFramesSpecularCubeAndTransferBakeSlow) {
+    // A glossy scene under an uploaded map: its first frame computes the rig's specular cube,
+    // then the scene's transfer. The frame a server that is never killed draws of it, on a data
+    // folder of its own, and how long each computation took there.
+    const std::string map = exr_bytes(three_disc_environment(256, 128).image);
+    const std::string spheres(as_text(material_spheres_glb({.rings = kSceneRings})));
+    Answer reference;
+    std::map<std::string, std::chrono::milliseconds> durations;
+    std::string rig_id;
+    {
+        TempRoot other;
+        start(other.data());
+        ASSERT_FALSE(HasFatalFailure());
+        const Json rig =
+            upload_environment(*server_->client(), map, "image/x-exr", "light_count=3");
+        ASSERT_TRUE(rig.is_object());
+        rig_id = rig.at("id");
+        upload_mesh(*server_->client(), spheres, "model/gltf-binary");
+        const double specular = admin_metric(*server_, "oer_specular_seconds_sum");
+        const double transfer = admin_metric(*server_, "oer_transfer_seconds_sum");
+        reference = render(*server_, frame_request(rig_id, api::sha256_hex(spheres), true));
+        ASSERT_EQ(reference.status, 200);
+        const auto took = [&](const std::string& name, double before) {
+            return std::chrono::milliseconds(
+                std::lround((admin_metric(*server_, name) - before) * 1000.0));
+        };
+        durations["specular"] = took("oer_specular_seconds_sum", specular);
+        durations["transfer"] = took("oer_transfer_seconds_sum", transfer);
+        EXPECT_EQ(server_->stop(), 0);
+        std::cerr << "the scene's specular cube took " << durations["specular"].count()
+                  << " ms, its transfer " << durations["transfer"].count() << " ms\n";
+    }
+    const Json scene = frame_request(rig_id, api::sha256_hex(spheres), true);
+
+    start(root_.data());
+    ASSERT_FALSE(HasFatalFailure());
+    acknowledged_.add_rig(
+        upload_environment(*server_->client(), map, "image/x-exr", "light_count=3"));
+    acknowledged_.add_mesh(upload_mesh(*server_->client(), spheres, "model/gltf-binary"));
+    ASSERT_FALSE(HasFatalFailure());
+    // Under the preset, whose specular cube is made at start-up, and without occlusion: no
+    // computation the kills below aim at.
+    acknowledge_frame(frame_request("default", api::sha256_hex(spheres), false));
+    // The cube first (the frame computes it before the transfer), then the transfer, whose
+    // frames find the cube stored by the first of them.
+    for (const std::string computation : {"specular", "transfer"}) {
+        int killed_while_computing = 0;
+        for (const double moment : kMoments) {
+            SCOPED_TRACE(computation + " killed at " + std::to_string(moment) + " of its time");
+            Answer answer;
+            std::thread frame([&] { answer = render(*server_, scene); });
+            const bool computing = computation_started(*server_, computation);
+            std::this_thread::sleep_for(durations[computation] * moment);
+            const bool still_computing = admin_metric(*server_, "oer_computations_in_progress",
+                                                      {{"computation", computation}}) >= 1;
+            server_->kill();
+            frame.join();
+            killed_while_computing += still_computing;
+            std::cerr << computation << " killed at " << moment << " of its time: while computing "
+                      << still_computing << ", answered " << answer.status << "\n";
+            ASSERT_TRUE(computing) << "the " << computation << " never started";
+            if (answer.status == 200) {
+                acknowledged_.frames.push_back({scene, answer.etag, answer.body});
+                EXPECT_TRUE(answer.body == reference.body);
+            }
+            restart();
+            ASSERT_FALSE(HasFatalFailure());
+        }
+        EXPECT_GE(killed_while_computing, 2) << computation;
+    }
+    // Drawn again after the kills: the frame of the server that was never killed, also after
+    // one more restart (its cube and transfer read back from the store).
+    const Answer again = render(*server_, scene);
+    ASSERT_EQ(again.status, 200);
+    EXPECT_EQ(again.etag, reference.etag);
+    EXPECT_TRUE(again.body == reference.body) << "the frame differs from an uninterrupted one's";
+    acknowledged_.frames.push_back({scene, again.etag, again.body});
+    server_->kill();
+    restart();
+    EXPECT_EQ(server_->stop(), 0);
+}
+
+namespace {
+
+// inotify on one folder: waits for an event of `mask` on a name starting with prefix.
+class FolderWatch {
+  public:
+    FolderWatch(const fs::path& folder, std::uint32_t mask)
+        : fd_(::inotify_init1(IN_CLOEXEC | IN_NONBLOCK)) {
+        EXPECT_GE(fd_, 0) << std::strerror(errno);
+        EXPECT_GE(::inotify_add_watch(fd_, folder.c_str(), mask), 0) << std::strerror(errno);
+    }
+    ~FolderWatch() { ::close(fd_); }
+    FolderWatch(const FolderWatch&) = delete;
+    FolderWatch& operator=(const FolderWatch&) = delete;
+
+    // The name of the first event on a name starting with prefix; nullopt after the deadline.
+    std::optional<std::string> wait(const std::string& prefix, std::chrono::milliseconds within) {
+        const auto deadline = Clock::now() + within;
+        alignas(inotify_event) char buffer[4096];
+        while (Clock::now() < deadline) {
+            pollfd poll_fd{fd_, POLLIN, 0};
+            if (::poll(&poll_fd, 1, 10) <= 0) {
+                continue;
+            }
+            const ssize_t length = ::read(fd_, buffer, sizeof buffer);
+            for (ssize_t at = 0; at < length;) {
+                const auto* event = reinterpret_cast<const inotify_event*>(buffer + at);
+                const std::string name = event->len ? event->name : "";
+                if (name.starts_with(prefix)) {
+                    return name;
+                }
+                at += ssize_t(sizeof(inotify_event) + event->len);
+            }
+        }
+        return std::nullopt;
+    }
+
+  private:
+    int fd_;
+};
+
+}  // namespace
+
+TEST_F(KillRestart, DuringAMeshStoreWriteSlow) {
+    start(root_.data());
+    ASSERT_FALSE(HasFatalFailure());
+    acknowledged_.add_mesh(upload_mesh(*server_->client(), box_glb({-0.5, 0, -0.5}, {0.5, 1, 0.5}),
+                                       "model/gltf-binary"));
+    ASSERT_FALSE(HasFatalFailure());
+    acknowledge_frame(frame_request("default", acknowledged_.meshes.begin()->first, true));
+
+    // The moments of a write (asset_store.cpp, write_atomically): its temporary file made, that
+    // file written and closed, renamed to the entry (before the folder is flushed and the upload
+    // answered).
+    struct Moment {
+        const char* name;
+        std::uint32_t event;
+        bool temporary;  // the event names the temporary file, else the entry
+    };
+    const Moment moments[] = {{"temporary file created", IN_CREATE, true},
+                              {"temporary file closed", IN_CLOSE_WRITE, true},
+                              {"entry renamed into place", IN_MOVED_TO, false}};
+    unsigned seed = 0;
+    for (const Moment& moment : moments) {
+        SCOPED_TRACE(std::string("killed at: ") + moment.name);
+        // Other bytes each time (another texture), so that none is stored already.
+        const std::string mesh = textured_box(++seed);
+        const std::string id = api::sha256_hex(mesh);
+        FolderWatch watch(root_.data() / "meshes", moment.event);
+        Answer answer;
+        std::thread upload([&, client = server_->client()] {
+            answer = answer_of(client->Post("/v1/meshes", mesh, "model/gltf-binary"));
+        });
+        const auto event =
+            watch.wait(moment.temporary ? ".tmp-" + id : id, std::chrono::seconds(60));
+        server_->kill();
+        upload.join();
+        ASSERT_TRUE(event) << "no such event within 60 s";
+        const bool entry_there = fs::exists(root_.data() / "meshes" / (id + ".glb"));
+        // Answered only after the rename (which the last moment waits for), if the answer
+        // outran the kill.
+        if (answer.status == 200 || answer.status == 201) {
+            EXPECT_TRUE(entry_there) << "answered before its entry was in place";
+            acknowledged_.add_mesh(Json::parse(answer.body));
+        }
+        const bool left = !temporary_files(root_.data()).empty();
+        std::cerr << "killed on \"" << moment.name << "\" (" << mesh.size()
+                  << " bytes): temporary file left " << left << ", entry in place " << entry_there
+                  << ", answered " << answer.status << "\n";
+        if (moment.event == IN_CREATE) {
+            EXPECT_TRUE(left) << "the kill came after the write it was meant to interrupt";
+        }
+        restart();
+        ASSERT_FALSE(HasFatalFailure());
+
+        // Unknown, or there whole; uploaded again, the library's mesh of the bytes.
+        const Json expected =
+            api::mesh_to_json(load_mesh_memory(std::as_bytes(std::span(mesh.data(), mesh.size())),
+                                               "mesh.glb", MeshFormat::Glb),
+                              id, MeshFormat::Glb);
+        auto client = server_->client();
+        const auto lookup = client->Get(("/v1/meshes/" + id).c_str());
+        ASSERT_TRUE(lookup);
+        EXPECT_EQ(lookup->status, entry_there ? 200 : 404) << lookup->body;
+        if (lookup->status == 200) {
+            EXPECT_EQ(Json::parse(lookup->body), expected);
+        }
+        Json again = upload_mesh(*client, mesh, "model/gltf-binary");
+        ASSERT_TRUE(again.is_object());
+        EXPECT_EQ(again.at("cached"), entry_there);
+        acknowledged_.add_mesh(again);
+        again.erase("cached");
+        EXPECT_EQ(again, expected);
+        acknowledge_frame(frame_request("default", id, false));
+    }
+    EXPECT_EQ(server_->stop(), 0);
+}
