@@ -1,5 +1,6 @@
 #include "frame_service.hpp"
 
+#include <atomic>
 #include <cstdio>
 
 #include "http_errors.hpp"
@@ -94,7 +95,14 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     }
     auto request = std::make_shared<const FrameRequest>(std::move(frame_request));
 
-    std::future<Frame> pending = pool_.submit([this, request](FrameRenderer& renderer) {
+    // Set once this request stops waiting: a worker that reaches the frame afterwards skips it
+    // rather than render it for nobody (its answer, a 503, has gone already).
+    const auto abandoned = std::make_shared<std::atomic<bool>>(false);
+    std::future<Frame> pending = pool_.submit([this, request, abandoned](FrameRenderer& renderer) {
+        if (abandoned->load()) {
+            metrics_.renders_skipped.increment();
+            return Frame{};  // nobody reads it
+        }
         const auto start = Clock::now();
         Frame frame = renderer.render(*request);
         metrics_.render_seconds.observe(
@@ -102,7 +110,8 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         return frame;
     });
     if (pending.wait_for(deadline_) != std::future_status::ready) {
-        // The worker finishes the frame and drops it; the client may ask again.
+        abandoned->store(true);
+        // A frame already being rendered is finished and dropped; the client may ask again.
         throw unavailable(
             "the frame was not rendered within " + std::to_string(deadline_.count()) + " s",
             kRetryAfterSeconds);

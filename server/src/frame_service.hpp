@@ -2,10 +2,11 @@
 // Frames for POST and GET /v1/render: the encoded frame of a render request, from the LRU of
 // encoded frames (keyed by the request's ETag) when it is there, else rendered by a worker of
 // the pool within the request's deadline and encoded on the calling HTTP thread (so the GL
-// worker moves on to the next frame). A frame whose scene has a glossy material under an hdr
-// rig gets the rig's specular cube (EnvironmentRegistry::specular); any other gets none. A frame
-// with occlusion on gets its scene's transfer (TransferRegistry), baked on the calling thread
-// when neither memory nor the store has it.
+// worker moves on to the next frame); a frame whose request gave up at the deadline is skipped
+// by the worker that reaches it, unless it is already being rendered. A frame whose scene has a
+// glossy material under an hdr rig gets the rig's specular cube (EnvironmentRegistry::specular);
+// any other gets none. A frame with occlusion on gets its scene's transfer (TransferRegistry),
+// baked on the calling thread when neither memory nor the store has it.
 #include <chrono>
 #include <memory>
 #include <string>

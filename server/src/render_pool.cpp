@@ -13,11 +13,12 @@ struct RenderPool::Worker {
 };
 
 RenderPool::RenderPool(int workers, int max_waiting, const FrameLimits& limits,
-                       DepthObserver observer)
+                       DepthObserver observer, RenderAdmission admission)
     : worker_target_(std::max(workers, 1)),
       capacity_(std::size_t(worker_target_) + std::size_t(std::max(max_waiting, 0))),
       limits_(limits),
-      observer_(std::move(observer)) {}
+      observer_(std::move(observer)),
+      admission_(admission) {}
 
 RenderPool::~RenderPool() {
     for (const auto& worker : workers_) {
@@ -75,8 +76,7 @@ std::future<Frame> RenderPool::submit(Job job) {
         throw RendererUnavailable(why.empty() ? "the renderer has not started yet"
                                               : "the renderer could not start: " + why);
     }
-    if (in_flight_.fetch_add(1) >= capacity_) {
-        in_flight_.fetch_sub(1);
+    if (!admit()) {
         throw QueueFull("the render queue is full (" + std::to_string(capacity_) +
                         " frames in flight)");
     }
@@ -84,6 +84,39 @@ std::future<Frame> RenderPool::submit(Job job) {
         workers_.begin(), workers_.end(),
         [](const auto& a, const auto& b) { return a->pending.load() < b->pending.load(); });
     return enqueue(worker, std::move(job));
+}
+
+bool RenderPool::take_place() {
+    std::size_t in_flight = in_flight_.load();
+    while (in_flight < capacity_) {
+        if (in_flight_.compare_exchange_weak(in_flight, in_flight + 1)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+bool RenderPool::admit() {
+    if (take_place()) {
+        return true;
+    }
+    std::unique_lock lock(admission_mutex_);
+    if (admission_.wait <= std::chrono::milliseconds::zero() ||
+        admission_waiters_ >= admission_.max_waiters) {
+        return false;
+    }
+    ++admission_waiters_;
+    const bool admitted =
+        place_freed_.wait_for(lock, admission_.wait, [this] { return take_place(); });
+    --admission_waiters_;
+    return admitted;
+}
+
+void RenderPool::free_place() {
+    in_flight_.fetch_sub(1);
+    // Through the mutex, so that a waiter between its check and its sleep cannot miss this.
+    { const std::lock_guard lock(admission_mutex_); }
+    place_freed_.notify_one();
 }
 
 std::future<Frame> RenderPool::enqueue(Worker& worker, Job job) {
@@ -99,7 +132,7 @@ std::future<Frame> RenderPool::enqueue(Worker& worker, Job job) {
             ~Done() {
                 pool->running_.fetch_sub(1);
                 worker->pending.fetch_sub(1);
-                pool->in_flight_.fetch_sub(1);
+                pool->free_place();
                 pool->notify();
             }
         } done{this, &worker};

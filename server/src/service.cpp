@@ -52,6 +52,13 @@ constexpr std::size_t kMaxHeaderBytes = 64 << 10;
 // The admin listener's threads: probes and scrapes are few and quick.
 constexpr int kAdminThreads = 4;
 
+// How long a render beyond the workers and the queue waits for a place before its 503
+// (render_pool.hpp says why it waits): a client retrying at once then costs two requests a
+// second, not thousands, and a place freed meanwhile is taken.
+constexpr std::chrono::milliseconds kRenderAdmissionWait(500);
+// At most this share of the HTTP threads waits so; the others stay free for everything else.
+constexpr int kRenderAdmissionThreadShare = 2;  // one half
+
 std::string mebibytes(std::uint64_t bytes) {
     std::ostringstream text;
     text << double(bytes) / double(1 << 20) << " MiB";
@@ -161,7 +168,9 @@ void Service::Impl::start() {
     frame_limits.max_height = config.max_frame_height;
     pool = std::make_unique<RenderPool>(
         config.render_workers, config.max_queue_depth, frame_limits,
-        [this](std::size_t waiting) { metrics.render_queue_depth.set(double(waiting)); });
+        [this](std::size_t waiting) { metrics.render_queue_depth.set(double(waiting)); },
+        RenderAdmission{kRenderAdmissionWait, std::size_t(std::max(config.http_threads, 1) /
+                                                          kRenderAdmissionThreadShare)});
     frame_service =
         std::make_unique<FrameService>(environments, meshes, transfers, *pool, frames, metrics,
                                        std::chrono::seconds(config.request_timeout_seconds));

@@ -35,6 +35,9 @@ const char* name_of(CacheName cache) {
 ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
     : render_seconds(registry.histogram(
           "oer_render_seconds", "GL time of one frame on a render worker", kLatencyBucketsSeconds)),
+      renders_skipped(registry.counter(
+          "oer_renders_skipped_total",
+          "Frames not rendered because their request had stopped waiting (its deadline passed)")),
       preprocess_seconds(registry.histogram("oer_preprocess_seconds",
                                             "Time to decode an environment and build its rig",
                                             kLatencyBucketsSeconds)),

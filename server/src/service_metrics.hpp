@@ -34,7 +34,9 @@ class ServiceMetrics {
     void request(const std::string& route, const std::string& method, int status, double seconds);
     void cache(CacheName cache, bool hit);
 
-    Histogram& render_seconds;      // GL time of one frame
+    Histogram& render_seconds;  // GL time of one frame
+    // Frames a worker skipped because their request had stopped waiting (its deadline passed).
+    Counter& renders_skipped;
     Histogram& preprocess_seconds;  // decoding a map and building its rig
     Counter& rigs_computed;         // each rig actually computed, never a cache hit
     Histogram& specular_seconds;    // prefiltering a rig's residual map (specular cube)

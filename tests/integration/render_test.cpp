@@ -508,7 +508,8 @@ TEST(RenderConcurrency, EightClientsAtOnceGetTheFramesTheyWouldGetAlone) {
 }
 
 // One worker and room for one waiting render: of many slow renders sent at once, those over
-// capacity are answered 503 with Retry-After within a second, and every request is answered.
+// capacity are answered 503 with Retry-After within a second (after the pool's half-second
+// admission wait, render_pool.hpp), and every request is answered.
 TEST(RenderBackPressure, RequestsOverCapacityGet503PromptlyAndNoneHang) {
     TempRoot root;
     server::ServiceConfig config = test_config(root.data());
@@ -573,6 +574,76 @@ TEST(RenderBackPressure, RequestsOverCapacityGet503PromptlyAndNoneHang) {
     EXPECT_GE(rendered, 1);
     // At most one rendering and one waiting when the burst arrives.
     EXPECT_GE(refused, kRequests - 3) << rendered << " rendered";
+}
+
+// A request that stops waiting (its deadline passed) takes its frame with it: a worker that
+// reaches the frame afterwards skips it (oer_renders_skipped_total) instead of rendering it for
+// nobody, so that clients who gave up do not cost the ones still waiting. One worker, a 1 s
+// deadline, four frames of seconds each sent at once: the first is rendered (and
+// dropped, it was under way), the three queued behind it are not.
+TEST(RenderDeadline, FramesWhoseRequestGaveUpAreSkipped) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.render_workers = 1;
+    config.max_queue_depth = 4;
+    config.frame_cache_bytes = 0;
+    config.request_timeout_seconds = 1;
+    TestServer server(config);
+    auto metrics_client = server.client();
+    const Metrics before = scrape(*metrics_client);
+    constexpr int kRequests = 4;
+    std::vector<int> statuses(kRequests, 0);
+    std::vector<std::string> retry_after(kRequests);
+    std::vector<std::thread> threads;
+    for (int i = 0; i < kRequests; ++i) {
+        threads.emplace_back([&, i] {
+            auto client = server.client(30);
+            const Json body = {{"environment", "default"},
+                               {"objects", {{{"mesh", "default"}}}},
+                               {"camera", {{"orbit", {{"yaw", 10 * i}}}}},
+                               {"width", 1024},
+                               {"height", 1024},
+                               {"samples", 4},
+                               {"shadows", {{"resolution", 4096}}}};
+            const auto result = post_json(*client, "/v1/render", body);
+            if (result) {
+                statuses[std::size_t(i)] = result->status;
+                retry_after[std::size_t(i)] = result->get_header_value("Retry-After");
+            }
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    int refused = 0;
+    for (int i = 0; i < kRequests; ++i) {
+        ASSERT_TRUE(statuses[std::size_t(i)] == 200 || statuses[std::size_t(i)] == 503)
+            << "request " << i << ": " << statuses[std::size_t(i)];
+        if (statuses[std::size_t(i)] == 503) {
+            ++refused;
+            EXPECT_EQ(retry_after[std::size_t(i)], "1");
+        }
+    }
+    // A frame of 1024x1024 pixels at 4 samples takes seconds on llvmpipe: every request gives up.
+    ASSERT_GE(refused, kRequests - 1) << "the frames were rendered within the 1 s deadline";
+    const auto rendered_and_skipped = [&] {
+        const Metrics now = scrape(*metrics_client);
+        return std::pair(
+            now.sum("oer_render_seconds_count") - before.sum("oer_render_seconds_count"),
+            now.sum("oer_renders_skipped_total") - before.sum("oer_renders_skipped_total"));
+    };
+    ASSERT_TRUE(eventually(
+        [&] {
+            const auto [rendered, skipped] = rendered_and_skipped();
+            return rendered + skipped == kRequests;
+        },
+        std::chrono::seconds(120)))
+        << "the worker did not get through the four frames";
+    const auto [rendered, skipped] = rendered_and_skipped();
+    // Only a frame already under way when its request gave up is rendered for nobody (one
+    // worker: at most one), and those answered 200.
+    EXPECT_LE(rendered, double(kRequests - refused + 1));
+    EXPECT_GE(skipped, double(refused - 1));
 }
 
 namespace {

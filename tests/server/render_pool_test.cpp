@@ -72,6 +72,71 @@ TEST(RenderPool, RefusesJobsBeyondTheWorkersAndTheQueueAtOnce) {
     EXPECT_NO_THROW(pool.submit(blocking_job(release, started)).get());
 }
 
+// Over capacity, a job waits for a place as the admission allows: it takes one freed within
+// the wait, is refused when none is, and is refused at once when as many jobs wait already.
+TEST(RenderPool, AJobOverCapacityTakesAPlaceFreedWithinTheWait) {
+    using namespace std::chrono_literals;
+    RenderPool pool(1, 0, FrameLimits{}, {}, {10s, 4});
+    pool.start(no_frame);
+    std::promise<void> gate;
+    const std::shared_future<void> release = gate.get_future().share();
+    std::atomic<int> started{0};
+    auto first = pool.submit(blocking_job(release, started));
+    ASSERT_TRUE(eventually([&] { return started == 1; }));
+
+    std::atomic<bool> submitted{false};
+    std::thread second([&] {
+        pool.submit(no_frame).get();
+        submitted = true;
+    });
+    std::this_thread::sleep_for(200ms);
+    EXPECT_FALSE(submitted) << "a job over capacity was taken before a place was free";
+    const auto freed = std::chrono::steady_clock::now();
+    gate.set_value();
+    first.get();
+    second.join();
+    EXPECT_TRUE(submitted);
+    EXPECT_LT(std::chrono::steady_clock::now() - freed, 5s) << "it waited for the whole wait";
+}
+
+TEST(RenderPool, AJobOverCapacityIsRefusedAfterTheWait) {
+    using namespace std::chrono_literals;
+    RenderPool pool(1, 1, FrameLimits{}, {}, {300ms, 4});
+    pool.start(no_frame);
+    std::promise<void> gate;
+    const std::shared_future<void> release = gate.get_future().share();
+    std::atomic<int> started{0};
+    auto running = pool.submit(blocking_job(release, started));
+    auto queued = pool.submit(blocking_job(release, started));
+    const auto before = std::chrono::steady_clock::now();
+    EXPECT_THROW(pool.submit(no_frame), QueueFull);
+    const auto waited = std::chrono::steady_clock::now() - before;
+    EXPECT_GE(waited, 300ms);
+    EXPECT_LT(waited, 3s);
+    gate.set_value();
+    running.get();
+    queued.get();
+}
+
+TEST(RenderPool, BeyondTheWaitersTheRefusalIsAtOnce) {
+    using namespace std::chrono_literals;
+    RenderPool pool(1, 0, FrameLimits{}, {}, {10s, 1});
+    pool.start(no_frame);
+    std::promise<void> gate;
+    const std::shared_future<void> release = gate.get_future().share();
+    std::atomic<int> started{0};
+    auto running = pool.submit(blocking_job(release, started));
+    ASSERT_TRUE(eventually([&] { return started == 1; }));
+    std::thread waiter([&] { pool.submit(no_frame).get(); });  // the one waiter allowed
+    std::this_thread::sleep_for(200ms);
+    const auto before = std::chrono::steady_clock::now();
+    EXPECT_THROW(pool.submit(no_frame), QueueFull);
+    EXPECT_LT(std::chrono::steady_clock::now() - before, 2s);
+    gate.set_value();
+    running.get();
+    waiter.join();  // took the place the running job freed
+}
+
 TEST(RenderPool, AFailingJobFreesItsPlace) {
     RenderPool pool(1, 0, FrameLimits{});
     pool.start(no_frame);
