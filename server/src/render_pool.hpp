@@ -1,10 +1,11 @@
 #pragma once
 // The render workers: one RenderThread (one GL context) and one FrameRenderer each, made and
-// used on that thread only. HTTP threads submit jobs and wait on the future with their own
-// deadline. The number of jobs in flight is bounded (every worker busy plus max_waiting
-// queued), so that a burst of requests never makes an ever longer queue. A job beyond it waits
-// for a place at most RenderAdmission::wait (taking the first that a finished job frees), and is
-// then refused: submit() throws QueueFull, answered 503 with Retry-After.
+// used on that thread only, 10 below the HTTP threads' priority (nice). HTTP threads submit jobs
+// and wait on the future with their own deadline. The number of jobs in flight is bounded (every
+// worker busy plus max_waiting queued), so that a burst of requests never makes an ever longer
+// queue. A job beyond it waits for a place at most RenderAdmission::wait (taking the first that a
+// finished job frees), and is then refused: submit() throws QueueFull, answered 503 with
+// Retry-After.
 //
 // Why wait before refusing (issue 14, measured by tests/integration/load_test.cpp): a client
 // that retries a refusal at once, as load generators and impatient scripts do, gets refusals as

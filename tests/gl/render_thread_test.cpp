@@ -8,6 +8,7 @@
 #include <GL/glcorearb.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -19,6 +20,14 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
 
 #include "oer/core/error.hpp"
 #include "oer/gl/render_thread.hpp"
@@ -50,8 +59,56 @@ std::uint32_t clear_and_read(int r, int g, int b) {
            std::uint32_t(pixel[2]) << 8 | pixel[3];
 }
 
+// The ids of this process's threads.
+std::set<pid_t> thread_ids() {
+    std::set<pid_t> ids;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task")) {
+        ids.insert(pid_t(std::stol(entry.path().filename().string())));
+    }
+    return ids;
+}
+
+// A thread's nice value and name, from /proc/self/task/ID/stat (proc(5): the name in
+// parentheses is field 2, nice field 19).
+std::pair<int, std::string> nice_and_name(pid_t id) {
+    std::ifstream in("/proc/self/task/" + std::to_string(id) + "/stat");
+    const std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t open = stat.find('('), close = stat.rfind(')');
+    std::istringstream fields(stat.substr(close + 2));  // from field 3 on
+    std::string field;
+    for (int i = 3; i <= 19; ++i) {
+        fields >> field;
+    }
+    return {std::stoi(field), stat.substr(open + 1, close - open - 1)};
+}
+
 std::uint32_t packed(int r, int g, int b) {
     return std::uint32_t(r) << 24 | std::uint32_t(g) << 16 | std::uint32_t(b) << 8 | 255u;
+}
+
+// Makes a render thread with a nice increment of 5 and draws with it; 0 when its jobs and every
+// thread started with it run at least 5 below this one (or at 19, the lowest), llvmpipe's
+// rasterizers among them, else 1. Each thread is named on stderr with its nice value.
+int nice_render_thread_check() {
+    const int base = ::getpriority(PRIO_PROCESS, id_t(::gettid()));
+    const int lowered_nice = std::min(base + 5, 19);  // the kernel's lowest
+    const std::set<pid_t> before = thread_ids();
+    RenderThread render(5);
+    const int job_nice =
+        render.submit([] { return ::getpriority(PRIO_PROCESS, id_t(::gettid())); }).get();
+    const std::uint32_t pixel = render.submit([] { return clear_and_read(10, 20, 30); }).get();
+    std::cerr << "jobs at nice " << job_nice << ", the test at " << base << "\n";
+    bool lowered = job_nice == lowered_nice && pixel == packed(10, 20, 30);
+    int rasterizers = 0;
+    for (const pid_t id : thread_ids()) {
+        if (before.count(id) == 0) {
+            const auto [nice, name] = nice_and_name(id);
+            std::cerr << name << " at nice " << nice << "\n";
+            lowered = lowered && nice >= lowered_nice;
+            rasterizers += name.rfind("llvmpipe-", 0) == 0 && nice == lowered_nice;
+        }
+    }
+    return lowered && rasterizers >= 1 ? 0 : 1;
 }
 
 }  // namespace
@@ -223,4 +280,26 @@ TEST(RenderThreadDeathTest, ConstructorRethrowsACreationFailure) {
             std::exit(1);
         },
         testing::ExitedWithCode(0), "no headless OpenGL");
+}
+
+// A render thread made with a nice increment runs its jobs below its creator, and so do the
+// threads the driver starts for its context (llvmpipe's rasterizers, named llvmpipe-N, and
+// helpers that keep the render thread's name), which inherit it; Mesa's shader-cache thread
+// lowers itself further, to 19. In a process of its own (the death test's threadsafe style runs
+// the test again in a new one), since the driver starts its threads with the process's first
+// context and shares them after.
+TEST(RenderThreadDeathTest, ANiceIncrementLowersItAndTheThreadsTheDriverStarts) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    EXPECT_EXIT(std::_Exit(nice_render_thread_check()), testing::ExitedWithCode(0), "");
+}
+
+TEST(RenderThread, ANiceIncrementOutsideZeroToNineteenIsRefused) {
+    try {
+        RenderThread render(20);
+        ADD_FAILURE() << "a nice increment of 20 was taken";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
+        EXPECT_NE(std::string(error.what()).find("0..19"), std::string::npos) << error.what();
+    }
+    EXPECT_THROW(RenderThread(-1), Error);
 }

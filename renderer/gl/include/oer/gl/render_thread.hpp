@@ -18,8 +18,11 @@ namespace oer {
 class RenderThread {
   public:
     // Starts the thread and creates its context (current on that thread for every job); waits
-    // for it and throws what GlContext::create throws.
-    RenderThread();
+    // for it and throws what GlContext::create throws. `nice` (0..19) is added to the thread's
+    // nice value before the context exists, so that the threads the driver starts for it
+    // (llvmpipe's rasterizers) inherit it: a server runs its frames below its request threads,
+    // which then preempt them at once (setpriority(2): the nice value is per thread on Linux).
+    explicit RenderThread(int nice = 0);
     // Finishes the jobs already submitted (and those they submit), then destroys the context
     // and joins. No job is dropped: every future becomes ready.
     ~RenderThread();
@@ -45,8 +48,9 @@ class RenderThread {
 
   private:
     void enqueue(std::function<void()> job);
-    // The thread's body: creates the context, reports it through `started`, runs jobs.
-    void run(std::promise<void>& started);
+    // The thread's body: lowers its priority by nice, creates the context, reports it through
+    // `started`, runs jobs.
+    void run(std::promise<void>& started, int nice);
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
