@@ -172,7 +172,8 @@ const std::vector<Option>& options() {
         integer_option("max-frame-height", "PIXELS", "tallest frame a request may ask for",
                        &ServiceConfig::max_frame_height, 1, 16384),
         integer_option("max-queue-depth", "COUNT",
-                       "render requests that may wait; more are answered 503",
+                       "render requests that may wait for a worker; more wait up to 0.5 s for a "
+                       "place, then are answered 503",
                        &ServiceConfig::max_queue_depth, 1, 10000),
         integer_option("render-workers", "COUNT", "frames rendered at once",
                        &ServiceConfig::render_workers, 1, 64),

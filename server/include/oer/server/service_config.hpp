@@ -36,7 +36,9 @@ struct ServiceConfig {
     std::uint64_t max_upload_expansion = 200;
     int max_frame_width = 4096;
     int max_frame_height = 4096;
-    int max_queue_depth = 16;  // render requests waiting; more are answered 503
+    // Render requests waiting for a worker; more wait up to 0.5 s for a place, then are
+    // answered 503 (render_pool.hpp).
+    int max_queue_depth = 16;
     int render_workers = 1;
     int request_timeout_seconds = 30;
     int idle_timeout_seconds = 5;  // keep-alive connections idle longer are closed
