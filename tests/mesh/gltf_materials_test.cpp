@@ -445,6 +445,25 @@ TEST(GltfMaterials, TexturesCountOncePerImageAndEncodingAgainstTheLimits) {
                  {"image 0", "5000x5000 pixels, more than the limit of 1000000"});
 }
 
+// Found by tests/fuzz/fuzz_gltf: stb's reason for refusing an image quotes a PNG chunk's type,
+// any four bytes; one that was not UTF-8 made the error unwritable as JSON (a 500 from the
+// service). It is escaped, as every third-party message is (one_line.hpp).
+TEST(GltfMaterials, UndecodableImagesAreRefusedInUtf8) {
+    json d = json::parse(quad_asset({{"normalTexture", {{"index", 0}}}}));
+    std::vector<std::uint8_t> png = png_header(2, 2);
+    png.insert(png.end(), {0, 0, 0, 0, 'I', 'E', 'N', 0x82, 0, 0, 0, 0});  // an unknown chunk
+    d["images"][0]["uri"] = "data:image/png;base64," + base64(png);
+    try {
+        load_gltf_text(d.dump());
+        ADD_FAILURE() << "loaded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("image 0: the image cannot be decoded (IEN\\x82"),
+                  std::string::npos)
+            << e.what();
+        EXPECT_NO_THROW((void)json(std::string(e.what())).dump());
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Tangents
 

@@ -67,7 +67,7 @@ ImageHeader check_image_header(std::span<const std::byte> encoded, std::uint64_t
             const char* reason = stbi_failure_reason();
             throw Error(ErrorKind::InvalidInput,
                         what + ": damaged JPEG header" +
-                            (reason != nullptr ? std::string(" (") + reason + ")" : ""));
+                            (reason != nullptr ? " (" + one_line(reason) + ")" : ""));
         }
         width = std::uint64_t(w);
         height = std::uint64_t(h);
@@ -105,7 +105,7 @@ Texture decode_texture(std::span<const std::byte> encoded, std::uint64_t max_pix
         const char* reason = stbi_failure_reason();
         throw Error(ErrorKind::InvalidInput,
                     what + ": the image cannot be decoded" +
-                        (reason != nullptr ? std::string(" (") + reason + ")" : ""));
+                        (reason != nullptr ? " (" + one_line(reason) + ")" : ""));
     }
     if (width != header.width || height != header.height) {
         throw Error(ErrorKind::InvalidInput, what +
