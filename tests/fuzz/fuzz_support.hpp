@@ -69,11 +69,11 @@ inline ImageLimits service_image_limits() {
 }
 
 // What the service lets one upload of `upload_bytes` bytes cost to decode
-// (server/src/upload_budget.hpp, at the default expansion): max(64 MiB, 40 x its size), issue
-// 14's bound on the memory a small upload may make the server hold.
+// (server/src/upload_budget.hpp, at the default expansion, ServiceConfig::max_upload_expansion):
+// max(64 MiB, 200 x its size), the bound on the memory one upload may make the server hold.
 inline std::uint64_t upload_expansion_bound(std::size_t upload_bytes) {
     return std::max<std::uint64_t>(server::kExpansionFloor,
-                                   server::UploadBudgetLimits{}.expansion * upload_bytes);
+                                   server::ServiceConfig{}.max_upload_expansion * upload_bytes);
 }
 
 // The growth of the resident set while it lives, its peak (VmHWM) over its level when made, KiB:

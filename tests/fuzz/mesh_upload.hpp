@@ -5,7 +5,7 @@
 //
 // Checked beyond the documented refusals: the loaded mesh keeps its limits, and the resident set
 // grows while loading by at most what the service lets one upload of these bytes cost,
-// max(64 MiB, 40 x its size) (issue 14's bound; server/src/upload_budget.hpp).
+// max(64 MiB, 200 x its size) at the default expansion (server/src/upload_budget.hpp).
 #include <cstddef>
 #include <string>
 
