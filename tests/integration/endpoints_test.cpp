@@ -255,12 +255,12 @@ TEST_F(Endpoints, MetricsAreValidPrometheusTextCountingRequestsAndCaches) {
     }
 
     const std::map<std::string, std::string> families = {
-        {"oer_http_requests_total", "counter"}, {"oer_http_request_seconds", "histogram"},
-        {"oer_render_seconds", "histogram"},    {"oer_preprocess_seconds", "histogram"},
-        {"oer_rigs_computed_total", "counter"}, {"oer_cache_hits_total", "counter"},
-        {"oer_cache_misses_total", "counter"},  {"oer_render_queue_depth", "gauge"},
-        {"oer_render_workers_ready", "gauge"},  {"oer_transfers_computed_total", "counter"},
-        {"oer_transfer_seconds", "histogram"},  {"oer_computations_in_progress", "gauge"},
+        {"oer_http_requests_total", "counter"},  {"oer_http_request_seconds", "histogram"},
+        {"oer_render_seconds", "histogram"},     {"oer_preprocess_seconds", "histogram"},
+        {"oer_rigs_computed_total", "counter"},  {"oer_cache_hits_total", "counter"},
+        {"oer_cache_misses_total", "counter"},   {"oer_render_queue_depth", "gauge"},
+        {"oer_render_workers_ready", "gauge"},   {"oer_transfers_computed_total", "counter"},
+        {"oer_transfer_seconds", "histogram"},   {"oer_computations_in_progress", "gauge"},
         {"oer_renders_skipped_total", "counter"}};
     for (const auto& [family, type] : families) {
         EXPECT_EQ(after.types.count(family) ? after.types.at(family) : "<absent>", type) << family;
