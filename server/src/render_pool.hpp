@@ -9,14 +9,14 @@
 //
 // Why wait before refusing (issue 14, measured by tests/integration/load_test.cpp): a client
 // that retries a refusal at once, as load generators and impatient scripts do, gets refusals as
-// fast as the server can answer them. 64 such clients on 2 cores made 8000 refusals a second,
-// and the renders, sharing the CPU with them (the scheduler shares it by runnable thread, and
-// each such client keeps one runnable, on its side or on the server's), took 4.8 times as long:
-// 20 % of the frames that 5 clients waiting their turn got. Held for the wait, such a client
-// costs one request per wait, and the renders keep their pace. The waiters are bounded too
-// (RenderAdmission::max_waiters), since each holds an HTTP thread; past them the refusal is at
-// once. This is the blocking limiter of Netflix's concurrency-limits library (a bounded wait
-// for a permit, then rejection).
+// fast as the server can answer them. 64 such clients on 2 cores made 7400-8000 refusals a
+// second, and the renders, sharing the CPU with them (the scheduler shares it by runnable
+// thread, and each such client keeps one runnable, on its side or on the server's), took 5
+// times as long: 18-20 % of the frames that 5 clients waiting their turn got. Held for the wait,
+// such a client costs one request per wait, and the renders keep their pace. The waiters are
+// bounded too (RenderAdmission::max_waiters), since each holds an HTTP thread; past them the
+// refusal is at once. This is the blocking limiter of Netflix's concurrency-limits library (a
+// bounded wait for a permit, then rejection).
 //
 // A pool starts without workers: start() makes them and may fail (no GL device, a driver that
 // cannot make a context), and the service keeps running meanwhile, answering renders 503
