@@ -324,82 +324,104 @@ TEST_F(KillRestart, DuringPreprocessingSlow) {
 }
 
 TEST_F(KillRestart, DuringAFramesSpecularCubeAndTransferBakeSlow) {
-    // A glossy scene under an uploaded map: its first frame computes the rig's specular cube,
-    // then the scene's transfer. The frame a server that is never killed draws of it, on a data
-    // folder of its own, and how long each computation took there.
+    // Glossy spheres under an uploaded map: a frame first makes its rig's specular cube, then its
+    // scene's transfer. Each kill aims at one computation of a scene of its own (a kill landing
+    // after the computation's end stores it, and a later kill of the same scene would find
+    // nothing to interrupt): three rigs of the map (1, 2 and 3 lights) for the cubes, three
+    // placements of the spheres under the first for the transfers. A server that is never
+    // killed draws each, on a data folder of its own: the frames to compare with, and how long
+    // each computation took there.
     const std::string map = exr_bytes(three_disc_environment(256, 128).image);
     const std::string spheres(as_text(material_spheres_glb({.rings = kSceneRings})));
-    Answer reference;
-    std::map<std::string, std::chrono::milliseconds> durations;
-    std::string rig_id;
+    const std::string mesh_id = api::sha256_hex(spheres);
+    struct Scene {
+        std::string computation;  // the one the kill aims at
+        Json request;
+        Answer reference;
+        std::chrono::milliseconds duration{};
+    };
+    std::vector<Scene> scenes;
+    std::vector<std::string> queries;
     {
         TempRoot other;
         start(other.data());
         ASSERT_FALSE(HasFatalFailure());
-        const Json rig =
-            upload_environment(*server_->client(), map, "image/x-exr", "light_count=3");
-        ASSERT_TRUE(rig.is_object());
-        rig_id = rig.at("id");
+        std::vector<std::string> rigs;
+        for (int lights = 1; lights <= 3; ++lights) {
+            queries.push_back("light_count=" + std::to_string(lights));
+            const Json rig =
+                upload_environment(*server_->client(), map, "image/x-exr", queries.back());
+            ASSERT_TRUE(rig.is_object());
+            rigs.push_back(rig.at("id"));
+            scenes.push_back({"specular", frame_request(rigs.back(), mesh_id, true), {}, {}});
+        }
         upload_mesh(*server_->client(), spheres, "model/gltf-binary");
-        const double specular = admin_metric(*server_, "oer_specular_seconds_sum");
-        const double transfer = admin_metric(*server_, "oer_transfer_seconds_sum");
-        reference = render(*server_, frame_request(rig_id, api::sha256_hex(spheres), true));
-        ASSERT_EQ(reference.status, 200);
-        const auto took = [&](const std::string& name, double before) {
-            return std::chrono::milliseconds(
-                std::lround((admin_metric(*server_, name) - before) * 1000.0));
-        };
-        durations["specular"] = took("oer_specular_seconds_sum", specular);
-        durations["transfer"] = took("oer_transfer_seconds_sum", transfer);
+        for (int placement = 1; placement <= 3; ++placement) {
+            Json request = frame_request(rigs.front(), mesh_id, true);
+            request["objects"][0]["transform"] = {
+                1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.1 * placement, 0, 0, 1};
+            scenes.push_back({"transfer", request, {}, {}});
+        }
+        for (Scene& scene : scenes) {
+            const std::string sum = "oer_" + scene.computation + "_seconds_sum";
+            const double before = admin_metric(*server_, sum);
+            scene.reference = render(*server_, scene.request);
+            ASSERT_EQ(scene.reference.status, 200) << scene.reference.body;
+            scene.duration = std::chrono::milliseconds(
+                std::lround((admin_metric(*server_, sum) - before) * 1000.0));
+            std::cerr << "a " << scene.computation << " took " << scene.duration.count() << " ms\n";
+        }
         EXPECT_EQ(server_->stop(), 0);
-        std::cerr << "the scene's specular cube took " << durations["specular"].count()
-                  << " ms, its transfer " << durations["transfer"].count() << " ms\n";
     }
-    const Json scene = frame_request(rig_id, api::sha256_hex(spheres), true);
 
     start(root_.data());
     ASSERT_FALSE(HasFatalFailure());
-    acknowledged_.add_rig(
-        upload_environment(*server_->client(), map, "image/x-exr", "light_count=3"));
+    for (const std::string& query : queries) {
+        acknowledged_.add_rig(upload_environment(*server_->client(), map, "image/x-exr", query));
+    }
     acknowledged_.add_mesh(upload_mesh(*server_->client(), spheres, "model/gltf-binary"));
     ASSERT_FALSE(HasFatalFailure());
-    // Under the preset, whose specular cube is made at start-up, and without occlusion: no
-    // computation the kills below aim at.
-    acknowledge_frame(frame_request("default", api::sha256_hex(spheres), false));
-    // The cube first (the frame computes it before the transfer), then the transfer, whose
-    // frames find the cube stored by the first of them.
-    for (const std::string computation : {"specular", "transfer"}) {
-        int killed_while_computing = 0;
-        for (const double moment : kMoments) {
-            SCOPED_TRACE(computation + " killed at " + std::to_string(moment) + " of its time");
-            Answer answer;
-            std::thread frame([&] { answer = render(*server_, scene); });
-            const bool computing = computation_started(*server_, computation);
-            std::this_thread::sleep_for(durations[computation] * moment);
-            const bool still_computing = admin_metric(*server_, "oer_computations_in_progress",
-                                                      {{"computation", computation}}) >= 1;
-            server_->kill();
-            frame.join();
-            killed_while_computing += still_computing;
-            std::cerr << computation << " killed at " << moment << " of its time: while computing "
-                      << still_computing << ", answered " << answer.status << "\n";
-            ASSERT_TRUE(computing) << "the " << computation << " never started";
-            if (answer.status == 200) {
-                acknowledged_.frames.push_back({scene, answer.etag, answer.body});
-                EXPECT_TRUE(answer.body == reference.body);
-            }
-            restart();
-            ASSERT_FALSE(HasFatalFailure());
+    // Under the preset, whose specular cube is made at start-up, and without occlusion: none of
+    // the computations the kills aim at.
+    acknowledge_frame(frame_request("default", mesh_id, false));
+    std::map<std::string, int> killed_while_computing;
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        const Scene& scene = scenes[i];
+        const double moment = kMoments[i % std::size(kMoments)];
+        SCOPED_TRACE(scene.computation + " killed at " + std::to_string(moment) + " of its time");
+        Answer answer;
+        std::thread frame([&] { answer = render(*server_, scene.request); });
+        const bool computing = computation_started(*server_, scene.computation);
+        std::this_thread::sleep_for(scene.duration * moment);
+        const bool still_computing = admin_metric(*server_, "oer_computations_in_progress",
+                                                  {{"computation", scene.computation}}) >= 1;
+        server_->kill();
+        frame.join();
+        killed_while_computing[scene.computation] += still_computing;
+        std::cerr << scene.computation << " killed at " << moment
+                  << " of its time: while computing " << still_computing << ", answered "
+                  << answer.status << "\n";
+        ASSERT_TRUE(computing) << "the " << scene.computation << " never started";
+        if (answer.status == 200) {
+            acknowledged_.frames.push_back({scene.request, answer.etag, answer.body});
+            EXPECT_TRUE(answer.body == scene.reference.body);
         }
-        EXPECT_GE(killed_while_computing, 2) << computation;
+        restart();
+        ASSERT_FALSE(HasFatalFailure());
     }
-    // Drawn again after the kills: the frame of the server that was never killed, also after
-    // one more restart (its cube and transfer read back from the store).
-    const Answer again = render(*server_, scene);
-    ASSERT_EQ(again.status, 200);
-    EXPECT_EQ(again.etag, reference.etag);
-    EXPECT_TRUE(again.body == reference.body) << "the frame differs from an uninterrupted one's";
-    acknowledged_.frames.push_back({scene, again.etag, again.body});
+    for (const char* computation : {"specular", "transfer"}) {
+        EXPECT_GE(killed_while_computing[computation], 2) << computation;
+    }
+    // Drawn again after the kills: the frames of the server that was never killed, also after
+    // one more restart (their cubes and transfers read back from the store).
+    for (const Scene& scene : scenes) {
+        const Answer again = render(*server_, scene.request);
+        ASSERT_EQ(again.status, 200);
+        EXPECT_EQ(again.etag, scene.reference.etag);
+        EXPECT_TRUE(again.body == scene.reference.body)
+            << "the frame differs from an uninterrupted one's: " << scene.request.dump();
+        acknowledged_.frames.push_back({scene.request, again.etag, again.body});
+    }
     server_->kill();
     restart();
     EXPECT_EQ(server_->stop(), 0);
