@@ -6,7 +6,7 @@
 #include <malloc.h>
 #include <unistd.h>
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(OER_ADDRESS_SANITIZER)
 // Declared in <sanitizer/allocator_interface.h>, which GCC 12 does not ship.
 extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 #endif
@@ -14,7 +14,7 @@ extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 namespace oer::testing {
 
 std::size_t live_heap_bytes() {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(OER_ADDRESS_SANITIZER)
     return __sanitizer_get_current_allocated_bytes();  // ASan replaces glibc's allocator
 #else
     const struct mallinfo2 heap = mallinfo2();
