@@ -19,8 +19,9 @@ build_packages=(
 # (web/tests: /usr/bin/chromium through playwright-core, which downloads no browser of its own);
 # the service itself never needs them. The accuracy report (scripts/accuracy-report.sh) converts
 # glmark2's 3ds meshes to glTF with assimp-utils and draws its plots with python3-matplotlib.
-# The fuzzers (scripts/fuzz.sh, tests/fuzz) build with clang, whose libFuzzer and sanitizer
-# runtimes are in libclang-rt-14-dev; llvm gives llvm-symbolizer, for their stack traces.
+# The sanitizer build of scripts/test.sh and the fuzzers (scripts/fuzz.sh, tests/fuzz) build with
+# clang, whose libFuzzer and sanitizer runtimes are in libclang-rt-14-dev; llvm gives
+# llvm-symbolizer, for their stack traces.
 test_packages=(blender-data glmark2-data assimp-testmodels chromium assimp-utils
     python3-matplotlib clang libclang-rt-14-dev llvm)
 

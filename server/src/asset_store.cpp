@@ -231,7 +231,8 @@ std::vector<std::string> list_folder(const fs::path& folder, std::string_view af
             continue;
         }
         std::string id = name.substr(0, dot);
-        if (id <= after || limit == 0) {
+        // compare(), not <=: clang 14 cannot compile libstdc++ 12's string <=> string_view.
+        if (id.compare(after) <= 0 || limit == 0) {
             continue;
         }
         if (smallest.size() == limit) {

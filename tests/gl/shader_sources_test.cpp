@@ -261,7 +261,8 @@ TEST(ShaderSourcesDefines, TheRenderersDefineStringsPassAndOthersAreErrors) {
         {"#ifdef DISPLAY_OUTPUT\n", "expected '#define NAME integer'"},
     };
     for (const auto& [defines, message] : wrong) {
-        const std::string error = error_of([&] { check_defines(resolve, defines); });
+        const std::string error =
+            error_of([&, &defines = defines] { check_defines(resolve, defines); });
         EXPECT_NE(error.find("program 'resolve': " + message), std::string::npos)
             << defines << " -> " << error;
     }

@@ -452,8 +452,8 @@ TEST(ImageIo, GarbageIsRejected) {
         {"text.txt", bytes_of("This is not an image, just a sentence long enough to sniff.\n")},
     };
     for (const auto& [name, bytes] : cases) {
-        expect_error([&] { load_image_memory(bytes, name); }, ErrorKind::InvalidInput, name,
-                     name + " from memory");
+        expect_error([&bytes = bytes, &name = name] { load_image_memory(bytes, name); },
+                     ErrorKind::InvalidInput, name, name + " from memory");
         const std::string path = dir.file(name);
         write_bytes(path, bytes);
         expect_error([&] { load_image_file(path); }, ErrorKind::InvalidInput, path,

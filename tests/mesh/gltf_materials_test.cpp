@@ -231,8 +231,8 @@ TEST(GltfMaterials, BoundedFactorsAreClampedAndOtherNumbersMustBeFiniteFloats) {
     };
     for (const auto& [material, message] : refused) {
         SCOPED_TRACE(material.dump());
-        expect_error([&] { load_gltf_text(quad_asset(material)); }, ErrorKind::InvalidInput,
-                     {"test.gltf: " + message});
+        expect_error([&material = material] { load_gltf_text(quad_asset(material)); },
+                     ErrorKind::InvalidInput, {"test.gltf: " + message});
     }
     // JSON has no infinity: a number beyond a double is refused as the JSON it is not.
     std::string text = quad_asset({{"emissiveFactor", {0.123456, 0.0, 0.0}}});
@@ -404,7 +404,7 @@ TEST(GltfMaterials, SamplersAreReadAndUnknownEnumsRejectedNamingThem) {
     };
     for (const auto& [sampler, message] : refused) {
         SCOPED_TRACE(sampler.dump());
-        expect_error([&] { sampler_of(sampler); }, ErrorKind::InvalidInput,
+        expect_error([&, &sampler = sampler] { sampler_of(sampler); }, ErrorKind::InvalidInput,
                      {"test.gltf: " + message});
     }
     expect_error(

@@ -858,8 +858,9 @@ TEST(MeshLoadingGltf, MissingOrMisshapenPropertiesAreNamed) {
     };
     for (const auto& [members, message] : expected) {
         SCOPED_TRACE(members);
-        expect_error([&] { load_gltf_text("{" + asset + ", " + members + "}"); },
-                     ErrorKind::InvalidInput, {"test.gltf: " + message});
+        expect_error(
+            [&, &members = members] { load_gltf_text("{" + asset + ", " + members + "}"); },
+            ErrorKind::InvalidInput, {"test.gltf: " + message});
     }
 }
 
