@@ -304,6 +304,7 @@ std::span<const std::string_view> allowed_extensions(SourceKind kind) {
 
 AssetStore::AssetStore(fs::path folder, Log log)
     : folder_(std::move(folder)), log_(std::move(log)) {
+    int writes_in_progress = 0;
     for (const std::string_view name :
          {folder_name(SourceKind::Environment), folder_name(SourceKind::Mesh),
           folder_name(DerivedKind::Rig), folder_name(DerivedKind::RigSource),
@@ -316,16 +317,36 @@ AssetStore::AssetStore(fs::path folder, Log log)
                                            ": " + error.message());
         }
         for (const fs::directory_entry& entry : fs::directory_iterator(kind_folder, error)) {
-            if (entry.path().filename().string().starts_with(kTemporaryPrefix)) {
-                remove_file(entry.path());
-                log_("asset store: removed " + entry.path().string() +
-                     ", left by an interrupted write");
+            if (!entry.path().filename().string().starts_with(kTemporaryPrefix)) {
+                continue;
             }
+            const auto written = file_info(entry.path(), "");
+            if (!written) {
+                continue;  // renamed or removed since it was listed: another process's
+            }
+            const auto untouched = std::chrono::system_clock::now() - written->written;
+            if (untouched < kAbandonedTemporaryAge) {
+                ++writes_in_progress;
+                continue;
+            }
+            remove_file(entry.path());
+            log_("asset store: removed " + entry.path().string() +
+                 ", left by an interrupted write (untouched for " +
+                 std::to_string(
+                     std::chrono::duration_cast<std::chrono::minutes>(untouched).count()) +
+                 " min)");
         }
         if (error) {
             throw Error(ErrorKind::Io, "asset store: cannot list folder " + kind_folder.string() +
                                            ": " + error.message());
         }
+    }
+    if (writes_in_progress > 0) {
+        log_("asset store: left " + std::to_string(writes_in_progress) +
+             " temporary file(s) modified in the last " +
+             std::to_string(kAbandonedTemporaryAge.count()) +
+             " min: writes in progress, perhaps by another process sharing the folder (removed "
+             "at a later start if abandoned)");
     }
 }
 

@@ -256,4 +256,13 @@ std::vector<fs::path> temporary_files(const fs::path& folder) {
     return found;
 }
 
+void set_untouched_for(const std::vector<fs::path>& files, std::chrono::minutes age) {
+    for (const fs::path& file : files) {
+        std::error_code error;
+        fs::last_write_time(file, fs::file_time_type::clock::now() - age, error);
+        EXPECT_TRUE(!error || error == std::errc::no_such_file_or_directory)
+            << file << ": " << error.message();
+    }
+}
+
 }  // namespace oer::ptest

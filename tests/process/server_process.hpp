@@ -86,4 +86,7 @@ double admin_metric(const ServerProcess& server, const std::string& name,
 // Files under folder whose name starts with the asset store's temporary prefix ".tmp-".
 std::vector<std::filesystem::path> temporary_files(const std::filesystem::path& folder);
 
+// Sets each file's modification time so long before now (a file removed meanwhile is skipped).
+void set_untouched_for(const std::vector<std::filesystem::path>& files, std::chrono::minutes age);
+
 }  // namespace oer::ptest

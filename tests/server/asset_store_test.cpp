@@ -1,6 +1,7 @@
 // The asset store: content ids, round trips, restarts, atomic writes (no partial entries, no
-// confusion from leftover temporary files), corruption detected and dropped, ids and
-// extensions validated before any path is built, and concurrent use.
+// confusion from leftover temporary files, which a later start removes once abandoned while
+// sparing writes in progress of another process sharing the folder), corruption detected and
+// dropped, ids and extensions validated before any path is built, and concurrent use.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -34,6 +35,11 @@ std::string read_bytes(const fs::path& path) {
 
 void write_bytes(const fs::path& path, const std::string& bytes) {
     std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+// Sets the file's modification time so long before now.
+void set_untouched_for(const fs::path& path, std::chrono::minutes age) {
+    fs::last_write_time(path, fs::file_time_type::clock::now() - age);
 }
 
 std::vector<std::string> file_names(const fs::path& folder) {
@@ -335,7 +341,7 @@ TEST_F(AssetStoreTest, SealedEntryWithADamagedHeaderIsDetectedAndDropped) {
     EXPECT_EQ(store.get_derived(DerivedKind::Rig, kRigId), "x");
 }
 
-TEST_F(AssetStoreTest, ALeftoverTemporaryFileConfusesNothingAndGoesAtTheNextStart) {
+TEST_F(AssetStoreTest, ALeftoverTemporaryFileConfusesNothingAndGoesAtALaterStart) {
     const fs::path leftover = folder_ / "meshes" / (".tmp-" + kAbcId + ".glb-Ab12Cd");
     {
         AssetStore store = open();
@@ -346,13 +352,44 @@ TEST_F(AssetStoreTest, ALeftoverTemporaryFileConfusesNothingAndGoesAtTheNextStar
         EXPECT_EQ(store.get_source(SourceKind::Mesh, kAbcId)->bytes, "abc");
         EXPECT_TRUE(log().empty());
     }
+    // A restart long after the interruption.
+    set_untouched_for(leftover, std::chrono::minutes(11));
     AssetStore reopened = open();
     EXPECT_FALSE(fs::exists(leftover));
     EXPECT_EQ(file_names(folder_ / "meshes"), std::vector<std::string>{kAbcId + ".glb"});
     ASSERT_EQ(log().size(), 1u);
-    EXPECT_EQ(log()[0],
-              "asset store: removed " + leftover.string() + ", left by an interrupted write");
+    EXPECT_EQ(log()[0], "asset store: removed " + leftover.string() +
+                            ", left by an interrupted write (untouched for 11 min)");
     EXPECT_EQ(reopened.get_source(SourceKind::Mesh, kAbcId)->bytes, "abc");
+}
+
+// Processes sharing a data folder: a store opened on it (another process starting, or one
+// restarting after kill -9) leaves the temporary files of writes that may be in progress,
+// those modified within kAbandonedTemporaryAge, and removes older ones.
+TEST_F(AssetStoreTest, OpeningASharedFolderSparesAWriteInProgressAndRemovesAnAbandonedOne) {
+    AssetStore first = open();
+    const fs::path in_progress = folder_ / "meshes" / (".tmp-" + kAbcId + ".glb-Wr1t3s");
+    const fs::path abandoned = folder_ / "rigs" / (".tmp-" + kRigId + ".sealed-01dOne");
+    write_bytes(in_progress, "a");
+    write_bytes(abandoned, "oer-sealed-v1");
+    set_untouched_for(in_progress, std::chrono::minutes(9));
+    set_untouched_for(abandoned, std::chrono::minutes(11));
+
+    AssetStore second = open();
+    EXPECT_TRUE(fs::exists(in_progress));
+    EXPECT_FALSE(fs::exists(abandoned));
+    EXPECT_EQ(log(), (std::vector<std::string>{
+                         "asset store: removed " + abandoned.string() +
+                             ", left by an interrupted write (untouched for 11 min)",
+                         "asset store: left 1 temporary file(s) modified in the last 10 min: "
+                         "writes in progress, perhaps by another process sharing the folder "
+                         "(removed at a later start if abandoned)"}));
+    // The write in progress completes as write_atomically does, by renaming its file over the
+    // entry: the second store reads it.
+    write_bytes(in_progress, "abc");
+    fs::rename(in_progress, folder_ / "meshes" / (kAbcId + ".glb"));
+    EXPECT_EQ(second.get_source(SourceKind::Mesh, kAbcId)->bytes, "abc");
+    EXPECT_EQ(first.get_source(SourceKind::Mesh, kAbcId)->bytes, "abc");
 }
 
 TEST_F(AssetStoreTest, InvalidIdsAreRejectedBeforeAnyPathIsBuilt) {

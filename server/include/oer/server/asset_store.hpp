@@ -26,7 +26,44 @@
 // the same write succeeds once space is freed.
 //
 // Thread-safe: operations on one id are serialised (by a lock chosen from the id), operations
-// on different ids mostly run in parallel. A data folder belongs to one process at a time.
+// on different ids mostly run in parallel.
+//
+// Several processes may share one data folder (replicas behind a balancer, on one machine or
+// on a shared volume: docker/README.md), with no lock between them. What makes that safe:
+// - Every entry appears whole or not at all: its temporary file is renamed over it, and
+//   rename(2) within one directory of one file system replaces the name atomically (POSIX: a
+//   reader opens the old file or the new one, never a mix). Both names are in the entry's own
+//   folder, so the rename never crosses file systems. A reader holding the old file keeps
+//   reading it whole after the rename (its descriptor holds the old inode).
+// - Temporary names are unique across processes: mkostemp creates the file with O_EXCL under a
+//   random suffix, so two writers never write into one temporary file.
+// - Concurrent writers of one id write the same bytes: a source's id is the SHA-256 of its
+//   bytes, and a derived entry's id hashes everything it is computed from (a rig's: its map and
+//   options; a transfer's: its scene), so whichever rename lands last, the entry holds the
+//   bytes every writer meant. The one exception, the same bytes uploaded under two extensions
+//   at once through two processes (the check against it is per process), stores both files,
+//   which hold the same bytes: either serves.
+// - Reads check what they read (a source against its id, a sealed entry against its header),
+//   so an entry damaged by anything (a torn write of a file system without atomic rename, a
+//   disk) is dropped and recomputed, never served.
+// - The start-up sweep of temporary files spares any modified in the last
+//   kAbandonedTemporaryAge (below): another process's write in progress keeps its file's
+//   modification time fresh, so a process that starts or restarts never removes it.
+// What is NOT guaranteed across processes:
+// - A removal through one process is not seen by another's caches in memory (decoded assets,
+//   rigs, frames): that one serves the removed entry until it evicts it, and a later lookup of
+//   it on disk finds nothing (404).
+// - A removal racing an upload of the same entry through another process (the per-process
+//   locks of the registries order them only within one process) can leave a partial set of
+//   files: a rig without its record of provenance (unlisted, never served: a lookup starts
+//   from the record), a record and rig whose map went (listed with no source; frames that need
+//   the map, a specular cube or a preview, cannot compute it until the map is uploaded again,
+//   which restores it), or a map no rig uses (unlisted). Each is either whole enough to serve
+//   correctly or not served, because every file is whole and checked on read and every id
+//   names one content; uploading the same bytes again makes the entry whole.
+// - A corrupt entry dropped by one process's read may take with it a good copy that another
+//   process renamed over it in between (the unlink is by name): then the entry is absent and is
+//   computed again, or uploaded again.
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -83,6 +120,17 @@ class StorageFull : public Error {
 // Exactly 64 lowercase hexadecimal digits (a SHA-256 in hex), the only ids the store accepts.
 bool is_asset_id(std::string_view text);
 
+// How long a temporary file must have gone unmodified before the store's start-up removes it as
+// abandoned. A write in progress modifies its temporary file at every write(2), and its bytes
+// are all in memory before the file is made, so it never waits for a client between two
+// writes; the longest it leaves the file unmodified is its fsync and rename at the end, seconds
+// at worst on a slow shared volume (256 MiB, the largest upload, at 50 MB/s: 5 s). Ten minutes
+// is a hundred times that, and covers the clock skew between machines that share a network
+// volume (the file's time is the file server's, the comparison is with this machine's clock).
+// A write stalled longer than that (its process stopped, its volume frozen) loses its file: its
+// rename fails, and the upload or computation reports the error instead of storing anything.
+inline constexpr std::chrono::minutes kAbandonedTemporaryAge{10};
+
 // Lowercase, without the dot: environments exr, hdr, png, jpg, jpeg, tif, tiff;
 // meshes glb, gltf, obj.
 std::span<const std::string_view> allowed_extensions(SourceKind kind);
@@ -91,9 +139,11 @@ class AssetStore {
   public:
     using Log = std::function<void(std::string_view line)>;
 
-    // Creates the folder and its sub-folders if missing, and removes temporary files that an
-    // interrupted write left behind. Failures throw oer::Error (Io). Corrupt entries and
-    // removed temporary files are reported to log, one line each.
+    // Creates the folder and its sub-folders if missing, and removes the temporary files that
+    // an interrupted write left behind: those not modified for kAbandonedTemporaryAge (younger
+    // ones may be another process's writes in progress: they are counted in one log line and
+    // left). Failures throw oer::Error (Io). Corrupt entries and removed temporary files are
+    // reported to log, one line each.
     explicit AssetStore(std::filesystem::path folder, Log log = log_line);
 
     const std::filesystem::path& folder() const { return folder_; }
