@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -136,6 +137,34 @@ std::unique_ptr<httplib::Client> TestServer::client(int read_timeout_seconds) co
     client->set_connection_timeout(5, 0);
     client->set_read_timeout(read_timeout_seconds, 0);
     client->set_write_timeout(30, 0);
+    return client;
+}
+
+// 127.0.1.1, 127.0.1.2, ...: one loopback address per client.
+std::string client_address(int index) {
+    return "127.0." + std::to_string(1 + index / 250) + "." + std::to_string(1 + index % 250);
+}
+
+// A client on its own keep-alive connection from its own loopback address.
+std::unique_ptr<httplib::Client> load_client(int port, int index, int read_timeout_seconds) {
+    auto client = std::make_unique<httplib::Client>("127.0.0.1", port);
+    client->set_connection_timeout(5, 0);
+    client->set_read_timeout(read_timeout_seconds, 0);
+    client->set_write_timeout(30, 0);
+    client->set_keep_alive(true);
+    // Headers and body in separate writes: without it, Nagle's algorithm holds an upload's body
+    // for the server's delayed ACK (40 ms).
+    client->set_tcp_nodelay(true);
+    const std::string address = client_address(index);
+    // Called before connect: the connection leaves from the client's own address.
+    client->set_socket_options([address](socket_t sock) {
+        sockaddr_in source{};
+        source.sin_family = AF_INET;
+        ::inet_pton(AF_INET, address.c_str(), &source.sin_addr);
+        if (::bind(sock, reinterpret_cast<const sockaddr*>(&source), sizeof source) != 0) {
+            ADD_FAILURE() << "cannot bind a client socket to " << address;
+        }
+    });
     return client;
 }
 
@@ -643,6 +672,26 @@ std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint
     word(0x004E4942);  // "BIN\0"
     glb += bin;
     return glb;
+}
+
+Answer answer_of(const httplib::Result& result) {
+    if (!result) {
+        return {};
+    }
+    return {result->status, result->get_header_value("ETag"), result->body};
+}
+
+std::string noise_box_glb(unsigned seed, int side) {
+    Rgba8Image noise;
+    noise.width = noise.height = side;
+    noise.pixels.resize(std::size_t(side) * std::size_t(side) * 4);
+    std::mt19937 random(seed);
+    for (std::size_t i = 0; i < noise.pixels.size(); i += 4) {
+        const std::uint32_t bits = random();
+        std::memcpy(&noise.pixels[i], &bits, 3);
+        noise.pixels[i + 3] = 255;
+    }
+    return box_glb({-0.5, 0, -0.5}, {0.5, 1, 0.5}, encode_png(noise));
 }
 
 std::string grid_obj(int n) {

@@ -68,6 +68,13 @@ class TestServer {
     std::vector<std::string> log_;
 };
 
+// 127.0.1.1, 127.0.1.2, ...: one loopback address per client (index 0 to 63749), so that
+// per-address limits (the server's, a proxy's) see each client as another.
+std::string client_address(int index);
+// A client of the loopback port on its own keep-alive connection from client_address(index),
+// with TCP_NODELAY (as browsers and load generators), as the load tests' clients are.
+std::unique_ptr<httplib::Client> load_client(int port, int index, int read_timeout_seconds);
+
 // Checks an answer against the spec: the route and method exist, the status is listed for
 // them, the Content-Type is one the response declares, a JSON body matches its schema, and
 // each declared header that is present matches its schema. `route` is the spec's path
@@ -146,9 +153,22 @@ std::string box_obj(glm::dvec3 low, glm::dvec3 high);
 // given a PNG's bytes, with texture coordinates and a dielectric material whose base colour is
 // that image, embedded (each face shows all of it).
 std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint8_t>& png = {});
+// box_glb with a side x side texture of noise from seed (a PNG of about 3.7 side^2 bytes: noise
+// does not compress), for uploads whose store write lasts long enough to be interrupted while
+// the mesh stays quick to load and draw.
+std::string noise_box_glb(unsigned seed, int side);
 // A square grid of n x n quads on y = 0 (2 n^2 triangles) as OBJ text: about 45 n^2 bytes, for
 // uploads and transfer bakes that take a while.
 std::string grid_obj(int n);
+
+// An answer kept past its connection (for a request made on another thread, or one whose
+// server is killed meanwhile): the status (0 without an answer), ETag and body.
+struct Answer {
+    int status = 0;
+    std::string etag;
+    std::string body;
+};
+Answer answer_of(const httplib::Result& result);
 
 // Uploads and renders, checked to succeed (fatal failures inside; check HasFatalFailure).
 Json upload_environment(httplib::Client& client, const std::string& bytes,

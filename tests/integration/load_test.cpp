@@ -22,10 +22,6 @@
 // bounded as well, so a leak on either side shows.
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -67,34 +63,6 @@ double phase_seconds(double ci_default) {
         return ci_default;
     }
     return seconds;
-}
-
-// 127.0.1.1, 127.0.1.2, ...: one loopback address per client.
-std::string client_address(int index) {
-    return "127.0." + std::to_string(1 + index / 250) + "." + std::to_string(1 + index % 250);
-}
-
-// A client on its own keep-alive connection from its own loopback address.
-std::unique_ptr<httplib::Client> load_client(int port, int index, int read_timeout_seconds) {
-    auto client = std::make_unique<httplib::Client>("127.0.0.1", port);
-    client->set_connection_timeout(5, 0);
-    client->set_read_timeout(read_timeout_seconds, 0);
-    client->set_write_timeout(30, 0);
-    client->set_keep_alive(true);
-    // Headers and body in separate writes: without it, Nagle's algorithm holds an upload's body
-    // for the server's delayed ACK (40 ms).
-    client->set_tcp_nodelay(true);
-    const std::string address = client_address(index);
-    // Called before connect: the connection leaves from the client's own address.
-    client->set_socket_options([address](socket_t sock) {
-        sockaddr_in source{};
-        source.sin_family = AF_INET;
-        ::inet_pton(AF_INET, address.c_str(), &source.sin_addr);
-        if (::bind(sock, reinterpret_cast<const sockaddr*>(&source), sizeof source) != 0) {
-            ADD_FAILURE() << "cannot bind a client socket to " << address;
-        }
-    });
-    return client;
 }
 
 // A new frame for every call: a camera angle not asked for before in this process (yaw and

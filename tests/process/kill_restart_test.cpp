@@ -10,14 +10,12 @@
 // tests/server/asset_store_test.cpp cover restarts after a clean stop, damaged entries and leftover
 // temporary files in-process.)
 #include <gtest/gtest.h>
-#include <poll.h>
 #include <sys/inotify.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstring>
 #include <optional>
-#include <random>
 #include <thread>
 
 #include "http_support.hpp"
@@ -61,20 +59,6 @@ constexpr int kSceneRings = 32;
 // quick to load and draw.
 constexpr int kTextureSide = 2048;
 
-// A box whose base colour is a texture of noise from seed, as a binary glTF.
-std::string textured_box(unsigned seed) {
-    Rgba8Image noise;
-    noise.width = noise.height = kTextureSide;
-    noise.pixels.resize(std::size_t(kTextureSide) * kTextureSide * 4);
-    std::mt19937 random(seed);
-    for (std::size_t i = 0; i < noise.pixels.size(); i += 4) {
-        const std::uint32_t bits = random();
-        std::memcpy(&noise.pixels[i], &bits, 3);
-        noise.pixels[i + 3] = 255;
-    }
-    return box_glb({-0.5, 0, -0.5}, {0.5, 1, 0.5}, encode_png(noise));
-}
-
 std::string_view as_text(const std::vector<std::byte>& bytes) {
     return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
@@ -114,20 +98,6 @@ Json frame_request(const std::string& environment, const std::string& mesh, bool
             {"format", "png"}};
 }
 
-// An answer kept past its connection: the status (0 without an answer), ETag and body.
-struct Answer {
-    int status = 0;
-    std::string etag;
-    std::string body;
-};
-
-Answer answer_of(const httplib::Result& result) {
-    if (!result) {
-        return {};
-    }
-    return {result->status, result->get_header_value("ETag"), result->body};
-}
-
 Answer render(const ServerProcess& server, const Json& request) {
     return answer_of(post_json(*server.client(), "/v1/render", request));
 }
@@ -152,16 +122,6 @@ void expect_served(const ServerProcess& server, const Acknowledged& acknowledged
         EXPECT_EQ(again.etag, frame.etag) << frame.request.dump();
         EXPECT_TRUE(again.body == frame.body) << "the frame differs: " << frame.request.dump();
     }
-}
-
-// Polls until the computation's gauge is up; false after the deadline.
-bool computation_started(const ServerProcess& server, const std::string& computation) {
-    return eventually(
-        [&] {
-            return admin_metric(server, "oer_computations_in_progress",
-                                {{"computation", computation}}) >= 1.0;
-        },
-        std::chrono::seconds(60));
 }
 
 class KillRestart : public ::testing::Test {
@@ -434,48 +394,6 @@ TEST_F(KillRestart, DuringAFramesSpecularCubeAndTransferBakeSlow) {
     EXPECT_EQ(server_->stop(), 0);
 }
 
-namespace {
-
-// inotify on one folder: waits for an event of `mask` on a name starting with prefix.
-class FolderWatch {
-  public:
-    FolderWatch(const fs::path& folder, std::uint32_t mask)
-        : fd_(::inotify_init1(IN_CLOEXEC | IN_NONBLOCK)) {
-        EXPECT_GE(fd_, 0) << std::strerror(errno);
-        EXPECT_GE(::inotify_add_watch(fd_, folder.c_str(), mask), 0) << std::strerror(errno);
-    }
-    ~FolderWatch() { ::close(fd_); }
-    FolderWatch(const FolderWatch&) = delete;
-    FolderWatch& operator=(const FolderWatch&) = delete;
-
-    // The name of the first event on a name starting with prefix; nullopt after the deadline.
-    std::optional<std::string> wait(const std::string& prefix, std::chrono::milliseconds within) {
-        const auto deadline = Clock::now() + within;
-        alignas(inotify_event) char buffer[4096];
-        while (Clock::now() < deadline) {
-            pollfd poll_fd{fd_, POLLIN, 0};
-            if (::poll(&poll_fd, 1, 10) <= 0) {
-                continue;
-            }
-            const ssize_t length = ::read(fd_, buffer, sizeof buffer);
-            for (ssize_t at = 0; at < length;) {
-                const auto* event = reinterpret_cast<const inotify_event*>(buffer + at);
-                const std::string name = event->len ? event->name : "";
-                if (name.starts_with(prefix)) {
-                    return name;
-                }
-                at += ssize_t(sizeof(inotify_event) + event->len);
-            }
-        }
-        return std::nullopt;
-    }
-
-  private:
-    int fd_;
-};
-
-}  // namespace
-
 TEST_F(KillRestart, DuringAMeshStoreWriteSlow) {
     start(root_.data());
     ASSERT_FALSE(HasFatalFailure());
@@ -499,7 +417,7 @@ TEST_F(KillRestart, DuringAMeshStoreWriteSlow) {
     for (const Moment& moment : moments) {
         SCOPED_TRACE(std::string("killed at: ") + moment.name);
         // Other bytes each time (another texture), so that none is stored already.
-        const std::string mesh = textured_box(++seed);
+        const std::string mesh = noise_box_glb(++seed, kTextureSide);
         const std::string id = api::sha256_hex(mesh);
         FolderWatch watch(root_.data() / "meshes", moment.event);
         Answer answer;

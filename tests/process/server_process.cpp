@@ -2,11 +2,14 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/inotify.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -55,7 +58,8 @@ std::vector<char*> c_strings(std::vector<std::string>& strings) {
     return pointers;
 }
 
-int spawn_count = 0;
+// Numbers the servers' log files; servers may be started from several threads at once.
+std::atomic<int> spawn_count = 0;
 
 }  // namespace
 
@@ -82,19 +86,23 @@ void ServerProcess::spawn() {
         arguments.push_back("--" + name);
         arguments.push_back(value);
     }
-    ++spawn_count;
-    out_ = launch_.log_dir / ("server-" + std::to_string(spawn_count) + ".out");
-    err_ = launch_.log_dir / ("server-" + std::to_string(spawn_count) + ".err");
+    const int number = ++spawn_count;
+    out_ = launch_.log_dir / ("server-" + std::to_string(number) + ".out");
+    err_ = launch_.log_dir / ("server-" + std::to_string(number) + ".err");
+    pid_ = spawn_process(arguments, launch_.environment, out_, err_);
+}
 
+pid_t spawn_process(std::vector<std::string> arguments, const std::vector<std::string>& environment,
+                    const fs::path& out, const fs::path& err) {
     posix_spawn_file_actions_t files;
     posix_spawn_file_actions_init(&files);
     posix_spawn_file_actions_addopen(&files, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, out_.c_str(),
+    posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, out.c_str(),
                                      O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&files, STDERR_FILENO, err_.c_str(),
+    posix_spawn_file_actions_addopen(&files, STDERR_FILENO, err.c_str(),
                                      O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    // The server blocks SIGINT and SIGTERM itself to sigwait for them; it must not inherit a
-    // mask or a disposition of ours.
+    // The child must not inherit a mask or a disposition of ours (the server blocks SIGINT and
+    // SIGTERM itself to sigwait for them).
     posix_spawnattr_t attributes;
     posix_spawnattr_init(&attributes);
     sigset_t none, defaults;
@@ -106,17 +114,19 @@ void ServerProcess::spawn() {
     posix_spawnattr_setsigmask(&attributes, &none);
     posix_spawnattr_setsigdefault(&attributes, &defaults);
     posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-    std::vector<std::string> environment = environment_with(launch_.environment);
+    std::vector<std::string> variables = environment_with(environment);
     std::vector<char*> argv = c_strings(arguments);
-    std::vector<char*> envp = c_strings(environment);
+    std::vector<char*> envp = c_strings(variables);
+    pid_t pid = -1;
     const int spawned =
-        ::posix_spawnp(&pid_, argv[0], &files, &attributes, argv.data(), envp.data());
+        ::posix_spawnp(&pid, argv[0], &files, &attributes, argv.data(), envp.data());
     posix_spawnattr_destroy(&attributes);
     posix_spawn_file_actions_destroy(&files);
     if (spawned != 0) {
-        pid_ = -1;
-        FAIL() << "cannot spawn " << argv[0] << ": " << std::strerror(spawned);
+        ADD_FAILURE() << "cannot spawn " << argv[0] << ": " << std::strerror(spawned);
+        return -1;
     }
+    return pid;
 }
 
 ServerProcess::~ServerProcess() {
@@ -186,17 +196,23 @@ std::unique_ptr<httplib::Client> ServerProcess::admin_client() const {
 }
 
 int ServerProcess::reap(std::chrono::milliseconds within) {
+    const int status = reap_process(pid_, within);
+    if (status >= 0) {
+        pid_ = -1;
+    }
+    return status;
+}
+
+int reap_process(pid_t pid, std::chrono::milliseconds within) {
     const auto deadline = std::chrono::steady_clock::now() + within;
     while (true) {
         int raw = 0;
-        const pid_t done = ::waitpid(pid_, &raw, WNOHANG);
-        if (done == pid_) {
-            pid_ = -1;
+        const pid_t done = ::waitpid(pid, &raw, WNOHANG);
+        if (done == pid) {
             return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
         }
         if (done < 0) {
-            ADD_FAILURE() << "waitpid(" << pid_ << "): " << std::strerror(errno);
-            pid_ = -1;
+            ADD_FAILURE() << "waitpid(" << pid << "): " << std::strerror(errno);
             return 255;
         }
         if (std::chrono::steady_clock::now() >= deadline) {
@@ -244,6 +260,15 @@ double admin_metric(const ServerProcess& server, const std::string& name,
     return itest::scrape(*server.admin_client()).sum(name, labels);
 }
 
+bool computation_started(const ServerProcess& server, const std::string& computation) {
+    return itest::eventually(
+        [&] {
+            return admin_metric(server, "oer_computations_in_progress",
+                                {{"computation", computation}}) >= 1.0;
+        },
+        std::chrono::seconds(60));
+}
+
 std::vector<fs::path> temporary_files(const fs::path& folder) {
     std::vector<fs::path> found;
     std::error_code error;
@@ -263,6 +288,38 @@ void set_untouched_for(const std::vector<fs::path>& files, std::chrono::minutes 
         EXPECT_TRUE(!error || error == std::errc::no_such_file_or_directory)
             << file << ": " << error.message();
     }
+}
+
+FolderWatch::FolderWatch(const fs::path& folder, std::uint32_t mask)
+    : fd_(::inotify_init1(IN_CLOEXEC | IN_NONBLOCK)) {
+    EXPECT_GE(fd_, 0) << std::strerror(errno);
+    EXPECT_GE(::inotify_add_watch(fd_, folder.c_str(), mask), 0) << std::strerror(errno);
+}
+
+FolderWatch::~FolderWatch() {
+    ::close(fd_);
+}
+
+std::optional<std::string> FolderWatch::wait(const std::string& prefix,
+                                             std::chrono::milliseconds within) {
+    const auto deadline = std::chrono::steady_clock::now() + within;
+    alignas(inotify_event) char buffer[4096];
+    while (std::chrono::steady_clock::now() < deadline) {
+        pollfd poll_fd{fd_, POLLIN, 0};
+        if (::poll(&poll_fd, 1, 10) <= 0) {
+            continue;
+        }
+        const ssize_t length = ::read(fd_, buffer, sizeof buffer);
+        for (ssize_t at = 0; at < length;) {
+            const auto* event = reinterpret_cast<const inotify_event*>(buffer + at);
+            const std::string name = event->len ? event->name : "";
+            if (name.starts_with(prefix)) {
+                return name;
+            }
+            at += ssize_t(sizeof(inotify_event) + event->len);
+        }
+    }
+    return std::nullopt;
 }
 
 }  // namespace oer::ptest

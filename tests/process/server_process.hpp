@@ -7,9 +7,11 @@
 #include <sys/types.h>
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,10 +80,39 @@ class ServerProcess {
     std::filesystem::path out_, err_;
 };
 
+// Spawns arguments (the first looked up in PATH) with its standard input /dev/null, its output
+// and errors into the files out and err, no signal blocked or ignored, and this process's
+// environment with `environment` (NAME=VALUE) set over it: its pid, or -1 after a test failure.
+pid_t spawn_process(std::vector<std::string> arguments, const std::vector<std::string>& environment,
+                    const std::filesystem::path& out, const std::filesystem::path& err);
+// Waits up to `within` for the child pid to end: its exit status, or 128 + the signal that
+// ended it, or -1 while it still runs.
+int reap_process(pid_t pid, std::chrono::milliseconds within);
+
+// inotify on one folder: waits for an event of `mask` on a name starting with prefix (the
+// moments of a store's writes: a temporary file created, closed, renamed into place).
+class FolderWatch {
+  public:
+    FolderWatch(const std::filesystem::path& folder, std::uint32_t mask);
+    ~FolderWatch();
+    FolderWatch(const FolderWatch&) = delete;
+    FolderWatch& operator=(const FolderWatch&) = delete;
+
+    // The name of the first event on a name starting with prefix; nullopt after the deadline.
+    std::optional<std::string> wait(const std::string& prefix, std::chrono::milliseconds within);
+
+  private:
+    int fd_;
+};
+
 // A value of /metrics (its sum over the series whose labels include `labels`), from the admin
 // listener.
 double admin_metric(const ServerProcess& server, const std::string& name,
                     const std::map<std::string, std::string>& labels = {});
+
+// Polls the server's oer_computations_in_progress{computation=...} ("rig", "specular",
+// "transfer") until it is up: false when it is not within 60 s.
+bool computation_started(const ServerProcess& server, const std::string& computation);
 
 // Files under folder whose name starts with the asset store's temporary prefix ".tmp-".
 std::vector<std::filesystem::path> temporary_files(const std::filesystem::path& folder);
