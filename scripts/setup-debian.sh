@@ -22,8 +22,12 @@ build_packages=(
 # The sanitizer build of scripts/test.sh and the fuzzers (scripts/fuzz.sh, tests/fuzz) build with
 # clang, whose libFuzzer and sanitizer runtimes are in libclang-rt-14-dev; llvm gives
 # llvm-symbolizer, for their stack traces.
+# nginx is the balancer of the multi-replica test (tests/process/replicas_test.cpp), which runs
+# the deployment's docker/nginx/nginx.conf with Debian's /usr/sbin/nginx, in the foreground on a
+# loopback port; it needs no nginx service (on a machine with systemd, Debian's package starts
+# one on port 80: `systemctl disable --now nginx` stops it for good).
 test_packages=(blender-data glmark2-data assimp-testmodels chromium assimp-utils
-    python3-matplotlib clang libclang-rt-14-dev llvm)
+    python3-matplotlib clang libclang-rt-14-dev llvm nginx)
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 with_test_data=false
