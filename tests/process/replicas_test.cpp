@@ -114,10 +114,8 @@ std::string deployment_config(const fs::path& folder, int port, const std::vecto
             // As root, workers of another user could not enter the test's folder; as anyone
             // else, nginx cannot switch users.
             config += ::geteuid() == 0 ? "user root;\n" : "\n";
-        } else if (what == "spool") {
-            config += replaced(line, "/var/lib/nginx", folder / "spool") + "\n";
-        } else if (what == "cache") {
-            config += replaced(line, "/var/cache/nginx/oer", folder / "cache") + "\n";
+        } else if (what == "spool" || what == "cache") {
+            config += replaced(line, "/var/lib/nginx", folder) + "\n";
         } else if (what == "upstream") {
             for (const int replica : replicas) {
                 config += "server 127.0.0.1:" + std::to_string(replica) + ";\n";
@@ -144,8 +142,7 @@ class Nginx {
                              "--with-test-data)";
             return;
         }
-        fs::create_directories(folder_ / "spool");
-        fs::create_directories(folder_ / "cache");
+        fs::create_directories(folder_);
         // Another process may take the free port before nginx binds it: then again.
         for (int attempt = 0; attempt < 3; ++attempt) {
             port_ = free_loopback_port();
