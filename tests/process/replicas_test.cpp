@@ -86,8 +86,9 @@ int free_loopback_port() {
 // file and this test must agree on what a deployment changes: a marker this test does not know,
 // or one of its markers missing from the file, fails the test.
 std::string deployment_config(const fs::path& folder, int port, const std::vector<int>& replicas) {
-    const std::string original = read_text(OER_NGINX_CONFIG);
-    EXPECT_FALSE(original.empty()) << OER_NGINX_CONFIG;
+    const std::string config_path = std::string(OER_DOCKER_DIR) + "/nginx/nginx.conf";
+    const std::string original = read_text(config_path);
+    EXPECT_FALSE(original.empty()) << config_path;
     const auto replaced = [](std::string line, const std::string& from, const fs::path& to) {
         const std::size_t at = line.find(from);
         if (at == std::string::npos) {
