@@ -391,11 +391,10 @@ void check_probe(const std::string& kind, const YAML::Node& container,
     }
     const std::optional<int> port = resolve_port(get["port"], container);
     if (!port) {
-        problems.push_back(kind + " port " + text_of(get["port"]) +
-                           " is no port of the container");
+        problems.push_back(kind + " port " + text_of(get["port"]) + " is no port of the container");
     } else if (*port != config.admin_port) {
-        problems.push_back(kind + " port " + text_of(get["port"]) + " is " +
-                           std::to_string(*port) + ", not the admin listener's OER_ADMIN_PORT " +
+        problems.push_back(kind + " port " + text_of(get["port"]) + " is " + std::to_string(*port) +
+                           ", not the admin listener's OER_ADMIN_PORT " +
                            std::to_string(config.admin_port));
     }
     const std::string path = text_of(get["path"]);
@@ -492,8 +491,9 @@ std::optional<DeploymentView> check_deployment(const Image& image, const Objects
                 many |= mode.Scalar() == "ReadWriteMany";
             }
             if (!many) {
-                problems.push_back("the PersistentVolumeClaim " + claim_name +
-                                   " is not ReadWriteMany: replicas on other nodes cannot mount it");
+                problems.push_back(
+                    "the PersistentVolumeClaim " + claim_name +
+                    " is not ReadWriteMany: replicas on other nodes cannot mount it");
             }
         }
     }
@@ -525,8 +525,7 @@ std::optional<DeploymentView> check_deployment(const Image& image, const Objects
         if (!under_writable_mount("/tmp", container)) {
             problems.push_back("the root file system is read-only and /tmp is no volume");
         }
-        check_cache_folders(container["env"], environment, container, "the Deployment",
-                            problems);
+        check_cache_folders(container["env"], environment, container, "the Deployment", problems);
     }
 
     // The CPU request the autoscaler's utilisation is a share of.
@@ -550,8 +549,8 @@ std::optional<DeploymentView> check_deployment(const Image& image, const Objects
     const YAML::Node annotations = view.pod["metadata"]["annotations"];
     if (const YAML::Node port = annotations["prometheus.io/port"]) {
         if (port.Scalar() != std::to_string(config->admin_port)) {
-            problems.push_back("prometheus.io/port " + port.Scalar() +
-                               " is not the admin port " + std::to_string(config->admin_port));
+            problems.push_back("prometheus.io/port " + port.Scalar() + " is not the admin port " +
+                               std::to_string(config->admin_port));
         }
         const std::string path = text_of(annotations["prometheus.io/path"]);
         if (server.admin_status(path.empty() ? "/metrics" : path) != 200) {
@@ -579,8 +578,7 @@ void check_service(const DeploymentView& deployment, const Objects& objects, Pro
             problems.push_back("the Service's targetPort " + text_of(target) +
                                " is no port of the container");
         } else if (*resolved == deployment.config.admin_port) {
-            problems.push_back("the Service exposes the admin port " +
-                               std::to_string(*resolved));
+            problems.push_back("the Service exposes the admin port " + std::to_string(*resolved));
         } else if (*resolved == deployment.config.port) {
             serves_api |= port["port"].as<int>() == 80;
         }
@@ -615,8 +613,7 @@ std::string rule_served_name(const YAML::Node& rule) {
 
 void check_autoscaler(const DeploymentView& deployment, const Manifests& manifests,
                       const Server& server, Problems& problems) {
-    const std::vector<YAML::Node> autoscalers =
-        manifests.base.of_kind("HorizontalPodAutoscaler");
+    const std::vector<YAML::Node> autoscalers = manifests.base.of_kind("HorizontalPodAutoscaler");
     if (autoscalers.size() != 1) {
         problems.push_back("expected one HorizontalPodAutoscaler, found " +
                            std::to_string(autoscalers.size()));
@@ -708,15 +705,13 @@ void check_gpu_overlay(const Image& image, const DeploymentView& deployment,
     }
     // The patched container's environment: the base's, then the patch's env entries.
     Problems ignored;  // the base's own problems are reported by check_deployment
-    auto environment =
-        container_environment(image, manifests.base, deployment.container, ignored);
+    auto environment = container_environment(image, manifests.base, deployment.container, ignored);
     for (const YAML::Node& variable : container["env"]) {
         environment[text_of(variable["name"])] = text_of(variable["value"]);
     }
     container_config(environment, deployment.container, problems);
     if (text_of(deployment.container["securityContext"]["readOnlyRootFilesystem"]) == "true") {
-        check_cache_folders(container["env"], {}, deployment.container, "the GPU patch",
-                            problems);
+        check_cache_folders(container["env"], {}, deployment.container, "the GPU patch", problems);
     }
 }
 
@@ -892,8 +887,7 @@ TEST_F(K8sManifests, EachCheckFailsOnAManifestBrokenSo) {
          "claim data is not made by the kustomization"},
         {"a claim one node mounts",
          [](Manifests& m) {
-             m.object("PersistentVolumeClaim/oer-data")["spec"]["accessModes"][0] =
-                 "ReadWriteOnce";
+             m.object("PersistentVolumeClaim/oer-data")["spec"]["accessModes"][0] = "ReadWriteOnce";
          },
          "is not ReadWriteMany"},
         {"a user other than the image's",
@@ -922,13 +916,11 @@ TEST_F(K8sManifests, EachCheckFailsOnAManifestBrokenSo) {
         {"metrics scraped from the API port",
          [](Manifests& m) {
              m.object("Deployment/oer")["spec"]["template"]["metadata"]["annotations"]
-                  ["prometheus.io/port"] = "8080";
+                                       ["prometheus.io/port"] = "8080";
          },
          "prometheus.io/port 8080 is not the admin port"},
         {"the Service onto the admin port",
-         [](Manifests& m) {
-             m.object("Service/oer")["spec"]["ports"][0]["targetPort"] = "admin";
-         },
+         [](Manifests& m) { m.object("Service/oer")["spec"]["ports"][0]["targetPort"] = "admin"; },
          "the Service exposes the admin port 8081"},
         {"the Service selecting other pods",
          [](Manifests& m) {
@@ -938,7 +930,7 @@ TEST_F(K8sManifests, EachCheckFailsOnAManifestBrokenSo) {
         {"the disruption budget selecting other pods",
          [](Manifests& m) {
              m.object("PodDisruptionBudget/oer")["spec"]["selector"]["matchLabels"]
-                  ["app.kubernetes.io/name"] = "renderer";
+                                                ["app.kubernetes.io/name"] = "renderer";
          },
          "the PodDisruptionBudget does not select"},
         {"the autoscaler aimed at another name",
@@ -949,8 +941,9 @@ TEST_F(K8sManifests, EachCheckFailsOnAManifestBrokenSo) {
          "not apps/v1 Deployment oer"},
         {"the autoscaler on a metric no rule serves",
          [](Manifests& m) {
-             m.object("HorizontalPodAutoscaler/oer")["spec"]["metrics"][1]["pods"]["metric"]
-                  ["name"] = "oer_queue_depth";
+             m.object(
+                 "HorizontalPodAutoscaler/oer")["spec"]["metrics"][1]["pods"]["metric"]["name"] =
+                 "oer_queue_depth";
          },
          "Pods metric oer_queue_depth is served by no rule"},
         {"the adapter reading a metric the server does not export",
@@ -964,8 +957,7 @@ TEST_F(K8sManifests, EachCheckFailsOnAManifestBrokenSo) {
          },
          "is a counter, not a gauge"},
         {"a GPU patch of another Deployment",
-         [](Manifests& m) { m.gpu_patch["metadata"]["name"] = "oer-gpu"; },
-         "it patches nothing"},
+         [](Manifests& m) { m.gpu_patch["metadata"]["name"] = "oer-gpu"; }, "it patches nothing"},
         {"a GPU patch adding a second container",
          [](Manifests& m) {
              m.gpu_patch["spec"]["template"]["spec"]["containers"][0]["name"] = "renderer";
@@ -979,8 +971,8 @@ TEST_F(K8sManifests, EachCheckFailsOnAManifestBrokenSo) {
          "lacks graphics"},
         {"no GPU asked for",
          [](Manifests& m) {
-             m.gpu_patch["spec"]["template"]["spec"]["containers"][0]["resources"]["limits"]
-                 .remove("nvidia.com/gpu");
+             m.gpu_patch["spec"]["template"]["spec"]["containers"][0]["resources"]["limits"].remove(
+                 "nvidia.com/gpu");
          },
          "asks for no nvidia.com/gpu"},
         {"NVIDIA's shader cache on the read-only root",
