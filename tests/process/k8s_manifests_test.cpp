@@ -787,6 +787,9 @@ class K8sManifests : public ::testing::Test {
             return answers.at(path);
         };
     }
+    void SetUp() override {
+        ASSERT_TRUE(server_ && server_->running()) << "the suite's oer-server did not start";
+    }
     static void TearDownTestSuite() {
         server_.reset();
         root_.reset();
