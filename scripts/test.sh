@@ -18,8 +18,12 @@ ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
 "$root/scripts/build.sh" "$root/build-sanitize" -DOER_SANITIZE=ON -DCMAKE_BUILD_TYPE=None \
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_FLAGS=-O1 \
     -DCMAKE_CXX_FLAGS=-O1 -DOER_BUILD_BENCHMARKS=OFF
+# The C++ tests only: the slow ones are the optimised build's, and the lint, deployment and
+# browser tests check files and tools, not this build's code (the browser's server-side paths
+# are the integration tests', which run here).
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-    ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$jobs" -LE slow
+    ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$jobs" \
+    -LE "slow|lint|deploy|browser|report"
 
 # The fuzzers (tests/fuzz, built with clang into build-fuzz): each parser of untrusted input for
 # 15 s from its seeds; a finding fails the run. Longer runs by hand: tests/fuzz/README.md.

@@ -68,7 +68,7 @@ std::string quad_asset(const json& material, int images = 1, json node = json::o
     b.mesh(json::array({quad_primitive(b, quad)}));
     node["mesh"] = 0;
     b.node(node);
-    b.doc["materials"] = {material};
+    b.doc["materials"] = json::array({material});
     b.doc["images"] = json::array();
     b.doc["textures"] = json::array();
     for (int i = 0; i < images; ++i) {
@@ -477,7 +477,7 @@ std::string quad_with_tangents(const std::vector<glm::vec4>& tangents, const jso
     b.mesh(json::array({primitive}), "Q");
     node["mesh"] = 0;
     b.node(node);
-    b.doc["materials"] = {material};
+    b.doc["materials"] = json::array({material});
     b.doc["images"] = {{{"uri", kPngUri}}};
     b.doc["textures"] = {{{"source", 0}}};
     return b.gltf();
@@ -527,7 +527,7 @@ TEST(GltfMaterials, FileTangentsOfTheWrongTypeAreRejected) {
     primitive["attributes"]["TANGENT"] = attribute(b, quad.normals, "VEC3");
     b.mesh(json::array({primitive}), "Q");
     b.node({{"mesh", 0}});
-    b.doc["materials"] = {kNormalMapped};
+    b.doc["materials"] = json::array({kNormalMapped});
     b.doc["images"] = {{{"uri", kPngUri}}};
     b.doc["textures"] = {{{"source", 0}}};
     expect_error([&] { load_gltf_text(b.gltf()); }, ErrorKind::Unsupported,
@@ -628,7 +628,7 @@ TEST(GltfMaterials, AnyTextureGivesAPrimitiveWithoutTexcoordsZeros) {
     b.doc["textures"] = {{{"source", 0}}};
     const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
     EXPECT_EQ(mesh.primitives[0].texcoords, std::vector<glm::vec2>(4, glm::vec2(0.0f)));
-    b.doc["materials"] = {json::object()};
+    b.doc["materials"] = json::array({json::object()});
     EXPECT_TRUE(load_gltf_text(b.gltf(), kUnrefined).primitives[0].texcoords.empty());
 }
 
