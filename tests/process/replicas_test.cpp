@@ -456,7 +456,9 @@ TEST_F(Replicas, AReplicaKilledMidUploadLeavesNothingDamagedAndItsRestartSparesO
         const auto page = replica.client()->Get("/v1/environments?limit=100");
         EXPECT_TRUE(page && page->status == 200);
         if (page && page->status == 200) {
-            for (const Json& entry : Json::parse(page->body).at("environments")) {
+            // Named: a range-for over a member of a temporary would outlive the temporary.
+            const Json listing = Json::parse(page->body);
+            for (const Json& entry : listing.at("environments")) {
                 ids.insert(entry.at("id").get<std::string>());
             }
         }
