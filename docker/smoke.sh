@@ -56,24 +56,22 @@ cleanup() {
 trap cleanup EXIT
 
 # The base image: from the registry where one is reachable, else made here with debootstrap.
-if ! "$engine" image inspect debian:bookworm >/dev/null 2>&1; then
-    if [[ "$engine" != podman ]] || "$engine" pull -q debian:bookworm >/dev/null 2>&1; then
-        "$engine" pull -q debian:bookworm >/dev/null
-    else
-        command -v debootstrap >/dev/null || fail "no debian:bookworm image and no debootstrap"
-        log "no registry: making debian:bookworm with debootstrap --variant=minbase"
-        start=$(date +%s)
-        debootstrap --variant=minbase bookworm "$work/rootfs" http://deb.debian.org/debian \
-            >"$work/debootstrap.log" 2>&1 || {
-            tail -20 "$work/debootstrap.log" >&2
-            fail "debootstrap"
-        }
-        rm -rf "$work"/rootfs/var/cache/apt/archives/*.deb "$work"/rootfs/var/lib/apt/lists/*
-        tar -C "$work/rootfs" -c . | "$engine" import --change 'CMD ["bash"]' - debian:bookworm \
-            >/dev/null
-        rm -rf "$work/rootfs"
-        log "base image made in $(seconds_since "$start") s"
-    fi
+if ! "$engine" image inspect debian:bookworm >/dev/null 2>&1 &&
+    ! "$engine" pull -q debian:bookworm >/dev/null 2>&1; then
+    [[ "$engine" == podman ]] || fail "no debian:bookworm image and none could be pulled"
+    command -v debootstrap >/dev/null || fail "no debian:bookworm image and no debootstrap"
+    log "no registry: making debian:bookworm with debootstrap --variant=minbase"
+    start=$(date +%s)
+    debootstrap --variant=minbase bookworm "$work/rootfs" http://deb.debian.org/debian \
+        >"$work/debootstrap.log" 2>&1 || {
+        tail -20 "$work/debootstrap.log" >&2
+        fail "debootstrap"
+    }
+    rm -rf "$work"/rootfs/var/cache/apt/archives/*.deb "$work"/rootfs/var/lib/apt/lists/*
+    tar -C "$work/rootfs" -c . | "$engine" import --change 'CMD ["bash"]' - debian:bookworm \
+        >/dev/null
+    rm -rf "$work/rootfs"
+    log "base image made in $(seconds_since "$start") s"
 fi
 
 start=$(date +%s)

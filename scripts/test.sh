@@ -13,7 +13,7 @@ ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
 # The sanitizer build with clang, -O1 without debug info: the sanitizers need frame pointers
 # (OER_SANITIZE keeps them), not -O2 and DWARF. clang, not gcc: with both sanitizers gcc 12 takes
 # three times as long over a library file (server/src/service.cpp: 12.3 s of CPU, clang 4.1 s)
-# and 1.6 times over a test file; gcc's sanitizer build alone took 20 minutes of CI's 2 cores.
+# and 1.6 times over a test file; gcc's sanitizer build alone took 20 minutes on a 2-core machine.
 # Warnings are the gcc build's to fail on (clang 14 warns on the vendored MikkTSpace).
 "$root/scripts/build.sh" "$root/build-sanitize" -DOER_SANITIZE=ON -DCMAKE_BUILD_TYPE=None \
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_FLAGS=-O1 \

@@ -12,6 +12,7 @@
 #include "oer/core/error.hpp"
 #include "oer/lighting/default_environment.hpp"
 #include "oer/lighting/equirect.hpp"
+#include "process_memory.hpp"
 
 using namespace oer;
 using std::numbers::pi;
@@ -150,7 +151,7 @@ TEST(DefaultEnvironment, IsFast) {
         ASSERT_EQ(image.width, 1024);
     }
     std::cout << "[          ] make_default_environment(1024, 512): best of 5 " << best << " ms\n";
-#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+#if defined(NDEBUG) && !defined(OER_ADDRESS_SANITIZER)
     EXPECT_LT(best, 50.0);
 #endif
 }
