@@ -31,7 +31,7 @@ glm::dvec2 position_of(const glm::dvec3& direction, int width, int height) {
     return {u, theta / pi * height};
 }
 
-// Exact: the integral of sin(theta) dtheta dphi over the pixel (DESIGN.md section 3).
+// Exact: the integral of sin(theta) dtheta dphi over the pixel (docs/design.md section 3).
 double pixel_solid_angle(int y, int width, int height) {
     return (2.0 * pi / width) * (std::cos(pi * y / height) - std::cos(pi * (y + 1) / height));
 }

@@ -13,7 +13,7 @@
 namespace oer {
 namespace {
 
-// Separable projection (DESIGN.md section 3 conventions). In the basis with polar axis +Y,
+// Separable projection (docs/design.md section 3 conventions). In the basis with polar axis +Y,
 // Y'_lm(v) = Y_lm(v.x, v.z, v.y) = N_l^|m|(cos theta) sin^|m|(theta) (cos m phi | sin |m| phi)
 // with the equirect angles themselves, so
 //   c'_lm = sum over rows y of dOmega(y) N_l^|m|(cos theta_y) sin^|m|(theta_y) S_m(y),

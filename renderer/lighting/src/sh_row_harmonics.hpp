@@ -10,7 +10,7 @@
 namespace oer::detail {
 
 // Term k of column x: 1 for k = 0, cos(m phi_x) for k = 2m - 1, sin(m phi_x) for k = 2m
-// (m = 1 .. order - 1), phi_x the equirect azimuth of DESIGN.md section 3. Rows of the table
+// (m = 1 .. order - 1), phi_x the equirect azimuth of docs/design.md section 3. Rows of the table
 // are padded with zeros to a multiple of 4 columns.
 class AzimuthTable {
   public:

@@ -1,7 +1,7 @@
 // The prefiltered residual cube map of the split-sum specular IBL (see
 // oer/lighting/specular_environment.hpp):
 //  1. the map resampled to an unfiltered cube of face_size: 4 x 4 regular subsamples per
-//     texel, each read bilinearly from the equirect (DESIGN.md section 3 mapping, wrapping in
+//     texel, each read bilinearly from the equirect (docs/design.md section 3 mapping, wrapping in
 //     phi, clamped at the poles) and weighted by its solid angle, the cube's Jacobian
 //     dOmega = ds dt / (1 + sc^2 + tc^2)^(3/2) (up to a constant);
 //  2. its box-filtered mip pyramid, in float, down to 1 x 1, each 2 x 2 box weighted by its

@@ -1,6 +1,6 @@
 // Wavefront OBJ through tinyobjloader (see oer/mesh_loading.hpp), from memory only: the
 // material reader refuses every mtllib, so an OBJ is always drawn with the default Lambertian
-// material (DESIGN.md section 3). Faces are triangulated by tinyobjloader; one vertex is made
+// material (docs/design.md section 3). Faces are triangulated by tinyobjloader; one vertex is made
 // per distinct (position, normal, texcoord) triple.
 #include <tiny_obj_loader.h>
 

@@ -13,7 +13,7 @@ namespace oer {
 
 // One soft-box of the default studio. Its radiance is `radiance` (linear RGB) out to
 // 0.85 * angular_radius from `direction`, falls smoothly to 0 at 1.15 * angular_radius, and is
-// half way down at angular_radius. Directions are unit vectors in world space (DESIGN.md
+// half way down at angular_radius. Directions are unit vectors in world space (docs/design.md
 // section 3: +Y up, image centre along +X).
 struct DefaultStudioLight {
     std::string name;       // "key", "fill", "rim"

@@ -1,5 +1,5 @@
 #pragma once
-// The two other environment layouts of the thesis, resampled to equirect (DESIGN.md section 3
+// The two other environment layouts of the thesis, resampled to equirect (docs/design.md section 3
 // mapping): cube maps (six faces, or one horizontal or vertical cross) with faces oriented as
 // in the OpenGL cube-map table, and mirror-ball light probes.
 //

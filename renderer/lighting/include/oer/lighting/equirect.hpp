@@ -1,9 +1,9 @@
 #pragma once
-// The equirectangular mapping of DESIGN.md section 3, shared by every module:
+// The equirectangular mapping of docs/design.md section 3, shared by every module:
 //   theta = pi (y + 0.5) / H   (polar angle from +Y)
 //   phi   = 2 pi (x + 0.5) / W - pi
 //   dir   = (sin theta cos phi, cos theta, sin theta sin phi)
-// and the exact solid angle of a pixel in row y (DESIGN.md section 3), the integral of
+// and the exact solid angle of a pixel in row y (docs/design.md section 3), the integral of
 // sin(theta) dtheta dphi over the pixel, phi across 2 pi / W and theta from pi y / H to
 // pi (y + 1) / H:
 //   dOmega(y) = (2 pi / W) (cos(pi y / H) - cos(pi (y + 1) / H))
@@ -52,7 +52,7 @@ struct Grid {
     }
 };
 
-// Rotation of a direction about +Y by yaw degrees (DESIGN.md section 3), positive yaw
+// Rotation of a direction about +Y by yaw degrees (docs/design.md section 3), positive yaw
 // turning +X towards -Z (counter-clockwise seen from above).
 glm::dvec3 rotate_yaw(const glm::dvec3& direction, double yaw_degrees);
 

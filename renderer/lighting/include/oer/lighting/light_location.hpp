@@ -1,5 +1,5 @@
 #pragma once
-// Phase 1 of OER (DESIGN.md section 2): find the light sources inside an HDR map, after the
+// Phase 1 of OER (docs/design.md section 2): find the light sources inside an HDR map, after the
 // light location of A. Ambrosj, "Occluded Environment Maps Rendering", master's thesis,
 // Politecnico di Milano, 2016, section 4.1 (the improvements over it are marked below).
 // Luminance, blurred (gaussian, wrapping across the seam); light and halo thresholds at two
@@ -66,8 +66,9 @@ struct LightLocation {
     std::size_t halo_pixel_count = 0;
 };
 
-// Luminance of DESIGN.md section 2 and the thesis's eq. 3.1: 179 (0.265 R + 0.670 G + 0.065 B),
-// 179 lm/W being the luminous efficacy of equal-energy white light.
+// Luminance of docs/design.md section 2 and the thesis's eq. 3.1:
+// 179 (0.265 R + 0.670 G + 0.065 B), 179 lm/W being the luminous efficacy of equal-energy white
+// light.
 double luminance(const glm::dvec3& rgb);
 
 // How a light's energy spreads about its direction, as its shadows need it: a share in a core

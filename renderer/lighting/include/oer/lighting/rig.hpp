@@ -1,6 +1,6 @@
 #pragma once
 // A light rig: everything the renderer and clients need from one environment map
-// (DESIGN.md section 7): the lights found in it and the SH radiance of the whole map and of
+// (docs/design.md section 7): the lights found in it and the SH radiance of the whole map and of
 // each light's own pixels, with the choices made (light count, SH order, window) and why.
 #include <map>
 #include <optional>
@@ -53,9 +53,9 @@ struct Rig {
     ShWindow window;
     std::string window_reason;
     // Unwindowed radiance: whole map and per light (of the tone-mapped map in the thesis model),
-    // and the same above the horizon only: with the ground as lighting (issue 13), what a point
-    // above the plane sees of the map and of each light (a light near the horizon is partly
-    // hidden by the plane).
+    // and the same above the horizon only: with the ground as lighting (docs/design.md section 2),
+    // what a point above the plane sees of the map and of each light (a light near the horizon is
+    // partly hidden by the plane).
     ShProjection sh;
     double reference_error =
         -1.0;  // relative RMS irradiance error of the chosen order, if measured

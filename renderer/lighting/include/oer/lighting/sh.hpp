@@ -3,7 +3,7 @@
 // everything about the SH basis lives in this file and sh.cpp. Projection onto the basis is
 // sh_projection.hpp; irradiance and windowing are irradiance.hpp.
 //
-// Convention (DESIGN.md section 3): real SH evaluated on world unit vectors (x, y, z), polar
+// Convention (docs/design.md section 3): real SH evaluated on world unit vectors (x, y, z), polar
 // axis z, all constants positive (no Condon-Shortley phase), single index i = l (l + 1) + m,
 // orthonormal over the sphere. "Order N" means bands l = 0 .. N-1, N^2 coefficients.
 //
@@ -50,7 +50,7 @@
 // is orthogonal to z on [-1, 1], so A_l = 0. For even l, Rodrigues' formula and integration
 // by parts give
 //   A_l = 2 pi (-1)^(l/2 - 1) / ((l + 2)(l - 1)) * l! / (2^l ((l/2)!)^2),
-// A_2 = pi / 4, A_4 = -pi / 24, A_6 = pi / 64, ... (DESIGN.md section 3). The tests compare
+// A_2 = pi / 4, A_4 = -pi / 24, A_6 = pi / 64, ... (docs/design.md section 3). The tests compare
 // them with the integral itself (tests/lighting/irradiance_test.cpp).
 #include <span>
 #include <vector>

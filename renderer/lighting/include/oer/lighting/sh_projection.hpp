@@ -1,9 +1,9 @@
 #pragma once
-// Projection of an equirectangular map onto SH (DESIGN.md section 3):
+// Projection of an equirectangular map onto SH (docs/design.md section 3):
 //   L_lm = sum over pixels L(pixel) Y_lm(dir) dOmega      (no 1/4pi)
 // for the whole map and for each light's own pixels in one call, accumulated in double.
 // Projection is linear, so the coefficients of the map with any set of lights switched off
-// are c(all) - sum over lights L off of c(L) (DESIGN.md section 2, phase 2).
+// are c(all) - sum over lights L off of c(L) (docs/design.md section 2, phase 2).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -18,7 +18,8 @@ struct ShProjection {
     std::vector<ShRgb> per_light;  // each light's own pixels
     // The same over the rows above the horizon only (y < height / 2, directions with y > 0; an
     // odd height's middle row, on the horizon, counts below): what a point above an infinite
-    // ground plane can see of the map (issue 13's ground term). Empty when not projected.
+    // ground plane can see of the map (the ground as lighting, docs/design.md section 2). Empty
+    // when not projected.
     ShRgb all_above_horizon;
     std::vector<ShRgb> per_light_above_horizon;
 };

@@ -1,5 +1,5 @@
 #pragma once
-// Rotation of SH coefficients, for any order (issue 13: object transforms and the environment's
+// Rotation of SH coefficients, for any order (object transforms and the environment's
 // yaw turn the lighting into a transfer's frame). Rotations keep each band l to itself, so a
 // rotation is one (2l + 1) x (2l + 1) matrix per band,
 //   D_l[m][m'] = integral over the sphere of Y_lm(v) Y_lm'(Q v) dv,

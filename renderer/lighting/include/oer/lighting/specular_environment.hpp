@@ -1,7 +1,7 @@
 #pragma once
-// Specular image-based lighting of a rig (issue 12): the split-sum approximation of B. Karis,
+// Specular image-based lighting of a rig: the split-sum approximation of B. Karis,
 // "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes (RTR4 section 10.5.2), made
-// switchable per light as OER makes the diffuse (DESIGN.md section 2). Prefiltered radiance is
+// switchable per light as OER makes the diffuse (docs/design.md section 2). Prefiltered radiance is
 // linear in the map, so for light weights w_k and visibilities v_k
 //   P(S) = P(residual) + sum_k w_k v_k P(k),
 // where the residual is the map with every light's pixels removed (set to 0) and P(k) the

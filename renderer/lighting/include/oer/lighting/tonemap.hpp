@@ -1,6 +1,6 @@
 #pragma once
 // Display transforms: exposure, tone mapping and the sRGB transfer function, for images that
-// leave the service as 8-bit (DESIGN.md section 3); and the thesis model's tone map.
+// leave the service as 8-bit (docs/design.md section 3); and the thesis model's tone map.
 #include <string>
 
 #include <glm/common.hpp>
@@ -32,8 +32,8 @@ float srgb_decode(float encoded);
 // tone map, encode.
 HdrImage to_display(const HdrImage& linear, double exposure, ToneMapper mapper);
 
-// The thesis model's tone map (DESIGN.md section 2, lighting model "thesis"): the global operator
-// of Reinhard, Stark, Shirley and Ferwerda, "Photographic Tone Reproduction for Digital
+// The thesis model's tone map (docs/design.md section 2, lighting model "thesis"): the global
+// operator of Reinhard, Stark, Shirley and Ferwerda, "Photographic Tone Reproduction for Digital
 // Images", 2002 (key 0.18 over the log-average luminance, L / (1 + L) per channel),
 // then normalised so that the largest value is 1. Our reading of "tone map and normalise to
 // [0, 1] before projection"; a black map stays black.

@@ -1,5 +1,5 @@
 #pragma once
-// Cameras (DESIGN.md section 3: +Y up, the camera looks down its local -Z): look-at, orbit,
+// Cameras (docs/design.md section 3: +Y up, the camera looks down its local -Z): look-at, orbit,
 // and automatic framing of a scene's bounds.
 #include <optional>
 #include <vector>

@@ -60,7 +60,7 @@ struct TextureReference {
 
 enum class ShadingModel {
     // Albedo only: E * albedo / pi, no specular term. An OBJ without a material (albedo 0.8,
-    // DESIGN.md section 3) and the default product's fabric.
+    // docs/design.md section 3) and the default product's fabric.
     Lambertian,
     // The glTF 2.0 metallic-roughness BRDF (specification, Appendix B): GGX, height-correlated
     // Smith visibility, Schlick Fresnel, Lambertian diffuse, lit by the split-sum specular

@@ -16,7 +16,7 @@ struct LodLevel {
     std::uint32_t first_index = 0;  // into LodIndices::indices
     std::uint32_t index_count = 0;
     float error = 0.0f;  // largest distance from the full mesh, in the mesh's units
-    // Its longest triangle edge, in the mesh's units: per-vertex lighting (issue 13's transfer)
+    // Its longest triangle edge, in the mesh's units: per-vertex lighting (the transfer's)
     // is interpolated along it, so a frame lit through a transfer needs short edges too.
     float longest_edge = 0.0f;
 };

@@ -1,7 +1,7 @@
 #pragma once
-// Refinement of coarse meshes for per-vertex lighting data. Issue 13 stores precomputed radiance
-// transfer per vertex (P.-P. Sloan, J. Kautz and J. Snyder, "Precomputed Radiance Transfer for
-// Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH 2002, which
+// Refinement of coarse meshes for per-vertex lighting data. The renderer stores precomputed
+// radiance transfer per vertex (P.-P. Sloan, J. Kautz and J. Snyder, "Precomputed Radiance Transfer
+// for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH 2002, which
 // computes transfer at mesh vertices) and interpolates it across each triangle: on a box of 24
 // vertices a face would get one value per corner and a blotchy, wrong gradient. Every mesh is
 // therefore refined when it is finished (mesh_finishing.hpp, before tangents and before any
