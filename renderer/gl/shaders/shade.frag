@@ -40,7 +40,8 @@ vec4 shade(ivec2 pixel) {
     vec4 near_point = u_inverse_view_projection * vec4(ndc, -1.0, 1.0);
     vec4 far_point = u_inverse_view_projection * vec4(ndc, 1.0, 1.0);
     vec3 d = map_direction(normalize(far_point.xyz / far_point.w - near_point.xyz / near_point.w));
-    // DESIGN.md section 3: theta from +Y, phi = atan2(z, x); u = (phi + pi) / 2pi, v = theta / pi.
+    // docs/design.md section 3: theta from +Y, phi = atan2(z, x);
+    // u = (phi + pi) / 2pi, v = theta / pi.
     vec2 uv = vec2((atan(d.z, d.x) + PI) / (2.0 * PI), acos(clamp(d.y, -1.0, 1.0)) / PI);
     return vec4(textureLod(u_environment, uv, 0.0).rgb, 1.0);
 #else
@@ -78,7 +79,7 @@ float ground_visibility(int k, vec3 position) {
 }
 #endif
 
-// The ground is Lambertian (DESIGN.md section 7).
+// The ground is Lambertian (docs/design.md section 7).
 vec4 shade(ivec2 pixel) {
     vec3 position = texelFetch(u_positions, pixel, 0).xyz;
     vec4 albedo = texelFetch(u_albedos, pixel, 0);

@@ -3,8 +3,8 @@
 // surface is lit exactly as an opaque one.
 //
 // Diffuse: the SH irradiance E of the map with every light's weight and visibility
-// (DESIGN.md section 2), E = E(all) - sum_k (1 - w_k v_k) E(k); with occlusion (TRANSFER 1,
-// issue 13) E = T(x) . R + sum_k w_k v_k E(k), the transfer's irradiance of the residual map
+// (docs/design.md section 2), E = E(all) - sum_k (1 - w_k v_k) E(k); with occlusion
+// (TRANSFER 1) E = T(x) . R + sum_k w_k v_k E(k), the transfer's irradiance of the residual map
 // given per fragment and set 0 holding only the lights' part (with the ground, each light's
 // part above the horizon: the plane hides the rest). A Lambertian material
 // (metallic -1), and every material under the thesis's model (which has no specular BRDF,
@@ -53,9 +53,9 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
     mat2 rotation = disc_rotation(gl_FragCoord.xy);
     for (int k = 0; k < LIGHTS_ON; ++k) {
         float v = visibility(k, position, n, rotation);
-        // Skipped where the light is seen, as at most samples (DESIGN.md section 8).
+        // Skipped where the light is seen, as at most samples (speed: docs/design.md section 8).
         vec3 light_irradiance = v < 1.0 ? irradiance(k + 1, Y) : vec3(0.0);
-        // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2) as set 0 minus
+        // E = E(all) - sum_k (1 - w_k v_k) E(k) (docs/design.md section 2) as set 0 minus
         // (1 - v) w_k E(k): the weights are in the sets and uniforms (frame_context.hpp).
         E -= (1.0 - v) * light_irradiance;
         attenuation -= (1.0 - v) * u_light_share[k];

@@ -35,7 +35,7 @@ struct FrameContext {
     std::vector<float> weights;    // per rig light, FrameRequest::lights (0 off, 1 as captured)
     std::vector<std::size_t> lit;  // the rig indices of the lights of weight above 0
     glm::vec2 yaw_cos_sin{1.0f, 0.0f};
-    // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2) split as
+    // E = E(all) - sum_k (1 - w_k v_k) E(k) (docs/design.md section 2) split as
     // [E(all) - sum_k (1 - w_k) E(k)] - sum_k (1 - v_k) w_k E(k), since
     // 1 - w v = (1 - w) + w (1 - v): set 0 is the bracket, constant over the frame, and set
     // i + 1 is w_k E(k) for the i-th lit light k, which the shading pass takes off in its shadow
@@ -44,7 +44,7 @@ struct FrameContext {
     // Thesis model: 1 - sum_k (1 - w_k) luminance_share_k, split as the irradiance is.
     double attenuation_base = 1.0;
 
-    // Occlusion (issue 13; FrameRequest::occlusion with its transfer): set 0 is then the lights'
+    // Occlusion (FrameRequest::occlusion with its transfer): set 0 is then the lights'
     // part alone, sum_k w_k E(k), and the residual map's irradiance, occluded and reflected,
     // comes from the transfer (transfer_lighting.hpp) per vertex of every object's primitives
     // and per texel of the ground's grid. With the ground, each light lights with its part above

@@ -21,7 +21,7 @@ Mesh unit_ground() {
     quad.normals.assign(4, {0, 1, 0});
     quad.indices = {0, 1, 2, 0, 2, 3};
     mesh.primitives.push_back(std::move(quad));
-    // A horizontal Lambertian plane of albedo 0.8 (DESIGN.md section 7).
+    // A horizontal Lambertian plane of albedo 0.8 (docs/design.md section 7).
     Material material;
     material.name = "ground";
     material.base_color = {kGroundAlbedo, kGroundAlbedo, kGroundAlbedo, 1.0f};

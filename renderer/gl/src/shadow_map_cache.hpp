@@ -1,5 +1,5 @@
 #pragma once
-// Shadow maps depend on the scene and the lights, not on the camera (DESIGN.md section 2,
+// Shadow maps depend on the scene and the lights, not on the camera (docs/design.md section 2,
 // phase 3): depth textures kept by a key of scene, light and resolution, the least recently
 // used dropped first. Each entry also keeps its light's visibility on the ground plane once
 // it has been baked, so moving the camera or switching other lights re-renders nothing.

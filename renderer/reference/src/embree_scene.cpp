@@ -104,7 +104,7 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) 
         }
     }
     if (request.ground) {
-        // The renderer's unit ground (renderer_state.cpp), albedo 0.8 (DESIGN.md section 7).
+        // The renderer's unit ground (renderer_state.cpp), albedo 0.8 (docs/design.md section 7).
         Geometry ground;
         const float h = frame.ground_half_size(), y = frame.box.min.y;
         const glm::vec3 c = frame.centre;

@@ -8,7 +8,7 @@
 // piecewise-constant 2D distribution over the equirectangular image, a marginal over rows and
 // a conditional over the columns of each row. pbrt weights a pixel by its value and converts
 // with the Jacobian 1 / (2 pi^2 sin theta) at the sampled point; here each pixel is weighted
-// by its luminance times its exact solid angle dOmega(y) (DESIGN.md section 3) and sampled
+// by its luminance times its exact solid angle dOmega(y) (docs/design.md section 3) and sampled
 // uniformly in solid angle within the pixel (uniform in phi and in cos theta), so that the
 // density in solid angle is exactly luminance / sum(luminance dOmega), constant over a pixel.
 #include <cstddef>

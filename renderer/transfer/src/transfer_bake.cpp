@@ -62,9 +62,9 @@ constexpr std::uint64_t kBakeSeed = 1;
 // Bounce::One costs 2.8 to 3.1 s of CPU at 144 rays per point and 3.4 to 3.7 s at 196, i.e.
 // 1.4 s and 1.7 s of wall time on 2 free cores (the two threads share the points evenly; the
 // bake's wall time on the shared machine, with other builds on both cores, is 2 to 3 times
-// that). 144 keeps issue 13's 2 s with a margin for the machine's noise; its error is about 1 %
-// of the visible fraction (the contact shadow of a sphere on the ground, tests/transfer: RMS
-// 0.98 % over 2416 texels at 144 rays, 0.15 % at 2304).
+// that). 144 keeps the bake's 2 s target (docs/design.md section 8) with a margin for the
+// machine's noise; its error is about 1 % of the visible fraction (the contact shadow of a sphere
+// on the ground, tests/transfer: RMS 0.98 % over 2416 texels at 144 rays, 0.15 % at 2304).
 // Stratified rays come in strata x strata cells: 8 x 8 (64) at least, below which the
 // occlusion of a single receiver is visibly noisy (the binomial error of a half-occluded point is
 // 6 %), and 32 x 32 (1024) at most, where the binomial error is at most 1.6 % and the

@@ -1,5 +1,5 @@
 #pragma once
-// Phase 3 of OER (DESIGN.md section 2): draws meshes lit by a light rig, with one shadow map
+// Phase 3 of OER (docs/design.md section 2): draws meshes lit by a light rig, with one shadow map
 // per light that is on, the environment (or a color, or nothing) behind them, an optional
 // ground plane that receives shadows, exposure, tone mapping and sRGB output.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// The request's surfaces in an Embree 3 scene (Intel's Embree, the ray tracer issue 11 names:
+// The request's surfaces in an Embree 3 scene (Intel's Embree:
 // rtcNewDevice, rtcNewScene, one RTC_GEOMETRY_TYPE_TRIANGLE geometry per primitive, committed
 // once, then rtcIntersect1 / rtcOccluded1 from any number of threads): every object's
 // primitives in world space, and the renderer's ground plane. A hit is resolved to what
@@ -41,7 +41,7 @@ struct SurfaceHit {
 
 // How far the ground plane reaches for a ray: as drawn (the renderer's square, for the rays of
 // the camera), or infinite (for rays that leave a surface towards a light or the map: above an
-// infinite plane every direction below the horizon sees the plane, never the map, DESIGN.md
+// infinite plane every direction below the horizon sees the plane, never the map, docs/design.md
 // section 2, and the square's edge is only where the picture stops).
 enum class GroundReach { Drawn, Infinite };
 

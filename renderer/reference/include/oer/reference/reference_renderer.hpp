@@ -1,6 +1,6 @@
 #pragma once
-// The ground truth of every frame-error figure (issue 11): the frame a FrameRequest asks for,
-// path traced on Embree instead of rasterised. Per pixel, the outgoing radiance of the
+// The ground truth of every frame-error figure (docs/accuracy.md): the frame a FrameRequest asks
+// for, path traced on Embree instead of rasterised. Per pixel, the outgoing radiance of the
 // Lambertian surfaces (the renderer's albedos and ground plane) under the environment map with
 // true visibility (meshes and ground occlude), the map's lights scaled by the request's
 // weights (a light at 0 is its pixels removed from the map), turned by the request's yaw.

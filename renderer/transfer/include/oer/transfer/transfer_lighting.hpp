@@ -30,7 +30,7 @@ struct TransferLighting {
     // by the environment's yaw into the world frame the transfer was baked in, unwindowed, at
     // the evaluation order.
     //
-    // With the ground as lighting (DESIGN.md section 2), a point above the infinite plane sees
+    // With the ground as lighting (docs/design.md section 2), a point above the infinite plane sees
     // the plane in every direction below its horizon, never the map: R and L are then the map's
     // above the horizon (the rig's above-horizon projection: the residual, and each light's part
     // above the horizon) plus, below it,
@@ -42,9 +42,9 @@ struct TransferLighting {
     ShRgb whole;
 };
 
-// weights: one per rig light (0 off, 1 as captured); yaw_degrees about +Y (DESIGN.md section 3);
-// ground: the frame has the ground plane, which reflects as `bounce` says. Throws oer::Error
-// (InvalidInput) when the weights do not match the rig's lights or order is outside
+// weights: one per rig light (0 off, 1 as captured); yaw_degrees about +Y (docs/design.md
+// section 3); ground: the frame has the ground plane, which reflects as `bounce` says. Throws
+// oer::Error (InvalidInput) when the weights do not match the rig's lights or order is outside
 // 1 .. min(rig order, kTransferBakeOrder).
 TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weights,
                                    double yaw_degrees, int order, bool ground, Bounce bounce);
