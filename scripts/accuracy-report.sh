@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The one command of issue 11's report: installs what is missing, builds the three sweeps and issue 12's material gallery, runs
+# The one command of the accuracy report: installs what is missing, builds the three sweeps and the material gallery, runs
 # them into build/accuracy/ and writes docs/accuracy.md from what they measured
 # (docs/accuracy/make_report.py).
 # --quick: every sweep with --quick, and the report into build/accuracy/report/ rather than

@@ -15,7 +15,7 @@ build_packages=(
     libyaml-cpp-dev
     glslang-tools binutils
 )
-# Real-world data for tests (DESIGN.md section 5), and the browser the browser test drives
+# Real-world data for tests (docs/design.md section 5), and the browser the browser test drives
 # (web/tests: /usr/bin/chromium through playwright-core, which downloads no browser of its own);
 # the service itself never needs them. The accuracy report (scripts/accuracy-report.sh) converts
 # glmark2's 3ds meshes to glTF with assimp-utils and draws its plots with python3-matplotlib.

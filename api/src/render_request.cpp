@@ -194,8 +194,8 @@ bool json_bool(const Json& value, const std::string& path) {
     return read.boolean(value, path, "true or false");
 }
 
-// A light's weight (DESIGN.md section 2, dimmable lights): true and false, the on/off form, are
-// 1 and 0.
+// A light's weight (docs/design.md section 2, dimmable lights): true and false, the on/off form,
+// are 1 and 0.
 double json_light_weight(const Json& value, const std::string& path) {
     if (value.is_boolean()) {
         return value.get<bool>() ? 1.0 : 0.0;

@@ -7,7 +7,7 @@
 // finished job frees), and is then refused: submit() throws QueueFull, answered 503 with
 // Retry-After.
 //
-// Why wait before refusing (issue 14, measured by tests/integration/load_test.cpp): a client
+// Why wait before refusing (measured by tests/integration/load_test.cpp): a client
 // that retries a refusal at once, as load generators and impatient scripts do, gets refusals as
 // fast as the server can answer them. 64 such clients on 2 cores made 7400-8000 refusals a
 // second, and the renders, sharing the CPU with them (the scheduler shares it by runnable

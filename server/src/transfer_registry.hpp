@@ -1,5 +1,5 @@
 #pragma once
-// Scenes' precomputed radiance transfers (issue 13, oer/transfer/transfer_bake.hpp), which a
+// Scenes' precomputed radiance transfers (oer/transfer/transfer_bake.hpp), which a
 // frame with occlusion on needs for its objects, their transforms and colours, the ground and
 // the bounce. Kept like a rig's specular cube: in memory (LRU by bytes), else read back from the
 // asset store (an entry that is damaged, or does not fit its scene, is logged, dropped and baked

@@ -11,7 +11,7 @@
 // bytes), which bounds what any one upload of N bytes can make the server hold. The default,
 // 200, is what real panoramas need: a phone's 8192x4096 JPEG of 10 MB takes about 97 times its
 // size to decode (571 MB: the float map, the 8-bit rows, OpenImageIO's conversion buffer) and
-// preprocess, a 5376x2688 one of 6 MB about 70 times; issue 14's 40 would refuse both. Natural
+// preprocess, a 5376x2688 one of 6 MB about 70 times; an expansion of 40 would refuse both. Natural
 // HDR maps (EXR, RLE .hdr) take 6 to 12 times theirs.
 #include <cstdint>
 #include <functional>

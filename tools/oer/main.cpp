@@ -1,4 +1,4 @@
-// `oer`: the command line over the renderer library (DESIGN.md section 7). It links no GL:
+// `oer`: the command line over the renderer library (docs/design.md section 7). It links no GL:
 // `oer render` runs `oer-render`, the executable beside it that does.
 #include <unistd.h>
 

@@ -1,6 +1,6 @@
 #pragma once
 // The lights of a rig as text: weights for a render ("1,0.5,0", the GET form and the CLI's
-// --lights; DESIGN.md section 2, dimmable lights), and on/off switches ("1,0,1") for the
+// --lights; docs/design.md section 2, dimmable lights), and on/off switches ("1,0,1") for the
 // environment's irradiance (GET /v1/environments/{id}/irradiance, `oer irradiance-map`).
 #include <cstddef>
 #include <optional>

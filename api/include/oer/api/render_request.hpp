@@ -1,6 +1,6 @@
 #pragma once
-// A render request (DESIGN.md section 7) as the API receives it, ids not yet resolved: the JSON
-// body of POST /v1/render and the query parameters of GET /v1/render both parse into one
+// A render request (docs/design.md section 7) as the API receives it, ids not yet resolved: the
+// JSON body of POST /v1/render and the query parameters of GET /v1/render both parse into one
 // RenderSpec, so both forms accept the same requests and give the same canonical document and
 // ETag. api/openapi.yaml publishes the same names, enums and ranges.
 //
@@ -117,7 +117,7 @@ struct RenderSpec {
     std::string environment;  // a rig id or kDefaultPresetId
     std::vector<ObjectSpec> objects;
     bool ground = true;
-    // Issue 13's switches, FrameRequest::occlusion and ::bounce: false, the previous OER
+    // The occlusion switches, FrameRequest::occlusion and ::bounce: false, the previous OER
     // lighting (the residual map unoccluded); none, the ground lights nothing and nothing
     // reflects (to compare with a direct-only reference).
     bool occlusion = true;

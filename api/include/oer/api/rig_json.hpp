@@ -1,5 +1,5 @@
 #pragma once
-// The light rig as JSON (DESIGN.md section 7): the same document from the CLI and the API.
+// The light rig as JSON (docs/design.md section 7): the same document from the CLI and the API.
 #include <string>
 
 #include <nlohmann/json.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// The HTTP service (issue 4): api/openapi.yaml over cpp-httplib, the asset store, caches, the
+// The HTTP service: api/openapi.yaml over cpp-httplib, the asset store, caches, the
 // render workers and metrics. One object owns all of it, so that tests run a real server on a
 // loopback port in-process, stop it and start another on the same data folder.
 #include <functional>
