@@ -1,8 +1,8 @@
-// Frame benchmark (DESIGN.md section 8): the Stanford bunny on a ground plane lit by rigs of 0
+// Frame benchmark (docs/design.md section 8): the Stanford bunny on a ground plane lit by rigs of 0
 // to 4 lights, per-pass frame times at several sizes and shadow-map resolutions, with shadow
 // maps cached (camera moves) and not (the lights move every frame), the colour pass with glTF
-// PBR materials against the same bunny Lambertian (issue 12), the colour pass of a frame lit
-// through the scene's transfer against the same frame without (issue 13), and JPEG encoding.
+// PBR materials against the same bunny Lambertian, the colour pass of a frame lit through the
+// scene's transfer against the same frame without, and JPEG encoding.
 // Prints plain text; a missed target is reported, never an error.
 #include <cstdio>
 #include <filesystem>
@@ -124,16 +124,16 @@ double pass(const Measurement& m, const char* name) {
     return found == m.passes.end() ? 0.0 : found->second;
 }
 
-// The color pass of DESIGN.md section 8 is the geometry and shading passes (with the
+// The color pass of docs/design.md section 8 is the geometry and shading passes (with the
 // supersample resolve), then readback.
 double color_and_readback(const Measurement& m) {
     return pass(m, "geometry_pass") + pass(m, "shading_pass") + pass(m, "readback");
 }
 
-// The DESIGN.md section 8 frame targets beside the measured color pass + readback times.
+// The docs/design.md section 8 frame targets beside the measured color pass + readback times.
 void print_targets(const std::map<std::string, double>& target_ms) {
     std::printf(
-        "\nDESIGN.md section 8 targets (color pass + readback, bunny, ground, 2 lights, "
+        "\ndocs/design.md section 8 targets (color pass + readback, bunny, ground, 2 lights, "
         "cached shadow maps, 1 sample per pixel):\n");
     const double ms1366 = target_ms.at("1366x768"), ms512 = target_ms.at("512x512");
     std::printf("  1366x768  %6.1f ms = %5.1f fps   target >= %.0f fps   %s\n", ms1366,
@@ -230,7 +230,7 @@ int main(int argc, char** argv) {
         }
     }
     std::printf(
-        "\nmaterials (issue 12), 2 lights, cached shadow maps, 1 sample per pixel: the bunny's "
+        "\nmaterials, 2 lights, cached shadow maps, 1 sample per pixel: the bunny's "
         "color pass ms with its Lambertian material and with glossy PBR ones (split-sum IBL and "
         "the lights' lobes), same run; target <= %.1fx Lambertian\n",
         targets::kPbrColorPassRatio);
@@ -250,7 +250,7 @@ int main(int argc, char** argv) {
         }
     }
     std::printf(
-        "\nocclusion (issue 13), 2 lights, cached shadow maps: the bunny's color pass ms without "
+        "\nocclusion, 2 lights, cached shadow maps: the bunny's color pass ms without "
         "occlusion and lit through its transfer (bounce none, one), same run, and the setup that "
         "evaluates the transfer per vertex; target <= %.1fx without\n",
         targets::kOcclusionColorPassRatio);

@@ -1,19 +1,19 @@
-// Frame sweep (issue 11, sweep 2): rendered frames against the reference renderer. Real meshes
-// on the ground under the Blender worlds, rendered as plain SH irradiance without shadows (what
-// product viewers ship), as the thesis's pipeline (tone-mapped projection, hard shadows), as OER
-// without occlusion (the default before issue 13) and as our default, which adds the occlusion
-// of the residual map through the scene's baked transfer (issue 13), and with the light count,
-// SH order and shadow maps varied one at a time; with every light on and, on the bunny, the
-// brightest switched off and dimmed to half. Per configuration, the frame time at the time size
-// (the renderer's own pass timings, shadow maps cached, and the shadow pass when they are new)
-// and, at the compare size, the error against the path-traced reference (renderer/reference: no
-// bounce, and one diffuse bounce), over the product's pixels, the ground's, and the ground's near
-// the product (where contact shadows and reflected light live) separately, each without its
-// silhouette (interior_mask: a pixel there measures anti-aliasing, not light): relative RMS of
-// luminance over the means of kErrorBlock x kErrorBlock blocks of pixels (frame_metrics.hpp's
-// BlockGrid: edges inside a product measure anti-aliasing too, and a block's mean has a
-// kErrorBlock-th of a pixel's reference noise), and model-viewer's render-fidelity metric in
-// dB per pixel (frame_metrics.hpp).
+// Frame sweep (sweep 2 of the accuracy report, docs/accuracy.md): rendered frames against the
+// reference renderer. Real meshes on the ground under the Blender worlds, rendered as plain SH
+// irradiance without shadows (what product viewers ship), as the thesis's pipeline (tone-mapped
+// projection, hard shadows), as OER without occlusion (the thesis's lighting, `occlusion` off) and
+// as our default, which adds the occlusion of the residual map through the scene's baked transfer,
+// and with the light count, SH order and shadow maps varied one at a time; with every light on and,
+// on the bunny, the brightest switched off and dimmed to half. Per configuration, the frame time at
+// the time size (the renderer's own pass timings, shadow maps cached, and the shadow pass when they
+// are new) and, at the compare size, the error against the path-traced reference
+// (renderer/reference: no bounce, and one diffuse bounce), over the product's pixels, the ground's,
+// and the ground's near the product (where contact shadows and reflected light live) separately,
+// each without its silhouette (interior_mask: a pixel there measures anti-aliasing, not light):
+// relative RMS of luminance over the means of kErrorBlock x kErrorBlock blocks of pixels
+// (frame_metrics.hpp's BlockGrid: edges inside a product measure anti-aliasing too, and a block's
+// mean has a kErrorBlock-th of a pixel's reference noise), and model-viewer's render-fidelity
+// metric in dB per pixel (frame_metrics.hpp).
 //
 // A configuration with occlusion is rendered once per bounce mode, its transfer baked in that
 // mode, and compared only with the reference of the same mode (bounce none with the direct
@@ -181,7 +181,7 @@ struct Configuration {
     int transfer_rays = 0;  // with occlusion: rays per point of the bake, 0 for the rule's
 };
 
-// The ray counts of the rule's check (issue 13): around the bunny's 144 (transfer_ray_count),
+// The ray counts of the rule's check: around the bunny's 144 (transfer_ray_count),
 // each a square (the bake's strata). --quick keeps one, so that the report's table is exercised.
 std::vector<int> checked_ray_counts(bool quick) {
     return quick ? std::vector<int>{64} : std::vector<int>{64, 256, 576};
@@ -325,7 +325,7 @@ oer::FrameRequest frame_request(const Scene& scene, std::shared_ptr<const oer::R
 // Per pixel, whether the camera ray through its centre meets the ground plane (y = the scene
 // bounds' lowest y, where both renderers put it) within one bounding-sphere radius of the
 // objects' footprint (their bounds in x and z): the ground near the product, where its contact
-// shadows and the light it reflects land (issue 13). The camera is the frames' own: the
+// shadows and the light it reflects land. The camera is the frames' own: the
 // request's, or the automatic framing of the scene's bounds as both renderers choose it.
 std::vector<std::uint8_t> near_ground_footprint(const oer::FrameRequest& request) {
     const oer::SceneBounds bounds = oer::scene_bounds(request.objects);
@@ -515,7 +515,7 @@ ReferenceImage converged_reference(const oer::FrameRequest& request, oer::Bounce
     }
 }
 
-// The rule's check (the "transfer" family) runs on the bunny under three of issue 13's worlds
+// The rule's check (the "transfer" family) runs on the bunny under three worlds
 // (overcast, studio lights, a sunlit forest), which bound the range.
 bool checks_the_rule(const Scene& scene) {
     return scene.mesh_name == "bunny" &&
@@ -874,7 +874,7 @@ std::vector<MeshSource> selected_meshes(const Arguments& arguments) {
 }
 
 // The worlds each mesh is rendered under: the bunny under every one; the other meshes under the
-// three of issue 13's table (overcast, studio lights, a sunlit forest), which bound the range.
+// three worlds (overcast, studio lights, a sunlit forest), which bound the range.
 bool rendered_under(const std::string& mesh, const std::string& world, const Arguments& arguments) {
     if (!arguments.worlds.empty() && std::find(arguments.worlds.begin(), arguments.worlds.end(),
                                                world) == arguments.worlds.end()) {
@@ -887,7 +887,7 @@ bool rendered_under(const std::string& mesh, const std::string& world, const Arg
 }
 
 // Per scene and bounce mode, on the product and on the ground near it, the default's error
-// beside OER's without occlusion and plain SH's, and issue 13's figure: the default at most
+// beside OER's without occlusion and plain SH's, and the target: the default at most
 // half of plain SH's, in both modes (each against the reference of its mode).
 void print_summary(const json& rows) {
     // (mesh, world, bounce, surface) -> config -> error, all lights on
@@ -915,7 +915,7 @@ void print_summary(const json& rows) {
                     by_config.at("OER, no occlusion"), by_config.at("plain SH"), ratio);
     }
     std::printf(
-        "\nissue 13's figure: the default's error at most %.1fx plain SH's on the product and "
+        "\ntarget: the default's error at most %.1fx plain SH's on the product and "
         "the ground near it, every scene, both bounce modes: %s\n",
         oer::bench::targets::kFrameErrorOverPlainSh, met ? "met" : "NOT met");
 }

@@ -11,7 +11,7 @@
 //   (e) preview frames while the environment turns: the same preview at a fixed camera with a
 //       new environment_yaw every request, so every light moves and every shadow map is new
 //       (the dressing room's environment slider), against the full frame doing the same;
-// beside the DESIGN.md section 8 targets, with "met" / "NOT met" (never a failure). Process
+// beside the docs/design.md section 8 targets, with "met" / "NOT met" (never a failure). Process
 // CPU time per request is printed too: the machine is shared, and the load generator runs in
 // the same process, so it is an upper bound on the server's own cost. For the frames that
 // render, the p50 of each pass the server reports in Server-Timing follows, and of the rest of
@@ -294,7 +294,7 @@ int main(int argc, char** argv) {
                 return rendered(client, frame_query(30.0, step(sequence)));
             };
             std::printf(
-                "\nDESIGN.md section 8: warm 512x512 JPEG over HTTP p50 <= %g ms; a frame "
+                "\ndocs/design.md section 8: warm 512x512 JPEG over HTTP p50 <= %g ms; a frame "
                 "already in the cache (ETag hit or LRU) <= %g ms; preview frame while dragging "
                 "p50 <= %g ms (the preview recipe at half of each side: %dx%d)\n",
                 bench::targets::kWarmJpegP50Ms, bench::targets::kCachedFrameMs,

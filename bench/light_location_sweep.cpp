@@ -1,17 +1,17 @@
-// The light-location sweep of issue 11 (sweep 3): synthetic maps whose lights are known, the
-// hard cases of light location (one across the seam, one at a pole, a tiny sun 10^6 times the
-// sky, two lights 3 degrees apart, a large soft box), each on a uniform sky; build_rig with the
-// default options finds the lights (and, to compare, with each departure from the thesis undone:
-// no connected-region growth; the thesis's pixel-space clustering), and each true light is matched
-// with the found light holding most of its disc's energy. A found light may hold several true
-// lights (a merge): then each of them is measured against the group, the power-weighted centre
-// of their directions and the sum of their intensities, which is what one light standing for
-// them should be. Per true light: the angle between the found and the true direction (the disc's
-// centre, or the group's), and the found intensity's relative error in luminance against the
-// painted discs' sum(L dOmega). For a merge, what it does to a shadow: a pole of height H on the
-// ground, its tip's shadow under each true light against under the merged one (below). Prints a
-// table; --json / --csv write one row per true light. A benchmark: it reports, the ctest
-// (tests/bench/light_location_sweep_test.cpp) checks.
+// The light-location sweep (sweep 3 of the accuracy report, docs/accuracy.md): synthetic maps whose
+// lights are known, the hard cases of light location (one across the seam, one at a pole, a tiny
+// sun 10^6 times the sky, two lights 3 degrees apart, a large soft box), each on a uniform sky;
+// build_rig with the default options finds the lights (and, to compare, with each departure from
+// the thesis undone: no connected-region growth; the thesis's pixel-space clustering), and each
+// true light is matched with the found light holding most of its disc's energy. A found light may
+// hold several true lights (a merge): then each of them is measured against the group, the
+// power-weighted centre of their directions and the sum of their intensities, which is what one
+// light standing for them should be. Per true light: the angle between the found and the true
+// direction (the disc's centre, or the group's), and the found intensity's relative error in
+// luminance against the painted discs' sum(L dOmega). For a merge, what it does to a shadow: a pole
+// of height H on the ground, its tip's shadow under each true light against under the merged one
+// (below). Prints a table; --json / --csv write one row per true light. A benchmark: it reports,
+// the ctest (tests/bench/light_location_sweep_test.cpp) checks.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -45,8 +45,8 @@ struct Case {
     std::vector<Disc> discs;
 };
 
-// The hard cases of issue 11, each disc in azimuth and elevation degrees (DESIGN.md section 3;
-// azimuth 180 is -X, on the seam), radius degrees and radiance.
+// The hard cases of light location, each disc in azimuth and elevation degrees (docs/design.md
+// section 3; azimuth 180 is -X, on the seam), radius degrees and radiance.
 std::vector<Case> cases() {
     const glm::vec3 lamp(200.0f), pair_first(600.0f), pair_second(400.0f);
     return {

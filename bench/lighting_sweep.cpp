@@ -1,10 +1,10 @@
-// The lighting sweep of issue 11 (sweep 1): SH projection time against irradiance error over
-// the sphere, for SH order x window x map downsampling, on every Blender world, for the whole
-// map and for every on/off subset of its lights (the lights build_rig finds with the default
-// options). The truth is the brute-force irradiance of the full-resolution map in double over
-// all its pixels (reference_irradiance.hpp, no reduction) at a Fibonacci lattice of normals; a
-// subset's truth is that of the map with the switched-off lights' pixels removed, which by
-// linearity is truth(all) - sum over the lights off of truth(light's pixels), computed once per
+// The lighting sweep (sweep 1 of the accuracy report, docs/accuracy.md): SH projection time against
+// irradiance error over the sphere, for SH order x window x map downsampling, on every Blender
+// world, for the whole map and for every on/off subset of its lights (the lights build_rig finds
+// with the default options). The truth is the brute-force irradiance of the full-resolution map in
+// double over all its pixels (reference_irradiance.hpp, no reduction) at a Fibonacci lattice of
+// normals; a subset's truth is that of the map with the switched-off lights' pixels removed, which
+// by linearity is truth(all) - sum over the lights off of truth(light's pixels), computed once per
 // map. Prints per world the Pareto front of time against error and where the automatic order
 // and window land; --json / --csv write one row per configuration. A benchmark: it reports,
 // the ctest (tests/bench/lighting_sweep_test.cpp) checks.

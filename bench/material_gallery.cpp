@@ -1,4 +1,4 @@
-// The material gallery of issue 12 (the Materials section of docs/accuracy.md): tone-mapped frames
+// The material gallery (the Materials section of docs/accuracy.md): tone-mapped frames
 // of the Stanford bunny (Lambertian, as the accuracy report renders it, and as a glossy gold metal)
 // and of the material spheres (material_spheres.hpp, a glTF read through the loader) under every
 // Blender world, with the spheres also shown with the world's brightest light switched off: their

@@ -1,4 +1,4 @@
-// Preprocessing benchmark (DESIGN.md section 8): oer::build_rig against a literal
+// Preprocessing benchmark (docs/design.md section 8): oer::build_rig against a literal
 // implementation of the thesis's algorithm (bench/support/literal_thesis.hpp), measured in
 // the same run on the same maps, and the throughput of oer::project_environment.
 // Beside each Blender world's rig, the prefiltering of its residual into the specular cube
@@ -55,7 +55,7 @@ constexpr int kLiteralMaxRepetitions = 3;
 constexpr double kLiteralBudgetMs = 4000.0;  // no further repetition once this much is spent
 constexpr int kProjectionRepetitions = 20;
 constexpr int kSpecularRepetitions = 3;
-constexpr double kSpecularTargetMs = 400.0;  // issue 12: a 2048x1024 map, at most
+constexpr double kSpecularTargetMs = 400.0;  // a 2048x1024 map, at most
 
 // How many of the first `discs` discs have a light direction inside them.
 int discs_hit(const std::vector<glm::dvec3>& directions, int discs) {
@@ -393,7 +393,7 @@ int main(int argc, char** argv) {
 
     const double speedup = target_case.literal_ms / target_case.ours_ms;
     const double speedup_one_core = target_case.literal_ms / target_case.ours_one_core_ms;
-    std::printf("\nDESIGN.md section 8 targets (%dx%d, %d lights, order %d):\n",
+    std::printf("\ndocs/design.md section 8 targets (%dx%d, %d lights, order %d):\n",
                 targets::kPreprocessWidth, targets::kPreprocessHeight, targets::kPreprocessLights,
                 targets::kPreprocessOrder);
     std::printf("  preprocess time    %9.1f ms        target <= %.0f ms          %s\n",

@@ -1,9 +1,10 @@
-// Transfer bake benchmark (issue 13): the Stanford bunny on the ground plane, its precomputed
+// Transfer bake benchmark: the Stanford bunny on the ground plane, its precomputed
 // radiance transfer baked at the rule's ray count (transfer_ray_count) with Bounce::None and
 // Bounce::One, on 1 and 2 threads: receiver points, rays per point, wall time, rays per second,
-// beside issue 13's target (Bounce::One on 2 cores under 2 s), and the share of rays that meet
-// a surface (which Bounce::One traces again). `--rays N`: N rays per point instead of the rule's,
-// to measure the rule. Prints plain text; a missed target is reported, never an error.
+// beside its target (Bounce::One on 2 cores under 2 s, docs/design.md section 8), and the share of
+// rays that meet a surface (which Bounce::One traces again). `--rays N`: N rays per point instead
+// of the rule's, to measure the rule. Prints plain text; a missed target is reported, never an
+// error.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -104,7 +105,7 @@ int main(int argc, char** argv) {
     // On a shared machine the wall time follows the other processes' load; the CPU time over
     // the 2 threads is what 2 free cores take (the points are shared evenly).
     const double free_cores_ms = target_cpu_ms / 2.0;
-    std::printf("\nissue 13 target (bunny, one bounce, 2 cores): at most %.0f ms\n",
+    std::printf("\ndocs/design.md section 8 target (bunny, one bounce, 2 cores): at most %.0f ms\n",
                 targets::kTransferBakeBunnyMs);
     std::printf("  wall time            %6.0f ms    %s\n", target_ms,
                 target_ms <= targets::kTransferBakeBunnyMs ? "met" : "NOT met");

@@ -61,7 +61,7 @@ std::vector<std::pair<std::string, double>> parse_server_timing(std::string_view
 // The bright discs of the synthetic maps: distinct sizes, colors and radiances, of comparable
 // power, away from the seam and the poles (the literal thesis clusters in pixel space).
 struct Disc {
-    double azimuth_degrees;    // phi of DESIGN.md section 3
+    double azimuth_degrees;    // phi of docs/design.md section 3
     double elevation_degrees;  // 90 - theta
     double radius_degrees;
     glm::vec3 radiance;

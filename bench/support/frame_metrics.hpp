@@ -1,5 +1,5 @@
 #pragma once
-// How far a rendered frame is from the reference renderer's (issue 11, the frame sweep): the
+// How far a rendered frame is from the reference renderer's (the frame sweep): the
 // relative RMS of luminance and the render-fidelity metric of model-viewer and the Khronos
 // glTF Render Fidelity project, each over a set of pixels (the product's, or the ground's),
 // and the images the report shows (display-referred frames and a signed error map).
@@ -13,8 +13,8 @@
 
 namespace oer::bench {
 
-// Luminance (DESIGN.md section 2's, light_location.hpp's luminance, as the reference renderer's
-// noise estimate uses) of each pixel of an RGBA linear frame (Frame::linear's layout).
+// Luminance (docs/design.md section 2's, light_location.hpp's luminance, as the reference
+// renderer's noise estimate uses) of each pixel of an RGBA linear frame (Frame::linear's layout).
 std::vector<double> frame_luminance(std::span<const float> rgba);
 
 // The mean of the values whose mask entry is set; 0 when none is (sizes must match, else

@@ -1,9 +1,9 @@
 #pragma once
 // A literal implementation of the OER thesis's preprocessing (A. Ambrosj, "Occluded Environment
-// Maps Rendering", master's thesis, Politecnico di Milano, 2016, sections 4.1-4.2; DESIGN.md
-// section 2, without our improvements): the baseline that bench/preprocess_benchmark.cpp measures
-// oer::build_rig against. Written straightforwardly, the way the thesis describes it, neither
-// optimised nor deliberately slowed down:
+// Maps Rendering", master's thesis, Politecnico di Milano, 2016, sections 4.1-4.2;
+// docs/design.md section 2, without our improvements): the baseline that
+// bench/preprocess_benchmark.cpp measures oer::build_rig against. Written straightforwardly, the
+// way the thesis describes it, neither optimised nor deliberately slowed down:
 //   - gaussian blur of the RGB map (separable, sigma = radius / 2, half-width radius, clamped
 //     at every border: no wrap across the seam), then luminance
 //     l = 179 (0.265 R + 0.670 G + 0.065 B) per pixel;
@@ -20,7 +20,7 @@
 //     with the pixels of the switched-off lights set to black, projected onto order-3 SH by
 //     the 9 closed-form basis functions of Ramamoorthi and Hanrahan at every pixel's direction
 //     (computed with sin / cos per pixel), weighted by the exact pixel solid angle of
-//     DESIGN.md section 3, accumulated in double.
+//     docs/design.md section 3, accumulated in double.
 // It calls nothing of the library but the equirect mapping.
 #include <array>
 #include <cstdint>

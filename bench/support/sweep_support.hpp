@@ -43,7 +43,7 @@ std::vector<glm::dvec3> pixels_irradiance(const HdrImage& image,
 // The map reduced by `factor` in each direction (factor divides width and height, else
 // oer::Error InvalidInput): each output pixel is the solid-angle-weighted mean radiance of its
 // factor x factor block, sum(L dOmega) / sum(dOmega). The block's source solid angles add up to
-// the output pixel's exact solid angle (the row terms of DESIGN.md section 3 telescope), so
+// the output pixel's exact solid angle (the row terms of docs/design.md section 3 telescope), so
 // sum(L dOmega) over the map, and over every block, is kept.
 HdrImage downsample_equirect(const HdrImage& image, int factor);
 
@@ -86,7 +86,7 @@ IrradianceError irradiance_error(std::span<const glm::dvec3> approx,
 // equal points the first is kept. Sizes must match (else oer::Error InvalidInput).
 std::vector<std::size_t> pareto_front(std::span<const double> time, std::span<const double> error);
 
-// Blender's studio-light worlds (Debian's blender-data, DESIGN.md section 5), the real maps of
+// Blender's studio-light worlds (Debian's blender-data, docs/design.md section 5), the real maps of
 // the sweeps: the .exr files of kBlenderWorldDirectory, sorted by name. Throws oer::Error (Io)
 // saying to install blender-data when there are none.
 inline constexpr const char* kBlenderWorldDirectory =

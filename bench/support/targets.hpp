@@ -1,6 +1,6 @@
 #pragma once
-// The speed targets of DESIGN.md section 8 (2-core CPU machine, llvmpipe), in one place: every
-// benchmark prints its figures beside these. When the table in DESIGN.md changes, change it here.
+// The speed targets of docs/design.md section 8 (2-core CPU machine, llvmpipe), in one place: every
+// benchmark prints its figures beside these. When that table changes, change it here.
 
 namespace oer::bench::targets {
 
@@ -21,7 +21,7 @@ inline constexpr double kProjectionGpixelsPerSecond = 2.0;  // at least
 // (frame_benchmark).
 inline constexpr double kFrameMs512 = 10.0;  // at most, at 512x512
 inline constexpr double kFps1366 = 30.0;     // at least, at 1366x768
-// Issue 12: the colour pass with glTF PBR materials against the same scene Lambertian.
+// The colour pass with glTF PBR materials against the same scene Lambertian.
 inline constexpr double kPbrColorPassRatio = 1.5;  // at most
 
 // Over HTTP (http_benchmark), medians.
@@ -33,10 +33,10 @@ inline constexpr double kCachedFrameMs = 1.0;   // a frame already in the cache 
 // the default's relative RMS of luminance at most this share of plain SH irradiance's.
 inline constexpr double kFrameErrorOverPlainSh = 0.5;
 
-// Issue 13: the transfer bake of the bunny on the ground, one bounce, on 2 cores
+// The transfer bake of the bunny on the ground, one bounce, on 2 cores
 // (transfer_benchmark).
 inline constexpr double kTransferBakeBunnyMs = 2000.0;  // at most
-// Issue 13: the color pass of a frame lit through the transfer, against the same frame without.
+// The color pass of a frame lit through the transfer, against the same frame without.
 inline constexpr double kOcclusionColorPassRatio = 1.3;  // at most
 
 }  // namespace oer::bench::targets
