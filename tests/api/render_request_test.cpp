@@ -638,8 +638,8 @@ TEST(RenderRequest, MessagesEscapeBytesThatAreNotUtf8) {
     }
 }
 
-// Issue 13's switches say what they accept, in both forms, in the words of their neighbours
-// (ground's on/off, tonemap's list of names).
+// The occlusion switches (occlusion, bounce) say what they accept, in both forms, in the words of
+// their neighbours (ground's on/off, tonemap's list of names).
 TEST(RenderRequest, OcclusionAndBounceMessagesNameWhatTheyAccept) {
     const auto message = [](const auto& parse) -> std::string {
         try {
@@ -1058,7 +1058,7 @@ TEST(RenderRequest, ToFrameRequestChecksTheLightsAndTheResolvedAssets) {
 }
 
 TEST(RenderRequest, LightsAreWeightsInBothForms) {
-    // DESIGN.md section 2, dimmable lights: true and false are 1 and 0.
+    // docs/design.md section 2, dimmable lights: true and false are 1 and 0.
     EXPECT_EQ(api::parse_render_json(with("lights", "[true, 0.3, 0, false, 4, 1]")).lights,
               (std::vector<double>{1.0, 0.3, 0.0, 0.0, 4.0, 1.0}));
     EXPECT_EQ(

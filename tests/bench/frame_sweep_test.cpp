@@ -1,5 +1,5 @@
 // bench/frame_sweep --quick as a process (the bunny under two Blender worlds, the four
-// pipelines and the rule's check of issue 13, compared with the reference renderer at 64x64):
+// pipelines and the transfer rule's check, compared with the reference renderer at 64x64):
 // its JSON and CSV agree, every comparison is complete and well formed, the frames with
 // occlusion carry the bake of their own bounce mode, the images it names exist at the compare
 // size, and its figures say what shadows and occlusion must: our default is nearer the reference

@@ -5,7 +5,7 @@
 // the bounds (JsonParseError), or not an object with both members, is the store's refusal
 // before the reader: the rig is dropped and recomputed.
 //
-// Property (issue 14, "what the server writes it can read"): a rig the reader accepts is written
+// Property ("what the server writes it can read"): a rig the reader accepts is written
 // by rig_to_json and light_masks_to_json, and that document reads back to a rig that writes the
 // same document again.
 #include <cstddef>

@@ -77,7 +77,7 @@ inline std::uint64_t upload_expansion_bound(std::size_t upload_bytes) {
 }
 
 // The growth of the resident set while it lives, its peak (VmHWM) over its level when made, KiB:
-// issue 14's measure of what an upload costs. Pages allocated and never touched do not count
+// the tests' measure of what an upload costs. Pages allocated and never touched do not count
 // (OpenImageIO's read_scanlines allocates a 64 MiB conversion buffer for any image and touches
 // a few rows of it). Without a writable /proc/self/clear_refs it measures nothing (zero).
 class ResidentGrowth {

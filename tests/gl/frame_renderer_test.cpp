@@ -322,9 +322,9 @@ TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
 }
 
 TEST_F(FrameRendererTest, ALightsWeightScalesItsShContributionWhereItReaches) {
-    // E = E(all) - sum_k (1 - w_k v_k) E(k) (DESIGN.md section 2): from weight w to w', a ground
-    // pixel changes by (w' - w) v_k E_k(+Y) albedo / pi, the whole step where light k reaches it
-    // (v = 1) and nothing in its shadow (v = 0).
+    // E = E(all) - sum_k (1 - w_k v_k) E(k) (docs/design.md section 2): from weight w to w', a
+    // ground pixel changes by (w' - w) v_k E_k(+Y) albedo / pi, the whole step where light k
+    // reaches it (v = 1) and nothing in its shadow (v = 0).
     const BoxShadowScene box = box_shadow_scene();
     ASSERT_EQ(box.rig->lights.size(), 3u);
     const std::shared_ptr<const Rig>& rig = box.rig;
@@ -965,7 +965,7 @@ TEST_F(FrameRendererTest, BrokenAssetsAreRejectedAndLeaveTheRendererClean) {
     EXPECT_EQ(after.linear, before.linear);
 }
 
-// Hard cases (issue 11): scale, grazing, polar and seam lights, and a sun beyond the half-float
+// Hard cases: scale, grazing, polar and seam lights, and a sun beyond the half-float
 // range, each against ray-cast geometry or plain finiteness.
 namespace {
 

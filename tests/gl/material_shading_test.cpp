@@ -1,4 +1,4 @@
-// glTF metallic-roughness materials in the GL renderer (issue 12), on this machine's EGL
+// glTF metallic-roughness materials in the GL renderer, on this machine's EGL
 // (llvmpipe here and in CI), against numbers known without it: a white furnace, where the
 // split sum with Fdez-Aguera's multiple scattering gives back the map's radiance exactly; a
 // mirror, which shows the light where reflection puts it and as bright as it is, and loses it

@@ -1,4 +1,4 @@
-// Issue 13's frames with their real bake against brute-force integration: the reference
+// Frames with occlusion, with their real bake, against brute-force integration: the reference
 // renderer (renderer/reference, path traced on Embree) in the matching mode. The ground as
 // lighting (a sphere on the plane under a map bright below the horizon), the occlusion of a
 // concave shape under a constant sky, and the frame's independence of a turn of the whole scene.

@@ -1,4 +1,4 @@
-// The renderer's side of issue 13's occlusion: a frame lit through a transfer
+// The renderer's side of the occlusion of the residual map: a frame lit through a transfer
 // (FrameRequest::occlusion) against frames lit the old way, with hand-made transfers whose
 // answer is known. An unoccluded transfer, A_l Y_i(n) at every receiver, must give back the
 // frame without occlusion; a zero transfer must take exactly the residual map's irradiance off;

@@ -1,7 +1,7 @@
 // The hostile images of tests/data/hostile (small files whose headers claim far more pixels
 // than their bytes can hold): each is refused, naming the claim and the bytes, quickly and
 // without the memory its claim would take. The growth of resident memory while loading each is
-// printed (the figures of issue 14) and held under max(64 MiB, 40 x the file's size).
+// printed and held under max(64 MiB, 40 x the file's size).
 #include <gtest/gtest.h>
 #include <malloc.h>
 

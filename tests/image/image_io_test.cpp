@@ -807,7 +807,7 @@ TEST(ImageIo, WriteErrorsNameThePath) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Real data (DESIGN.md section 5)
+// Real data (docs/design.md section 5)
 
 TEST(ImageIo, LoadsBlenderStudioWorlds) {
     const fs::path folder = "/usr/share/blender/datafiles/studiolights/world";

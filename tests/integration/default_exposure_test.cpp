@@ -1,4 +1,4 @@
-// The default exposure over HTTP (issue 10, "well exposed"): on the built-in default scene and on
+// The default exposure over HTTP ("well exposed"): on the built-in default scene and on
 // the Stanford bunny under each Blender world, a frame asked for with no exposure, tone map or
 // format (the API's defaults: 0 EV, neutral tone mapping, JPEG quality 85) has under 2 % of the
 // product's pixels at 255 in any channel. The fixed default suffices, with no automatic

@@ -1,4 +1,4 @@
-// Issue 14's memory figure through the API: no upload of N bytes raises the server's resident
+// The upload memory bound through the API: no upload of N bytes raises the server's resident
 // memory by more than max(64 MiB, 40 x N), with 8 such uploads at once. Each hostile file of
 // tests/data/hostile (a few hundred bytes whose header claims an 8k map or millions of
 // vertices) is sent 8 times at once; every answer is a 4xx naming the problem, and the peak

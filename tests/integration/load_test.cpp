@@ -1,4 +1,4 @@
-// Load (issue 14): a real server on a loopback port under many clients at once, each on its own
+// Load: a real server on a loopback port under many clients at once, each on its own
 // keep-alive connection from its own loopback address (distinct users, as the per-address
 // connection limit sees them).
 //
@@ -14,7 +14,7 @@
 // and impatiently (at once): the crowds keep at least 3/4 of it, compared within one run since
 // the machine is shared.
 //
-// OER_LOAD_SECONDS sets the time of each mixed phase and of each crowd (issue 14's figure by
+// OER_LOAD_SECONDS sets the time of each mixed phase and of each crowd (the full figure by
 // hand: 60, about 7 minutes for the file); CI runs 8 s and 10 s, about 75 s for the file on 2
 // busy cores. The names hold "Slow":
 // timing under the sanitizers would measure them. The server runs in this process (TestServer,
@@ -48,7 +48,7 @@ Clock::time_point after_seconds(Clock::time_point start, double seconds) {
     return start + std::chrono::milliseconds(std::int64_t(seconds * 1000.0));
 }
 
-// Seconds each timed phase lasts: OER_LOAD_SECONDS when set (60 by hand, as issue 14 asks),
+// Seconds each timed phase lasts: OER_LOAD_SECONDS when set (60 by hand, a full minute),
 // else `ci_default`.
 double phase_seconds(double ci_default) {
     const char* text = std::getenv("OER_LOAD_SECONDS");
@@ -327,7 +327,7 @@ TEST_P(LoadSlowMixed, OnlyPromisedAnswersCachedFramesFastMemoryFlat) {
         threads.emplace_back(
             [&, i] { run_client(server, fixture, i, end, records[std::size_t(i)]); });
     }
-    // Warm-up: a quarter of the phase, at most 15 s (the first 10-15 s of issue 14's minute).
+    // Warm-up: a quarter of the phase, at most 15 s (the first 10-15 s of a minute-long run).
     std::this_thread::sleep_until(after_seconds(start, std::min(15.0, seconds / 4)));
     const long warm_kib = oer::testing::resident_kib();
     const std::size_t warm_heap = oer::testing::live_heap_bytes();

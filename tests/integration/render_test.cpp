@@ -133,8 +133,8 @@ TEST(RenderLighting, SwitchingALightChangesExactlyTheGroundItReaches) {
             {"environment", rig.at("id")},
             {"objects", {{{"mesh", mesh.at("id")}}}},
             {"ground", true},
-            // The prediction is the unoccluded lighting of DESIGN.md section 2 (the ground sees
-            // the whole residual map); issue 13's occlusion darkens the ground near the box.
+            // The prediction is the unoccluded lighting of docs/design.md section 2 (the ground
+            // sees the whole residual map); occlusion darkens the ground near the box.
             {"occlusion", false},
             {"camera",
              {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
@@ -238,7 +238,7 @@ TEST(RenderLighting, SwitchingALightChangesExactlyTheGroundItReaches) {
     EXPECT_GT(changed, 100);
 }
 
-// One light at weights 1, 0.5 and 0 over GET (DESIGN.md section 2, dimmable lights): where the
+// One light at weights 1, 0.5 and 0 over GET (docs/design.md section 2, dimmable lights): where the
 // light reaches, the half-weight frame lies strictly between on and off (in linear terms
 // halfway, up to the 8-bit encoding); weight 0 is the POST body's `false`, byte for byte.
 TEST(RenderLighting, AHalfWeightLightGivesAFrameBetweenOnAndOff) {

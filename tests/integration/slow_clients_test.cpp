@@ -2,7 +2,7 @@
 // declared body sent a byte a second), 200 and 1000 connections kept open, against a real
 // server. Meanwhile another client, from a second loopback address, times /healthz, /readyz and
 // an ordinary request on fresh connections, and /readyz on the admin listener: each must answer
-// with p99 <= 100 ms (issue 14). Without the per-client connection limit the attackers hold
+// with p99 <= 100 ms. Without the per-client connection limit the attackers hold
 // every HTTP thread and the probes wait for the header or request deadline (seconds).
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Issue 13's switches and a scene's transfer in the service (TransferRegistry): the render
+// The occlusion switches and a scene's transfer in the service (TransferRegistry): the render
 // request's occlusion and bounce in both forms, bad values answered as problems; a frame with
 // occlusion on bakes its scene's transfer once (concurrent frames included), stores it by the
 // scene's id, reads it back after a restart without baking, and bakes again, never serves, an
@@ -133,8 +133,8 @@ TEST(Transfer, TheSwitchesReadInBothFormsAndBadValuesAreProblems) {
         << "the default scene's transfer is baked at start-up, and occlusion off needs none";
 }
 
-// Needs the GL renderer to honour FrameRequest::occlusion, ::bounce and ::transfer (issue 13,
-// on main): until then every switch draws the same frame.
+// Each switch changes the frame: the GL renderer honours FrameRequest::occlusion, ::bounce and
+// ::transfer.
 TEST(Transfer, TheSwitchesChangeTheFrame) {
     TempRoot root;
     TestServer server(test_config(root.data()));

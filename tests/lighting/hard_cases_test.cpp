@@ -1,5 +1,5 @@
-// Numerically hard and degenerate inputs through the whole preprocessing pipeline (issue 11's
-// hard cases): each gives a finite rig or a clear error, within bounded memory; a tiny sun rings
+// Numerically hard and degenerate inputs through the whole preprocessing pipeline (hard
+// cases): each gives a finite rig or a clear error, within bounded memory; a tiny sun rings
 // exactly as the truncated clamped cosine does under the default window; the sums of an
 // 8192x4096 map stay within their rounding bound of compensated sums; tone mapping of any
 // radiance is finite. The frame cases (scale, grazing, polar and seam lights, extreme suns) are

@@ -94,7 +94,7 @@ TEST(ShRotation, MatchesTurningTheMapAndProjectingAgain) {
     const int order = 9;
     const ShRgb original = project_environment(map, {}, order).all;
     const ShRgb reprojected = project_environment(turned, {}, order).all;
-    // DESIGN.md section 3: u = (phi + pi) / 2 pi with phi = atan2(z, x); a shift of `shift`
+    // docs/design.md section 3: u = (phi + pi) / 2 pi with phi = atan2(z, x); a shift of `shift`
     // columns adds alpha to phi, a turn about +Y taking x towards z.
     const double alpha = 2.0 * std::numbers::pi * shift / width;
     const glm::dmat3 rotation(std::cos(alpha), 0.0, std::sin(alpha), 0.0, 1.0, 0.0,

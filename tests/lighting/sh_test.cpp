@@ -74,7 +74,7 @@ TEST(Sh, RecurrenceMatchesClosedFormsToBand3) {
 }
 
 TEST(Sh, ThesisConstantsAndSigns) {
-    // The rounded constants of DESIGN.md (thesis appendix A), all positive.
+    // The rounded constants of the thesis's appendix A (docs/design.md section 3), all positive.
     const glm::dvec3 d = glm::normalize(glm::dvec3(0.3, 0.5, 0.7));
     std::array<double, 9> v{};
     sh_evaluate(3, d, v);

@@ -1,7 +1,7 @@
 // Hostile glTF assets: a claim far beyond the bytes (tests/data/hostile), and JSON of many small
 // values, made here (20 MB). Each is refused quickly, naming what is wrong, without the memory
 // its claim or its parse would take; the growth of resident memory while loading each is
-// printed (issue 14's figures) and held under max(64 MiB, 40 x the asset's size).
+// printed and held under max(64 MiB, 40 x the asset's size).
 #include <gtest/gtest.h>
 #include <malloc.h>
 

@@ -130,8 +130,9 @@ TEST(TangentGeneration, AMirrorSeamSplitsItsVerticesOnePerSide) {
 }
 
 TEST(TangentGeneration, SphereTangentsAreOrthogonalToTheNormalAndFollowIncreasingU) {
-    // A latitude-longitude sphere, the equirectangular mapping of DESIGN.md: u = (phi + pi) /
-    // (2 pi), v = theta / pi (v down from the north pole, +y), one seam column doubled.
+    // A latitude-longitude sphere, the equirectangular mapping of docs/design.md section 3:
+    // u = (phi + pi) / (2 pi), v = theta / pi (v down from the north pole, +y), one seam column
+    // doubled.
     constexpr int columns = 48;
     constexpr int rows = 24;
     constexpr float pi = std::numbers::pi_v<float>;

@@ -113,7 +113,7 @@ bool hits_box(glm::dvec3 origin, glm::dvec3 direction, glm::dvec3 low, glm::dvec
 
 TEST(ReferenceRendererFurnace, CosineSamplingGivesExactlyTheMapsRadiance) {
     // A white Lambertian sphere under constant radiance L reflects exactly L wherever it sees
-    // the map alone (DESIGN.md section 3): with cosine sampling each sample is L itself.
+    // the map alone (docs/design.md section 3): with cosine sampling each sample is L itself.
     const glm::vec3 radiance(0.5f, 0.75f, 1.25f);
     FrameRequest request = furnace_request(radiance, glm::vec3(1.0f), 192, 32);
     ReferenceOptions options;

@@ -2,8 +2,8 @@
 """The accuracy report (docs/accuracy/make_report.py) on small real inputs: the --quick outputs
 of lighting_sweep and light_location_sweep, run here, and the frame-sweep fixture of
 tests/report/fixtures/ (two scenes, numbers chosen so that each formatted figure is known:
-OER's rows are the default's of issue 11, our default's occlude the residual map, and forest has
-the rule's check of issue 13).
+OER's rows are the default's without occlusion, our default's occlude the residual map, and
+forest has the transfer rule's check).
 
     make_report_test.py --lighting-sweep BIN --location-sweep BIN --work DIR
 
