@@ -37,7 +37,7 @@ const wrapDegrees = (angle) => ((((angle + 180) % 360) + 360) % 360) - 180;
 const rounded = (value) => Math.round(value * 100) / 100;
 
 // Where direction [x, y, z] (world space, unturned map) lands on an equirectangular image, as
-// fractions of its width and height (DESIGN.md section 3: theta from +Y, phi = atan2(z, x);
+// fractions of its width and height (docs/design.md section 3: theta from +Y, phi = atan2(z, x);
 // u = (phi + pi) / 2 pi, v = theta / pi).
 export function equirectangularUv([x, y, z]) {
   const length = Math.hypot(x, y, z) || 1;

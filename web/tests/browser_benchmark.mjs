@@ -1,5 +1,5 @@
-// The browser benchmark of issue 10's speed targets (bench/README.md, web/README.md): the page at
-// / in Debian's chromium against the real oer-server, the Stanford bunny under a Blender world,
+// The browser benchmark of the web client's speed targets (bench/README.md, web/README.md):
+// the page at / in Debian's chromium against the real oer-server, the Stanford bunny under a Blender world,
 // the viewer 800x600 CSS pixels at deviceScaleFactor 1. It prints figures, it asserts nothing:
 //   node web/tests/browser_benchmark.mjs [--build build] [--world forest] [--repeat 5] [--seconds 3]
 //                                        [--viewer changed/oer-viewer.js]
@@ -39,7 +39,7 @@ const GESTURE_HZ = 60;
 const BUNNY = '/usr/share/glmark2/models/bunny.obj';
 const WORLD = `/usr/share/blender/datafiles/studiolights/world/${worldName}.exr`;
 const VIEWER = { width: 800, height: 600 };
-// Issue 10's targets (DESIGN.md section 8).
+// The web client's targets (docs/design.md section 8).
 const TARGETS = {
   firstFrameMs: 1000,      // first frame after page load, server warm: at most
   dragPreviewsPerS: 20,    // previews shown per second while dragging: at least
@@ -354,7 +354,7 @@ try {
      (value) => value >= TARGETS.turnPreviewsPerS],
     ['full frame after the turn rests', 'turnRest', 'ms', '(none)', null],
   ];
-  console.log(`\nissue 10 targets (median and range of ${repetitions} runs):`);
+  console.log(`\ntargets (median and range of ${repetitions} runs):`);
   console.log(`${'case'.padEnd(34)}${'median'.padStart(10)}  ${'range'.padEnd(16)}` +
               `${'target'.padEnd(13)}result`);
   for (const [name, key, unit, target, met] of cases) {

@@ -628,7 +628,7 @@ try {
     await uploadEnded();
     const { body: mesh } = await postAsset('/v1/meshes', 'model/obj', Buffer.from(cube));
     uploadedMesh = mesh.id;
-    // Refined at load for its per-vertex lighting (issue 13): 16 segments along every side of
+    // Refined at load for its per-vertex lighting: 16 segments along every side of
     // every face, 6 x 2 x 16^2 triangles.
     assert.equal(mesh.counts.triangles, 3072);
     assert.equal(await uploadStatus.textContent(), 'cube.obj: 3,072 triangles');
