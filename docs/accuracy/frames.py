@@ -1,4 +1,4 @@
-"""The frame sweep's tables: issue 13's occlusion, the headline, the per-mesh summary, the
+"""The frame sweep's tables: the occlusion section, the headline, the per-mesh summary, the
 front, the rule's check, the images."""
 
 import shutil
@@ -12,7 +12,7 @@ from inputs import InputError
 
 Row = dict[str, Any]
 DEFAULT = "default"
-# OER as it was before issue 13 (no occlusion of the residual map): the baseline of the light
+# OER without occlusion of the residual map (the thesis's lighting): the baseline of the light
 # count, shadow and SH order families, which vary its settings.
 NO_OCCLUSION = "OER, no occlusion"
 PLAIN_SH = "plain SH"

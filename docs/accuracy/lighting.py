@@ -1,4 +1,4 @@
-"""The lighting and light-location sweeps' tables (issue 11, sweeps 1 and 3)."""
+"""The lighting and light-location sweeps' tables (sweeps 1 and 3)."""
 
 from typing import Any
 

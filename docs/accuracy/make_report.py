@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes docs/accuracy.md, the accuracy report of issue 11, from the three sweeps' outputs.
+"""Writes docs/accuracy.md, the accuracy report, from the three sweeps' outputs.
 
     make_report.py --lighting L.json --location LOC.json --frames DIR --out docs
 
@@ -79,7 +79,7 @@ def header(sweeps: Sweeps) -> str:
 
 
 def issue13_section(frames: FrameRows, figures: Path, link: str) -> str:
-    """Issue 13's figures, with the rule's check drawn when the sweep ran it."""
+    """The occlusion section's figures, with the rule's check drawn when the sweep ran it."""
     figure_link = None
     if rule_worlds(frames):
         figures.mkdir(parents=True, exist_ok=True)
@@ -89,13 +89,13 @@ def issue13_section(frames: FrameRows, figures: Path, link: str) -> str:
 
 
 def headline_section(frames: FrameRows) -> str:
-    """The closing figures of issues 11 and 13: per world, our default (with occlusion) beside
+    """The headline figures: per world, our default (with occlusion) beside
     OER without occlusion, plain SH and the thesis."""
     text = [
         "## Headline: our default, OER without occlusion, plain SH and the thesis",
         "",
         f"The {HEADLINE_MESH} on the ground, all lights on. Our default occludes the residual "
-        "map (issue 13) and is rendered in each bounce mode, each compared with the reference of "
+        "map and is rendered in each bounce mode, each compared with the reference of "
         "that mode; the others have no bounce mode and are compared with both. Each error is the "
         "relative RMS of luminance (over 4×4-pixel blocks, as in the section above) and the "
         "model-viewer render-fidelity metric (pixelmatch YIQ, dB, per pixel), against the reference without and with one diffuse bounce, on the object, the "
@@ -188,7 +188,7 @@ def reading_section(lighting: LightingRows, sweeps: Sweeps, frames: FrameRows) -
 
 
 def materials_section(gallery: Path, assets: Path) -> str:
-    """Issue 12's gallery, as bench/material_gallery wrote it, its frames copied beside the report."""
+    """The gallery, as bench/material_gallery wrote it, its frames copied beside the report."""
     page = gallery / "materials.md"
     if not page.is_file():
         raise InputError(f"{page}: missing (bench/material_gallery --out {gallery} writes it)")

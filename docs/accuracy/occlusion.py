@@ -1,4 +1,4 @@
-"""Issue 13's tables: the occlusion of the residual map (our default) against plain SH and OER
+"""The tables: the occlusion of the residual map (our default) against plain SH and OER
 without it, per mesh, world and bounce mode, and the check of the rule that sizes the transfer
 (its ray count and evaluation order) on the bunny."""
 
@@ -6,10 +6,10 @@ from common import MISSING, NOISE_RATIO_LIMIT, markdown_table, milliseconds, min
 from frames import (DEFAULT, HEADLINE_MESH, NO_OCCLUSION, NOISE_MARK, PLAIN_SH, FrameRows, Row,
                     noisy)
 
-# Issue 13's figure: ours at most this share of plain SH's error, on the product and on the
+# The target: ours at most this share of plain SH's error, on the product and on the
 # ground near it, in both modes.
 TARGET_RATIO = 0.5
-# Issue 13's cost figure: the bunny's bake with one bounce, on 2 cores (bench/support/targets.hpp).
+# The cost target: the bunny's bake with one bounce, on 2 cores (bench/support/targets.hpp).
 BAKE_TARGET_MS = 2000.0
 MODES = (("none", "none (direct reference)"), ("one", "one (one-bounce reference)"))
 ISSUE_SURFACES = (("object", "product"), ("ground near", "ground near"))
@@ -35,7 +35,7 @@ def ratio(ours: Row | None, plain: Row | None) -> float | None:
 
 
 def verdict(value: float | None) -> str:
-    """Whether issue 13's figure holds for one ratio."""
+    """Whether the target holds for one ratio."""
     if value is None:
         return MISSING
     return "pass" if value <= TARGET_RATIO else "fail"
@@ -71,7 +71,7 @@ def occlusion_table(frames: FrameRows) -> str:
 
 
 def occlusion_summary(frames: FrameRows) -> str:
-    """How many comparisons meet issue 13's figure, the bake and the frame cost."""
+    """How many comparisons meet the target, the bake and the frame cost."""
     counts = []
     for surface, label in (("object", "product"), ("ground near", "ground near it")):
         ratios = [value for mesh in frames.meshes() for world in frames.worlds(mesh)
@@ -83,7 +83,7 @@ def occlusion_summary(frames: FrameRows) -> str:
             met = sum(value <= TARGET_RATIO for value in ratios)
             counts.append(f"on the {label} in {met} of {len(ratios)} comparisons (ours/plain "
                           f"{value_range(ratios, lambda v: f'{v:.2f}')})")
-    text = (f"Issue 13's figure, ours at most {TARGET_RATIO} of plain SH's error, holds "
+    text = (f"The target, ours at most {TARGET_RATIO} of plain SH's error, holds "
             + " and ".join(counts) + ".")
     bakes = {row["bounce"]: row["bake_ms"] for row in frames.rows
              if row["mesh"] == HEADLINE_MESH and row["config"] == DEFAULT}
@@ -250,7 +250,7 @@ def points_range(deltas: list[float]) -> str:
 
 
 def occlusion_section(frames: FrameRows, figure_link: str | None) -> str:
-    """The report's section for issue 13, first after the header."""
+    """The report's occlusion section, first after the header."""
     text = [
         "## Occlusion of the residual map (issue 13)", "",
         "Our default now occludes the residual map (the map minus the lights OER found) through "
@@ -258,7 +258,7 @@ def occlusion_section(frames: FrameRows, figure_link: str | None) -> str:
         "the `one` mode, the light the product and the ground reflect once. Each mode is "
         "compared only with the reference of the same mode: `none` (the ground lights nothing) "
         "with the direct reference, `one` (the default) with the one-bounce reference. "
-        "\"OER\" is the default before issue 13 (`--occlusion off`). Errors: relative RMS of "
+        "\"OER\" is OER without occlusion (`--occlusion off`). Errors: relative RMS of "
         "luminance over the product and over the ground within one bounding-sphere radius of "
         "the product's footprint (\"ground near\"), all lights on; every surface without its "
         "silhouette (a pixel whose four neighbours are not all of its surface measures how a "
