@@ -7,7 +7,7 @@ Point = TypeVar("Point")
 
 # model-viewer's render-fidelity test fails a renderer whose difference is above this (dB).
 FIDELITY_BOUND_DB = -22.0
-# The noise requirement: the reference's noise below a fifth of the error it measures.
+# The noise requirement: the reference's noise below a fifth of the error it measures.
 NOISE_RATIO_LIMIT = 0.2
 MISSING = "—"
 

@@ -94,7 +94,7 @@ def headline_row(frames: FrameRows, world: str, config: str, name: str) -> list[
 
 
 def headline_table(frames: FrameRows) -> str:
-    """Per world, the pipelines against both references (the issue's closing figures)."""
+    """Per world, the pipelines against both references (the headline figures)."""
     header = ["world", "renderer",
               *[f"{surface}, {'direct' if bounce == 'none' else 'one bounce'}"
                 for bounce, surface in COMPARISONS], "frame ms", "noise/error", "−22 dB"]

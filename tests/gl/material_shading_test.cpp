@@ -112,7 +112,7 @@ HdrImage small_light_map(const SmallLight& light) {
 // all, by the split sum's construction (FssEss + Fms Ems = Ess + (1 - Ess) = 1 for a white
 // metal; FssEss + Fms Ems + c_diff (1 - FssEss - Fms Ems) = 1 for a white dielectric), so the
 // bound is float rounding and the half-float cube (L in halves is exact here), not the DFG
-// table's interpolation: 3 % is the bound, the measurement is far inside it.
+// table's interpolation: 3 % is the bound held, the measurement is far inside it.
 TEST_F(MaterialShadingTest, AWhiteFurnaceKeepsItsEnergyAtEveryRoughness) {
     const glm::vec3 radiance{0.5f, 1.0f, 2.0f};
     const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);

@@ -30,7 +30,7 @@ namespace {
 // (sunrise: 1.42 % here, 0.35 % at the default size and samples).
 const std::string kFrameSize = "&width=256&height=256&samples=1";
 
-// The share the issue allows.
+// The share allowed: under 2 % of the product's pixels at 255.
 constexpr double kMaxClippedShare = 0.02;
 
 struct ClippedPixels {

@@ -14,7 +14,7 @@ def write(name, data):
         out.write(data)
 
 
-# Radiance RGBE: the 155-byte file, 8192x8192 claimed; one RLE scanline start (2, 2,
+# Radiance RGBE: a 155-byte file, 8192x8192 claimed; one RLE scanline start (2, 2,
 # width) and 50 run packets of 127 pixels each.
 def radiance():
     header = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 8192\n"
