@@ -9,6 +9,9 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "png_structure.hpp"
@@ -400,26 +403,35 @@ std::uint64_t tile_count(const ExrPart& part, std::uint64_t width, std::uint64_t
     return count;
 }
 
-ClaimResult openexr_claim(OIIO::Filesystem::IOProxy& proxy) {
+// The version field and every part's header, after the magic number; `end` is the offset just
+// after the headers (and a multi-part file's empty header), where the chunk offset tables start.
+struct ExrHeaders {
+    std::uint32_t version = 0;
+    bool multi_part = false;
+    std::vector<ExrPart> parts;
+    std::uint64_t end = 0;
+};
+
+std::variant<ExrHeaders, NotThisFormat> read_exr_headers(OIIO::Filesystem::IOProxy& proxy) {
     unsigned char start[8];
     if (!read_at(proxy, 0, start, 8) || little_u32(start) != 20000630) {
         return NotThisFormat{"no OpenEXR magic number and version"};
     }
-    const std::uint32_t version = little_u32(start + 4);
-    if ((version & 0xff) != 2) {
-        return NotThisFormat{"OpenEXR file version " + std::to_string(version & 0xff) +
+    ExrHeaders headers;
+    headers.version = little_u32(start + 4);
+    if ((headers.version & 0xff) != 2) {
+        return NotThisFormat{"OpenEXR file version " + std::to_string(headers.version & 0xff) +
                              " (only 2 exists)"};
     }
-    const bool multi_part = (version & 0x1000) != 0;
+    headers.multi_part = (headers.version & 0x1000) != 0;
     ExrHeaderReader reader(proxy);
-    std::vector<ExrPart> parts;
     do {
         std::optional<ExrPart> part = reader.part();
         if (!part) {
             return NotThisFormat{"corrupt OpenEXR header: " + reader.error};
         }
-        parts.push_back(std::move(*part));
-        if (multi_part) {
+        headers.parts.push_back(std::move(*part));
+        if (headers.multi_part) {
             unsigned char next = 0;
             if (!read_at(proxy, reader.position, &next, 1)) {
                 return NotThisFormat{"corrupt OpenEXR header: the list of parts does not end"};
@@ -429,110 +441,167 @@ ClaimResult openexr_claim(OIIO::Filesystem::IOProxy& proxy) {
                 break;
             }
         }
-    } while (multi_part);
+    } while (headers.multi_part);
+    headers.end = reader.position;
+    return headers;
+}
 
+// A part's size and chunks: how many, and the bytes of each one's own header.
+struct ExrPartLayout {
+    long long width = 0;
+    long long height = 0;
+    bool deep = false;
+    std::uint64_t chunks = 0;
+    std::uint64_t chunk_header_bytes = 0;
+};
+
+// The part's chunks: a chunkCount for a type other than scanlines and tiles, else the tiles of
+// every level, or the chunks of `lines` scanlines.
+std::variant<std::uint64_t, NotThisFormat> exr_chunk_count(const ExrPart& part,
+                                                           const std::string& type, bool tiled,
+                                                           bool deep, long long width,
+                                                           long long height, int lines) {
+    if (type != "scanlineimage" && type != "tiledimage" && !deep) {
+        if (!part.chunk_count || *part.chunk_count < 0) {
+            return NotThisFormat{"OpenEXR part of type " + type + " without a chunkCount"};
+        }
+        return std::uint64_t(*part.chunk_count);
+    }
+    if (tiled) {
+        if (!part.tile_size || (part.tile_mode & 0x0f) > 2 || (part.tile_mode >> 4) > 1) {
+            return NotThisFormat{"corrupt OpenEXR header: a tiled part without valid tiles"};
+        }
+        return tile_count(part, std::uint64_t(width), std::uint64_t(height));
+    }
+    return ceil_div(std::uint64_t(height), std::uint64_t(lines));
+}
+
+std::variant<ExrPartLayout, NotThisFormat> exr_part_layout(const ExrPart& part,
+                                                           std::uint32_t version, bool multi_part) {
+    if (!part.data_window || !part.compression) {
+        return NotThisFormat{"corrupt OpenEXR header: no dataWindow or compression"};
+    }
+    ExrPartLayout layout;
+    const auto [x_min, y_min, x_max, y_max] = *part.data_window;
+    layout.width = (long long)x_max - x_min + 1;
+    layout.height = (long long)y_max - y_min + 1;
+    if (layout.width < 1 || layout.height < 1 || layout.width > std::numeric_limits<int>::max() ||
+        layout.height > std::numeric_limits<int>::max()) {
+        return NotThisFormat{"corrupt OpenEXR header: dataWindow of " +
+                             std::to_string(layout.width) + "x" + std::to_string(layout.height) +
+                             " pixels"};
+    }
+    const int lines = lines_per_chunk(*part.compression);
+    if (lines == 0) {
+        return NotThisFormat{"unknown OpenEXR compression " + std::to_string(*part.compression)};
+    }
+    const std::string type = part.type.value_or((version & 0x800)   ? "deepscanline"
+                                                : (version & 0x200) ? "tiledimage"
+                                                                    : "scanlineimage");
+    const bool tiled = type == "tiledimage" || type == "deeptile";
+    layout.deep = type == "deepscanline" || type == "deeptile";
+    const auto chunks =
+        exr_chunk_count(part, type, tiled, layout.deep, layout.width, layout.height, lines);
+    if (const auto* why = std::get_if<NotThisFormat>(&chunks)) {
+        return *why;
+    }
+    layout.chunks = std::get<std::uint64_t>(chunks);
+    layout.chunk_header_bytes =
+        (tiled ? (layout.deep ? 40 : 20) : (layout.deep ? 28 : 8)) + (multi_part ? 4 : 0);
+    return layout;
+}
+
+// The pixels of a part's level 0 in the sizes the compressions' bounds start from: as stored
+// (plain), with FLOAT shortened to 3 bytes (PXR24), HALF samples in 4x4 blocks and the bytes of
+// the other samples (B44).
+struct ExrPixelBytes {
+    std::uint64_t plain = 0;
+    std::uint64_t pxr24 = 0;
+    std::uint64_t half_blocks = 0;
+    std::uint64_t not_half = 0;
+};
+
+ExrPixelBytes exr_pixel_bytes(const ExrPart& part, long long width, long long height) {
+    ExrPixelBytes bytes;
+    for (const ExrChannel& channel : part.channels) {
+        const std::uint64_t samples =
+            mul(std::uint64_t(width) / std::uint64_t(channel.x_sampling),
+                std::uint64_t(height) / std::uint64_t(channel.y_sampling));
+        const bool half = channel.pixel_type == 1;
+        bytes.plain = add(bytes.plain, mul(samples, half ? 2 : 4));
+        bytes.pxr24 = add(bytes.pxr24, mul(samples, half ? 2 : channel.pixel_type == 2 ? 3 : 4));
+        if (half) {
+            bytes.half_blocks =
+                add(bytes.half_blocks,
+                    mul(std::uint64_t(width) / std::uint64_t(channel.x_sampling) / 4,
+                        std::uint64_t(height) / std::uint64_t(channel.y_sampling) / 4));
+        } else {
+            bytes.not_half = add(bytes.not_half, mul(samples, 4));
+        }
+    }
+    return bytes;
+}
+
+// The fewest bytes the first part's compressed pixels take, and how that figure is made up.
+struct ExrPixelData {
+    std::uint64_t bytes = 0;
+    std::string words;
+};
+
+ExrPixelData exr_pixel_data(const ExrPart& part, long long width, long long height) {
+    const ExrPixelBytes pixel_bytes = exr_pixel_bytes(part, width, height);
+    const std::string pixels = std::to_string(pixel_bytes.plain) + " bytes of pixels";
+    switch (*part.compression) {
+        case 0:
+            return {pixel_bytes.plain, pixels + " uncompressed"};
+        case 1:
+            return {pixel_bytes.plain / 64, "RLE data of " + pixels + " (at most 64:1)"};
+        case 2:
+        case 3:
+            return {pixel_bytes.plain / 1032, "deflate data of " + pixels + " (at most 1032:1)"};
+        case 5:
+            return {pixel_bytes.pxr24 / 1032, "PXR24's deflate data of " +
+                                                  std::to_string(pixel_bytes.pxr24) +
+                                                  " bytes of pixels (at most 1032:1)"};
+        case 6:
+        case 7:
+            return {add(pixel_bytes.not_half,
+                        mul(pixel_bytes.half_blocks, *part.compression == 6 ? 14 : 3)),
+                    "B44 data of " + pixels};
+        default:
+            return {0, "compressed pixels (no lower bound known for PIZ and DWA)"};
+    }
+}
+
+ClaimResult openexr_claim(OIIO::Filesystem::IOProxy& proxy) {
+    const auto read = read_exr_headers(proxy);
+    if (const auto* why = std::get_if<NotThisFormat>(&read)) {
+        return *why;
+    }
+    const ExrHeaders& headers = std::get<ExrHeaders>(read);
     HeaderClaim claim;
     std::uint64_t chunks_total = 0;
     std::uint64_t chunk_headers = 0;
-    std::uint64_t data = 0;
-    std::string data_words;
-    for (std::size_t p = 0; p < parts.size(); ++p) {
-        const ExrPart& part = parts[p];
-        if (!part.data_window || !part.compression) {
-            return NotThisFormat{"corrupt OpenEXR header: no dataWindow or compression"};
+    ExrPixelData data;
+    for (std::size_t p = 0; p < headers.parts.size(); ++p) {
+        const ExrPart& part = headers.parts[p];
+        const auto laid_out = exr_part_layout(part, headers.version, headers.multi_part);
+        if (const auto* why = std::get_if<NotThisFormat>(&laid_out)) {
+            return *why;
         }
-        const auto [x_min, y_min, x_max, y_max] = *part.data_window;
-        const long long width = (long long)x_max - x_min + 1;
-        const long long height = (long long)y_max - y_min + 1;
-        if (width < 1 || height < 1 || width > std::numeric_limits<int>::max() ||
-            height > std::numeric_limits<int>::max()) {
-            return NotThisFormat{"corrupt OpenEXR header: dataWindow of " + std::to_string(width) +
-                                 "x" + std::to_string(height) + " pixels"};
-        }
-        const int lines = lines_per_chunk(*part.compression);
-        if (lines == 0) {
-            return NotThisFormat{"unknown OpenEXR compression " +
-                                 std::to_string(*part.compression)};
-        }
-        const std::string type = part.type.value_or((version & 0x800)   ? "deepscanline"
-                                                    : (version & 0x200) ? "tiledimage"
-                                                                        : "scanlineimage");
-        const bool tiled = type == "tiledimage" || type == "deeptile";
-        const bool deep = type == "deepscanline" || type == "deeptile";
-        std::uint64_t chunks = 0;
-        if (type != "scanlineimage" && type != "tiledimage" && !deep) {
-            if (!part.chunk_count || *part.chunk_count < 0) {
-                return NotThisFormat{"OpenEXR part of type " + type + " without a chunkCount"};
-            }
-            chunks = std::uint64_t(*part.chunk_count);
-        } else if (tiled) {
-            if (!part.tile_size || (part.tile_mode & 0x0f) > 2 || (part.tile_mode >> 4) > 1) {
-                return NotThisFormat{"corrupt OpenEXR header: a tiled part without valid tiles"};
-            }
-            chunks = tile_count(part, std::uint64_t(width), std::uint64_t(height));
-        } else {
-            chunks = ceil_div(std::uint64_t(height), std::uint64_t(lines));
-        }
-        chunks_total = add(chunks_total, chunks);
-        const std::uint64_t header_bytes =
-            (tiled ? (deep ? 40 : 20) : (deep ? 28 : 8)) + (multi_part ? 4 : 0);
-        chunk_headers = add(chunk_headers, mul(chunks, header_bytes));
-        if (p != 0 || deep) {
-            continue;
-        }
-        claim.width = int(width);
-        claim.height = int(height);
-        std::uint64_t plain = 0, pxr24 = 0, half_blocks = 0, not_half = 0;
-        for (const ExrChannel& channel : part.channels) {
-            const std::uint64_t samples =
-                mul(std::uint64_t(width) / std::uint64_t(channel.x_sampling),
-                    std::uint64_t(height) / std::uint64_t(channel.y_sampling));
-            const bool half = channel.pixel_type == 1;
-            plain = add(plain, mul(samples, half ? 2 : 4));
-            pxr24 = add(pxr24, mul(samples, half ? 2 : channel.pixel_type == 2 ? 3 : 4));
-            if (half) {
-                half_blocks =
-                    add(half_blocks,
-                        mul(std::uint64_t(width) / std::uint64_t(channel.x_sampling) / 4,
-                            std::uint64_t(height) / std::uint64_t(channel.y_sampling) / 4));
-            } else {
-                not_half = add(not_half, mul(samples, 4));
-            }
-        }
-        const std::string pixels = std::to_string(plain) + " bytes of pixels";
-        switch (*part.compression) {
-            case 0:
-                data = plain;
-                data_words = pixels + " uncompressed";
-                break;
-            case 1:
-                data = plain / 64;
-                data_words = "RLE data of " + pixels + " (at most 64:1)";
-                break;
-            case 2:
-            case 3:
-                data = plain / 1032;
-                data_words = "deflate data of " + pixels + " (at most 1032:1)";
-                break;
-            case 5:
-                data = pxr24 / 1032;
-                data_words = "PXR24's deflate data of " + std::to_string(pxr24) +
-                             " bytes of pixels (at most 1032:1)";
-                break;
-            case 6:
-            case 7:
-                data = add(not_half, mul(half_blocks, *part.compression == 6 ? 14 : 3));
-                data_words = "B44 data of " + pixels;
-                break;
-            default:
-                data_words = "compressed pixels (no lower bound known for PIZ and DWA)";
-                break;
+        const ExrPartLayout& layout = std::get<ExrPartLayout>(laid_out);
+        chunks_total = add(chunks_total, layout.chunks);
+        chunk_headers = add(chunk_headers, mul(layout.chunks, layout.chunk_header_bytes));
+        if (p == 0 && !layout.deep) {
+            claim.width = int(layout.width);
+            claim.height = int(layout.height);
+            data = exr_pixel_data(part, layout.width, layout.height);
         }
     }
     claim.available = proxy.size();
-    claim.needed = add(add(reader.position, mul(chunks_total, 8)), add(chunk_headers, data));
+    claim.needed = add(add(headers.end, mul(chunks_total, 8)), add(chunk_headers, data.bytes));
     claim.minimum = "a chunk offset table of " + std::to_string(chunks_total) + " entries, " +
-                    std::to_string(chunks_total) + " chunk headers and the " + data_words +
+                    std::to_string(chunks_total) + " chunk headers and the " + data.words +
                     " need at least " + std::to_string(claim.needed) + " bytes";
     return claim;
 }
@@ -659,35 +728,104 @@ struct JpegComponent {
     int v = 1;
 };
 
-ClaimResult jpeg_claim(OIIO::Filesystem::IOProxy& proxy) {
+bool is_restart(int code) {
+    return code >= 0xD0 && code <= 0xD7;
+}
+
+// SOF0 to SOF15 except DHT (C4), JPG (C8) and DAC (CC).
+bool is_frame_header(int code) {
+    return code >= 0xC0 && code <= 0xCF && code != 0xC4 && code != 0xC8 && code != 0xCC;
+}
+
+// The code of the next marker: after 0xFF and any fill bytes 0xFF (libjpeg skips, and warns
+// of, stray bytes before it).
+std::optional<int> next_marker(JpegCursor& in) {
+    auto b = in.next();
+    while (b && *b != 0xFF) {
+        b = in.next();
+    }
+    while (b == 0xFF) {
+        b = in.next();
+    }
+    return b ? std::optional<int>(*b) : std::nullopt;
+}
+
+// A marker segment's bytes after its 2-byte length field (fewer where the data ends first).
+std::vector<unsigned char> segment_body(JpegCursor& in, int length) {
+    std::vector<unsigned char> segment;
+    for (int i = 2; i < length; ++i) {
+        const auto b = in.next();
+        if (!b) {
+            break;
+        }
+        segment.push_back(*b);
+    }
+    return segment;
+}
+
+// What the markers up to EOI (or the end of the data) say: the first frame header's marker,
+// size and components, how many components the first scan holds, and the bytes of every scan's
+// entropy-coded data.
+struct JpegStructure {
+    std::optional<int> frame_marker;
+    int width = 0;
+    int height = 0;
+    std::vector<JpegComponent> components;
+    std::optional<int> first_scan_components;
+    std::uint64_t scan_bytes = 0;
+};
+
+// The frame header (SOFn, B.2.2): the size and each component's sampling factors.
+std::optional<NotThisFormat> read_frame_header(int code, const std::vector<unsigned char>& segment,
+                                               JpegStructure& jpeg) {
+    if (segment.size() < 6 || segment.size() < 6 + std::size_t(segment[5]) * 3) {
+        return NotThisFormat{"corrupt JPEG: a short frame header"};
+    }
+    jpeg.frame_marker = code;
+    jpeg.height = segment[1] << 8 | segment[2];
+    jpeg.width = segment[3] << 8 | segment[4];
+    for (int c = 0; c < segment[5]; ++c) {
+        const unsigned char factors = segment[6 + std::size_t(c) * 3 + 1];
+        jpeg.components.push_back({std::max(1, factors >> 4), std::max(1, factors & 0x0f)});
+    }
+    return std::nullopt;
+}
+
+// A scan's entropy-coded data, up to a marker that is neither a stuffed 0x00 nor RSTn: its bytes
+// are added to `scan_bytes`; the marker's code is returned (nullopt at the end of the data).
+std::optional<int> skip_scan_data(JpegCursor& in, std::uint64_t& scan_bytes) {
+    for (auto b = in.next(); b;) {
+        if (*b != 0xFF) {
+            ++scan_bytes;
+            b = in.next();
+            continue;
+        }
+        auto after = in.next();
+        while (after == 0xFF) {
+            after = in.next();
+        }
+        if (after && (*after == 0x00 || is_restart(*after))) {
+            scan_bytes += 2;
+            b = in.next();
+            continue;
+        }
+        return after;
+    }
+    return std::nullopt;
+}
+
+std::variant<JpegStructure, NotThisFormat> read_jpeg_structure(OIIO::Filesystem::IOProxy& proxy) {
     JpegCursor in(proxy);
     const auto soi_ff = in.next(), soi = in.next();
     if (soi_ff != 0xFF || soi != 0xD8) {
         return NotThisFormat{"no JPEG start of image"};
     }
-    // The code of the next marker: after 0xFF and any fill bytes 0xFF (libjpeg skips, and warns
-    // of, stray bytes before it).
-    auto next_marker = [&in]() -> std::optional<int> {
-        auto b = in.next();
-        while (b && *b != 0xFF) {
-            b = in.next();
-        }
-        while (b == 0xFF) {
-            b = in.next();
-        }
-        return b ? std::optional<int>(*b) : std::nullopt;
-    };
-    auto is_restart = [](int code) { return code >= 0xD0 && code <= 0xD7; };
-    std::optional<int> frame_marker;
-    int width = 0, height = 0;
-    std::vector<JpegComponent> components;
-    std::optional<int> first_scan_components;
-    std::uint64_t scan_bytes = 0;
-    std::optional<int> marker = next_marker();
+    JpegStructure jpeg;
+    std::optional<int> marker = next_marker(in);
     while (marker && *marker != 0xD9) {  // up to EOI, or the end of the data
         const int code = *marker;
         if (is_restart(code) || code == 0x01 || code == 0xD8) {
-            marker = next_marker();  // no length
+            marker = next_marker(in);  // no length
             continue;
         }
         const auto high = in.next(), low = in.next();
@@ -698,91 +836,78 @@ ClaimResult jpeg_claim(OIIO::Filesystem::IOProxy& proxy) {
         if (length < 2) {
             return NotThisFormat{"corrupt JPEG: a segment of length " + std::to_string(length)};
         }
-        std::vector<unsigned char> segment;
-        for (int i = 2; i < length; ++i) {
-            const auto b = in.next();
-            if (!b) {
-                break;
-            }
-            segment.push_back(*b);
-        }
-        const bool frame =
-            code >= 0xC0 && code <= 0xCF && code != 0xC4 && code != 0xC8 && code != 0xCC;
-        if (frame && !frame_marker) {
-            if (segment.size() < 6 || segment.size() < 6 + std::size_t(segment[5]) * 3) {
-                return NotThisFormat{"corrupt JPEG: a short frame header"};
-            }
-            frame_marker = code;
-            height = segment[1] << 8 | segment[2];
-            width = segment[3] << 8 | segment[4];
-            for (int c = 0; c < segment[5]; ++c) {
-                const unsigned char factors = segment[6 + std::size_t(c) * 3 + 1];
-                components.push_back({std::max(1, factors >> 4), std::max(1, factors & 0x0f)});
+        const std::vector<unsigned char> segment = segment_body(in, length);
+        if (is_frame_header(code) && !jpeg.frame_marker) {
+            if (const auto why = read_frame_header(code, segment, jpeg)) {
+                return *why;
             }
         }
         if (code != 0xDA) {
-            marker = next_marker();
+            marker = next_marker(in);
             continue;
         }
-        if (!first_scan_components && !segment.empty()) {
-            first_scan_components = segment[0];
+        if (!jpeg.first_scan_components && !segment.empty()) {
+            jpeg.first_scan_components = segment[0];
         }
-        // The scan's entropy-coded data, up to a marker that is neither a stuffed 0x00 nor RSTn.
-        marker = std::nullopt;
-        for (auto b = in.next(); b;) {
-            if (*b != 0xFF) {
-                ++scan_bytes;
-                b = in.next();
-                continue;
-            }
-            auto after = in.next();
-            while (after == 0xFF) {
-                after = in.next();
-            }
-            if (after && (*after == 0x00 || is_restart(*after))) {
-                scan_bytes += 2;
-                b = in.next();
-                continue;
-            }
-            marker = after;
-            break;
-        }
+        marker = skip_scan_data(in, jpeg.scan_bytes);
     }
-    if (!frame_marker || components.empty()) {
-        return NotThisFormat{"no JPEG frame header before the end of the data"};
-    }
-    HeaderClaim claim;
-    claim.width = width;
-    claim.height = height;
+    return jpeg;
+}
+
+// The 8x8 blocks of every component (A.2.2, A.1.1), and those of libjpeg's coefficient buffer,
+// each component's rounded up to its sampling factors.
+struct JpegBlocks {
+    std::uint64_t coded = 0;
+    std::uint64_t buffered = 0;
+};
+
+JpegBlocks jpeg_blocks(const JpegStructure& jpeg) {
     int h_max = 1, v_max = 1;
-    for (const JpegComponent& component : components) {
+    for (const JpegComponent& component : jpeg.components) {
         h_max = std::max(h_max, component.h);
         v_max = std::max(v_max, component.v);
     }
-    std::uint64_t blocks = 0, buffered_blocks = 0;
-    for (const JpegComponent& component : components) {
+    JpegBlocks blocks;
+    for (const JpegComponent& component : jpeg.components) {
         const std::uint64_t columns =
-            ceil_div(ceil_div(std::uint64_t(width) * std::uint64_t(component.h), h_max), 8);
+            ceil_div(ceil_div(std::uint64_t(jpeg.width) * std::uint64_t(component.h), h_max), 8);
         const std::uint64_t rows =
-            ceil_div(ceil_div(std::uint64_t(height) * std::uint64_t(component.v), v_max), 8);
-        blocks += columns * rows;
-        buffered_blocks += (ceil_div(columns, component.h) * std::uint64_t(component.h)) *
+            ceil_div(ceil_div(std::uint64_t(jpeg.height) * std::uint64_t(component.v), v_max), 8);
+        blocks.coded += columns * rows;
+        blocks.buffered += (ceil_div(columns, component.h) * std::uint64_t(component.h)) *
                            (ceil_div(rows, component.v) * std::uint64_t(component.v));
     }
-    const bool progressive = *frame_marker == 0xC2 || *frame_marker == 0xC6 ||
-                             *frame_marker == 0xCA || *frame_marker == 0xCE;
-    if (progressive || first_scan_components.value_or(0) < int(components.size())) {
-        claim.reader_bytes = buffered_blocks * 64 * 2;
+    return blocks;
+}
+
+ClaimResult jpeg_claim(OIIO::Filesystem::IOProxy& proxy) {
+    const auto read = read_jpeg_structure(proxy);
+    if (const auto* why = std::get_if<NotThisFormat>(&read)) {
+        return *why;
     }
-    claim.available = scan_bytes;
-    if (*frame_marker >= 0xC9) {
+    const JpegStructure& jpeg = std::get<JpegStructure>(read);
+    if (!jpeg.frame_marker || jpeg.components.empty()) {
+        return NotThisFormat{"no JPEG frame header before the end of the data"};
+    }
+    const int frame_marker = *jpeg.frame_marker;
+    HeaderClaim claim;
+    claim.width = jpeg.width;
+    claim.height = jpeg.height;
+    const JpegBlocks blocks = jpeg_blocks(jpeg);
+    const bool progressive = frame_marker == 0xC2 || frame_marker == 0xC6 || frame_marker == 0xCA ||
+                             frame_marker == 0xCE;
+    if (progressive || jpeg.first_scan_components.value_or(0) < int(jpeg.components.size())) {
+        claim.reader_bytes = blocks.buffered * 64 * 2;
+    }
+    claim.available = jpeg.scan_bytes;
+    if (frame_marker >= 0xC9) {
         return claim;  // arithmetic coding: no useful lower bound
     }
-    claim.needed = ceil_div(blocks, 8);
+    claim.needed = ceil_div(blocks.coded, 8);
     claim.minimum =
         "Huffman coding needs at least 1 bit per 8x8 block: " + std::to_string(claim.needed) +
-        " bytes of scan data for " + std::to_string(blocks) + " blocks; the file has " +
-        std::to_string(scan_bytes);
+        " bytes of scan data for " + std::to_string(blocks.coded) + " blocks; the file has " +
+        std::to_string(jpeg.scan_bytes);
     return claim;
 }
 

@@ -1,0 +1,57 @@
+#pragma once
+// Private to the glTF loader: one primitive's geometry read from its accessors (gltf_accessors.hpp)
+// and checked: its mode (triangles, strips and fans, the last two made lists; lines and points
+// refused), POSITION, NORMAL and TEXCOORD_0 of one count, indices in range, finite positions,
+// and the limits on vertices and triangles counted over every primitive read. TANGENT is read
+// apart, only where a normal texture needs it.
+#include <tiny_gltf.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "gltf_accessors.hpp"
+#include "oer/mesh/mesh.hpp"
+#include "oer/mesh/mesh_loading.hpp"
+
+namespace oer::mesh_detail {
+
+class PrimitiveReader {
+  public:
+    PrimitiveReader(const tinygltf::Model& model, const std::string& asset,
+                    const MeshLimits& limits)
+        : asset_(asset), limits_(limits), accessors_(model, asset) {}
+
+    // The vertices the next primitive may have within limits.max_vertices.
+    std::uint64_t vertex_budget() const { return limits_.max_vertices - vertices_; }
+
+    // The primitive `name` ("mesh 'Box' primitive 0") as in the file (positions, normals and
+    // texture coordinates, indices as a triangle list; no material, no tangents), each
+    // attribute read within `vertex_budget`; its vertices and triangles are counted.
+    Primitive read(const tinygltf::Primitive& source, const std::string& name,
+                   std::uint64_t vertex_budget);
+
+    // TANGENT (accessor `accessor`): VEC4 of FLOAT, `vertex_count` of them, finite; xyz made
+    // unit; w, the bitangent's sign, must be +1 or -1 (within 1e-3, then made exact).
+    std::vector<glm::vec4> tangents(int accessor, const std::string& name, std::size_t vertex_count,
+                                    std::uint64_t vertex_budget) const;
+
+  private:
+    void read_attributes(const tinygltf::Primitive& source, const std::string& name,
+                         std::uint64_t vertex_budget, Primitive& primitive) const;
+    std::vector<std::uint32_t> read_indices(const tinygltf::Primitive& source,
+                                            const std::string& name,
+                                            std::size_t vertex_count) const;
+    void check_positions_finite(const Primitive& primitive, const std::string& name) const;
+
+    const std::string& asset_;
+    const MeshLimits& limits_;
+    AccessorReader accessors_;
+    std::uint64_t vertices_ = 0;
+    std::uint64_t triangles_ = 0;
+};
+
+}  // namespace oer::mesh_detail

@@ -1,0 +1,58 @@
+#pragma once
+// Private to the glTF loader: a material's textureInfo (glTF 2.0, section 5.22) as an
+// oer::TextureReference: the texture and image it names, checked; its sampler
+// (gltf_samplers.hpp); KHR_texture_transform's offset, rotation, scale and texCoord; the image
+// decoded through TextureImages. A texture on a texCoord other than 0, or without a PNG or JPEG
+// source, is ignored with a warning.
+#include <tiny_gltf.h>
+
+#include <string>
+#include <vector>
+
+#include "gltf_texture_images.hpp"
+#include "oer/mesh/mesh.hpp"
+
+namespace oer::mesh_detail {
+
+// A textureInfo of any of its three kinds (the normal and occlusion ones add a number).
+struct TextureUse {
+    const char* property;  // "baseColorTexture", ...
+    int index = -1;
+    int tex_coord = 0;
+    const tinygltf::ExtensionMap* extensions = nullptr;
+
+    template <typename Info>
+    static TextureUse of(const Info& info, const char* property) {
+        return TextureUse{property, info.index, info.texCoord, &info.extensions};
+    }
+};
+
+class TextureReferences {
+  public:
+    // Warnings are appended to `warnings`.
+    TextureReferences(const tinygltf::Model& model, const std::string& asset, TextureImages& images,
+                      std::vector<std::string>& warnings)
+        : model_(model), asset_(asset), images_(images), warnings_(warnings) {}
+
+    // `use` of the material named `material` ("material 'M'"), its image read with `encoding`;
+    // no texture (an empty reference) when the use has none or is ignored.
+    TextureReference reference(const TextureUse& use, TextureEncoding encoding,
+                               const std::string& material);
+
+  private:
+    // The texture coordinates a use reads: its texCoord, or KHR_texture_transform's.
+    struct TexCoordSet {
+        int index;
+        const char* note;  // how it was chosen, for the warning when it is not 0
+    };
+
+    TexCoordSet read_transform(const TextureUse& use, const std::string& what,
+                               TextureReference& reference) const;
+
+    const tinygltf::Model& model_;
+    const std::string& asset_;
+    TextureImages& images_;
+    std::vector<std::string>& warnings_;
+};
+
+}  // namespace oer::mesh_detail
