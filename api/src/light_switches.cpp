@@ -2,7 +2,7 @@
 
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/parameter_text.hpp"
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
 
 namespace oer::api {
 

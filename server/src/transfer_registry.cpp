@@ -8,7 +8,9 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/render_request.hpp"
 #include "oer/core/error.hpp"
+#include "oer/scene/scene_rules.hpp"
 #include "oer/transfer/transfer_bake.hpp"
+#include "oer/transfer/transfer_codec.hpp"
 
 namespace oer::server {
 

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "asset_registry.hpp"
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
+#include "oer/scene/scene_transfer.hpp"
 #include "oer/server/asset_store.hpp"
-#include "oer/transfer/scene_transfer.hpp"
 #include "service_metrics.hpp"
 
 namespace oer::server {

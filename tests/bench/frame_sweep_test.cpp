@@ -14,7 +14,7 @@
 #include <string>
 #include <tuple>
 
-#include "oer/transfer/scene_transfer.hpp"
+#include "oer/scene/scene_transfer.hpp"
 #include "sweep_process.hpp"
 
 namespace {

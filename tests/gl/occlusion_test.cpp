@@ -18,10 +18,10 @@
 
 #include "frame_test_support.hpp"
 #include "oer/core/error.hpp"
-#include "oer/gl/scene_bounds.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/sh.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "oer/transfer/transfer_lighting.hpp"
 #include "synthetic_maps.hpp"
 #include "test_meshes.hpp"

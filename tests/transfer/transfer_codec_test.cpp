@@ -9,7 +9,7 @@
 #include <string>
 
 #include "oer/core/error.hpp"
-#include "oer/transfer/scene_transfer.hpp"
+#include "oer/transfer/transfer_codec.hpp"
 
 using namespace oer;
 

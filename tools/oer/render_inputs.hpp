@@ -12,7 +12,7 @@
 
 #include "environment_input.hpp"
 #include "oer/api/render_request.hpp"
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
 
 namespace oer::cli {
 

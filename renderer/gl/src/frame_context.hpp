@@ -11,11 +11,11 @@
 #include <glm/vec3.hpp>
 
 #include "gl_program.hpp"
-#include "oer/gl/frame_request.hpp"
-#include "oer/gl/scene_bounds.hpp"
 #include "oer/lighting/sh.hpp"
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/mesh.hpp"
+#include "oer/scene/frame_request.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "render_targets.hpp"
 
 namespace oer {

@@ -12,6 +12,7 @@
 #include "frame_context.hpp"
 #include "oer/core/error.hpp"
 #include "oer/mesh/camera.hpp"
+#include "oer/scene/scene_rules.hpp"
 #include "oer/transfer/transfer_lighting.hpp"
 
 namespace oer {

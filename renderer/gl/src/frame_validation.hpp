@@ -4,7 +4,7 @@
 // the shadow maps', the meshes' textures') within FrameLimits and what the device can hold. The
 // rules of what a client may ask for (the sample counts offered, shadow resolutions as powers of
 // two, JPEG quality) are the API's (api/src/render_request.cpp).
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
 
 namespace oer {
 

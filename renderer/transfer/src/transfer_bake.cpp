@@ -21,11 +21,11 @@
 #include <glm/matrix.hpp>
 
 #include "oer/core/error.hpp"
-#include "oer/gl/scene_bounds.hpp"
 #include "oer/lighting/sh.hpp"
 #include "oer/reference/cosine_direction.hpp"
 #include "oer/reference/embree_scene.hpp"
 #include "oer/reference/pixel_random.hpp"
+#include "oer/scene/scene_bounds.hpp"
 
 namespace oer {
 namespace {
@@ -72,7 +72,7 @@ constexpr std::uint64_t kBakeSeed = 1;
 constexpr int kMinStrata = 8;
 constexpr int kMaxStrata = 32;
 
-// A_l Y_i(n): the transfer of a point that nothing occludes (scene_transfer.hpp).
+// A_l Y_i(n): the transfer of a point that nothing occludes (oer/scene/scene_transfer.hpp).
 Coefficients unoccluded_transfer(const glm::dvec3& n) {
     Coefficients transfer{};
     sh_evaluate(kTransferBakeOrder, n, transfer);
@@ -194,8 +194,9 @@ void validate(const FrameRequest& request, const TransferBakeOptions& options) {
     }
 }
 
-// The ground grid of scene_transfer.hpp under the scene (the frame's plane: y = the bounds'
-// lowest y), centred on the objects' bounds in x and z, kGroundHalfSizeOverRadius radii each side.
+// The ground grid of oer/scene/scene_transfer.hpp under the scene (the frame's plane: y = the
+// bounds' lowest y), centred on the objects' bounds in x and z, kGroundHalfSizeOverRadius radii
+// each side.
 GroundTransfer ground_grid(const SceneBounds& frame) {
     GroundTransfer ground;
     ground.centre = {frame.centre.x, frame.centre.z};

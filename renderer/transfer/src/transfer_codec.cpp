@@ -1,12 +1,12 @@
-// The stored form of a SceneTransfer (scene_transfer.hpp). Every count is checked against the
-// bytes that remain before anything is allocated, so a damaged or hostile entry costs no more
+// The stored form of a SceneTransfer (oer/scene/scene_transfer.hpp). Every count is checked against
+// the bytes that remain before anything is allocated, so a damaged or hostile entry costs no more
 // memory than its own size.
 #include <bit>
 #include <cmath>
 #include <string>
 
 #include "oer/core/error.hpp"
-#include "oer/transfer/scene_transfer.hpp"
+#include "oer/transfer/transfer_codec.hpp"
 
 namespace oer {
 namespace {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "oer/api/render_request.hpp"
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
 
 namespace oer::api {
 

@@ -49,8 +49,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
-#include "oer/gl/frame_request.hpp"
 #include "oer/mesh/camera.hpp"
+#include "oer/scene/frame_request.hpp"
 
 namespace oer::api {
 

@@ -4,7 +4,7 @@
 // color passes, PostProcessManager for the resolve): every pass reads the FrameContext and
 // the RendererState, and says below what it leaves behind for the next.
 #include "frame_context.hpp"
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
 #include "renderer_state.hpp"
 #include "shadow_map_cache.hpp"
 

@@ -7,7 +7,7 @@
 // and use it on one thread with a current GL context (inside RenderThread jobs).
 #include <memory>
 
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
 
 namespace oer {
 

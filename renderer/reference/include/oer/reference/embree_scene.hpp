@@ -16,9 +16,9 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "oer/gl/frame_request.hpp"
-#include "oer/gl/scene_bounds.hpp"
 #include "oer/mesh/camera.hpp"
+#include "oer/scene/frame_request.hpp"
+#include "oer/scene/scene_bounds.hpp"
 
 namespace oer::reference {
 
@@ -48,8 +48,8 @@ enum class GroundReach { Drawn, Infinite };
 class EmbreeScene {
   public:
     // Throws oer::Error (Internal) when Embree fails, with its message.
-    // frame: the scene's bounds as the GL renderer has them (oer/gl/scene_bounds.hpp), whose ground
-    // plane (y = the box's lowest y, half side ground_half_size()) the reference traces too.
+    // frame: the scene's bounds as the GL renderer has them (oer/scene/scene_bounds.hpp), whose
+    // ground plane (y = the box's lowest y, half side ground_half_size()) the reference traces too.
     EmbreeScene(const FrameRequest& request, const SceneBounds& frame);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "oer/gl/frame_request.hpp"
+#include "oer/scene/frame_request.hpp"
 
 namespace oer {
 

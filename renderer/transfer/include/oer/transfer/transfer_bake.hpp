@@ -1,12 +1,12 @@
 #pragma once
-// The bake of a scene's transfer (scene_transfer.hpp) on Embree: per receiver point, rays over
-// the cosine-weighted hemisphere of its normal against the scene's objects and ground plane
-// (the same surfaces and plane the frame renderer draws: oer/gl/scene_bounds.hpp), and under
+// The bake of a scene's transfer (oer/scene/scene_transfer.hpp) on Embree: per receiver point, rays
+// over the cosine-weighted hemisphere of its normal against the scene's objects and ground plane
+// (the same surfaces and plane the frame renderer draws: oer/scene/scene_bounds.hpp), and under
 // Bounce::One what those rays hit, reflecting its own direct transfer once.
 // And the rules that choose how much a scene needs ("model only what a scene needs").
-#include "oer/gl/frame_request.hpp"
 #include "oer/lighting/rig.hpp"
-#include "oer/transfer/scene_transfer.hpp"
+#include "oer/scene/frame_request.hpp"
+#include "oer/scene/scene_transfer.hpp"
 
 namespace oer {
 

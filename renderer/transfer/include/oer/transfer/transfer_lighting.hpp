@@ -1,11 +1,11 @@
 #pragma once
-// A frame's lighting through a baked transfer (scene_transfer.hpp): the residual map R and the
-// whole lighting L in the transfer's frame, and the irradiance E(x) = T(x) . R + B(x) . L that
-// they give at every receiver point (P.-P. Sloan, J. Kautz and J. Snyder, "Precomputed Radiance
-// Transfer for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH
-// 2002, section 5: a diffuse receiver's exit radiance is a dot product of its transfer vector
-// with the lighting's coefficients). No GL and no ray tracing: the frame renderer calls it per
-// frame, before its passes.
+// A frame's lighting through a baked transfer (oer/scene/scene_transfer.hpp): the residual map R
+// and the whole lighting L in the transfer's frame, and the irradiance E(x) = T(x) . R + B(x) . L
+// that they give at every receiver point (P.-P. Sloan, J. Kautz and J. Snyder, "Precomputed
+// Radiance Transfer for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments",
+// SIGGRAPH 2002, section 5: a diffuse receiver's exit radiance is a dot product of its transfer
+// vector with the lighting's coefficients). No GL and no ray tracing: the frame renderer calls it
+// per frame, before its passes.
 #include <span>
 #include <vector>
 
@@ -13,7 +13,7 @@
 
 #include "oer/lighting/rig.hpp"
 #include "oer/lighting/sh.hpp"
-#include "oer/transfer/scene_transfer.hpp"
+#include "oer/scene/scene_transfer.hpp"
 
 namespace oer {
 

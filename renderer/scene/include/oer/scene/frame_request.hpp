@@ -1,6 +1,6 @@
 #pragma once
-// What a frame is made of and what comes back (DESIGN.md section 2, phase 3): plain data, no GL,
-// so that the API (api/) and the command line can build requests without linking EGL or GL.
+// What a frame is made of and what comes back (docs/design.md section 2, phase 3): plain data, no
+// GL, so that the API (api/) and the command line can build requests without linking EGL or GL.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -16,7 +16,7 @@
 #include "oer/lighting/tonemap.hpp"
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/mesh.hpp"
-#include "oer/transfer/scene_transfer.hpp"
+#include "oer/scene/scene_transfer.hpp"
 
 namespace oer {
 
@@ -43,7 +43,7 @@ struct ShadowOptions {
     ShadowFilter filter = ShadowFilter::Pcf;
 };
 
-// The brightest a request can make a light: four times as captured (DESIGN.md section 2).
+// The brightest a request can make a light: four times as captured (docs/design.md section 2).
 constexpr float kMaxLightWeight = 4.0f;
 
 struct FrameRequest {
@@ -55,13 +55,13 @@ struct FrameRequest {
     // a glossy material (Material::glossy) and the rig's model is Hdr, else unused and best
     // left null, so that a scene without glossy materials costs no specular memory.
     std::shared_ptr<const PrefilteredCube> specular;
-    // Occlusion of the residual map and the ground as lighting (issue 13): true, the residual
-    // map (the rig's radiance minus its lights' pixels) reaches objects and ground through
-    // `transfer`, baked for this request's objects, transforms and ground (transfer_bake.hpp),
-    // and, with the ground, lights below its horizon reach no object; false, the residual lights
-    // every point unoccluded (OER as before) and `transfer` must be null. The renderer's default
-    // is false because a transfer has to be baked first; the API's and the command line's is
-    // true, and they bake it.
+    // Occlusion of the residual map and the ground as lighting (docs/design.md section 2): true,
+    // the residual map (the rig's radiance minus its lights' pixels) reaches objects and ground
+    // through `transfer`, baked for this request's objects, transforms and ground
+    // (transfer_bake.hpp), and, with the ground, lights below its horizon reach no object; false,
+    // the residual lights every point unoccluded (OER as before) and `transfer` must be null. The
+    // renderer's default is false because a transfer has to be baked first; the API's and the
+    // command line's is true, and they bake it.
     bool occlusion = false;
     // None: the ground lights nothing and nothing reflects (to compare with the reference's
     // direct mode); One: the ground and the objects reflect once. Must match transfer->bounce.
@@ -69,8 +69,8 @@ struct FrameRequest {
     std::shared_ptr<const SceneTransfer> transfer;
     std::vector<SceneObject> objects;
     std::optional<Camera> camera;  // empty: frame the scene's bounds automatically
-    // One weight per rig light (DESIGN.md section 2, dimmable lights): 0 off, 1 as captured, up
-    // to kMaxLightWeight; empty: every light at 1.
+    // One weight per rig light (docs/design.md section 2, dimmable lights): 0 off, 1 as captured,
+    // up to kMaxLightWeight; empty: every light at 1.
     std::vector<float> lights;
     int width = 512;
     int height = 512;
@@ -85,41 +85,6 @@ struct FrameRequest {
     double environment_yaw = 0.0;  // degrees about +Y, lights and SH alike
     bool linear = false;           // true: keep linear radiance (EXR), no exposure or tone mapping
 };
-
-// Why `transfer` was not baked for `request`'s scene (the bounce, the ground, one receiver set
-// per object and primitive with a point per vertex), or empty when it was. One check for the
-// renderer's validation and the service's reading of stored transfers.
-inline std::string transfer_misfit(const SceneTransfer& transfer, const FrameRequest& request) {
-    if (transfer.bounce != request.bounce) {
-        return std::string("it was baked with bounce ") +
-               (transfer.bounce == Bounce::One ? "one" : "none") + ", the frame asks " +
-               (request.bounce == Bounce::One ? "one" : "none");
-    }
-    if (transfer.ground.has_value() != request.ground) {
-        return transfer.ground ? "it has a ground, the frame has none"
-                               : "it has no ground, the frame has one";
-    }
-    if (transfer.objects.size() != request.objects.size()) {
-        return "it has " + std::to_string(transfer.objects.size()) + " object(s), the frame " +
-               std::to_string(request.objects.size());
-    }
-    for (std::size_t o = 0; o < transfer.objects.size(); ++o) {
-        const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
-        if (transfer.objects[o].size() != primitives.size()) {
-            return "object " + std::to_string(o) + " has " +
-                   std::to_string(transfer.objects[o].size()) + " primitive(s), its mesh " +
-                   std::to_string(primitives.size());
-        }
-        for (std::size_t p = 0; p < primitives.size(); ++p) {
-            if (transfer.objects[o][p].count != primitives[p].positions.size()) {
-                return "object " + std::to_string(o) + ", primitive " + std::to_string(p) +
-                       " has " + std::to_string(transfer.objects[o][p].count) + " point(s) for " +
-                       std::to_string(primitives[p].positions.size()) + " vertices";
-            }
-        }
-    }
-    return {};
-}
 
 struct Frame {
     int width = 0;

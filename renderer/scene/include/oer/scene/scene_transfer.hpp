@@ -1,5 +1,5 @@
 #pragma once
-// Precomputed radiance transfer of a scene (issue 13; P.-P. Sloan, J. Kautz and J. Snyder,
+// Precomputed radiance transfer of a scene (P.-P. Sloan, J. Kautz and J. Snyder,
 // "Precomputed Radiance Transfer for Real-Time Rendering in Dynamic, Low-Frequency Lighting
 // Environments", SIGGRAPH 2002): per receiver point (each vertex of each object's primitives,
 // and each texel of a grid on the ground around the objects) the SH vector that turns the
@@ -7,7 +7,7 @@
 // (the objects and the ground plane), and, under Bounce::One, the vectors that add what the
 // objects and the ground reflect onto it once.
 //
-// For radiance coefficients L_i (DESIGN.md section 3: world frame, the yaw applied, no A_l),
+// For radiance coefficients L_i (docs/design.md section 3: world frame, the yaw applied, no A_l),
 //   E(x) = sum_i direct_i(x) R_i + sum_i bounce_c,i(x) L_c,i      (per colour channel c)
 // where R is the residual map (the rig's radiance minus every light's own pixels) and L the
 // whole lighting of the frame (R plus each light's pixels times its weight): the lights' own
@@ -15,20 +15,19 @@
 // Without occluders direct_i(x) = A_l Y_i(n(x)), so direct . R is plain SH irradiance.
 //
 // Plain data: the frame renderer reads it (FrameRequest::transfer), the bake
-// (transfer_bake.hpp) writes it, the codec stores it.
+// (oer/transfer/transfer_bake.hpp) writes it, the codec (oer/transfer/transfer_codec.hpp)
+// stores it.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
-#include <string>
-#include <string_view>
 #include <vector>
 
 #include <glm/vec2.hpp>
 
 namespace oer {
 
-// The albedo of the renderer's ground plane (DESIGN.md section 7): the GL renderer draws it, the
-// reference traces it, and the transfer's ground reflects it.
+// The albedo of the renderer's ground plane (docs/design.md section 7): the GL renderer draws it,
+// the reference traces it, and the transfer's ground reflects it.
 constexpr float kGroundAlbedo = 0.8f;
 
 // Transfers are baked at this order (bands 0 to 6, 49 coefficients). Sloan et al. chose order 5
@@ -82,12 +81,5 @@ struct SceneTransfer {
 
     int coefficients() const { return order * order; }
 };
-
-// The stored form (the asset store's derived entry, which the store seals with its digest):
-// magic "OERPRT" and a version byte, then the fields above with their counts, little-endian.
-std::string encode_transfer(const SceneTransfer& transfer);
-// Throws oer::Error (InvalidInput) naming what is wrong: a bad magic or version, a count that
-// does not fit the bytes (checked before anything is allocated), a non-finite value.
-SceneTransfer decode_transfer(std::string_view bytes);
 
 }  // namespace oer
