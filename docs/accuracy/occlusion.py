@@ -91,7 +91,7 @@ def occlusion_summary(frames: FrameRows) -> str:
         within = "within" if bakes["one"] <= BAKE_TARGET_MS else "above"
         text += (f" The {HEADLINE_MESH}'s transfer bakes in {bakes['one']:.0f} ms with one bounce"
                  + (f" and {bakes['none']:.0f} ms without" if "none" in bakes else "")
-                 + f", {within} the issue's {BAKE_TARGET_MS:.0f} ms (wall time of every core, "
+                 + f", {within} the target's {BAKE_TARGET_MS:.0f} ms (wall time of every core, "
                  "on a machine that may be shared).")
     costs = [ours["frame_ms"] / oer["frame_ms"] for mesh in frames.meshes()
              for world in frames.worlds(mesh) for bounce, _ in MODES
@@ -252,7 +252,7 @@ def points_range(deltas: list[float]) -> str:
 def occlusion_section(frames: FrameRows, figure_link: str | None) -> str:
     """The report's occlusion section, first after the header."""
     text = [
-        "## Occlusion of the residual map (issue 13)", "",
+        "## Occlusion of the residual map", "",
         "Our default now occludes the residual map (the map minus the lights OER found) through "
         "the scene's baked transfer: soft self-shadows, contact shadows on the ground and, in "
         "the `one` mode, the light the product and the ground reflect once. Each mode is "

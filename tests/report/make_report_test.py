@@ -87,8 +87,8 @@ class MakeReportTest(unittest.TestCase):
         self.assertIn("| forest | on the front | on the front | "
                       "no: lights 1 (15.5 ms, 11.1 %) | on the front |", self.markdown)
 
-    def test_issue13_section_first_with_ratios_and_verdicts(self) -> None:
-        section = self.markdown.index("## Occlusion of the residual map (issue 13)")
+    def test_occlusion_section_first_with_ratios_and_verdicts(self) -> None:
+        section = self.markdown.index("## Occlusion of the residual map")
         self.assertLess(self.markdown.index("# Accuracy"), section)
         self.assertLess(section, self.markdown.index("## Headline"))
         # ours / plain SH: 0.0601 / 0.3125 on the product, 0.0752 / 0.25 near it.
@@ -104,7 +104,7 @@ class MakeReportTest(unittest.TestCase):
                       "the ground near it in 3 of 4 comparisons (ours/plain 0.30–0.65).",
                       self.markdown)
         self.assertIn("transfer bakes in 2345 ms with one bounce and 1234 ms without, above the "
-                      "issue's 2000 ms", self.markdown)
+                      "target's 2000 ms", self.markdown)
         # 24.6 / 21.34, 25.8 / 21.34, 22.0 / 18.9, 23.0 / 18.9.
         self.assertIn("A frame with occlusion takes 1.15–1.22x the time of one without",
                       self.markdown)
