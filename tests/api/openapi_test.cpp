@@ -21,6 +21,7 @@
 
 #include "oer/api/mesh_json.hpp"
 #include "oer/api/parameter_text.hpp"
+#include "oer/api/render_parameters.hpp"
 #include "oer/api/render_request.hpp"
 #include "oer/api/rig_json.hpp"
 #include "oer/api/rig_options.hpp"
@@ -359,28 +360,33 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
     EXPECT_GT(probed, 40);
     const Json defaults = api::normalised_render_json(
         api::parse_render_query({{"environment", "default"}, {"distance", "3"}}));
-    const std::map<std::string, std::string> member_of = {
-        {"fov_y", "/camera/fov_y"},
-        {"yaw", "/camera/orbit/yaw"},
-        {"pitch", "/camera/orbit/pitch"},
-        {"width", "/width"},
-        {"height", "/height"},
-        {"format", "/format"},
-        {"quality", "/quality"},
-        {"exposure", "/exposure"},
-        {"tonemap", "/tonemap"},
-        {"background", "/background"},
-        {"bounce", "/bounce"},
-        {"shadow_resolution", "/shadows/resolution"},
-        {"shadow_filter", "/shadows/filter"},
-        {"samples", "/samples"},
-        {"environment_yaw", "/environment_yaw"}};
-    for (const auto& [name, pointer] : member_of) {
+    // Each scalar parameter with a default (the table's rows) declares the canonical document's
+    // value at the row's member, a boolean as on or off; an optional one declares none.
+    int defaulted = 0;
+    for (const api::RenderParameter& row : api::render_parameters()) {
+        const bool scalar =
+            row.kind == api::ParameterKind::Number || row.kind == api::ParameterKind::Integer ||
+            row.kind == api::ParameterKind::Name || row.kind == api::ParameterKind::Boolean;
+        if (row.query.empty() || !scalar) {
+            continue;
+        }
+        const std::string name(row.query);
         const std::optional<Json> declared =
             default_of(parameter_schema(render_get_parameters(), name));
+        if (row.presence != api::Presence::Defaulted) {
+            EXPECT_FALSE(declared.has_value()) << name;
+            continue;
+        }
         ASSERT_TRUE(declared.has_value()) << name;
-        EXPECT_EQ(defaults.at(Json::json_pointer(pointer)), *declared) << name;
+        const Json canonical = defaults.at(Json::json_pointer("/" + std::string(row.json)));
+        EXPECT_EQ(row.kind == api::ParameterKind::Boolean
+                      ? Json(canonical.get<bool>() ? "on" : "off")
+                      : canonical,
+                  *declared)
+            << name;
+        ++defaulted;
     }
+    EXPECT_EQ(defaulted, 18);
     EXPECT_FALSE(default_of(parameter_schema(render_get_parameters(), "distance")).has_value());
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "ground")), Json("on"));
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "occlusion")), Json("on"));

@@ -262,13 +262,15 @@ class Reader {
     // The first member of the object whose name is not among `names`, or nullptr.
     static const std::string* unknown_member(const Json& value,
                                              std::span<const std::string_view> names) {
-        for (const auto& [key, member] : value.items()) {
+        // Through the object's own iterators, whose key() is the stored name (items() gives an
+        // array's keys as temporaries, which GCC warns of returning).
+        for (auto member = value.begin(); member != value.end(); ++member) {
             bool known = false;
             for (const std::string_view name : names) {
-                known = known || key == name;
+                known = known || member.key() == name;
             }
             if (!known) {
-                return &key;
+                return &member.key();
             }
         }
         return nullptr;
