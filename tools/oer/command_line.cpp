@@ -22,9 +22,9 @@ bool parse_flags(CLI::App& app, const std::vector<std::string>& arguments) {
     return true;
 }
 
-void add_value_flag(CLI::App& app, const std::string& flag, const std::string& value_name,
-                    std::function<void(const std::string&)> store) {
-    app.add_option_function<std::string>("--" + flag, std::move(store))
+CLI::Option* add_value_flag(CLI::App& app, const std::string& flag, const std::string& value_name,
+                            std::function<void(const std::string&)> store) {
+    return app.add_option_function<std::string>("--" + flag, std::move(store))
         ->type_name(value_name)
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }

@@ -24,9 +24,10 @@ class UsageError : public std::runtime_error {
 // flag, a missing value) throw UsageError. Returns false when --help was asked for and printed.
 bool parse_flags(CLI::App& app, const std::vector<std::string>& arguments);
 
-// Declares --FLAG taking one value (the last one given counts), stored through `store`.
-void add_value_flag(CLI::App& app, const std::string& flag, const std::string& value_name,
-                    std::function<void(const std::string&)> store);
+// Declares --FLAG taking one value (the last one given counts), stored through `store`; the
+// option, for a description.
+CLI::Option* add_value_flag(CLI::App& app, const std::string& flag, const std::string& value_name,
+                            std::function<void(const std::string&)> store);
 
 // A finite number; throws UsageError naming --flag.
 double parse_double(const std::string& flag, const std::string& text);

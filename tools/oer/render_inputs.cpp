@@ -1,6 +1,5 @@
 #include "render_inputs.hpp"
 
-#include <array>
 #include <cctype>
 #include <string_view>
 #include <utility>
@@ -8,6 +7,7 @@
 #include "command_line.hpp"
 #include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
+#include "oer/api/render_parameters.hpp"
 #include "oer/mesh/default_product.hpp"
 #include "oer/mesh/mesh_loading.hpp"
 
@@ -15,38 +15,27 @@ namespace oer::cli {
 
 namespace {
 
-// The flags that are query parameters of GET /v1/render, as (flag, parameter): their values go
-// through the service's parser, so that the CLI accepts, rejects and defaults exactly as the
-// service does. --size WxH gives two of them, width and height.
-constexpr std::array<std::pair<std::string_view, std::string_view>, 18> kQueryFlags{{
-    {"base-color", "base_color"},
-    {"eye", "eye"},
-    {"target", "target"},
-    {"up", "up"},
-    {"fov", "fov_y"},
-    {"lights", "lights"},
-    {"ground", "ground"},
-    {"occlusion", "occlusion"},
-    {"bounce", "bounce"},
-    {"background", "background"},
-    {"tonemap", "tonemap"},
-    {"exposure", "exposure"},
-    {"shadows", "shadows"},
-    {"shadow-resolution", "shadow_resolution"},
-    {"shadow-filter", "shadow_filter"},
-    {"samples", "samples"},
-    {"yaw", "environment_yaw"},
-    {"quality", "quality"},
-}};
+// The flags that are query parameters of GET /v1/render (api::render_parameters(), the rows
+// with a flag): their values go through the service's parser, so that the CLI accepts, rejects
+// and defaults exactly as the service does. --size WxH gives two of them, width and height.
+std::vector<const api::RenderParameter*> query_flags() {
+    std::vector<const api::RenderParameter*> flags;
+    for (const api::RenderParameter& row : api::render_parameters()) {
+        if (!row.flag.empty()) {
+            flags.push_back(&row);
+        }
+    }
+    return flags;
+}
 
 // The flag that gave a query parameter.
 std::string flag_of(const std::string& parameter) {
     if (parameter == "width" || parameter == "height") {
         return "size";
     }
-    for (const auto& [flag, name] : kQueryFlags) {
-        if (name == parameter) {
-            return std::string(flag);
+    for (const api::RenderParameter* row : query_flags()) {
+        if (row->query == parameter) {
+            return std::string(row->flag);
         }
     }
     return parameter;
@@ -77,9 +66,9 @@ std::multimap<std::string, std::string> render_query(std::map<std::string, std::
         flags.try_emplace("eye", "0,0,3");
         flags.try_emplace("target", "0,0,0");
     }
-    for (const auto& [flag, parameter] : kQueryFlags) {
-        if (const auto value = flags.find(std::string(flag)); value != flags.end()) {
-            query.emplace(parameter, value->second);
+    for (const api::RenderParameter* row : query_flags()) {
+        if (const auto value = flags.find(std::string(row->flag)); value != flags.end()) {
+            query.emplace(row->query, value->second);
         }
     }
     return query;
@@ -93,14 +82,14 @@ void add_render_inputs(CLI::App& app, RenderInputs& inputs, const std::set<std::
                    "a .glb, .gltf or .obj file, or 'default' (repeatable)");
     add_value_flag(app, "size", "WxH",
                    [&inputs](const std::string& text) { inputs.flags["size"] = text; });
-    for (const auto& [flag, parameter] : kQueryFlags) {
-        if (omitted.contains(std::string(flag))) {
+    for (const api::RenderParameter* row : query_flags()) {
+        const std::string flag(row->flag);
+        if (omitted.contains(flag)) {
             continue;
         }
-        add_value_flag(app, std::string(flag), "VALUE",
-                       [&inputs, flag = std::string(flag)](const std::string& text) {
-                           inputs.flags[flag] = text;
-                       });
+        add_value_flag(app, flag, row->value_name, [&inputs, flag](const std::string& text) {
+            inputs.flags[flag] = text;
+        })->description(row->help);
     }
     add_environment_flags(app, inputs.environment);
 }
