@@ -35,7 +35,8 @@ class PrimitiveReader {
                    std::uint64_t vertex_budget);
 
     // TANGENT (accessor `accessor`): VEC4 of FLOAT, `vertex_count` of them, finite; xyz made
-    // unit; w, the bitangent's sign, must be +1 or -1 (within 1e-3, then made exact).
+    // unit; w, the bitangent's sign, must be +1 or -1 (within 1e-3, then made exact). Read
+    // within `vertex_budget`, the one the primitive's POSITION was read within.
     std::vector<glm::vec4> tangents(int accessor, const std::string& name, std::size_t vertex_count,
                                     std::uint64_t vertex_budget) const;
 
