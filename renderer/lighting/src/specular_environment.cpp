@@ -10,8 +10,9 @@
 //  3. level 0 of the output is the unfiltered cube; level i >= 1 is, per texel direction r
 //     (n = v = r), the GGX-importance-sampled estimate
 //       P(r) = sum_k L(l_k, lod_k) (n.l_k) / sum_k (n.l_k)
-//     over Hammersley points (T. Hammersley and D. Handscomb, "Monte Carlo Methods", 1964; as
-//     in Karis 2013) with h of pdf D(h) (n.h), so l = 2 (v.h) h - v has pdf D(h) / 4 (n = v);
+//     over Hammersley points (J. M. Hammersley and D. C. Handscomb, "Monte Carlo Methods",
+//     1964; as in Karis 2013; drawn by oer/lighting/sampling.hpp) with h of pdf D(h) (n.h), so
+//     l = 2 (v.h) h - v has pdf D(h) / 4 (n = v);
 //     D is GGX (B. Walter, S. Marschner, H. Li and K. Torrance, "Microfacet Models for
 //     Refraction through Rough Surfaces", EGSR 2007) of alpha = roughness^2. Each sample reads
 //     the pyramid at the lod of filtered importance sampling (J. Krivanek and M. Colbert,
@@ -41,6 +42,7 @@
 #include "cube_faces.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
+#include "oer/lighting/sampling.hpp"
 #include "two_thread_split.hpp"
 
 namespace oer {
@@ -371,16 +373,6 @@ inline glm::vec3 sample_level(const FloatLevel& level,
     return glm::mix(top, bottom, fy);
 }
 
-// Van der Corput's radical inverse in base 2, the second coordinate of Hammersley's points.
-double radical_inverse(std::uint32_t bits) {
-    bits = (bits << 16u) | (bits >> 16u);
-    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
-    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
-    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
-    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
-    return double(bits) * (1.0 / 4294967296.0);
-}
-
 // One GGX sample in the frame of r (r = +z): its direction, weight n.l over the sum of the
 // level's, and the pyramid's levels and blend it reads.
 struct LobeSample {
@@ -399,20 +391,18 @@ std::vector<LobeSample> lobe_samples(double roughness, int samples, int face_siz
     result.reserve(std::size_t(samples));
     double weight_sum = 0.0;
     for (int k = 0; k < samples; ++k) {
-        const double u1 = double(k) / samples, u2 = radical_inverse(std::uint32_t(k));
-        // GGX: cos^2 theta_h = (1 - u1) / (1 + (alpha^2 - 1) u1), phi_h = 2 pi u2.
-        const double cos2_h = (1.0 - u1) / (1.0 + (alpha2 - 1.0) * u1);
-        const double cos_h = std::sqrt(cos2_h), sin_h = std::sqrt(std::max(0.0, 1.0 - cos2_h));
-        const double phi = 2.0 * pi * u2;
-        const glm::dvec3 h(sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h);
-        const glm::dvec3 l = 2.0 * cos_h * h - glm::dvec3(0.0, 0.0, 1.0);
+        // Hammersley point k: the polar angle from k / samples, the azimuth 2 pi times the
+        // radical inverse.
+        const glm::dvec2 point = sampling::hammersley(std::uint32_t(k), std::uint32_t(samples));
+        const sampling::GgxHalfVector h =
+            sampling::ggx_half_vector(alpha2, point.x, 2.0 * pi * point.y);
+        const double cos_h = h.direction.z;
+        const glm::dvec3 l = 2.0 * cos_h * h.direction - glm::dvec3(0.0, 0.0, 1.0);
         const double n_dot_l = l.z;
         if (n_dot_l <= 0.0) {
             continue;
         }
-        const double denominator = cos2_h * (alpha2 - 1.0) + 1.0;
-        const double d = alpha2 / (pi * denominator * denominator);
-        const double pdf = d / 4.0;
+        const double pdf = sampling::ggx_distribution(alpha2, h.cos2_theta) / 4.0;
         const double omega_s = 1.0 / (samples * pdf);
         const double lod = 0.5 * std::log2(omega_s / omega_p) + 1.0;
         const int nearest = std::clamp(int(std::lround(lod)), 0, pyramid_levels - 1);

@@ -6,7 +6,7 @@
 // height-correlated Smith visibility, the microfacet denominator 4 (n.l)(n.v) included
 // (E. Heitz, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", JCGT
 // 3(2), 2014, eq. 99; glTF 2.0 Appendix B.3.2). The samples are a Hammersley set (radical
-// inverse in base 2), the same for every entry.
+// inverse in base 2; oer/lighting/sampling.hpp), the same for every entry.
 #include "oer/lighting/split_sum.hpp"
 
 #include <algorithm>
@@ -19,20 +19,11 @@
 #include <glm/vec3.hpp>
 
 #include "oer/core/error.hpp"
+#include "oer/lighting/sampling.hpp"
 
 namespace oer {
 
 namespace {
-
-// Van der Corput's radical inverse in base 2 of i: the second coordinate of Hammersley point i.
-double radical_inverse(std::uint32_t i) {
-    i = (i << 16u) | (i >> 16u);
-    i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
-    i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
-    i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
-    i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
-    return double(i) * 0x1p-32;
-}
 
 // glTF 2.0 Appendix B.3.2: V = 0.5 / (n.l sqrt(n.v^2 (1 - a^2) + a^2) + n.v sqrt(n.l^2 (1 -
 // a^2) + a^2)), a = alpha.
@@ -49,12 +40,11 @@ glm::dvec2 integrate(double n_dot_v, double roughness, int samples) {
     const glm::dvec3 v(std::sqrt(1.0 - n_dot_v * n_dot_v), 0.0, n_dot_v);
     glm::dvec2 sum(0.0);
     for (int i = 0; i < samples; ++i) {
-        // GGX's half-vector distribution inverted (Karis 2013, ImportanceSampleGGX).
+        // The polar angle from the radical inverse, the azimuth from the sample's index.
         const double phi = 2.0 * std::numbers::pi * (double(i) + 0.5) / double(samples);
-        const double u = radical_inverse(std::uint32_t(i));
-        const double cos_theta = std::sqrt((1.0 - u) / (1.0 + (alpha * alpha - 1.0) * u));
-        const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
-        const glm::dvec3 h(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+        const double u = sampling::radical_inverse(std::uint32_t(i));
+        const glm::dvec3 h = sampling::ggx_half_vector(alpha * alpha, u, phi).direction;
+        const double n_dot_h = h.z;
         const double v_dot_h = glm::dot(v, h);
         const glm::dvec3 l = 2.0 * v_dot_h * h - v;
         const double n_dot_l = l.z;
@@ -62,7 +52,7 @@ glm::dvec2 integrate(double n_dot_v, double roughness, int samples) {
             continue;
         }
         const double weight =
-            smith_visibility(n_dot_v, n_dot_l, alpha) * 4.0 * n_dot_l * v_dot_h / cos_theta;
+            smith_visibility(n_dot_v, n_dot_l, alpha) * 4.0 * n_dot_l * v_dot_h / n_dot_h;
         const double fresnel = std::pow(1.0 - v_dot_h, 5.0);
         sum += glm::dvec2((1.0 - fresnel) * weight, fresnel * weight);
     }

@@ -15,7 +15,7 @@
 #include "oer/core/error.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/light_location.hpp"
-#include "oer/reference/cosine_direction.hpp"
+#include "oer/lighting/sampling.hpp"
 #include "oer/reference/embree_scene.hpp"
 #include "oer/reference/pixel_random.hpp"
 
@@ -23,7 +23,6 @@ namespace oer {
 
 namespace {
 
-using reference::cosine_direction;
 using reference::EmbreeScene;
 using reference::EnvironmentSampler;
 using reference::PixelRandom;
@@ -84,7 +83,8 @@ class Tracer {
                        (cosine / light.pdf * power_heuristic(light.pdf, cosine / kPi));
             }
         }
-        const glm::dvec3 direction = cosine_direction(n, random.uniform(), random.uniform());
+        const glm::dvec3 direction =
+            sampling::cosine_direction(n, random.uniform(), random.uniform());
         const double cosine = glm::dot(n, direction);
         if (cosine <= 0.0) {
             return sum;

@@ -3,7 +3,7 @@
 // for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH 2002,
 // section 5 (shadowed diffuse transfer, eq. 8, and its interreflected form, eq. 9, here one
 // bounce); the cosine-weighted rays by P. Shirley and K. Chiu, "A Low Distortion Map Between
-// Disk and Square", 1997 (oer/reference/cosine_direction.hpp).
+// Disk and Square", 1997 (oer/lighting/sampling.hpp).
 #include "oer/transfer/transfer_bake.hpp"
 
 #include <algorithm>
@@ -21,8 +21,8 @@
 #include <glm/matrix.hpp>
 
 #include "oer/core/error.hpp"
+#include "oer/lighting/sampling.hpp"
 #include "oer/lighting/sh.hpp"
-#include "oer/reference/cosine_direction.hpp"
 #include "oer/reference/embree_scene.hpp"
 #include "oer/reference/pixel_random.hpp"
 #include "oer/scene/scene_bounds.hpp"
@@ -103,7 +103,7 @@ struct Receiver {
 using SkyDirect = std::vector<std::vector<std::vector<float>>>;
 
 // The receiver's rays, as points (u1, u2) of the unit square numbered 0 to strata^2 - 1:
-// strata x strata jittered cells, which reference::cosine_direction maps onto the
+// strata x strata jittered cells, which sampling::cosine_direction maps onto the
 // cosine-weighted hemisphere of the normal by the concentric map (Shirley and Chiu 1997), so
 // the strata stay compact on the hemisphere. The jitter is the receiver's own PCG32 stream
 // (seed, receiver index): both phases and any thread count trace the same rays.
@@ -422,7 +422,7 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
         Coefficients sky_direct = direct;
         Coefficients basis{};
         for_each_ray(r, strata, [&](int ray, double u1, double u2) {
-            const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
+            const glm::dvec3 direction = sampling::cosine_direction(receiver.normal, u1, u2);
             // With the ground, a ray down from above it meets the infinite plane, whose own
             // light is the map's below the horizon in the lighting the direct vectors take
             // (transfer_lighting.hpp): only an object blocks it.
@@ -472,7 +472,7 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
                 if (!meeting.test(r, ray)) {
                     return;
                 }
-                const glm::dvec3 direction = reference::cosine_direction(receiver.normal, u1, u2);
+                const glm::dvec3 direction = sampling::cosine_direction(receiver.normal, u1, u2);
                 if (const std::optional<SurfaceHit> hit =
                         scene.intersect(origin, direction, 0.0, GroundReach::Infinite)) {
                     const Coefficients reflected = direct_at(*hit);
