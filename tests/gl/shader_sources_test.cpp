@@ -1,8 +1,9 @@
 // The shaders of renderer/gl/shaders as the renderer assembles them: includes spliced in once
 // each with #line directives that name every line's file and line, errors for what cannot be
 // assembled, compiler logs named by file, the define strings checked against the table of frame
-// programs; and every variant of that table compiled by glslangValidator (no GPU needed), so
-// that a shader error fails the suite with its file and line.
+// programs, every texture unit and buffer binding named by gl_bindings.hpp; and every variant
+// of that table compiled by glslangValidator (no GPU needed), so that a shader error fails the
+// suite with its file and line.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,11 +14,14 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <regex>
+#include <set>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "frame_programs.hpp"
+#include "gl_bindings.hpp"
 #include "gl_program.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/gl_context.hpp"
@@ -118,12 +122,170 @@ const std::array<ShaderFile, 4> kTestFiles{{
 }  // namespace
 
 TEST(ShaderSources, DefinesFollowTheVersionLineAndLineOneOfTheStageFollowsThem) {
+    // The bindings' defines first, then the program's.
+    const std::string bindings = gl_bindings::binding_defines();
+    EXPECT_TRUE(bindings.starts_with("#define GBUFFER_POSITIONS_UNIT 0\n")) << bindings;
     const ShaderSource source = program_source("resolve.frag", "#define DISPLAY_OUTPUT 1\n");
-    EXPECT_TRUE(source.text.starts_with("#version 450 core\n#define DISPLAY_OUTPUT 1\n#line 2 0\n"))
+    EXPECT_TRUE(source.text.starts_with("#version 450 core\n" + bindings +
+                                        "#define DISPLAY_OUTPUT 1\n#line 2 0\n"))
         << source.text.substr(0, 100);
     // A define string without its final newline gets one.
     EXPECT_TRUE(program_source("resolve.frag", "#define DISPLAY_OUTPUT 0")
-                    .text.starts_with("#version 450 core\n#define DISPLAY_OUTPUT 0\n#line 2 0\n"));
+                    .text.starts_with("#version 450 core\n" + bindings +
+                                      "#define DISPLAY_OUTPUT 0\n#line 2 0\n"));
+}
+
+namespace {
+
+struct DeclaredBinding {
+    std::string value;  // as written after "binding ="
+    gl_bindings::BindingKind kind;
+    std::string line;
+};
+
+// The `layout(... binding = X ...)` declarations of `text`, with the kind of what they bind:
+// a `buffer` block's shader storage binding or a sampler's texture unit.
+std::vector<DeclaredBinding> declared_bindings(std::string_view text) {
+    static const std::regex binding(R"(layout\s*\([^)]*\bbinding\s*=\s*(\w+))");
+    std::vector<DeclaredBinding> declared;
+    for (const std::string& line : lines_of(text)) {
+        std::smatch match;
+        if (!std::regex_search(line, match, binding)) {
+            continue;
+        }
+        const gl_bindings::BindingKind kind = line.find(" buffer ") != std::string::npos
+                                                  ? gl_bindings::BindingKind::ShaderStorage
+                                                  : gl_bindings::BindingKind::TextureUnit;
+        EXPECT_TRUE(kind == gl_bindings::BindingKind::ShaderStorage ||
+                    line.find("sampler") != std::string::npos)
+            << "neither a buffer block nor a sampler: " << line;
+        declared.push_back({match[1].str(), kind, line});
+    }
+    return declared;
+}
+
+const gl_bindings::Binding* find_binding(std::string_view glsl) {
+    for (const gl_bindings::Binding& binding : gl_bindings::kBindings) {
+        if (binding.glsl == glsl) {
+            return &binding;
+        }
+    }
+    return nullptr;
+}
+
+bool alternatives(std::string_view a, std::string_view b) {
+    return std::any_of(gl_bindings::kAlternativeBindings.begin(),
+                       gl_bindings::kAlternativeBindings.end(), [&](const auto& pair) {
+                           return (pair.first == a && pair.second == b) ||
+                                  (pair.first == b && pair.second == a);
+                       });
+}
+
+// The pairs of `used` (the bindings one program reads) at one unit or binding point that are
+// not alternatives, as "A and B, both at N".
+std::vector<std::string> shared_points(const std::vector<const gl_bindings::Binding*>& used) {
+    std::vector<std::string> shared;
+    for (std::size_t i = 0; i < used.size(); ++i) {
+        for (std::size_t j = i + 1; j < used.size(); ++j) {
+            if (used[i]->kind == used[j]->kind && used[i]->index == used[j]->index &&
+                !alternatives(used[i]->glsl, used[j]->glsl)) {
+                shared.push_back(std::string(used[i]->glsl) + " and " + std::string(used[j]->glsl) +
+                                 ", both at " + std::to_string(used[i]->index));
+            }
+        }
+    }
+    return shared;
+}
+
+}  // namespace
+
+// Every binding a shader declares is one of gl_bindings.hpp, by its name and of its kind, and
+// every one of gl_bindings.hpp is declared by some shader; the names are distinct from each
+// other and from the programs' defines.
+TEST(ShaderSourcesBindings, EveryShaderBindingIsANameOfTheHeader) {
+    std::set<std::string> names;
+    for (const gl_bindings::Binding& binding : gl_bindings::kBindings) {
+        EXPECT_TRUE(names.insert(std::string(binding.glsl)).second) << binding.glsl << " twice";
+    }
+    for (const FrameProgram& program : frame_programs()) {
+        for (const DefineRange& range : program.defines) {
+            EXPECT_FALSE(names.contains(std::string(range.name)))
+                << range.name << " is both a binding and a define of " << program.name;
+        }
+    }
+    std::set<std::string> declared;
+    for (const ShaderFile& file : shader_files()) {
+        for (const DeclaredBinding& binding : declared_bindings(file.text)) {
+            const gl_bindings::Binding* named = find_binding(binding.value);
+            if (named == nullptr) {
+                ADD_FAILURE() << file.name << " binds " << binding.value
+                              << ", which gl_bindings.hpp does not name: " << binding.line;
+                continue;
+            }
+            EXPECT_TRUE(named->kind == binding.kind) << file.name << " binds " << binding.value
+                                                     << " as the other kind: " << binding.line;
+            declared.insert(binding.value);
+        }
+    }
+    for (const gl_bindings::Binding& binding : gl_bindings::kBindings) {
+        EXPECT_TRUE(declared.contains(std::string(binding.glsl)))
+            << binding.glsl << " is bound by no shader";
+    }
+}
+
+// Within one program (its two stages with their includes), two names of one unit or binding
+// point would read one texture or buffer as two: only the header's alternative pairs, which no
+// variant reads together, may share one.
+TEST(ShaderSourcesBindings, NoProgramReadsTwoNamesOfOnePoint) {
+    for (const FrameProgram& program : frame_programs()) {
+        std::vector<const gl_bindings::Binding*> used;
+        for (const std::string_view stage : {program.vertex, program.fragment}) {
+            for (const DeclaredBinding& binding :
+                 declared_bindings(program_source(stage, "").text)) {
+                const gl_bindings::Binding* named = find_binding(binding.value);
+                ASSERT_NE(named, nullptr) << binding.line;
+                if (std::find(used.begin(), used.end(), named) == used.end()) {
+                    used.push_back(named);
+                }
+            }
+        }
+        for (const std::string& shared : shared_points(used)) {
+            ADD_FAILURE() << "program '" << program.name << "' reads " << shared;
+        }
+        if (program.name == "shade") {
+            // Both of the pair are there, in branches apart.
+            for (const gl_bindings::Binding& pair :
+                 {gl_bindings::kGroundTransfer, gl_bindings::kGBufferTransferred}) {
+                EXPECT_TRUE(std::any_of(used.begin(), used.end(), [&](const auto* binding) {
+                    return binding->glsl == pair.glsl;
+                })) << pair.glsl;
+            }
+        }
+    }
+}
+
+// A shader that binds by a literal, or by a name the header lacks, is found; so is a program
+// that reads two names of one unit.
+TEST(ShaderSourcesBindings, TheChecksFindALiteralAnUnknownNameAndASharedUnit) {
+    const std::vector<DeclaredBinding> declared = declared_bindings(
+        "layout(binding = 3) uniform sampler2D u_a;\n"
+        "layout(std430, binding = NO_SUCH_BINDING) readonly buffer B { vec4 b[]; };\n"
+        "uniform float u_c;\n");
+    ASSERT_EQ(declared.size(), 2u);
+    EXPECT_EQ(declared[0].value, "3");
+    EXPECT_TRUE(declared[0].kind == gl_bindings::BindingKind::TextureUnit);
+    EXPECT_EQ(find_binding(declared[0].value), nullptr);
+    EXPECT_EQ(declared[1].value, "NO_SUCH_BINDING");
+    EXPECT_TRUE(declared[1].kind == gl_bindings::BindingKind::ShaderStorage);
+    EXPECT_EQ(find_binding(declared[1].value), nullptr);
+    // Unit 0 is the G-buffer's positions in the shading program and the radiance in the
+    // resolve's: one program reading both would read one texture as two.
+    EXPECT_EQ(
+        shared_points({&gl_bindings::kGBufferPositions, &gl_bindings::kResolveRadiance}),
+        std::vector<std::string>{"GBUFFER_POSITIONS_UNIT and RESOLVE_RADIANCE_UNIT, both at 0"});
+    EXPECT_TRUE(shared_points({&gl_bindings::kGBufferTransferred, &gl_bindings::kGroundTransfer,
+                               &gl_bindings::kIrradianceSets, &gl_bindings::kGBufferPositions})
+                    .empty());
 }
 
 TEST(ShaderSources, EachFileIsIncludedOnceWhateverIncludesIt) {

@@ -11,17 +11,19 @@ in vec2 v_texcoord;
 in vec4 v_tangent;
 #endif
 
-// The texture references, in this order, at texture units 10 to 14.
+// The texture references, in this order (gl_bindings.hpp's kMaterialTextures).
 const int BASE_COLOR_TEXTURE = 0;
 const int METALLIC_ROUGHNESS_TEXTURE = 1;
 const int NORMAL_TEXTURE = 2;
 const int OCCLUSION_TEXTURE = 3;
 const int EMISSIVE_TEXTURE = 4;
-layout(binding = 10) uniform sampler2D u_base_color_texture;          // sRGB
-layout(binding = 11) uniform sampler2D u_metallic_roughness_texture;  // linear: G, B
-layout(binding = 12) uniform sampler2D u_normal_texture;              // linear
-layout(binding = 13) uniform sampler2D u_occlusion_texture;           // linear: R
-layout(binding = 14) uniform sampler2D u_emissive_texture;            // sRGB
+// Base colour and emissive are sRGB, the others linear (metallic in B, roughness in G,
+// occlusion in R).
+layout(binding = BASE_COLOR_TEXTURE_UNIT) uniform sampler2D u_base_color_texture;
+layout(binding = METALLIC_ROUGHNESS_TEXTURE_UNIT) uniform sampler2D u_metallic_roughness_texture;
+layout(binding = NORMAL_TEXTURE_UNIT) uniform sampler2D u_normal_texture;
+layout(binding = OCCLUSION_TEXTURE_UNIT) uniform sampler2D u_occlusion_texture;
+layout(binding = EMISSIVE_TEXTURE_UNIT) uniform sampler2D u_emissive_texture;
 uniform int u_textures;  // bit i: reference i is present
 uniform mat3 u_uv_transform[5];
 

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Anti-aliasing: the mean of each pixel's u_scale x u_scale supersamples, then the output
 // transform. Radiance is averaged before tone mapping, as a multisample resolve would.
-layout(binding = 0) uniform sampler2D u_radiance;  // premultiplied by coverage alpha
+// Premultiplied by coverage alpha.
+layout(binding = RESOLVE_RADIANCE_UNIT) uniform sampler2D u_radiance;
 uniform int u_scale;
 out vec4 o_color;
 #include "display.glsl"

@@ -4,7 +4,9 @@ const int SH_COUNT = SH_ORDER * SH_ORDER;
 // Irradiance coefficients A_l w_l L_lm (docs/design.md section 3): set 0 is the map with each
 // light k scaled to its weight w_k, E(all) - sum_k (1 - w_k) E(k); set i + 1 is w_k E(k) for the
 // i-th light of weight above 0 (renderer/gl/src/frame_context.hpp).
-layout(std430, binding = 0) readonly buffer Irradiance { vec4 coefficients[]; };
+layout(std430, binding = IRRADIANCE_SETS_BINDING) readonly buffer Irradiance {
+    vec4 coefficients[];
+};
 // K_lm (times sqrt 2 for m != 0) of the recurrence below, computed on the CPU in double.
 uniform float u_sh_scale[SH_COUNT];
 

@@ -8,11 +8,12 @@
 // the G-buffer (geometry.frag); the transparent pass shades BLEND primitives with the same
 // code afterwards.
 #include "surface_shading.glsl"
-layout(binding = 0) uniform sampler2D u_positions;  // xyz, ao
-layout(binding = 1) uniform sampler2D u_normals;    // shading normal, roughness
-layout(binding = 2) uniform sampler2D u_albedos;    // base colour, metallic or -1
-layout(binding = 3) uniform sampler2D u_environment;
-layout(binding = 7) uniform sampler2D u_emissive;
+// Position and ao; shading normal and roughness; base colour and metallic (-1: Lambertian).
+layout(binding = GBUFFER_POSITIONS_UNIT) uniform sampler2D u_positions;
+layout(binding = GBUFFER_NORMALS_UNIT) uniform sampler2D u_normals;
+layout(binding = GBUFFER_ALBEDOS_UNIT) uniform sampler2D u_albedos;
+layout(binding = ENVIRONMENT_UNIT) uniform sampler2D u_environment;
+layout(binding = GBUFFER_EMISSIVE_UNIT) uniform sampler2D u_emissive;
 uniform mat4 u_inverse_view_projection;
 uniform vec2 u_viewport_size;
 // The ground plane's normal never changes: its irradiance per set is computed once per frame
@@ -21,14 +22,15 @@ uniform vec3 u_flat_irradiance[1 + LIGHTS_ON];
 #if LIGHTS_ON > 0 && SHADOWS
 // Each light's visibility on the ground plane, baked once per shadow map (the ground's depth
 // in light space is a function of the shadow-map uv), read with one bilinear fetch.
-layout(binding = 5) uniform sampler2DArray u_ground_visibility;
+layout(binding = GROUND_VISIBILITY_UNIT) uniform sampler2DArray u_ground_visibility;
 #endif
 #if TRANSFER && SURFACE == 1
-layout(binding = 15) uniform sampler2D u_transferred;  // the G-buffer's transferred irradiance
+// The G-buffer's transferred irradiance.
+layout(binding = GBUFFER_TRANSFERRED_UNIT) uniform sampler2D u_transferred;
 #elif TRANSFER && SURFACE == 2
 // The transfer's irradiance over the ground's grid (GroundTransfer), one texel per receiver,
 // read bilinearly; clamped beyond the grid, whose edge holds the unoccluded ground's.
-layout(binding = 15) uniform sampler2D u_ground_transfer;
+layout(binding = GROUND_TRANSFER_UNIT) uniform sampler2D u_ground_transfer;
 uniform vec4 u_ground_transfer_rect;  // the grid's lowest x and z, 1 / its side
 #endif
 out vec4 o_color;

@@ -1,6 +1,6 @@
 // Shadow tests of the lights that are on, shared by the deferred shading pass and the
 // ground-visibility bake. Shadow maps of the lights that are on are the layers of one depth
-// array (texture unit 4), so that any number of lights needs two texture units, not one per
+// array (SHADOW_MAPS_UNIT), so that any number of lights needs two texture units, not one per
 // light. SHADOWS 0: every light reaches every point; PCF 0: the thesis's hard test, 1: soft
 // shadows whose penumbra grows with the distance from the blockers (PCSS).
 #include "math_constants.glsl"
@@ -16,10 +16,11 @@ uniform float u_light_spread[LIGHTS_ON];
 uniform float u_light_core_share[LIGHTS_ON];
 uniform float u_normal_offset[LIGHTS_ON];  // receiver offset against acne, world units
 #if SHADOWS
-layout(binding = 4) uniform sampler2DArrayShadow u_shadow_maps;
+layout(binding = SHADOW_MAPS_UNIT) uniform sampler2DArrayShadow u_shadow_maps;
 #if PCF
-layout(binding = 6) uniform sampler2DArray u_shadow_depths;  // the same layers, as depths
-uniform float u_shadow_texel;                                // one texel, in uv
+// The same layers, as depths.
+layout(binding = SHADOW_DEPTHS_UNIT) uniform sampler2DArray u_shadow_depths;
+uniform float u_shadow_texel;  // one texel, in uv
 #endif
 #endif
 

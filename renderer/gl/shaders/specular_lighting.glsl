@@ -7,9 +7,10 @@
 // sum's DFG table. SPECULAR 0: none of it (a scene without glossy materials).
 #if SPECULAR
 #include "math_constants.glsl"
-layout(binding = 8) uniform samplerCube u_specular_cube;  // seamless, mipmapped per roughness
-layout(binding = 9) uniform sampler2D u_dfg;              // (A, B) at (n.v, roughness)
-uniform float u_specular_max_lod;                         // the cube's levels - 1
+// The cube is seamless, mipmapped per roughness; the table holds (A, B) at (n.v, roughness).
+layout(binding = SPECULAR_CUBE_UNIT) uniform samplerCube u_specular_cube;
+layout(binding = DFG_TABLE_UNIT) uniform sampler2D u_dfg;
+uniform float u_specular_max_lod;  // the cube's levels - 1
 #if LIGHTS_ON > 0
 uniform vec2 u_lobe_sharpness[LIGHTS_ON];  // the light's core and glow
 uniform vec3 u_core_energy[LIGHTS_ON];     // times the light's weight w_k

@@ -35,8 +35,9 @@ std::size_t FrameRenderer::specular_uploads() const {
     return state_->specular_uploads;
 }
 
-// The passes in order (passes/frame_passes.hpp). GL runs commands asynchronously (llvmpipe on
-// its rasterizer threads), so each pass's timing waits for them (glFinish) before it stops.
+// The passes in order (passes/frame_passes.hpp), each taking what it reads and returning what
+// it produces: the frame's data flow. GL runs commands asynchronously (llvmpipe on its
+// rasterizer threads), so each pass's timing waits for them (glFinish) before it stops.
 Frame FrameRenderer::render(const FrameRequest& request) {
     validate_frame_request(request, state_->limits, state_->max_texture_size);
     RendererState& state = *state_;
@@ -46,33 +47,34 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     result.height = request.height;
 
     auto start = Clock::now();
-    FrameContext frame = make_frame_context(request);
-    upload_irradiance_sets(frame, state);
+    const FrameContext frame = make_frame_context(request);
+    const FrameLightingBuffers lighting = upload_irradiance_sets(frame, state);
     result.timings_ms["setup"] = elapsed_ms(start);
 
     start = Clock::now();
-    render_shadow_maps(frame, state, result);
+    const ShadowMaps shadows = render_shadow_maps(frame, state);
+    result.shadow_maps_rendered = shadows.rendered;
     glFinish();
     result.timings_ms["shadow_pass"] = elapsed_ms(start);
 
     start = Clock::now();
-    render_geometry(frame, state);
+    const RenderTargets& targets = render_geometry(frame, lighting, state);
     glFinish();
     result.timings_ms["geometry_pass"] = elapsed_ms(start);
 
     start = Clock::now();
-    shade_surfaces(frame, state);
+    GLuint finished = shade_surfaces(frame, lighting, shadows, targets, state);
     if (frame.blending) {
-        blend_transparent_surfaces(frame, state);
+        finished = blend_transparent_surfaces(frame, lighting, targets, state);
     }
     if (frame.scale > 1 || frame.blending) {
-        resolve_supersamples(frame, state);
+        finished = resolve_supersamples(frame, finished, targets, state);
     }
     glFinish();
     result.timings_ms["shading_pass"] = elapsed_ms(start);
 
     start = Clock::now();
-    read_back(frame, result);
+    read_back(request, finished, result);
     check_gl_errors("FrameRenderer::render");
     result.timings_ms["readback"] = elapsed_ms(start);
     result.timings_ms["total"] = elapsed_ms(frame_start);

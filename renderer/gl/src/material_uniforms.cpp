@@ -5,12 +5,14 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl_bindings.hpp"
+
 namespace oer {
 
 namespace {
 
-constexpr GLuint kFirstMaterialUnit = 10;
-constexpr int kReferences = 5;
+using gl_bindings::kMaterialTextures;
+constexpr int kReferences = int(kMaterialTextures.size());
 
 }  // namespace
 
@@ -40,7 +42,7 @@ void set_material_uniforms(gl::Program& program, RendererState& state, const Gpu
             continue;
         }
         present |= 1 << i;
-        const GLuint unit = kFirstMaterialUnit + GLuint(i);
+        const GLuint unit = kMaterialTextures[std::size_t(i)].index;
         glBindTextureUnit(unit, gpu.textures.at(std::size_t(reference.texture)).get());
         glBindSampler(unit, state.sampler(reference.sampler));
     }
@@ -63,8 +65,8 @@ void set_material_uniforms(gl::Program& program, RendererState& state, const Gpu
 }
 
 void unbind_material_samplers() {
-    for (GLuint i = 0; i < GLuint(kReferences); ++i) {
-        glBindSampler(kFirstMaterialUnit + i, 0);
+    for (const gl_bindings::Binding& texture : kMaterialTextures) {
+        glBindSampler(texture.index, 0);
     }
 }
 

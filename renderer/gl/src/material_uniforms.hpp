@@ -1,7 +1,7 @@
 #pragma once
 // A primitive's material as material.glsl reads it (the geometry pass, the shadow pass's alpha
-// test and the transparent pass): its factors as uniforms, its textures bound to units 10 to
-// 14 with the sampler object of each reference, and each reference's uv transform.
+// test and the transparent pass): its factors as uniforms, its textures bound to gl_bindings.hpp's
+// kMaterialTextures with the sampler object of each reference, and each reference's uv transform.
 #include <optional>
 
 #include <glm/mat3x3.hpp>
@@ -24,7 +24,7 @@ glm::mat3 uv_transform(const TextureReference& reference);
 void set_material_uniforms(gl::Program& program, RendererState& state, const GpuMesh& gpu,
                            const Material& material, const std::optional<glm::vec3>& base_override);
 
-// Unbinds the samplers of units 10 to 14 (a pass that set materials leaves none behind).
+// Unbinds the samplers of kMaterialTextures (a pass that set materials leaves none behind).
 void unbind_material_samplers();
 
 // Whether the material has any texture (MATERIAL_TEXTURES of material.glsl).

@@ -29,9 +29,6 @@ struct RenderTargets {
     // scale above 1 or blending only: RGBA32F (linear) or RGBA8 (display)
     gl::Object output;
     gl::Object output_framebuffer;
-
-    // The texture holding the finished frame.
-    GLuint result() const { return output ? output.get() : shaded.get(); }
 };
 
 class RenderTargetCache {

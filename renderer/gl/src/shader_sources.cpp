@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <regex>
 
+#include "gl_bindings.hpp"
 #include "oer/core/error.hpp"
 #include "shader_files.hpp"
 
@@ -107,7 +108,8 @@ ShaderSource program_source(std::string_view file, std::string_view defines,
     }
     ShaderSource source;
     source.files.emplace_back(file);
-    source.text = std::string(text.substr(0, end_of_version + 1)) + std::string(defines);
+    source.text = std::string(text.substr(0, end_of_version + 1)) + gl_bindings::binding_defines() +
+                  std::string(defines);
     if (!defines.empty() && !defines.ends_with('\n')) {
         source.text += '\n';
     }

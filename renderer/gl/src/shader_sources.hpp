@@ -21,8 +21,9 @@ struct ShaderSource {
     std::vector<std::string> files;  // files[i]: the file of source-string number i
 };
 
-// The stage `file` ("shade.frag") with `defines` ("#define SH_ORDER 3\n...") after its
-// #version line, from the embedded files. Includes are resolved whatever the preprocessor
+// The stage `file` ("shade.frag") with the texture units and buffer bindings of gl_bindings.hpp
+// (binding_defines) and then `defines` ("#define SH_ORDER 3\n...") after its #version line,
+// from the embedded files. Includes are resolved whatever the preprocessor
 // conditionals around them. Throws oer::Error (Internal) for a file that is not embedded, a
 // stage without a first #version line, a malformed #include or one of a file that is not
 // embedded, with the file and line of the #include.

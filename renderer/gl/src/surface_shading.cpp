@@ -4,14 +4,16 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl_bindings.hpp"
+
 namespace oer {
 
 void bind_specular_textures(const FrameContext& frame, RendererState& state) {
     if (!frame.specular) {
         return;
     }
-    glBindTextureUnit(8, state.specular(frame.request.specular));
-    glBindTextureUnit(9, state.dfg());
+    glBindTextureUnit(gl_bindings::kSpecularCube.index, state.specular(frame.request.specular));
+    glBindTextureUnit(gl_bindings::kDfgTable.index, state.dfg());
 }
 
 void set_surface_shading_uniforms(gl::Program& program, const FrameContext& frame) {

@@ -9,8 +9,9 @@
 
 namespace oer {
 
-// Binds the specular frame's cube (FrameRequest::specular, unit 8) and the DFG table (unit 9);
-// a frame that is not specular binds neither, so that neither is uploaded.
+// Binds the specular frame's cube (FrameRequest::specular) and the DFG table to gl_bindings.hpp's
+// kSpecularCube and kDfgTable; a frame that is not specular binds neither, so that neither is
+// uploaded.
 void bind_specular_textures(const FrameContext& frame, RendererState& state);
 
 // Sets the uniforms of surface_shading.glsl on `program` (in use).

@@ -1,11 +1,13 @@
 // Geometry pass. Reads: the objects, their meshes' levels of detail and materials, the ground
-// (frame, state.mesh and state.ground), the camera. Writes: frame.targets, chosen by size,
-// format and blending from state.targets, with its G-buffer filled at the supersampled size
-// from the OPAQUE and MASK primitives (MASK ones alpha tested; BLEND ones are the transparent
-// pass's): positions with ambient occlusion, shading normals with roughness, base colours with
-// metallic (-1 for Lambertian), emitted radiance, depth, and in the stencil each sample's
-// surface kind (kBackgroundSurface where nothing was drawn). Back faces of single-sided
-// materials are culled. Material textures use units 10 to 14, whose samplers it unbinds.
+// (frame, state.mesh and state.ground), the camera, and in an occlusion frame the transferred
+// irradiance per vertex (lighting). Returns the frame's targets, chosen by size, format and
+// blending from state.targets, with their G-buffer filled at the supersampled size from the
+// OPAQUE and MASK primitives (MASK ones alpha tested; BLEND ones are the transparent pass's):
+// positions with ambient occlusion, shading normals with roughness, base colours with metallic
+// (-1 for Lambertian), emitted radiance, in an occlusion frame the transferred irradiance,
+// depth, and in the stencil each sample's surface kind (kBackgroundSurface where nothing was
+// drawn). Back faces of single-sided materials are culled. Material textures use
+// gl_bindings.hpp's kMaterialTextures, whose samplers it unbinds.
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -21,22 +23,22 @@
 
 namespace oer {
 
-void attach_object_transfer(const FrameContext& frame, const RendererState& state,
+void attach_object_transfer(const FrameContext& frame, const FrameLightingBuffers& lighting,
                             const GpuPrimitive& gpu, std::size_t object, std::size_t primitive) {
     if (frame.transfer) {
-        attach_transferred_irradiance(gpu, state.transferred_vertex_buffer.get(),
+        attach_transferred_irradiance(gpu, lighting.transferred_vertices,
                                       frame.transferred_offsets.at(object).at(primitive));
     } else {
         attach_transferred_irradiance(gpu, 0, 0);
     }
 }
 
-void render_geometry(FrameContext& frame, RendererState& state) {
+RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuffers& lighting,
+                               RendererState& state) {
     const FrameRequest& request = frame.request;
     const Camera& camera = frame.camera;
     RenderTargets& targets = state.targets.get(request.width, request.height, frame.scale,
                                                request.linear, frame.blending);
-    frame.targets = &targets;
     glBindFramebuffer(GL_FRAMEBUFFER, targets.geometry_framebuffer.get());
     // The fifth target, the transferred irradiance, only in occlusion frames: a frame without
     // occlusion writes and pays for four.
@@ -102,7 +104,7 @@ void render_geometry(FrameContext& frame, RendererState& state) {
                 glCullFace(GL_BACK);  // the shadow pass culls front faces
             }
             if (object) {
-                attach_object_transfer(frame, state, primitive, *object, p);
+                attach_object_transfer(frame, lighting, primitive, *object, p);
             } else {
                 attach_transferred_irradiance(primitive, 0, 0);
             }
@@ -128,6 +130,7 @@ void render_geometry(FrameContext& frame, RendererState& state) {
     glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
     unbind_material_samplers();
+    return targets;
 }
 
 }  // namespace oer

@@ -1,7 +1,7 @@
-// Ground visibility bake. Reads: the shadow layers' depth (texture unit 4, bound by the shadow
-// pass) and the light's uniforms (frame). Writes: map.ground_visibility, a new R8 texture of
-// the light's visibility over the ground plane, kept with the map in the cache; leaves
-// state.bake_framebuffer bound.
+// Ground visibility bake. Reads: the shadow layers' depth (kShadowMaps and kShadowDepths of
+// gl_bindings.hpp, bound by the shadow pass) and the light's uniforms (frame). Returns a new R8
+// texture of the light's visibility over the ground plane, which the shadow pass keeps with the
+// light's map in the cache; leaves state.bake_framebuffer bound.
 //
 // A soft shadow is sharp where it touches its caster (PCSS: the penumbra grows from zero at the
 // contact), so the bake keeps half the shadow map's resolution: two shadow texels per bake
@@ -15,15 +15,15 @@
 
 namespace oer {
 
-void bake_ground_visibility(const FrameContext& frame, RendererState& state, ShadowMap& map,
-                            int light, float ground_height) {
+gl::Object bake_ground_visibility(const FrameContext& frame, RendererState& state, int light,
+                                  float ground_height) {
     const int resolution =
         frame.pcf ? std::max(64, frame.shadow_resolution / 2) : frame.shadow_resolution;
     const glm::mat4 inverse_light_matrix = glm::inverse(frame.light_matrices[std::size_t(light)]);
-    map.ground_visibility = gl::create_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(map.ground_visibility.get(), 1, GL_R8, resolution, resolution);
-    glNamedFramebufferTexture(state.bake_framebuffer.get(), GL_COLOR_ATTACHMENT0,
-                              map.ground_visibility.get(), 0);
+    gl::Object visibility = gl::create_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(visibility.get(), 1, GL_R8, resolution, resolution);
+    glNamedFramebufferTexture(state.bake_framebuffer.get(), GL_COLOR_ATTACHMENT0, visibility.get(),
+                              0);
     glBindFramebuffer(GL_FRAMEBUFFER, state.bake_framebuffer.get());
     glViewport(0, 0, resolution, resolution);
     glDisable(GL_DEPTH_TEST);
@@ -38,6 +38,7 @@ void bake_ground_visibility(const FrameContext& frame, RendererState& state, Sha
     glUniform2f(bake.uniform("u_size"), float(resolution), float(resolution));
     glBindVertexArray(state.empty_vertex_array.get());
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    return visibility;
 }
 
 }  // namespace oer

@@ -1,17 +1,16 @@
-// Readback. Reads: frame.targets->result(), the finished frame, bottom row first as GL keeps
-// it. Writes: result.linear (RGBA float radiance) or result.display (RGBA8 sRGB), top row
-// first. Leaves GL as a frame found it: the default framebuffer, depth writes on, no vertex
-// array, program or shadow samplers (units 4 and 6) bound.
+// Readback. Reads: `finished`, the finished frame, bottom row first as GL keeps it. Writes:
+// result.linear (RGBA float radiance) or result.display (RGBA8 sRGB), top row first. Leaves GL
+// as a frame found it: the default framebuffer, depth writes on, no vertex array, program or
+// shadow samplers (gl_bindings.hpp's kShadowMaps and kShadowDepths) bound.
 #include <cstring>
 #include <vector>
 
+#include "gl_bindings.hpp"
 #include "passes/frame_passes.hpp"
 
 namespace oer {
 
-void read_back(const FrameContext& frame, Frame& result) {
-    const FrameRequest& request = frame.request;
-    const GLuint finished = frame.targets->result();
+void read_back(const FrameRequest& request, GLuint finished, Frame& result) {
     const std::size_t row_values = std::size_t(request.width) * 4;
     if (request.linear) {
         std::vector<float> pixels(row_values * std::size_t(request.height));
@@ -40,8 +39,8 @@ void read_back(const FrameContext& frame, Frame& result) {
     glDepthMask(GL_TRUE);
     glBindVertexArray(0);
     glUseProgram(0);
-    glBindSampler(4, 0);
-    glBindSampler(6, 0);
+    glBindSampler(gl_bindings::kShadowMaps.index, 0);
+    glBindSampler(gl_bindings::kShadowDepths.index, 0);
 }
 
 }  // namespace oer

@@ -1,14 +1,17 @@
-// Resolve pass, for frames of more than one sample per pixel. Reads: frame.targets->shaded,
-// linear radiance at scale x scale samples per pixel. Writes: frame.targets->output, each
-// pixel the mean of its samples' radiance, then (display output) exposed, tone mapped and
-// sRGB-encoded: averaging before tone mapping, as a camera's pixel integrates light.
+// Resolve pass, for frames of more than one sample per pixel or with blending. Reads: `shaded`
+// (the targets' shaded texture), linear radiance at scale x scale samples per pixel. Writes:
+// targets.output, which it returns, each pixel the mean of its samples' radiance, then (display
+// output) exposed, tone mapped and sRGB-encoded: averaging before tone mapping, as a camera's pixel
+// integrates light.
 #include <string>
 
+#include "gl_bindings.hpp"
 #include "passes/frame_passes.hpp"
 
 namespace oer {
 
-void resolve_supersamples(const FrameContext& frame, RendererState& state) {
+GLuint resolve_supersamples(const FrameContext& frame, GLuint shaded, const RenderTargets& targets,
+                            RendererState& state) {
     const FrameRequest& request = frame.request;
     gl::Program& resolve = state.program(
         "resolve", "#define DISPLAY_OUTPUT " + std::to_string(request.linear ? 0 : 1) + "\n");
@@ -17,11 +20,12 @@ void resolve_supersamples(const FrameContext& frame, RendererState& state) {
     if (!request.linear) {
         set_display_uniforms(resolve, request);
     }
-    glBindTextureUnit(0, frame.targets->shaded.get());
-    glBindFramebuffer(GL_FRAMEBUFFER, frame.targets->output_framebuffer.get());
+    glBindTextureUnit(gl_bindings::kResolveRadiance.index, shaded);
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.output_framebuffer.get());
     glViewport(0, 0, request.width, request.height);
     glBindVertexArray(state.empty_vertex_array.get());
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    return targets.output.get();
 }
 
 }  // namespace oer

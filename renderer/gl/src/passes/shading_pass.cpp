@@ -1,11 +1,12 @@
-// Shading pass. Reads: the G-buffer of frame.targets (texture units 0 to 2, and 7 for the
-// emissive) and its stencil, the irradiance sets (state.irradiance_buffer, shader storage
-// binding 0), the environment map (unit 3) for its background, the shadow layers (units 4 to 6),
-// the lights (frame), and in a specular frame the prefiltered cube and the DFG table (units 8
-// and 9, bound here for the transparent pass too). Writes: frame.targets->shaded, one shaded
-// sample per G-buffer sample: linear radiance, or at one sample per pixel with display output
-// and no blending the display-encoded color. Leaves the stencil test off and every texture and
-// sampler bound, for the transparent pass.
+// Shading pass. Reads: the targets' G-buffer and its stencil, the irradiance sets and in an
+// occlusion frame the transferred irradiance (lighting), the environment map for its
+// background, the shadow layers (shadows: the depth layers the shadow pass bound, the ground
+// visibility bound here), the lights (frame), and in a specular frame the prefiltered cube and
+// the DFG table (bound here for the transparent pass too), each at its binding of
+// gl_bindings.hpp. Writes: targets.shaded, one shaded sample per G-buffer sample: linear
+// radiance, or at one sample per pixel with display output and no blending the display-encoded
+// color. Leaves the stencil test off and every texture and sampler bound, for the transparent
+// pass.
 #include <algorithm>
 #include <optional>
 #include <string>
@@ -14,12 +15,13 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
+#include "gl_bindings.hpp"
 #include "passes/frame_passes.hpp"
 #include "surface_shading.hpp"
 
 namespace oer {
 
-void upload_irradiance_sets(const FrameContext& frame, RendererState& state) {
+FrameLightingBuffers upload_irradiance_sets(const FrameContext& frame, RendererState& state) {
     const int order = frame.rig.sh.all.order;
     const int count = order * order;
     std::vector<float> packed;
@@ -31,16 +33,19 @@ void upload_irradiance_sets(const FrameContext& frame, RendererState& state) {
     }
     glNamedBufferData(state.irradiance_buffer.get(), GLsizeiptr(packed.size() * sizeof(float)),
                       packed.data(), GL_DYNAMIC_DRAW);
+    FrameLightingBuffers buffers;
+    buffers.irradiance_sets = state.irradiance_buffer.get();
     if (!frame.transfer) {
-        return;
+        return buffers;
     }
     glNamedBufferData(
         state.transferred_vertex_buffer.get(),
         GLsizeiptr(std::max<std::size_t>(1, frame.transferred_vertices.size()) * sizeof(glm::vec3)),
         frame.transferred_vertices.data(), GL_STREAM_DRAW);
+    buffers.transferred_vertices = state.transferred_vertex_buffer.get();
     const std::optional<GroundTransfer>& ground = frame.request.transfer->ground;
     if (!ground) {
-        return;
+        return buffers;
     }
     if (state.ground_transfer_resolution != ground->resolution) {
         state.ground_transfer = gl::create_texture(GL_TEXTURE_2D);
@@ -55,11 +60,15 @@ void upload_irradiance_sets(const FrameContext& frame, RendererState& state) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage2D(state.ground_transfer.get(), 0, 0, 0, ground->resolution,
                         ground->resolution, GL_RGB, GL_FLOAT, frame.transferred_ground.data());
+    buffers.ground_transfer = state.ground_transfer.get();
+    return buffers;
 }
 
-void shade_surfaces(const FrameContext& frame, RendererState& state) {
+GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
+                      const ShadowMaps& shadows, const RenderTargets& targets,
+                      RendererState& state) {
+    using namespace gl_bindings;
     const FrameRequest& request = frame.request;
-    const RenderTargets& targets = *frame.targets;
     const bool environment_background = request.background.kind == BackgroundKind::Environment;
     const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.blending;
     const std::string shading_defines =
@@ -71,16 +80,16 @@ void shade_surfaces(const FrameContext& frame, RendererState& state) {
     for (const ShRgb& set : frame.irradiance_sets) {
         flat_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, state.irradiance_buffer.get());
-    glBindTextureUnit(0, targets.positions.get());
-    glBindTextureUnit(1, targets.normals.get());
-    glBindTextureUnit(2, targets.albedos.get());
-    glBindTextureUnit(7, targets.emissive.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kIrradianceSets.index, lighting.irradiance_sets);
+    glBindTextureUnit(kGBufferPositions.index, targets.positions.get());
+    glBindTextureUnit(kGBufferNormals.index, targets.normals.get());
+    glBindTextureUnit(kGBufferAlbedos.index, targets.albedos.get());
+    glBindTextureUnit(kGBufferEmissive.index, targets.emissive.get());
     if (environment_background) {
-        glBindTextureUnit(3, state.environment(request.environment_map));
+        glBindTextureUnit(kEnvironment.index, state.environment(request.environment_map));
     }
     if (frame.shadows) {
-        glBindTextureUnit(5, state.shadow_layers.ground_visibility());
+        glBindTextureUnit(kGroundVisibility.index, shadows.ground_visibility_layers);
     }
     bind_specular_textures(frame, state);
     glBindFramebuffer(GL_FRAMEBUFFER, targets.shaded_framebuffer.get());
@@ -106,11 +115,11 @@ void shade_surfaces(const FrameContext& frame, RendererState& state) {
         glUniform3fv(shade.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
                      glm::value_ptr(flat_irradiance[0]));
         if (frame.transfer && surface == kObjectSurface) {
-            glBindTextureUnit(15, targets.transferred.get());
+            glBindTextureUnit(kGBufferTransferred.index, targets.transferred.get());
         }
         if (frame.transfer && surface == kGroundSurface) {
             const GroundTransfer& ground = *request.transfer->ground;
-            glBindTextureUnit(15, state.ground_transfer.get());
+            glBindTextureUnit(kGroundTransfer.index, lighting.ground_transfer);
             glUniform4f(shade.uniform("u_ground_transfer_rect"), ground.centre.x - ground.half_size,
                         ground.centre.y - ground.half_size, 0.5f / ground.half_size, 0.0f);
         }
@@ -121,6 +130,7 @@ void shade_surfaces(const FrameContext& frame, RendererState& state) {
         glDrawArrays(GL_TRIANGLES, 0, 3);
     }
     glDisable(GL_STENCIL_TEST);
+    return targets.shaded.get();
 }
 
 }  // namespace oer

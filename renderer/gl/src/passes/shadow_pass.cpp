@@ -2,13 +2,15 @@
 // Writes: state.shadows (a depth map per scene, light, filter and resolution, rendered only
 // when missing; MASK and BLEND primitives whose alpha can cut them alpha tested, BLEND ones
 // casting where they are at least half opaque), state.shadow_layers (layer k: rig light k's depth
-// and ground visibility), texture unit 4 (the depth layers, with the PCF or hard comparison
-// sampler).
+// and ground visibility), the depth layers bound to kShadowMaps (with the PCF or hard comparison
+// sampler) and kShadowDepths (gl_bindings.hpp); returns the ground visibility layers and the
+// count of maps rendered.
 #include <cstdint>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl_bindings.hpp"
 #include "material_uniforms.hpp"
 #include "passes/frame_passes.hpp"
 
@@ -30,19 +32,23 @@ std::string scene_key(const FrameContext& frame, RendererState& state) {
 
 }  // namespace
 
-void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& result) {
+ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state) {
+    using namespace gl_bindings;
     const FrameRequest& request = frame.request;
+    ShadowMaps shadows;
     // The meshes are uploaded here, shadows or not: the geometry pass finds them cached.
     const std::string scene = scene_key(frame, state);
     const int resolution = frame.shadow_resolution;
     if (frame.shadows) {
         state.shadow_layers.reserve(int(frame.rig.lights.size()), resolution);
-        glBindTextureUnit(4, state.shadow_layers.depth());
-        glBindSampler(4, frame.pcf ? state.compare_linear.get() : state.compare_nearest.get());
+        glBindTextureUnit(kShadowMaps.index, state.shadow_layers.depth());
+        glBindSampler(kShadowMaps.index,
+                      frame.pcf ? state.compare_linear.get() : state.compare_nearest.get());
         if (frame.pcf) {
-            glBindTextureUnit(6, state.shadow_layers.depth());
-            glBindSampler(6, state.depth_nearest.get());
+            glBindTextureUnit(kShadowDepths.index, state.shadow_layers.depth());
+            glBindSampler(kShadowDepths.index, state.depth_nearest.get());
         }
+        shadows.ground_visibility_layers = state.shadow_layers.ground_visibility();
     }
     gl::Program& depth = state.program("depth", "#define ALPHA_TEST 0\n");
     for (std::size_t i = 0; frame.shadows && i < frame.lit.size(); ++i) {
@@ -94,17 +100,19 @@ void render_shadow_maps(const FrameContext& frame, RendererState& state, Frame& 
                 unbind_material_samplers();
             },
             rendered);
-        result.shadow_maps_rendered += rendered ? 1 : 0;
+        shadows.rendered += rendered ? 1 : 0;
         const int layer = int(frame.lit[i]);
         state.shadow_layers.hold_depth(layer, map);
         if (!request.ground) {
             continue;
         }
         if (!map.ground_visibility) {
-            bake_ground_visibility(frame, state, map, int(i), frame.scene.box.min.y);
+            map.ground_visibility =
+                bake_ground_visibility(frame, state, int(i), frame.scene.box.min.y);
         }
         state.shadow_layers.hold_ground_visibility(layer, map);
     }
+    return shadows;
 }
 
 }  // namespace oer

@@ -1,8 +1,10 @@
 // Transparent pass, for frames with BLEND primitives (glTF 2.0 section 3.9.4). Reads: those
-// primitives and their materials (texture units 10 to 14), the depth of the geometry pass,
-// everything the shading pass bound for objects (irradiance sets, shadow layers, specular
-// cube and DFG table) and the lights (frame). Writes: frame.targets->shaded, a float target
-// in such frames (render_targets.hpp), each primitive blended over it in premultiplied form,
+// primitives and their materials (gl_bindings.hpp's kMaterialTextures), the depth of the
+// geometry pass (targets), in an occlusion frame the transferred irradiance per vertex
+// (lighting), everything the shading pass bound for objects (irradiance sets, shadow layers,
+// specular cube and DFG table) and the lights (frame). Writes: targets.shaded, which it returns,
+// a float target in such frames (render_targets.hpp), each primitive blended over it in
+// premultiplied form,
 // farthest first by the distance from the eye to its bounds' centre: the usual sorting of
 // transparent geometry, exact between separate primitives and approximate where they
 // interpenetrate. Depth is tested against the opaque surfaces and not written. Leaves
@@ -21,7 +23,8 @@
 
 namespace oer {
 
-void blend_transparent_surfaces(const FrameContext& frame, RendererState& state) {
+GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
+                                  const RenderTargets& targets, RendererState& state) {
     const FrameRequest& request = frame.request;
     struct Transparent {
         const SceneObject* object;
@@ -51,7 +54,7 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
         surfaces.begin(), surfaces.end(),
         [](const Transparent& a, const Transparent& b) { return a.distance > b.distance; });
 
-    glBindFramebuffer(GL_FRAMEBUFFER, frame.targets->shaded_framebuffer.get());
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.shaded_framebuffer.get());
     glViewport(0, 0, frame.samples_wide, frame.samples_high);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -82,7 +85,7 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
             glEnable(GL_CULL_FACE);
             glCullFace(GL_BACK);  // the shadow pass culls front faces
         }
-        attach_object_transfer(frame, state, *surface.primitive, surface.object_index,
+        attach_object_transfer(frame, lighting, *surface.primitive, surface.object_index,
                                surface.primitive_index);
         draw_primitive(*surface.primitive, sample_lod_error(frame, mesh, object.transform),
                        transfer_lod_edge(frame, mesh));
@@ -93,6 +96,7 @@ void blend_transparent_surfaces(const FrameContext& frame, RendererState& state)
     glDepthMask(GL_TRUE);
     glDisable(GL_DEPTH_TEST);
     unbind_material_samplers();
+    return targets.shaded.get();
 }
 
 }  // namespace oer
