@@ -5,6 +5,7 @@
 
 #include "http_errors.hpp"
 #include "oer/api/frame_encoding.hpp"
+#include "oer/scene/scene_rules.hpp"
 
 namespace oer::server {
 
@@ -80,7 +81,7 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         }
     }
     FrameRequest frame_request = api::to_frame_request(spec, environment->rig, map, meshes);
-    if (api::needs_specular(frame_request)) {
+    if (needs_specular(frame_request)) {
         frame_request.specular = environments_.specular(*environment);
         if (!frame_request.specular) {
             throw not_found(ProblemKind::MapNotStored,

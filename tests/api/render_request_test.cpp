@@ -18,6 +18,7 @@
 #include "oer/api/version.hpp"
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/default_product.hpp"
+#include "oer/scene/scene_rules.hpp"
 
 using namespace oer;
 using api::InvalidParameter;
@@ -1123,14 +1124,14 @@ TEST(RenderRequest, NeedsSpecularOnlyForADrawnGlossyMaterialUnderAnHdrRig) {
     FrameRequest request;
     request.rig = std::make_shared<const Rig>();
     request.objects.push_back({std::make_shared<const Mesh>(lambertian), glm::mat4(1.0f), {}});
-    EXPECT_FALSE(api::needs_specular(request));
+    EXPECT_FALSE(needs_specular(request));
     request.objects.push_back({std::make_shared<const Mesh>(glossy), glm::mat4(1.0f), {}});
-    EXPECT_TRUE(api::needs_specular(request));
+    EXPECT_TRUE(needs_specular(request));
     Rig thesis;
     thesis.model = LightingModel::Thesis;
     request.rig = std::make_shared<const Rig>(thesis);
-    EXPECT_FALSE(api::needs_specular(request));
+    EXPECT_FALSE(needs_specular(request));
     request.rig = std::make_shared<const Rig>();
     request.objects = {{std::make_shared<const Mesh>(make_default_product()), glm::mat4(1.0f), {}}};
-    EXPECT_TRUE(api::needs_specular(request)) << "the default product's stand is glossy";
+    EXPECT_TRUE(needs_specular(request)) << "the default product's stand is glossy";
 }

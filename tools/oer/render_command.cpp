@@ -12,6 +12,7 @@
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
 #include "oer/lighting/specular_environment.hpp"
+#include "oer/scene/scene_rules.hpp"
 #include "oer/transfer/transfer_bake.hpp"
 #include "render_inputs.hpp"
 
@@ -41,7 +42,7 @@ int render_command(const std::vector<std::string>& arguments) {
     const std::shared_ptr<const Rig>& rig = scene.rig;
     FrameRequest& request = scene.request;
     double specular_ms = -1.0;
-    if (api::needs_specular(request)) {
+    if (needs_specular(request)) {
         const auto specular_start = std::chrono::steady_clock::now();
         request.specular = std::make_shared<const PrefilteredCube>(
             prefilter_residual(*request.environment_map, *rig));

@@ -13,6 +13,7 @@
 #include "oer/lighting/light_lobe.hpp"
 #include "oer/lighting/light_location.hpp"
 #include "oer/mesh/mesh_refinement.hpp"
+#include "oer/scene/scene_rules.hpp"
 #include "oer/transfer/transfer_lighting.hpp"
 #include "sh_shader_constants.hpp"
 
@@ -171,10 +172,6 @@ bool any_primitive_material(const FrameRequest& request, Predicate predicate) {
 
 }  // namespace
 
-bool has_glossy_material(const FrameRequest& request) {
-    return any_primitive_material(request, [](const Material& m) { return m.glossy(); });
-}
-
 bool has_blending(const FrameRequest& request) {
     return any_primitive_material(
         request, [](const Material& m) { return m.alpha_mode == AlphaMode::Blend; });
@@ -182,7 +179,7 @@ bool has_blending(const FrameRequest& request) {
 
 FrameContext make_frame_context(const FrameRequest& request) {
     FrameContext frame(request);
-    frame.specular = request.rig->model == LightingModel::Hdr && has_glossy_material(request);
+    frame.specular = needs_specular(request);
     frame.blending = has_blending(request);
     frame.transfer = request.occlusion;
     add_lights(frame);

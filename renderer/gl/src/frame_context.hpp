@@ -1,8 +1,7 @@
 #pragma once
-// What every pass of one frame reads (passes/frame_passes.hpp): the request, and what follows
+// What the passes of one frame share (passes/frame_passes.hpp): the request, and what follows
 // from it before any GL call (the lights' weights, their irradiance sets, the scene's bounds,
-// the camera and light matrices, the supersampling), computed once by make_frame_context and
-// read-only after: what a pass produces is its return value, not a field here.
+// the camera and light matrices, the supersampling), computed once by make_frame_context.
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -17,6 +16,7 @@
 #include "oer/mesh/mesh.hpp"
 #include "oer/scene/frame_request.hpp"
 #include "oer/scene/scene_bounds.hpp"
+#include "render_targets.hpp"
 
 namespace oer {
 
@@ -96,13 +96,13 @@ struct FrameContext {
     int scale = 1;
     int samples_wide = 0;
     int samples_high = 0;
+    RenderTargets* targets = nullptr;  // chosen by the geometry pass
 };
 
 // The request must have passed validate_frame_request.
 FrameContext make_frame_context(const FrameRequest& request);
 
-// Whether any object of the request has a glossy material, and whether any primitive blends.
-bool has_glossy_material(const FrameRequest& request);
+// Whether any primitive of the request's objects blends.
 bool has_blending(const FrameRequest& request);
 
 // Supersamples per pixel side for `samples` samples per pixel (FrameRequest::samples).

@@ -184,7 +184,7 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
             fail(member + ".base_color", "must be finite and non-negative");
         }
     }
-    if (request.rig->model == LightingModel::Hdr && has_glossy_material(request)) {
+    if (needs_specular(request)) {
         if (!request.specular) {
             fail("specular",
                  "the scene has glossy materials but no prefiltered environment was given");

@@ -5,6 +5,20 @@
 
 namespace oer {
 
+bool needs_specular(const FrameRequest& request) {
+    if (!request.rig || request.rig->model != LightingModel::Hdr) {
+        return false;
+    }
+    for (const SceneObject& object : request.objects) {
+        for (const Primitive& primitive : object.mesh->primitives) {
+            if (object.mesh->materials.at(std::size_t(primitive.material)).glossy()) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 std::string transfer_misfit(const SceneTransfer& transfer, const FrameRequest& request) {
     if (transfer.bounce != request.bounce) {
         return std::string("it was baked with bounce ") +

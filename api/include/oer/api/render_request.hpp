@@ -143,8 +143,8 @@ RenderSpec parse_render_query(const std::multimap<std::string, std::string>& que
                               const RenderLimits& limits = {});
 
 // Every JSON member the parser accepts, as a path ("objects/*/transform", "camera/orbit/yaw";
-// "*" stands for any array index), and every query parameter: the names of the table of
-// parameters (render_parameters.hpp) that the parsers read by, for the API description's test.
+// "*" stands for any array index), and every query parameter: the lists the parsers check
+// against, for the API description's test.
 const std::vector<std::string>& render_json_members();
 const std::vector<std::string>& render_query_parameters();
 
@@ -177,11 +177,5 @@ Camera resolved_camera(const RenderSpec& spec,
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes);
-
-// Whether the frame needs FrameRequest::specular, the rig's prefiltered residual: some
-// object's mesh draws a primitive with a glossy material (Material::glossy) and the rig's model
-// is Hdr (the thesis model has no specular term). A Lambertian scene never computes, loads or
-// uploads the cube.
-bool needs_specular(const FrameRequest& request);
 
 }  // namespace oer::api
