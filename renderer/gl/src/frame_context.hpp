@@ -1,7 +1,8 @@
 #pragma once
-// What the passes of one frame share (passes/frame_passes.hpp): the request, and what follows
+// What every pass of one frame reads (passes/frame_passes.hpp): the request, and what follows
 // from it before any GL call (the lights' weights, their irradiance sets, the scene's bounds,
-// the camera and light matrices, the supersampling), computed once by make_frame_context.
+// the camera and light matrices, the supersampling), computed once by make_frame_context and
+// read-only after: what a pass produces is its return value, not a field here.
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -16,7 +17,6 @@
 #include "oer/mesh/mesh.hpp"
 #include "oer/scene/frame_request.hpp"
 #include "oer/scene/scene_bounds.hpp"
-#include "render_targets.hpp"
 
 namespace oer {
 
@@ -96,7 +96,6 @@ struct FrameContext {
     int scale = 1;
     int samples_wide = 0;
     int samples_high = 0;
-    RenderTargets* targets = nullptr;  // chosen by the geometry pass
 };
 
 // The request must have passed validate_frame_request.

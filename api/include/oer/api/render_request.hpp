@@ -143,8 +143,8 @@ RenderSpec parse_render_query(const std::multimap<std::string, std::string>& que
                               const RenderLimits& limits = {});
 
 // Every JSON member the parser accepts, as a path ("objects/*/transform", "camera/orbit/yaw";
-// "*" stands for any array index), and every query parameter: the lists the parsers check
-// against, for the API description's test.
+// "*" stands for any array index), and every query parameter: the names of the table of
+// parameters (render_parameters.hpp) that the parsers read by, for the API description's test.
 const std::vector<std::string>& render_json_members();
 const std::vector<std::string>& render_query_parameters();
 
