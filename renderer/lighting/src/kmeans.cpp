@@ -84,32 +84,49 @@ std::vector<double> seed_centres(const std::vector<double>& points, std::size_t 
 // 2010): per point an upper bound on the distance to its centre and a lower bound on the
 // distance to every other centre, kept valid as the centres move, so that most points skip the
 // scan over all centres once the clustering settles. Same assignments as plain Lloyd (up to
-// exact ties).
+// exact ties). Works on the centres and assignment of a KMeansResult.
 template <int D>
-KMeansResult run(const std::vector<double>& points, int k, CentreKind kind, std::uint64_t seed,
-                 int max_iterations) {
-    constexpr double infinity = std::numeric_limits<double>::infinity();
-    const std::size_t n = points.size() / D;
-    k = int(std::clamp<std::size_t>(std::size_t(std::max(k, 1)), 1, n));
-    std::mt19937_64 rng(seed);
-    KMeansResult result;
-    result.dimension = D;
-    result.centres = seed_centres<D>(points, n, k, rng);
-    result.k = int(result.centres.size() / D);
-    k = result.k;
-    const std::size_t kk = std::size_t(k);
-    std::vector<double>& centres = result.centres;
-    std::vector<std::uint32_t>& assignment = result.assignment;
-    assignment.assign(n, 0);
-    std::vector<double> upper(n), lower(n);
+class HamerlyIterations {
+  public:
+    // Assigns every point to its nearest seed centre and sums each cluster's members.
+    HamerlyIterations(const std::vector<double>& points, KMeansResult& result)
+        : points_(points),
+          n_(points.size() / D),
+          k_(result.centres.size() / D),
+          centres_(result.centres),
+          assignment_(result.assignment),
+          upper_(n_),
+          lower_(n_),
+          sums_(k_ * D, 0.0),
+          previous_(k_ * D),
+          moved_(k_),
+          half_gap_(k_),
+          counts_(k_, 0) {
+        assignment_.assign(n_, 0);
+        for (std::size_t i = 0; i < n_; ++i) {
+            scan(i);
+        }
+        sum_members();
+    }
+
+    // One iteration: the centres moved to their members' means, then the points reassigned.
+    // Returns how many points changed cluster.
+    std::size_t iterate(CentreKind kind) {
+        move_centres(kind);
+        measure_centre_motion();
+        return reassign();
+    }
+
+  private:
+    static constexpr double infinity = std::numeric_limits<double>::infinity();
 
     // Exact nearest and second-nearest distances of point i.
-    auto scan = [&](std::size_t i) {
-        const double* p = &points[i * D];
+    void scan(std::size_t i) {
+        const double* p = &points_[i * D];
         double best = infinity, second = infinity;
         std::uint32_t best_index = 0;
-        for (std::size_t c = 0; c < kk; ++c) {
-            const double d = squared_distance<D>(p, &centres[c * D]);
+        for (std::size_t c = 0; c < k_; ++c) {
+            const double d = squared_distance<D>(p, &centres_[c * D]);
             if (d < best) {
                 second = best;
                 best = d;
@@ -118,36 +135,33 @@ KMeansResult run(const std::vector<double>& points, int k, CentreKind kind, std:
                 second = d;
             }
         }
-        assignment[i] = best_index;
-        upper[i] = std::sqrt(best);
-        lower[i] = std::sqrt(second);  // infinity when k == 1
-    };
-    for (std::size_t i = 0; i < n; ++i) {
-        scan(i);
+        assignment_[i] = best_index;
+        upper_[i] = std::sqrt(best);
+        lower_[i] = std::sqrt(second);  // infinity when k == 1
     }
 
-    // Member sums and counts, kept up to date as points change cluster (an O(changes) update
-    // rather than a pass over every point per iteration).
-    std::vector<double> sums(kk * D, 0.0), previous(kk * D), moved(kk), half_gap(kk);
-    std::vector<std::size_t> counts(kk, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t c = assignment[i];
-        ++counts[c];
-        for (std::size_t j = 0; j < D; ++j) {
-            sums[c * D + j] += points[i * D + j];
+    // Member sums and counts, then kept up to date as points change cluster (an O(changes)
+    // update rather than a pass over every point per iteration).
+    void sum_members() {
+        for (std::size_t i = 0; i < n_; ++i) {
+            const std::size_t c = assignment_[i];
+            ++counts_[c];
+            for (std::size_t j = 0; j < D; ++j) {
+                sums_[c * D + j] += points_[i * D + j];
+            }
         }
     }
-    while (result.iterations < max_iterations) {
-        ++result.iterations;
-        // Centres: their members' mean (renormalised for UnitMean); empty clusters stay.
-        previous = centres;
-        for (std::size_t c = 0; c < kk; ++c) {
-            if (counts[c] == 0) {
+
+    // Centres: their members' mean (renormalised for UnitMean); empty clusters stay.
+    void move_centres(CentreKind kind) {
+        previous_ = centres_;
+        for (std::size_t c = 0; c < k_; ++c) {
+            if (counts_[c] == 0) {
                 continue;
             }
-            double* centre = &centres[c * D];
-            const double* sum = &sums[c * D];
-            double scale = 1.0 / double(counts[c]);
+            double* centre = &centres_[c * D];
+            const double* sum = &sums_[c * D];
+            double scale = 1.0 / double(counts_[c]);
             if (kind == CentreKind::UnitMean) {
                 double squared_length = 0.0;
                 for (std::size_t j = 0; j < D; ++j) {
@@ -162,56 +176,91 @@ KMeansResult run(const std::vector<double>& points, int k, CentreKind kind, std:
                 centre[j] = sum[j] * scale;
             }
         }
+    }
 
-        // How far each centre moved, and half the distance to its nearest other centre.
-        double largest = 0.0, second_largest = 0.0;
-        std::size_t largest_index = 0;
-        for (std::size_t c = 0; c < kk; ++c) {
-            moved[c] = std::sqrt(squared_distance<D>(&centres[c * D], &previous[c * D]));
-            if (moved[c] > largest) {
-                second_largest = largest;
-                largest = moved[c];
-                largest_index = c;
-            } else if (moved[c] > second_largest) {
-                second_largest = moved[c];
+    // How far each centre moved (the largest two moves kept), and half the distance to its
+    // nearest other centre.
+    void measure_centre_motion() {
+        largest_ = 0.0;
+        second_largest_ = 0.0;
+        largest_index_ = 0;
+        for (std::size_t c = 0; c < k_; ++c) {
+            moved_[c] = std::sqrt(squared_distance<D>(&centres_[c * D], &previous_[c * D]));
+            if (moved_[c] > largest_) {
+                second_largest_ = largest_;
+                largest_ = moved_[c];
+                largest_index_ = c;
+            } else if (moved_[c] > second_largest_) {
+                second_largest_ = moved_[c];
             }
-            half_gap[c] = infinity;
+            half_gap_[c] = infinity;
         }
-        for (std::size_t a = 0; a < kk; ++a) {
-            for (std::size_t b = a + 1; b < kk; ++b) {
+        for (std::size_t a = 0; a < k_; ++a) {
+            for (std::size_t b = a + 1; b < k_; ++b) {
                 const double gap =
-                    0.5 * std::sqrt(squared_distance<D>(&centres[a * D], &centres[b * D]));
-                half_gap[a] = std::min(half_gap[a], gap);
-                half_gap[b] = std::min(half_gap[b], gap);
+                    0.5 * std::sqrt(squared_distance<D>(&centres_[a * D], &centres_[b * D]));
+                half_gap_[a] = std::min(half_gap_[a], gap);
+                half_gap_[b] = std::min(half_gap_[b], gap);
             }
         }
+    }
 
+    // The bounds moved with the centres; a point whose bounds no longer prove its centre the
+    // nearest is scanned again, and the member sums follow it if it changes cluster.
+    std::size_t reassign() {
         std::size_t changed = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t a = assignment[i];
-            upper[i] += moved[a];
-            lower[i] -= a == largest_index ? second_largest : largest;
-            const double bound = std::max(half_gap[a], lower[i]);
-            if (upper[i] <= bound) {
+        for (std::size_t i = 0; i < n_; ++i) {
+            const std::size_t a = assignment_[i];
+            upper_[i] += moved_[a];
+            lower_[i] -= a == largest_index_ ? second_largest_ : largest_;
+            const double bound = std::max(half_gap_[a], lower_[i]);
+            if (upper_[i] <= bound) {
                 continue;
             }
-            upper[i] = std::sqrt(squared_distance<D>(&points[i * D], &centres[a * D]));
-            if (upper[i] <= bound) {
+            upper_[i] = std::sqrt(squared_distance<D>(&points_[i * D], &centres_[a * D]));
+            if (upper_[i] <= bound) {
                 continue;
             }
             scan(i);
-            const std::size_t b = assignment[i];
+            const std::size_t b = assignment_[i];
             if (b != a) {
                 ++changed;
-                --counts[a];
-                ++counts[b];
+                --counts_[a];
+                ++counts_[b];
                 for (std::size_t j = 0; j < D; ++j) {
-                    sums[a * D + j] -= points[i * D + j];
-                    sums[b * D + j] += points[i * D + j];
+                    sums_[a * D + j] -= points_[i * D + j];
+                    sums_[b * D + j] += points_[i * D + j];
                 }
             }
         }
-        if (changed == 0) {
+        return changed;
+    }
+
+    const std::vector<double>& points_;
+    const std::size_t n_, k_;
+    std::vector<double>& centres_;
+    std::vector<std::uint32_t>& assignment_;
+    std::vector<double> upper_, lower_;
+    std::vector<double> sums_, previous_, moved_, half_gap_;
+    std::vector<std::size_t> counts_;
+    double largest_ = 0.0, second_largest_ = 0.0;
+    std::size_t largest_index_ = 0;
+};
+
+template <int D>
+KMeansResult run(const std::vector<double>& points, int k, CentreKind kind, std::uint64_t seed,
+                 int max_iterations) {
+    const std::size_t n = points.size() / D;
+    k = int(std::clamp<std::size_t>(std::size_t(std::max(k, 1)), 1, n));
+    std::mt19937_64 rng(seed);
+    KMeansResult result;
+    result.dimension = D;
+    result.centres = seed_centres<D>(points, n, k, rng);
+    result.k = int(result.centres.size() / D);
+    HamerlyIterations<D> iterations(points, result);
+    while (result.iterations < max_iterations) {
+        ++result.iterations;
+        if (iterations.iterate(kind) == 0) {
             result.converged = true;
             break;
         }

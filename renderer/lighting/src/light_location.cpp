@@ -325,20 +325,19 @@ std::string plural(std::size_t n, const char* word) {
     return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
 }
 
-}  // namespace
+// Each pixel's luminance, capped to a float range that the blur cannot overflow, then blurred;
+// and the map's total luminance energy sum(lum dOmega), the denominator of every luminance
+// share.
+struct BlurredLuminance {
+    detail::LargeBuffer<float> values;
+    double total_energy = 0.0;
+};
 
-LightLocation locate_lights(const HdrImage& image, int max_lights,
-                            const LightLocationOptions& options) {
-    validate(image, max_lights, options);
+BlurredLuminance blurred_luminance(const HdrImage& image, const equirect::Grid& grid,
+                                   double blur_radius) {
     const int width = image.width, height = image.height;
     const std::size_t n = image.pixel_count();
-    const equirect::Grid grid(width, height);
-    LightLocation result;
-
-    // Luminance (capped to a float range that the blur cannot overflow) and the map's total
-    // luminance energy sum(lum dOmega), the denominator of every luminance share.
-    detail::LargeBuffer<float> blurred(n);
-    double total_energy = 0.0;
+    BlurredLuminance result{detail::LargeBuffer<float>(n), 0.0};
     for (int y = 0; y < height; ++y) {
         const std::size_t begin = std::size_t(y) * std::size_t(width);
         // Four partial sums: one serial chain of double additions would bound this loop.
@@ -350,86 +349,112 @@ LightLocation locate_lights(const HdrImage& image, int max_lights,
             if (!(p[0] >= 0.0f && p[1] >= 0.0f && p[2] >= 0.0f && l <= 1e300)) [[unlikely]] {
                 l = luminance(radiance(image, i));  // not repaired: NaN, negative, Inf
             }
-            blurred[i] = float(std::min(l, 1e30));
+            result.values[i] = float(std::min(l, 1e30));
             row[x & 3] += l;
         }
-        total_energy +=
+        result.total_energy +=
             ((row[0] + row[1]) + (row[2] + row[3])) * grid.row_solid_angle[std::size_t(y)];
     }
     detail::LargeBuffer<float> scratch(n);
-    detail::blur_equirect_in_place(blurred.data(), width, height, options.blur_radius,
+    detail::blur_equirect_in_place(result.values.data(), width, height, blur_radius,
                                    scratch.data());
-    detail::LargeBuffer<float>().swap(scratch);
-    const detail::PercentilePair thresholds = detail::select_percentiles(
-        blurred.data(), n, options.light_percentile, options.halo_percentile);
-    result.light_threshold = thresholds.high;
-    result.halo_threshold = thresholds.low;
+    return result;
+}
 
-    // The bright set and the halo set (bright is a subset of halo), in pixel order, and each
-    // pixel's membership while lights are taken. A pixel at the map's minimum is never bright,
-    // so that a uniform map has no light.
+// The bright set and the halo set (bright is a subset of halo), in pixel order, and each
+// pixel's membership while lights are taken. A pixel at the map's minimum is never bright, so
+// that a uniform map has no light.
+struct PixelSets {
     std::vector<std::uint32_t> bright, halo;
-    detail::LargeBuffer<std::uint8_t> state(n);
+    detail::LargeBuffer<std::uint8_t> state;
+};
+
+PixelSets classify_pixels(const detail::LargeBuffer<float>& blurred,
+                          const detail::PercentilePair& thresholds) {
+    const std::size_t n = blurred.size();
+    PixelSets sets{{}, {}, detail::LargeBuffer<std::uint8_t>(n)};
     for (std::size_t i = 0; i < n; ++i) {
         const float v = blurred[i];
         std::uint8_t s = 0;
         if (v > thresholds.minimum && v >= thresholds.low) {
             s = in_halo;
-            halo.push_back(std::uint32_t(i));
+            sets.halo.push_back(std::uint32_t(i));
             if (v >= thresholds.high) {
                 s |= in_bright;
-                bright.push_back(std::uint32_t(i));
+                sets.bright.push_back(std::uint32_t(i));
             }
         }
-        state[i] = s;
+        sets.state[i] = s;
     }
-    result.bright_pixel_count = bright.size();
-    result.halo_pixel_count = halo.size();
-    if (bright.empty()) {
-        if (max_lights > 0) {
-            result.note = thresholds.minimum == 0.0f
-                              ? "map is black: no pixel carries any luminance"
-                              : "map is uniform: no pixel is brighter than the rest";
-        }
-        return result;
+    return sets;
+}
+
+// Takes the lights one at a time out of the pixel sets: k-means over the bright pixels, the
+// brightest cluster's core, the halo around it (docs/design.md section 2). Every light taken
+// leaves the sets smaller for the next.
+class LightTaker {
+  public:
+    LightTaker(const HdrImage& image, const equirect::Grid& grid,
+               const LightLocationOptions& options, const BlurredLuminance& luminance,
+               PixelSets& sets)
+        : image_(image),
+          grid_(grid),
+          options_(options),
+          luminance_(luminance),
+          sets_(sets),
+          space_(grid, options.clustering),
+          grow_(options.grow_connected && options.clustering == Clustering::Directions) {}
+
+    bool has_bright_pixels() const { return !sets_.bright.empty(); }
+
+    // The next light, from k clusters; run numbers the lights for k-means' seed.
+    Light take_light(int k, std::uint64_t run) {
+        const detail::KMeansResult clusters = cluster_bright_pixels(k, run);
+        const std::size_t chosen = brightest_cluster(std::size_t(clusters.k));
+        take_core(chosen);
+        const PointSpace::Spread spread =
+            space_.spread(core_, &clusters.centres[chosen * std::size_t(space_.dimension())]);
+        take_halo_within(spread.centre, space_.radius(spread.sigma));
+        return measure_light(image_, grid_, light_pixels_, luminance_.total_energy,
+                             space_.centre_direction(spread.centre));
     }
 
-    const PointSpace space(grid, options.clustering);
-    const int dim = space.dimension();
-    const bool grow = options.grow_connected && options.clustering == Clustering::Directions;
-    std::vector<double> points;
-    std::vector<std::uint32_t> cluster_of, core, light_pixels, stack;
-    int k = options.cluster_count;
-    for (std::uint64_t run = 0; int(result.lights.size()) < max_lights && k >= 1 && !bright.empty();
-         ++run, --k) {
-        // k-means over the bright pixels (a fixed-stride subsample when there are many).
+  private:
+    // k-means over the bright pixels (a fixed-stride subsample when there are many), then every
+    // bright pixel joins its nearest centre (cluster_of_).
+    detail::KMeansResult cluster_bright_pixels(int k, std::uint64_t run) {
+        const std::vector<std::uint32_t>& bright = sets_.bright;
+        const int dim = space_.dimension();
         const std::size_t stride = (bright.size() + max_cluster_points - 1) / max_cluster_points;
-        points.clear();
+        points_.clear();
         for (std::size_t j = 0; j < bright.size(); j += stride) {
-            space.append(bright[j], points);
+            space_.append(bright[j], points_);
         }
-        const std::size_t point_count = points.size() / std::size_t(dim);
-        const detail::KMeansResult clusters =
-            detail::kmeans(points, dim, int(std::min<std::size_t>(std::size_t(k), point_count)),
-                           space.centre_kind(), options.seed ^ (run * 0x9E3779B97F4A7C15ull));
-        // Every bright pixel joins its nearest centre.
+        const std::size_t point_count = points_.size() / std::size_t(dim);
+        detail::KMeansResult clusters =
+            detail::kmeans(points_, dim, int(std::min<std::size_t>(std::size_t(k), point_count)),
+                           space_.centre_kind(), options_.seed ^ (run * 0x9E3779B97F4A7C15ull));
         if (stride == 1) {
-            cluster_of = clusters.assignment;
+            cluster_of_ = clusters.assignment;
         } else {
-            cluster_of.resize(bright.size());
+            cluster_of_.resize(bright.size());
             for (std::size_t j = 0; j < bright.size(); ++j) {
-                points.clear();
-                space.append(bright[j], points);
-                cluster_of[j] = detail::nearest_centre(points.data(), clusters.centres, dim);
+                points_.clear();
+                space_.append(bright[j], points_);
+                cluster_of_[j] = detail::nearest_centre(points_.data(), clusters.centres, dim);
             }
         }
+        return clusters;
+    }
 
-        // The cluster of greatest mean blurred luminance becomes the light.
-        std::vector<double> luminance_sum(std::size_t(clusters.k), 0.0);
-        std::vector<std::size_t> count(std::size_t(clusters.k), 0);
+    // The cluster of greatest mean blurred luminance: the light.
+    std::size_t brightest_cluster(std::size_t cluster_count) const {
+        const std::vector<std::uint32_t>& bright = sets_.bright;
+        std::vector<double> luminance_sum(cluster_count, 0.0);
+        std::vector<std::size_t> count(cluster_count, 0);
         for (std::size_t j = 0; j < bright.size(); ++j) {
-            luminance_sum[cluster_of[j]] += blurred[bright[j]];
-            ++count[cluster_of[j]];
+            luminance_sum[cluster_of_[j]] += luminance_.values[bright[j]];
+            ++count[cluster_of_[j]];
         }
         std::size_t chosen = 0;
         double best = -std::numeric_limits<double>::infinity();
@@ -439,69 +464,127 @@ LightLocation locate_lights(const HdrImage& image, int max_lights,
                 chosen = c;
             }
         }
+        return chosen;
+    }
 
-        // Its core. With grow_connected: the connected bright region around the cluster's
-        // brightest member, so that a cluster k-means drew across several separate lamps yields
-        // one compact light (the other lamps stay bright for the next iterations). Without it:
-        // the cluster's members, as the thesis has it.
-        core.clear();
-        if (grow) {
+    // The light's core (core_), marked taken_now. With grow_connected: the connected bright
+    // region around the cluster's brightest member, so that a cluster k-means drew across
+    // several separate lamps yields one compact light (the other lamps stay bright for the next
+    // lights). Without it: the cluster's members, as the thesis has it.
+    void take_core(std::size_t chosen) {
+        const std::vector<std::uint32_t>& bright = sets_.bright;
+        std::uint8_t* state = sets_.state.data();
+        core_.clear();
+        if (grow_) {
             std::uint32_t brightest = 0;
             double brightest_luminance = -std::numeric_limits<double>::infinity();
             for (std::size_t j = 0; j < bright.size(); ++j) {
-                if (cluster_of[j] == chosen && blurred[bright[j]] > brightest_luminance) {
-                    brightest_luminance = blurred[bright[j]];
+                if (cluster_of_[j] == chosen &&
+                    luminance_.values[bright[j]] > brightest_luminance) {
+                    brightest_luminance = luminance_.values[bright[j]];
                     brightest = bright[j];
                 }
             }
-            core.push_back(brightest);
+            core_.push_back(brightest);
             state[brightest] = taken_now;
-            grow_connected(core, state.data(), width, height, stack);
+            grow_connected(core_, state, grid_.width, grid_.height, stack_);
         } else {
             for (std::size_t j = 0; j < bright.size(); ++j) {
-                if (cluster_of[j] == chosen) {
-                    core.push_back(bright[j]);
+                if (cluster_of_[j] == chosen) {
+                    core_.push_back(bright[j]);
                     state[bright[j]] = taken_now;
                 }
             }
         }
-        const PointSpace::Spread spread =
-            space.spread(core, &clusters.centres[chosen * std::size_t(dim)]);
+    }
 
-        // ... and the remaining halo pixels within 3 sigma of its centre. Every pixel it takes
-        // is a halo pixel: collecting them in halo order gives them sorted.
-        space.mark_within(halo, state.data(), spread.centre, space.radius(spread.sigma));
-        light_pixels.clear();
+    // The core and the remaining halo pixels within radius of centre into light_pixels_, out of
+    // the halo and bright sets. Every pixel taken is a halo pixel: collecting them in halo order
+    // gives them sorted.
+    void take_halo_within(const glm::dvec3& centre, double radius) {
+        std::vector<std::uint32_t>& halo = sets_.halo;
+        std::uint8_t* state = sets_.state.data();
+        space_.mark_within(halo, state, centre, radius);
+        light_pixels_.clear();
         std::size_t kept = 0;
         for (std::uint32_t pixel : halo) {
             if (state[pixel] == taken_now) {
-                light_pixels.push_back(pixel);
+                light_pixels_.push_back(pixel);
                 state[pixel] = 0;
             } else {
                 halo[kept++] = pixel;
             }
         }
         halo.resize(kept);
-        bright.erase(std::remove_if(bright.begin(), bright.end(),
-                                    [&state](std::uint32_t pixel) { return state[pixel] == 0; }),
-                     bright.end());
-        result.lights.push_back(measure_light(image, grid, light_pixels, total_energy,
-                                              space.centre_direction(spread.centre)));
+        sets_.bright.erase(
+            std::remove_if(sets_.bright.begin(), sets_.bright.end(),
+                           [state](std::uint32_t pixel) { return state[pixel] == 0; }),
+            sets_.bright.end());
     }
 
-    const std::size_t found = result.lights.size();
-    if (int(found) < max_lights) {
-        std::ostringstream note;
-        if (k == 0) {
-            // One cluster fewer per light: the clusters ran out before the lights.
-            note << "cluster_count " << options.cluster_count << " allows at most "
-                 << plural(std::size_t(options.cluster_count), "light") << " (asked for "
-                 << max_lights << ")";
-        } else {
-            note << "no bright pixels left after " << plural(found, "light") << " (asked for "
-                 << max_lights << ")";
+    const HdrImage& image_;
+    const equirect::Grid& grid_;
+    const LightLocationOptions& options_;
+    const BlurredLuminance& luminance_;
+    PixelSets& sets_;
+    const PointSpace space_;
+    const bool grow_;
+    // Work buffers, kept across lights.
+    std::vector<double> points_;
+    std::vector<std::uint32_t> cluster_of_, core_, light_pixels_, stack_;
+};
+
+// Why fewer lights than asked were found. Each light costs one cluster: k_left is the cluster
+// count left when the taking stopped.
+std::string shortfall_note(const LightLocationOptions& options, int max_lights, std::size_t found,
+                           int k_left) {
+    std::ostringstream note;
+    if (k_left == 0) {
+        note << "cluster_count " << options.cluster_count << " allows at most "
+             << plural(std::size_t(options.cluster_count), "light") << " (asked for " << max_lights
+             << ")";
+    } else {
+        note << "no bright pixels left after " << plural(found, "light") << " (asked for "
+             << max_lights << ")";
+    }
+    return note.str();
+}
+
+}  // namespace
+
+LightLocation locate_lights(const HdrImage& image, int max_lights,
+                            const LightLocationOptions& options) {
+    validate(image, max_lights, options);
+    const equirect::Grid grid(image.width, image.height);
+    LightLocation result;
+    const BlurredLuminance blurred = blurred_luminance(image, grid, options.blur_radius);
+    const detail::PercentilePair thresholds =
+        detail::select_percentiles(blurred.values.data(), blurred.values.size(),
+                                   options.light_percentile, options.halo_percentile);
+    result.light_threshold = thresholds.high;
+    result.halo_threshold = thresholds.low;
+
+    PixelSets sets = classify_pixels(blurred.values, thresholds);
+    result.bright_pixel_count = sets.bright.size();
+    result.halo_pixel_count = sets.halo.size();
+    if (sets.bright.empty()) {
+        if (max_lights > 0) {
+            result.note = thresholds.minimum == 0.0f
+                              ? "map is black: no pixel carries any luminance"
+                              : "map is uniform: no pixel is brighter than the rest";
         }
-        result.note = note.str();
+        return result;
+    }
+
+    LightTaker taker(image, grid, options, blurred, sets);
+    int k = options.cluster_count;
+    for (std::uint64_t run = 0;
+         int(result.lights.size()) < max_lights && k >= 1 && taker.has_bright_pixels();
+         ++run, --k) {
+        result.lights.push_back(taker.take_light(k, run));
+    }
+    if (int(result.lights.size()) < max_lights) {
+        result.note = shortfall_note(options, max_lights, result.lights.size(), k);
     }
     return result;
 }

@@ -350,6 +350,175 @@ class DirectAtHit {
     Coefficients open_ground_;
 };
 
+// How a bake traces: strata x strata rays per receiver, on `threads` threads, each ray leaving
+// its receiver `offset` along the normal.
+struct RayLayout {
+    int strata = 1;
+    int rays = 1;
+    int threads = 1;
+    double offset = 0.0;
+};
+
+RayLayout ray_layout(const FrameRequest& request, const TransferBakeOptions& options,
+                     const SceneBounds& frame) {
+    RayLayout layout;
+    // Rays come in strata x strata cells: a requested count is rounded down to a square.
+    const int requested = options.rays > 0 ? options.rays : transfer_ray_count(request.objects);
+    layout.strata = std::max(1, int(std::sqrt(double(requested))));
+    layout.rays = layout.strata * layout.strata;
+    layout.threads = options.threads > 0 ? options.threads
+                                         : std::max(1, int(std::thread::hardware_concurrency()));
+    layout.offset = kRayOffsetOverRadius * double(frame.radius);
+    return layout;
+}
+
+// The bake's result before any ray: every vertex's and (with the ground) every ground texel's
+// vectors allocated and zero.
+SceneTransfer sized_transfer(const FrameRequest& request, const SceneBounds& frame, Bounce bounce,
+                             int rays) {
+    SceneTransfer transfer;
+    transfer.order = kTransferBakeOrder;
+    transfer.bounce = bounce;
+    transfer.rays = rays;
+    transfer.objects.resize(request.objects.size());
+    for (std::size_t o = 0; o < request.objects.size(); ++o) {
+        const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
+        transfer.objects[o].resize(primitives.size());
+        for (std::size_t p = 0; p < primitives.size(); ++p) {
+            size_points(transfer.objects[o][p], primitives[p].positions.size(), bounce);
+        }
+    }
+    if (request.ground) {
+        transfer.ground = ground_grid(frame);
+        size_points(transfer.ground->points, transfer.ground->points.count, bounce);
+    }
+    return transfer;
+}
+
+// Room for every vertex's direct transfer with the ground blocking (Receiver::sky_direct): only
+// a scene with the ground, under Bounce::One, needs it; otherwise empty.
+SkyDirect sky_direct_slots(const FrameRequest& request, const SceneTransfer& transfer,
+                           Bounce bounce) {
+    SkyDirect sky_direct;
+    if (request.ground && bounce == Bounce::One) {
+        for (const std::vector<TransferPoints>& object : transfer.objects) {
+            std::vector<std::vector<float>>& primitives = sky_direct.emplace_back();
+            for (const TransferPoints& points : object) {
+                primitives.emplace_back(points.direct.size());
+            }
+        }
+    }
+    return sky_direct;
+}
+
+// The two phases' work for one receiver, each writing that receiver's vectors alone.
+class ReceiverTracer {
+  public:
+    ReceiverTracer(const EmbreeScene& scene, const RayLayout& layout, bool ground)
+        : scene_(scene), layout_(layout), ground_(ground) {}
+
+    // Phase 1, shadowed diffuse transfer (Sloan et al. 2002, eq. 8):
+    //   direct_i = integral over the hemisphere of V(w) max(0, n . w) Y_i(w) dw,
+    // with N cosine-distributed rays (density cos / pi) the estimate (pi / N) sum over the rays
+    // that escape of Y_i(w). Written as A_l Y_i(n) - (pi / N) sum over the blocked rays of
+    // Y_i(w): the same estimate, but with the exact integral A_l Y_i(n) of all rays in place of
+    // the rays' own sum of it (a control variate whose mean is that integral). So a point that
+    // nothing occludes holds A_l Y_i(n) exactly, with no sampling noise (direct . R is plain SH
+    // irradiance there, and the grid's open edge meets the unoccluded ground beyond it without
+    // a seam), and only the basis values of blocked rays are evaluated. With the ground, only
+    // objects block: the plane's light is the lighting's below the horizon. Marks in `meeting`
+    // the rays that met a surface.
+    void trace_direct(std::size_t r, const Receiver& receiver, RaysMeetingSurfaces& meeting) const {
+        const double ray_weight = std::numbers::pi / layout_.rays;
+        const glm::dvec3 origin = receiver.position + layout_.offset * receiver.normal;
+        Coefficients direct = unoccluded_transfer(receiver.normal);
+        Coefficients sky_direct = direct;
+        Coefficients basis{};
+        for_each_ray(r, layout_.strata, [&](int ray, double u1, double u2) {
+            const glm::dvec3 direction = sampling::cosine_direction(receiver.normal, u1, u2);
+            const RayBlocking blocking = blocking_of(origin, direction);
+            if (!blocking.meets_surface) {
+                return;
+            }
+            meeting.set(r, ray);
+            sh_evaluate(kTransferBakeOrder, direction, basis);
+            for (int i = 0; i < kCoefficients; ++i) {
+                const double blocked = ray_weight * basis[std::size_t(i)];
+                sky_direct[std::size_t(i)] -= blocked;
+                if (blocking.meets_object) {
+                    direct[std::size_t(i)] -= blocked;
+                }
+            }
+        });
+        std::copy(direct.begin(), direct.end(), receiver.direct);
+        if (receiver.sky_direct != nullptr) {
+            std::copy(sky_direct.begin(), sky_direct.end(), receiver.sky_direct);
+        }
+    }
+
+    // Phase 2, one bounce of interreflected transfer (Sloan et al. 2002, eq. 9, its first
+    // pass), once every direct vector exists: a ray that hits a surface point q brings q's
+    // outgoing radiance rho(q) / pi * (D(q) . L), so
+    //   bounce_c,i = (pi / N) sum over the rays that hit of rho_c(q) / pi * D_i(q)
+    // (on the ground, D(q) less the open ground's, which the lighting already has:
+    // DirectAtHit), over the rays of phase 1 that met a surface, traced again to find what they
+    // hit rather than storing their hits.
+    void trace_bounce(std::size_t r, const Receiver& receiver, const RaysMeetingSurfaces& meeting,
+                      const DirectAtHit& direct_at) const {
+        const glm::dvec3 origin = receiver.position + layout_.offset * receiver.normal;
+        std::array<Coefficients, 3> bounce{};
+        for_each_ray(r, layout_.strata, [&](int ray, double u1, double u2) {
+            if (!meeting.test(r, ray)) {
+                return;
+            }
+            const glm::dvec3 direction = sampling::cosine_direction(receiver.normal, u1, u2);
+            if (const std::optional<SurfaceHit> hit =
+                    scene_.intersect(origin, direction, 0.0, GroundReach::Infinite)) {
+                const Coefficients reflected = direct_at(*hit);
+                for (int c = 0; c < 3; ++c) {
+                    // (pi / N) (rho / pi) = rho / N.
+                    const double weight = hit->albedo[c] / layout_.rays;
+                    for (int i = 0; i < kCoefficients; ++i) {
+                        bounce[std::size_t(c)][std::size_t(i)] +=
+                            weight * reflected[std::size_t(i)];
+                    }
+                }
+            }
+        });
+        for (int c = 0; c < 3; ++c) {
+            std::copy(bounce[std::size_t(c)].begin(), bounce[std::size_t(c)].end(),
+                      receiver.bounce + c * kCoefficients);
+        }
+    }
+
+  private:
+    struct RayBlocking {
+        bool meets_surface = false;  // an object or the ground plane
+        bool meets_object = false;
+    };
+
+    // With the ground, a ray down from above it meets the infinite plane, whose own light is
+    // the map's below the horizon in the lighting the direct vectors take
+    // (transfer_lighting.hpp): only an object blocks it.
+    RayBlocking blocking_of(const glm::dvec3& origin, const glm::dvec3& direction) const {
+        RayBlocking blocking;
+        if (ground_ && direction.y < 0.0) {
+            const std::optional<SurfaceHit> hit =
+                scene_.intersect(origin, direction, 0.0, GroundReach::Infinite);
+            blocking.meets_surface = hit.has_value();
+            blocking.meets_object = blocking.meets_surface && !hit->ground;
+        } else {
+            blocking.meets_surface = blocking.meets_object =
+                scene_.occluded(origin, direction, 0.0, GroundReach::Infinite);
+        }
+        return blocking;
+    }
+
+    const EmbreeScene& scene_;
+    const RayLayout& layout_;
+    bool ground_;
+};
+
 }  // namespace
 
 int transfer_ray_count(const std::vector<SceneObject>& objects, double rays_per_phase) {
@@ -367,129 +536,19 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     const auto start = std::chrono::steady_clock::now();
     const SceneBounds frame = scene_bounds(request.objects);
     const EmbreeScene scene(request, frame);
-
-    // Rays come in strata x strata cells: a requested count is rounded down to a square.
-    const int requested = options.rays > 0 ? options.rays : transfer_ray_count(request.objects);
-    const int strata = std::max(1, int(std::sqrt(double(requested))));
-    const int rays = strata * strata;
-    const int threads = options.threads > 0 ? options.threads
-                                            : std::max(1, int(std::thread::hardware_concurrency()));
-    const double offset = kRayOffsetOverRadius * double(frame.radius);
-
-    SceneTransfer transfer;
-    transfer.order = kTransferBakeOrder;
-    transfer.bounce = options.bounce;
-    transfer.rays = rays;
-    transfer.objects.resize(request.objects.size());
-    for (std::size_t o = 0; o < request.objects.size(); ++o) {
-        const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
-        transfer.objects[o].resize(primitives.size());
-        for (std::size_t p = 0; p < primitives.size(); ++p) {
-            size_points(transfer.objects[o][p], primitives[p].positions.size(), options.bounce);
-        }
-    }
-    if (request.ground) {
-        transfer.ground = ground_grid(frame);
-        size_points(transfer.ground->points, transfer.ground->points.count, options.bounce);
-    }
-    SkyDirect sky_direct;
-    if (request.ground && options.bounce == Bounce::One) {
-        for (const std::vector<TransferPoints>& object : transfer.objects) {
-            std::vector<std::vector<float>>& primitives = sky_direct.emplace_back();
-            for (const TransferPoints& points : object) {
-                primitives.emplace_back(points.direct.size());
-            }
-        }
-    }
+    const RayLayout layout = ray_layout(request, options, frame);
+    SceneTransfer transfer = sized_transfer(request, frame, options.bounce, layout.rays);
+    SkyDirect sky_direct = sky_direct_slots(request, transfer, options.bounce);
     const std::vector<Receiver> receivers = receivers_of(request, transfer, sky_direct);
 
-    // Phase 1, shadowed diffuse transfer (Sloan et al. 2002, eq. 8):
-    //   direct_i = integral over the hemisphere of V(w) max(0, n . w) Y_i(w) dw,
-    // with N cosine-distributed rays (density cos / pi) the estimate (pi / N) sum over the rays
-    // that escape of Y_i(w). Written as A_l Y_i(n) - (pi / N) sum over the blocked rays of
-    // Y_i(w): the same estimate, but with the exact integral A_l Y_i(n) of all rays in place of
-    // the rays' own sum of it (a control variate whose mean is that integral). So a point that
-    // nothing occludes holds A_l Y_i(n) exactly, with no sampling noise (direct . R is plain SH
-    // irradiance there, and the grid's open edge meets the unoccluded ground beyond it without a
-    // seam), and only the basis values of blocked rays are evaluated. With the ground, only
-    // objects block: the plane's light is the lighting's below the horizon.
-    const double ray_weight = std::numbers::pi / rays;
-    RaysMeetingSurfaces meeting(receivers.size(), rays);
-    parallel_for(receivers.size(), threads, [&](std::size_t r) {
-        const Receiver& receiver = receivers[r];
-        const glm::dvec3 origin = receiver.position + offset * receiver.normal;
-        Coefficients direct = unoccluded_transfer(receiver.normal);
-        Coefficients sky_direct = direct;
-        Coefficients basis{};
-        for_each_ray(r, strata, [&](int ray, double u1, double u2) {
-            const glm::dvec3 direction = sampling::cosine_direction(receiver.normal, u1, u2);
-            // With the ground, a ray down from above it meets the infinite plane, whose own
-            // light is the map's below the horizon in the lighting the direct vectors take
-            // (transfer_lighting.hpp): only an object blocks it.
-            bool meets_surface = false, meets_object = false;
-            if (request.ground && direction.y < 0.0) {
-                const std::optional<SurfaceHit> hit =
-                    scene.intersect(origin, direction, 0.0, GroundReach::Infinite);
-                meets_surface = hit.has_value();
-                meets_object = meets_surface && !hit->ground;
-            } else {
-                meets_surface = meets_object =
-                    scene.occluded(origin, direction, 0.0, GroundReach::Infinite);
-            }
-            if (!meets_surface) {
-                return;
-            }
-            meeting.set(r, ray);
-            sh_evaluate(kTransferBakeOrder, direction, basis);
-            for (int i = 0; i < kCoefficients; ++i) {
-                const double blocked = ray_weight * basis[std::size_t(i)];
-                sky_direct[std::size_t(i)] -= blocked;
-                if (meets_object) {
-                    direct[std::size_t(i)] -= blocked;
-                }
-            }
-        });
-        std::copy(direct.begin(), direct.end(), receiver.direct);
-        if (receiver.sky_direct != nullptr) {
-            std::copy(sky_direct.begin(), sky_direct.end(), receiver.sky_direct);
-        }
-    });
-
-    // Phase 2, one bounce of interreflected transfer (Sloan et al. 2002, eq. 9, its first
-    // pass), once every direct vector exists: a ray that hits a surface point q brings q's
-    // outgoing radiance rho(q) / pi * (D(q) . L), so
-    //   bounce_c,i = (pi / N) sum over the rays that hit of rho_c(q) / pi * D_i(q)
-    // (on the ground, D(q) less the open ground's, which the lighting already has: DirectAtHit),
-    // over the rays of phase 1 that met a surface, traced again to find what they hit rather
-    // than storing their hits.
+    const ReceiverTracer tracer(scene, layout, request.ground);
+    RaysMeetingSurfaces meeting(receivers.size(), layout.rays);
+    parallel_for(receivers.size(), layout.threads,
+                 [&](std::size_t r) { tracer.trace_direct(r, receivers[r], meeting); });
     if (options.bounce == Bounce::One) {
         const DirectAtHit direct_at(request, transfer, sky_direct);
-        parallel_for(receivers.size(), threads, [&](std::size_t r) {
-            const Receiver& receiver = receivers[r];
-            const glm::dvec3 origin = receiver.position + offset * receiver.normal;
-            std::array<Coefficients, 3> bounce{};
-            for_each_ray(r, strata, [&](int ray, double u1, double u2) {
-                if (!meeting.test(r, ray)) {
-                    return;
-                }
-                const glm::dvec3 direction = sampling::cosine_direction(receiver.normal, u1, u2);
-                if (const std::optional<SurfaceHit> hit =
-                        scene.intersect(origin, direction, 0.0, GroundReach::Infinite)) {
-                    const Coefficients reflected = direct_at(*hit);
-                    for (int c = 0; c < 3; ++c) {
-                        // (pi / N) (rho / pi) = rho / N.
-                        const double weight = hit->albedo[c] / rays;
-                        for (int i = 0; i < kCoefficients; ++i) {
-                            bounce[std::size_t(c)][std::size_t(i)] +=
-                                weight * reflected[std::size_t(i)];
-                        }
-                    }
-                }
-            });
-            for (int c = 0; c < 3; ++c) {
-                std::copy(bounce[std::size_t(c)].begin(), bounce[std::size_t(c)].end(),
-                          receiver.bounce + c * kCoefficients);
-            }
+        parallel_for(receivers.size(), layout.threads, [&](std::size_t r) {
+            tracer.trace_bounce(r, receivers[r], meeting, direct_at);
         });
     }
     transfer.bake_ms =
