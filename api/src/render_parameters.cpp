@@ -29,10 +29,9 @@ using JsonReader = std::function<void(RenderSpec&, const Json& value, const std:
                                       const RenderLimits&)>;
 using FrameSetter = std::function<void(const RenderSpec&, FrameRequest&)>;
 
-// A scalar row's field of the spec is an accessor usable on a const spec and a mutable one:
+// The frame request's field that takes the spec's value as it is. A scalar row's `field` (here
+// and below) is an accessor usable on a const spec and a mutable one:
 // [](auto& spec) -> auto& { return spec.width; }.
-
-// The frame request's field that takes the spec's value as it is.
 template <class Field, class Target>
 FrameSetter lands_in(Field field, Target FrameRequest::*target) {
     return [field, target](const RenderSpec& spec, FrameRequest& request) {
@@ -53,6 +52,11 @@ RenderParameter member_row(const Names& names, ParameterKind kind, Presence pres
     row.value_name = std::move(value_name);
     row.help = names.meaning;
     return row;
+}
+
+// "x,y,z", as the query and the CLI spell a vector.
+std::string vector_text(const glm::dvec3& v) {
+    return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
 }
 
 // The spec's defaults, for --help.
@@ -192,10 +196,12 @@ namespace {
 
 std::vector<RenderParameter> scene_rows() {
     std::vector<RenderParameter> rows;
-    rows.push_back(text_row(
+    RenderParameter environment = text_row(
         {"environment", "environment", "", "the environment: a rig's content id or 'default'"},
         Presence::Required, "ID", [](auto& spec) -> auto& { return spec.environment; }, checked_id,
-        [](const std::string& id) { return id; }, nullptr));
+        [](const std::string& id) { return id; }, nullptr);
+    environment.kind = ParameterKind::ContentId;
+    rows.push_back(std::move(environment));
     RenderParameter objects =
         member_row({"objects", "", "", "the objects, each a mesh placed in the scene"},
                    ParameterKind::ObjectArray, Presence::Optional);
@@ -213,10 +219,11 @@ std::vector<RenderParameter> scene_rows() {
     rows.push_back(member_row({"objects/*/transform", "", "",
                                "world from mesh, a column-major 4x4 matrix, default identity"},
                               ParameterKind::Matrix, Presence::Defaulted));
-    rows.push_back(member_row({"objects/*/base_color", "base_color", "base-color",
-                               "linear RGB of every mesh, each in [0, 1]; default: the meshes' "
-                               "materials"},
-                              ParameterKind::Vector3, Presence::Optional, "R,G,B"));
+    rows.push_back(
+        member_row({"objects/*/base_color", "base_color", "base-color",
+                    "linear RGB of every mesh, each in [" + number_text(kColor.low) + ", " +
+                        number_text(kColor.high) + "]; default: the meshes' materials"},
+                   ParameterKind::Vector3, Presence::Optional, "R,G,B"));
     return rows;
 }
 
@@ -282,7 +289,8 @@ std::vector<RenderParameter> camera_rows() {
         vector({"camera/eye", "eye", "eye", "the look-at camera's position"}, Presence::Required));
     rows.push_back(vector({"camera/target", "target", "target", "the point the camera looks at"},
                           Presence::Required));
-    rows.push_back(vector({"camera/up", "up", "up", "the camera's up direction, default 0,1,0"},
+    rows.push_back(vector({"camera/up", "up", "up",
+                           "the camera's up direction, default " + vector_text(LookAtSpec{}.up)},
                           Presence::Defaulted));
     rows.push_back(number({"camera/fov_y", "fov_y", "fov", "vertical field of view in degrees"},
                           kFovY, CameraSpec{}.fov_y));
