@@ -248,6 +248,14 @@ Camera resolved_camera(const RenderSpec& spec,
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes) {
+    return to_frame_request(spec, resolved_camera(spec, meshes), std::move(rig),
+                            std::move(environment_map), meshes);
+}
+
+FrameRequest to_frame_request(const RenderSpec& spec, const Camera& camera,
+                              std::shared_ptr<const Rig> rig,
+                              std::shared_ptr<const HdrImage> environment_map,
+                              const std::vector<std::shared_ptr<const Mesh>>& meshes) {
     if (!rig) {
         throw Error(ErrorKind::Internal,
                     "to_frame_request: no rig for environment '" + spec.environment + "'");
@@ -274,7 +282,7 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
                                        ? std::optional<glm::vec3>(glm::vec3(*object.base_color))
                                        : std::nullopt});
     }
-    request.camera = resolved_camera(spec, meshes);
+    request.camera = camera;
     for (const RenderParameter& row : render_parameters()) {
         if (row.to_frame) {
             row.to_frame(spec, request);

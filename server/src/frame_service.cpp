@@ -23,6 +23,15 @@ std::string timing_entry(const std::string& pass, double ms) {
     return pass + ";dur=" + duration;
 }
 
+// W3C Server-Timing: each pass of the frame's, then its encoding.
+std::string server_timing(const Frame& frame, double encode_ms) {
+    std::string timing;
+    for (const auto& [pass, ms] : frame.timings_ms) {
+        timing += (timing.empty() ? "" : ", ") + timing_entry(pass, ms);
+    }
+    return timing + (timing.empty() ? "" : ", ") + timing_entry("encode", encode_ms);
+}
+
 }  // namespace
 
 FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
@@ -36,13 +45,8 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
       metrics_(metrics),
       deadline_(deadline) {}
 
-EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
-                                  RequestForm form) {
-    EncodedFrame result;
-    result.etag = etag;
-    result.content_type = api::content_type_of(spec.format);
-    std::vector<std::shared_ptr<const Mesh>> meshes;
-    std::vector<std::string> mesh_ids;
+ResolvedRender FrameService::resolve(const api::RenderSpec& spec, RequestForm form) {
+    ResolvedRender resolved{spec, nullptr, {}, {}, {}};
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const auto mesh = meshes_.find(spec.objects[i].mesh);
         if (!mesh) {
@@ -50,29 +54,24 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                 ProblemKind::UnknownId, "no mesh with id '" + spec.objects[i].mesh + "'",
                 form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
         }
-        meshes.push_back(mesh->mesh);
-        mesh_ids.push_back(mesh->id);
+        resolved.meshes.push_back(mesh->mesh);
+        resolved.mesh_ids.push_back(mesh->id);
     }
-    // The environment and meshes are found before the cache, so that a frame of one removed
-    // since (DELETE) is 404, never served from the cache; and a cached frame names its camera
-    // too (a few map lookups).
-    const auto environment = environments_.find(spec.environment);
-    if (!environment) {
+    resolved.environment = environments_.find(spec.environment);
+    if (!resolved.environment) {
         throw not_found(ProblemKind::UnknownId, "no environment with id '" + spec.environment + "'",
                         "environment");
     }
-    result.camera = api::resolved_camera(spec, meshes);
-    if (auto cached = frames_.get(result.etag)) {
-        metrics_.cache(CacheName::Frame, true);
-        result.bytes = std::move(cached);
-        result.cache_hit = true;
-        return result;
-    }
-    metrics_.cache(CacheName::Frame, false);
+    resolved.camera = api::resolved_camera(spec, resolved.meshes);
+    return resolved;
+}
 
+FrameRequest FrameService::frame_request(const ResolvedRender& resolved) {
+    const api::RenderSpec& spec = resolved.spec;
+    const Environment& environment = *resolved.environment;
     std::shared_ptr<const HdrImage> map;
     if (spec.background.kind == BackgroundKind::Environment) {
-        map = environments_.source_image(*environment);
+        map = environments_.source_image(environment);
         if (!map) {
             throw not_found(ProblemKind::MapNotStored,
                             "the map of environment '" + spec.environment +
@@ -80,10 +79,11 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                             "environment");
         }
     }
-    FrameRequest frame_request = api::to_frame_request(spec, environment->rig, map, meshes);
-    if (needs_specular(frame_request)) {
-        frame_request.specular = environments_.specular(*environment);
-        if (!frame_request.specular) {
+    FrameRequest request =
+        api::to_frame_request(spec, resolved.camera, environment.rig, map, resolved.meshes);
+    if (needs_specular(request)) {
+        request.specular = environments_.specular(environment);
+        if (!request.specular) {
             throw not_found(ProblemKind::MapNotStored,
                             "the map of environment '" + spec.environment +
                                 "' is no longer stored, and its glossy materials need it; "
@@ -91,11 +91,13 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                             "environment");
         }
     }
-    if (frame_request.occlusion) {
-        frame_request.transfer = transfers_.transfer(frame_request, mesh_ids);
+    if (request.occlusion) {
+        request.transfer = transfers_.transfer(request, resolved.mesh_ids);
     }
-    auto request = std::make_shared<const FrameRequest>(std::move(frame_request));
+    return request;
+}
 
+Frame FrameService::rendered(std::shared_ptr<const FrameRequest> request) {
     // Set once this request stops waiting: a worker that reaches the frame afterwards skips it
     // rather than render it for nobody (its answer, a 503, has gone already).
     const auto abandoned = std::make_shared<std::atomic<bool>>(false);
@@ -117,16 +119,31 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
             "the frame was not rendered within " + std::to_string(deadline_.count()) + " s",
             kRetryAfterSeconds);
     }
-    const Frame frame = pending.get();
+    return pending.get();
+}
+
+EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
+                                  RequestForm form) {
+    EncodedFrame result;
+    result.etag = etag;
+    result.content_type = api::content_type_of(spec.format);
+    // The environment and meshes are found before the cache, so that a frame of one removed
+    // since (DELETE) is 404, never served from the cache; and a cached frame names its camera
+    // too (a few map lookups).
+    const ResolvedRender resolved = resolve(spec, form);
+    result.camera = resolved.camera;
+    if (auto cached = frames_.get(result.etag)) {
+        metrics_.cache(CacheName::Frame, true);
+        result.bytes = std::move(cached);
+        result.cache_hit = true;
+        return result;
+    }
+    metrics_.cache(CacheName::Frame, false);
+
+    const Frame frame = rendered(std::make_shared<const FrameRequest>(frame_request(resolved)));
     const auto encode_start = Clock::now();
     const std::vector<std::uint8_t> bytes = api::encode(frame, spec.format, spec.quality);
-    const double encode_ms = milliseconds_since(encode_start);
-
-    for (const auto& [pass, ms] : frame.timings_ms) {
-        result.server_timing += (result.server_timing.empty() ? "" : ", ") + timing_entry(pass, ms);
-    }
-    result.server_timing +=
-        (result.server_timing.empty() ? "" : ", ") + timing_entry("encode", encode_ms);
+    result.server_timing = server_timing(frame, milliseconds_since(encode_start));
     result.bytes = std::make_shared<const std::string>(bytes.begin(), bytes.end());
     frames_.put(result.etag, result.bytes);
     return result;

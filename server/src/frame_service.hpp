@@ -30,6 +30,16 @@ struct EncodedFrame {
     Camera camera;              // what the frame is seen from (api::resolved_camera)
 };
 
+// A render request with its ids resolved and its camera computed, once: the answer's camera
+// header and the frame request both take the camera from here.
+struct ResolvedRender {
+    const api::RenderSpec& spec;
+    std::shared_ptr<const Environment> environment;
+    std::vector<std::shared_ptr<const Mesh>> meshes;  // one per object, in order
+    std::vector<std::string> mesh_ids;
+    Camera camera;
+};
+
 // How the request named its members, for the `parameter` of a 404.
 enum class RequestForm { Json, Query };
 
@@ -45,6 +55,14 @@ class FrameService {
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form);
 
   private:
+    // The environment and meshes the spec names (404 for an unknown id), and its camera.
+    ResolvedRender resolve(const api::RenderSpec& spec, RequestForm form);
+    // The frame to render: the resolved scene with its map, specular cube and transfer where
+    // it needs them (404 when the store no longer holds the map).
+    FrameRequest frame_request(const ResolvedRender& resolved);
+    // The frame a worker renders from request, within the deadline (503 past it).
+    Frame rendered(std::shared_ptr<const FrameRequest> request);
+
     EnvironmentRegistry& environments_;
     MeshRegistry& meshes_;
     TransferRegistry& transfers_;

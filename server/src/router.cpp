@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 
+#include "cors.hpp"
 #include "http_errors.hpp"
 #include "http_exchange.hpp"
 #include "request_state.hpp"
@@ -16,13 +17,59 @@ HttpError too_large(std::size_t limit) {
                                                              std::to_string(limit) + " bytes"));
 }
 
+// The body of a POST, read as it arrives and bounded by max_body: 413 at the first byte over
+// (or at once, when Content-Length says so), without reading the rest.
+std::string bounded_body(const httplib::Request& request, const httplib::ContentReader& read,
+                         std::size_t max_body) {
+    if (request.has_header("Content-Length") &&
+        std::strtoull(request.get_header_value("Content-Length").c_str(), nullptr, 10) > max_body) {
+        throw too_large(max_body);
+    }
+    std::string body;
+    bool over = false;
+    const bool complete = read([&](const char* data, std::size_t length) {
+        if (body.size() + length > max_body) {
+            over = true;
+            return false;
+        }
+        body.append(data, length);
+        return true;
+    });
+    if (over) {
+        throw too_large(max_body);
+    }
+    if (!complete) {
+        throw HttpError(
+            problem(ProblemKind::MalformedRequest, "the body could not be read to its end"));
+    }
+    return body;
+}
+
 }  // namespace
 
 std::string route_regex(const std::string& route) {
     return std::regex_replace(route, std::regex(R"(\{[a-z_]+\})"), "([^/]+)");
 }
 
-Router::Router(httplib::Server& server, Log log) : server_(server), log_(std::move(log)) {}
+Router::Router(httplib::Server& server, Log log, RouterPolicies policies)
+    : server_(server), log_(std::move(log)), policies_(std::move(policies)) {}
+
+void Router::authorize(const RoutePolicy& policy, const httplib::Request& request) const {
+    if (policy.needs_api_key && !policies_.api_key.empty()) {
+        require_api_key(request, policies_.api_key);
+    }
+}
+
+httplib::Server::HandlerResponse Router::before_routing(const httplib::Request& request,
+                                                        httplib::Response& response) const {
+    add_cors_headers(policies_.cors_origins, request, response);
+    if (request.method != "OPTIONS") {
+        return httplib::Server::HandlerResponse::Unhandled;
+    }
+    current_request().route = "preflight";
+    answer_preflight(methods_for(request.path), response);
+    return httplib::Server::HandlerResponse::Handled;
+}
 
 void Router::guarded(const std::string& route, const httplib::Request& request,
                      httplib::Response& response, const std::function<void()>& handler) const {
@@ -38,65 +85,50 @@ void Router::guarded(const std::string& route, const httplib::Request& request,
     }
 }
 
-void Router::get(const std::string& route, Handler handler) {
-    server_.Get(route_regex(route), without_body("GET", route, std::move(handler)));
+void Router::get(const std::string& route, Handler handler, RoutePolicy policy) {
+    server_.Get(route_regex(route), without_body("GET", route, std::move(handler), policy));
 }
 
-void Router::del(const std::string& route, Handler handler) {
-    server_.Delete(route_regex(route), without_body("DELETE", route, std::move(handler)));
+void Router::del(const std::string& route, Handler handler, RoutePolicy policy) {
+    server_.Delete(route_regex(route), without_body("DELETE", route, std::move(handler), policy));
 }
 
 httplib::Server::Handler Router::without_body(const std::string& method, const std::string& route,
-                                              Handler handler) {
+                                              Handler handler, RoutePolicy policy) {
     routes_.push_back({method, std::regex(route_regex(route))});
-    return [this, route, handler](const httplib::Request& request, httplib::Response& response) {
-        guarded(route, request, response, [&] { handler(request, response); });
+    return [this, route, handler, policy](const httplib::Request& request,
+                                          httplib::Response& response) {
+        guarded(route, request, response, [&] {
+            authorize(policy, request);
+            handler(request, response);
+        });
     };
 }
 
-void Router::post(const std::string& route, std::size_t max_body, Handler before_body,
+void Router::post(const std::string& route, RoutePolicy policy, Handler before_body,
                   BodyHandler handler) {
     routes_.push_back({"POST", std::regex(route_regex(route))});
     server_.Post(route_regex(route),
-                 [this, route, max_body, before_body, handler](const httplib::Request& request,
-                                                               httplib::Response& response,
-                                                               const httplib::ContentReader& read) {
+                 [this, route, policy, before_body, handler](const httplib::Request& request,
+                                                             httplib::Response& response,
+                                                             const httplib::ContentReader& read) {
                      guarded(route, request, response, [&] {
                          // Until the body is read whole, an early answer leaves it on the
                          // connection.
                          current_request().close_connection = true;
+                         authorize(policy, request);
                          before_body(request, response);
-                         if (request.has_header("Content-Length") &&
-                             std::strtoull(request.get_header_value("Content-Length").c_str(),
-                                           nullptr, 10) > max_body) {
-                             throw too_large(max_body);
-                         }
-                         std::string body;
-                         bool over = false;
-                         const bool complete = read([&](const char* data, std::size_t length) {
-                             if (body.size() + length > max_body) {
-                                 over = true;
-                                 return false;
-                             }
-                             body.append(data, length);
-                             return true;
-                         });
-                         if (over) {
-                             throw too_large(max_body);
-                         }
-                         if (!complete) {
-                             throw HttpError(problem(ProblemKind::MalformedRequest,
-                                                     "the body could not be read to its end"));
-                         }
+                         const std::string body = bounded_body(request, read, policy.max_body);
                          current_request().close_connection = false;
                          handler(request, response, body);
                      });
                  });
     // A POST without a body (no Content-Length, not chunked) reaches the plain handlers only.
     server_.Post(route_regex(route),
-                 [this, route, before_body, handler](const httplib::Request& request,
-                                                     httplib::Response& response) {
+                 [this, route, policy, before_body, handler](const httplib::Request& request,
+                                                             httplib::Response& response) {
                      guarded(route, request, response, [&] {
+                         authorize(policy, request);
                          before_body(request, response);
                          handler(request, response, request.body);
                      });

@@ -14,6 +14,7 @@
 #include "oer/image/image_io.hpp"
 #include "oer/lighting/irradiance_map.hpp"
 #include "service_context.hpp"
+#include "stored_asset_routes.hpp"
 
 namespace oer::server {
 
@@ -83,15 +84,20 @@ std::string preview_key(const std::string& id) {
     return "preview:" + id;
 }
 
+const StoredAssetKind kEnvironmentKind{"/v1/environments", "environments", "environment",
+                                       "the built-in studio environment"};
+
+// A listing's entry: the map it was made from, when the store still holds it.
+nlohmann::json listed_environment(const ListedAsset& entry) {
+    return {
+        {"source", entry.source_id},
+        {"media_type", entry.source ? media_type_of_extension(entry.source->extension) : nullptr},
+        {"bytes", entry.source ? nlohmann::json(entry.source->bytes) : nullptr}};
+}
+
 std::shared_ptr<const Environment> environment_of(ServiceContext& context,
                                                   const httplib::Request& request) {
-    const std::string& id = request.matches[1];
-    auto environment = context.environments.find(id);
-    if (!environment) {
-        throw not_found(ProblemKind::UnknownId,
-                        "no environment with id '" + api::excerpt(id) + "'");
-    }
-    return environment;
+    return requested_asset(context.environments, kEnvironmentKind, request);
 }
 
 void send_image(httplib::Response& response, const std::string& bytes, const char* type) {
@@ -105,11 +111,9 @@ void send_image(httplib::Response& response, const std::string& bytes, const cha
 
 void add_environment_routes(Router& router, ServiceContext& context) {
     router.post(
-        "/v1/environments", context.config.max_upload_bytes,
-        [&context](const httplib::Request& request, httplib::Response&) {
-            if (!context.config.api_key.empty()) {
-                require_api_key(request, context.config.api_key);
-            }
+        "/v1/environments",
+        RoutePolicy{.needs_api_key = true, .max_body = context.config.max_upload_bytes},
+        [](const httplib::Request& request, httplib::Response&) {
             map_media_type(media_type(request));
         },
         [&context](const httplib::Request& request, httplib::Response& response,
@@ -132,50 +136,11 @@ void add_environment_routes(Router& router, ServiceContext& context) {
                         "/v1/environments/" + upload.asset->id);
         });
 
-    router.get("/v1/environments", [&context](const httplib::Request& request,
-                                              httplib::Response& response) {
-        const ListingQuery query = listing_query(request);
-        const ListedPage page = context.environments.list(query.after, query.limit);
-        nlohmann::json entries = nlohmann::json::array();
-        for (const ListedAsset& entry : page.entries) {
-            entries.push_back(
-                {{"id", entry.id},
-                 {"url", "/v1/environments/" + entry.id},
-                 {"source", entry.source_id},
-                 {"media_type",
-                  entry.source ? media_type_of_extension(entry.source->extension) : nullptr},
-                 {"bytes", entry.source ? nlohmann::json(entry.source->bytes) : nullptr},
-                 {"created", rfc3339(entry.stored)}});
-        }
-        send_listing(response, "/v1/environments", "environments", std::move(entries),
-                     page.next_after, query.limit);
-    });
-
-    router.get("/v1/environments/{id}",
-               [&context](const httplib::Request& request, httplib::Response& response) {
-                   single_query(request, {});
-                   send_json(response, 200, environment_of(context, request)->json);
-               });
-
-    router.del("/v1/environments/{id}", [&context](const httplib::Request& request,
-                                                   httplib::Response& response) {
-        if (!context.config.api_key.empty()) {
-            require_api_key(request, context.config.api_key);
-        }
-        single_query(request, {});
-        const std::string& id = request.matches[1];
-        if (id == api::kDefaultPresetId) {
-            throw HttpError(problem(ProblemKind::PresetNotDeletable,
-                                    "'default' is the built-in studio environment: it is part of "
-                                    "the server, not of its store, and cannot be deleted"));
-        }
-        if (!context.environments.remove(id)) {
-            throw not_found(ProblemKind::UnknownId,
-                            "no environment with id '" + api::excerpt(id) + "'");
-        }
-        context.frames.erase(preview_key(id));
-        response.status = 204;
-    });
+    add_asset_listing_route(router, context.environments, kEnvironmentKind, listed_environment);
+    add_asset_reading_route(router, context.environments, kEnvironmentKind);
+    add_asset_removal_route(
+        router, context.environments, kEnvironmentKind,
+        [&context](const std::string& id) { context.frames.erase(preview_key(id)); });
 
     router.get("/v1/environments/{id}/preview.jpg", [&context](const httplib::Request& request,
                                                                httplib::Response& response) {

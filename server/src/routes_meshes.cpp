@@ -6,6 +6,7 @@
 #include "oer/api/parameter_text.hpp"
 #include "oer/core/error.hpp"
 #include "service_context.hpp"
+#include "stored_asset_routes.hpp"
 
 namespace oer::server {
 
@@ -55,17 +56,23 @@ std::string_view media_type_of(MeshFormat format) {
     throw Error(ErrorKind::Internal, "no media type for mesh format " + api::to_string(format));
 }
 
+const StoredAssetKind kMeshKind{"/v1/meshes", "meshes", "mesh", "the built-in product"};
+
+// A listing's entry: the mesh file's format and size.
+nlohmann::json listed_mesh(const ListedAsset& entry) {
+    const MeshFormat format = api::mesh_format_from_string(entry.source->extension);
+    return {{"format", api::to_string(format)},
+            {"media_type", media_type_of(format)},
+            {"bytes", entry.source->bytes}};
+}
+
 }  // namespace
 
 void add_mesh_routes(Router& router, ServiceContext& context) {
     router.post(
-        "/v1/meshes", context.config.max_upload_bytes,
-        [&context](const httplib::Request& request, httplib::Response&) {
-            if (!context.config.api_key.empty()) {
-                require_api_key(request, context.config.api_key);
-            }
-            format_of(request);
-        },
+        "/v1/meshes",
+        RoutePolicy{.needs_api_key = true, .max_body = context.config.max_upload_bytes},
+        [](const httplib::Request& request, httplib::Response&) { format_of(request); },
         [&context](const httplib::Request& request, httplib::Response& response,
                    const std::string& body) {
             if (body.empty()) {
@@ -76,52 +83,9 @@ void add_mesh_routes(Router& router, ServiceContext& context) {
                         "/v1/meshes/" + upload.asset->id);
         });
 
-    router.get(
-        "/v1/meshes", [&context](const httplib::Request& request, httplib::Response& response) {
-            const ListingQuery query = listing_query(request);
-            const ListedPage page = context.meshes.list(query.after, query.limit);
-            nlohmann::json entries = nlohmann::json::array();
-            for (const ListedAsset& entry : page.entries) {
-                const MeshFormat format = api::mesh_format_from_string(entry.source->extension);
-                entries.push_back({{"id", entry.id},
-                                   {"url", "/v1/meshes/" + entry.id},
-                                   {"format", api::to_string(format)},
-                                   {"media_type", media_type_of(format)},
-                                   {"bytes", entry.source->bytes},
-                                   {"created", rfc3339(entry.stored)}});
-            }
-            send_listing(response, "/v1/meshes", "meshes", std::move(entries), page.next_after,
-                         query.limit);
-        });
-
-    router.del("/v1/meshes/{id}", [&context](const httplib::Request& request,
-                                             httplib::Response& response) {
-        if (!context.config.api_key.empty()) {
-            require_api_key(request, context.config.api_key);
-        }
-        single_query(request, {});
-        const std::string& id = request.matches[1];
-        if (id == api::kDefaultPresetId) {
-            throw HttpError(problem(ProblemKind::PresetNotDeletable,
-                                    "'default' is the built-in product: it is part of the server, "
-                                    "not of its store, and cannot be deleted"));
-        }
-        if (!context.meshes.remove(id)) {
-            throw not_found(ProblemKind::UnknownId, "no mesh with id '" + api::excerpt(id) + "'");
-        }
-        response.status = 204;
-    });
-
-    router.get("/v1/meshes/{id}", [&context](const httplib::Request& request,
-                                             httplib::Response& response) {
-        single_query(request, {});
-        const std::string& id = request.matches[1];
-        const auto mesh = context.meshes.find(id);
-        if (!mesh) {
-            throw not_found(ProblemKind::UnknownId, "no mesh with id '" + api::excerpt(id) + "'");
-        }
-        send_json(response, 200, mesh->json);
-    });
+    add_asset_listing_route(router, context.meshes, kMeshKind, listed_mesh);
+    add_asset_removal_route(router, context.meshes, kMeshKind);
+    add_asset_reading_route(router, context.meshes, kMeshKind);
 }
 
 }  // namespace oer::server

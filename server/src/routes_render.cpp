@@ -55,7 +55,7 @@ void answer_frame(ServiceContext& context, const httplib::Request& request,
 
 void add_render_routes(Router& router, ServiceContext& context) {
     router.post(
-        "/v1/render", context.render_limits.max_body_bytes,
+        "/v1/render", RoutePolicy{.max_body = context.render_limits.max_body_bytes},
         [](const httplib::Request& request, httplib::Response&) {
             if (const std::string type = media_type(request); type != "application/json") {
                 throw HttpError(problem(

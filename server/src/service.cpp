@@ -11,7 +11,6 @@
 
 #include "access_log.hpp"
 #include "bounded_http_server.hpp"
-#include "cors.hpp"
 #include "environment_registry.hpp"
 #include "frame_service.hpp"
 #include "http_exchange.hpp"
@@ -252,7 +251,8 @@ Service::Impl::Listener Service::Impl::make_listener(const ConnectionLimits& lim
     Listener listener;
     listener.http = std::make_unique<BoundedHttpServer>(
         limits, [this](const std::string&) { metrics.connections_refused.increment(); });
-    listener.routes = std::make_unique<Router>(*listener.http, log);
+    listener.routes = std::make_unique<Router>(*listener.http, log,
+                                               RouterPolicies{config.api_key, config.cors_origins});
     configure_server(*listener.http, *listener.routes, threads);
     return listener;
 }
@@ -302,17 +302,11 @@ void Service::Impl::configure_server(httplib::Server& http, const Router& routes
     http.set_keep_alive_max_count(std::size_t(std::max(config.keep_alive_max_count, 1)));
 
     http.set_pre_routing_handler(
-        [this, &routes](const httplib::Request& request, httplib::Response& response) {
+        [&routes](const httplib::Request& request, httplib::Response& response) {
             RequestState& state = current_request();
             state = RequestState{};
             state.start = std::chrono::steady_clock::now();
-            add_cors_headers(config.cors_origins, request, response);
-            if (request.method == "OPTIONS") {
-                state.route = "preflight";
-                answer_preflight(routes.methods_for(request.path), response);
-                return httplib::Server::HandlerResponse::Handled;
-            }
-            return httplib::Server::HandlerResponse::Unhandled;
+            return routes.before_routing(request, response);
         });
 
     // Answers that cpp-httplib makes itself (no route, a malformed request) and routes that

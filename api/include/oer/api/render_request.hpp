@@ -177,5 +177,11 @@ Camera resolved_camera(const RenderSpec& spec,
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,
                               const std::vector<std::shared_ptr<const Mesh>>& meshes);
+// The same from the camera resolved_camera gave for this spec and these meshes, for a caller
+// that needs the camera beside the frame (the service's X-Oer-Camera) and resolves it once.
+FrameRequest to_frame_request(const RenderSpec& spec, const Camera& camera,
+                              std::shared_ptr<const Rig> rig,
+                              std::shared_ptr<const HdrImage> environment_map,
+                              const std::vector<std::shared_ptr<const Mesh>>& meshes);
 
 }  // namespace oer::api
