@@ -3,8 +3,10 @@
 # Used by scripts/run.sh, scripts/test.sh and (through test.sh) by CI.
 set -euo pipefail
 
+# ninja-build and ccache: the generator of scripts/build.sh and the compiler cache of
+# cmake/compiler_cache.cmake, which make a rebuild on the same machine cost hashes, not compiles.
 build_packages=(
-    build-essential cmake pkg-config git clang-format
+    build-essential cmake ninja-build ccache pkg-config git clang-format
     libopenimageio-dev openimageio-tools libopenexr-dev
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
     libmeshoptimizer-dev libembree-dev
