@@ -12,6 +12,7 @@
 #include "oer/api/version.hpp"
 #include "oer/core/checked_json.hpp"
 #include "oer/core/enum_names.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "render_members.hpp"
 
 namespace oer::api {
@@ -228,12 +229,12 @@ Camera resolved_camera(const RenderSpec& spec,
                     "resolved_camera: " + std::to_string(meshes.size()) + " mesh(es) for " +
                         std::to_string(spec.objects.size()) + " object(s), or a null one");
     }
-    std::vector<Bounds> boxes;
+    // The bounds the renderer frames a request without a camera by (oer::scene_bounds).
+    std::vector<SceneObject> objects;
     for (std::size_t i = 0; i < meshes.size(); ++i) {
-        boxes.push_back(
-            transformed_bounds(meshes[i]->bounds, glm::mat4(spec.objects[i].transform)));
+        objects.push_back({meshes[i], glm::mat4(spec.objects[i].transform), std::nullopt});
     }
-    const Bounds scene = enclosing_bounds(boxes);
+    const Bounds scene = scene_bounds(objects).box;
     const float aspect = float(spec.width) / float(spec.height);
     if (!spec.camera) {
         return frame_bounds(scene, Camera{}.fov_y, aspect);
