@@ -7,10 +7,10 @@ namespace oer::testing {
 
 using Json = nlohmann::json;
 
+// The build gives the spec's absolute path (tests/CMakeLists.txt), not __FILE__: the compiler
+// cache makes source paths relative to the build folder (cmake/compiler_cache.cmake).
 const std::filesystem::path& openapi_path() {
-    static const std::filesystem::path path =
-        std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "api" /
-        "openapi.yaml";
+    static const std::filesystem::path path = OER_OPENAPI_PATH;
     return path;
 }
 
