@@ -78,7 +78,7 @@ def header(sweeps: Sweeps) -> str:
     return "\n".join(lines)
 
 
-def occlusion_section(frames: FrameRows, figures: Path, link: str) -> str:
+def occlusion_section_with_figure(frames: FrameRows, figures: Path, link: str) -> str:
     """The occlusion section's figures, with the rule's check drawn when the sweep ran it."""
     figure_link = None
     if rule_worlds(frames):
@@ -211,7 +211,7 @@ def write_report(sweeps: Sweeps, out: Path, gallery: Path | None = None) -> Path
         shutil.rmtree(generated, ignore_errors=True)
     sections = [
         header(sweeps),
-        occlusion_section(frames, assets / "figures", "accuracy"),
+        occlusion_section_with_figure(frames, assets / "figures", "accuracy"),
         headline_section(frames),
         reading_section(lighting, sweeps, frames),
         front_section(frames, lighting),
