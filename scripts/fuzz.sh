@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz) with clang into build-fuzz/ and runs each for a
-# bounded time from its seeds, one after the other: prints per target the executions reached,
+# bounded time from its seeds, one per core at a time: prints per target the executions reached,
 # the coverage (edges and features) and any finding, and exits non-zero if any target found
 # something. tests/fuzz/README.md says what counts as a finding and how to reproduce one.
 #
@@ -33,21 +33,31 @@ fi
 # -O1 without debug info, as the sanitizer build of scripts/test.sh: the sanitizers need frame
 # pointers, not -O2 and DWARF (function names come from the symbol table). Warnings are left to
 # the gcc build, which treats them as errors: clang 14 warns on the vendored MikkTSpace.
-cmake -S "$root" -B "$build" -DOER_FUZZ=ON -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+# A new build folder uses Ninja and unity batches (CMakeLists.txt's OER_UNITY_BUILD), as the
+# test builds do: this folder is mostly built from clean.
+generator=()
+if [[ ! -f "$build/CMakeCache.txt" ]] && command -v ninja >/dev/null; then
+    generator=(-G Ninja)
+fi
+cmake -S "$root" -B "$build" "${generator[@]}" -DOER_FUZZ=ON -DOER_UNITY_BUILD=ON \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=None -DCMAKE_C_FLAGS=-O1 -DCMAKE_CXX_FLAGS=-O1 \
     >/dev/null
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
-failed=0
-for target in "${targets[@]}"; do
-    corpus="$build/corpus/$target"
-    findings="$build/findings/$target"
-    start="$build/start/$target"  # the seeds and hostile files, copied afresh each run
-    log="$build/logs/$target.log"
+
+# fuzz_one TARGET: runs one target for the time given, then writes its exit status to
+# results/TARGET.
+fuzz_one() {
+    local target=$1
+    local corpus="$build/corpus/$target"
+    local findings="$build/findings/$target"
+    local start="$build/start/$target"  # the seeds and hostile files, copied afresh each run
+    local log="$build/logs/$target.log"
     rm -rf "$start"
-    mkdir -p "$corpus" "$findings" "$start" "$(dirname "$log")"
+    mkdir -p "$corpus" "$findings" "$start" "$(dirname "$log")" "$build/results"
     cp "$seeds/${seed_dir[$target]}"/* "$start/"
     if [[ -n "${hostile_files[$target]:-}" ]]; then
         (cd "$hostile" && cp ${hostile_files[$target]} "$start/")
@@ -56,18 +66,35 @@ for target in "${targets[@]}"; do
     # it at once, is a memory bomb (the sanitizers' own overhead included); -timeout: an input
     # that takes 10 s is a hang (the slowest seeds take under 0.1 s).
     # A target's dictionary (tests/fuzz/NAME.dict: its member names and values), where it has one.
-    dictionary=()
+    local dictionary=()
     if [[ -f "$root/tests/fuzz/${seed_dir[$target]}.dict" ]]; then
         dictionary=(-dict="$root/tests/fuzz/${seed_dir[$target]}.dict")
     fi
-    status=0
+    local status=0
     nice -n 5 "$build/bin/$target" "$corpus" "$start" "${dictionary[@]}" -max_total_time="$seconds" \
         -max_len="${max_len[$target]}" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
         -artifact_prefix="$findings/" -print_final_stats=1 >"$log" 2>&1 || status=$?
+    echo "$status" >"$build/results/$target"
+}
+
+# One target per core at a time (each libFuzzer process is single-threaded).
+rm -rf "$build/results"
+for target in "${targets[@]}"; do
+    while (($(jobs -rp | wc -l) >= $(nproc))); do
+        wait -n
+    done
+    fuzz_one "$target" &
+done
+wait
+
+failed=0
+for target in "${targets[@]}"; do
+    log="$build/logs/$target.log"
+    status=$(cat "$build/results/$target" 2>/dev/null || echo "no result")
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
     coverage=$(grep -E '^#[0-9]+.*cov: ' "$log" | tail -1 |
         sed -E 's/.*cov: ([0-9]+) ft: ([0-9]+) corp: ([0-9]+).*/\1 edges, \2 features, \3 inputs in the corpus/')
-    if ((status == 0)); then
+    if [[ "$status" == 0 ]]; then
         echo "fuzz: $target: ${runs:-?} executions in ${seconds} s, ${coverage:-no coverage line}; no finding"
     else
         failed=$((failed + 1))

@@ -7,5 +7,5 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup-debian.sh"
-OER_BUILD_TARGETS=oer-server "$root/scripts/build.sh" "$root/build"
+OER_BUILD_TARGETS=oer-server "$root/scripts/build.sh" "$root/build" -DOER_UNITY_BUILD=ON
 exec "$root/build/bin/oer-server" "$@"

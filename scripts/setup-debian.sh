@@ -4,9 +4,10 @@
 set -euo pipefail
 
 # ninja-build and ccache: the generator of scripts/build.sh and the compiler cache of
-# cmake/compiler_cache.cmake, which make a rebuild on the same machine cost hashes, not compiles.
+# cmake/compiler_cache.cmake, which make a rebuild on the same machine cost hashes, not compiles;
+# lld, the linker of cmake/linker.cmake, several times faster than GNU ld over the tests.
 build_packages=(
-    build-essential cmake ninja-build ccache pkg-config git clang-format
+    build-essential cmake ninja-build ccache lld pkg-config git clang-format
     libopenimageio-dev openimageio-tools libopenexr-dev
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
     libmeshoptimizer-dev libembree-dev

@@ -446,7 +446,7 @@ std::string_view parent_of(std::string_view path) {
     return slash == std::string_view::npos ? std::string_view() : path.substr(0, slash);
 }
 
-std::string_view name_of(std::string_view path) {
+std::string_view member_name_of(std::string_view path) {
     return path.substr(path.rfind('/') + 1);
 }
 
@@ -457,7 +457,7 @@ void read_json_members(RenderSpec& spec, const Json& object, const std::string& 
         if (parent_of(row.json) != path) {
             continue;
         }
-        const std::string_view name = name_of(row.json);
+        const std::string_view name = member_name_of(row.json);
         if (const Json* value = find(object, name)) {
             row.read_json(spec, *value, child(path, name), limits);
         } else if (row.presence == Presence::Required) {
@@ -499,7 +499,7 @@ const std::vector<std::string_view>& render_member_names(std::string_view parent
     static const auto names = [] {
         std::map<std::string_view, std::vector<std::string_view>, std::less<>> levels;
         for (const RenderParameter& row : render_parameters()) {
-            levels[parent_of(row.json)].push_back(name_of(row.json));
+            levels[parent_of(row.json)].push_back(member_name_of(row.json));
         }
         return levels;
     }();

@@ -6,14 +6,14 @@ namespace oer::api {
 
 namespace {
 
-nlohmann::json vector_json(const glm::dvec3& v) {
+nlohmann::json raw_vector_json(const glm::dvec3& v) {
     return nlohmann::json::array({v.x, v.y, v.z});
 }
 
 nlohmann::json coefficients_json(const ShRgb& sh) {
     nlohmann::json list = nlohmann::json::array();
     for (const glm::dvec3& c : sh.coefficients) {
-        list.push_back(vector_json(c));
+        list.push_back(raw_vector_json(c));
     }
     return list;
 }
@@ -35,8 +35,8 @@ nlohmann::json rig_to_json(const Rig& rig, const std::string& id) {
 
     nlohmann::json lights = nlohmann::json::array();
     for (const Light& light : rig.lights) {
-        lights.push_back({{"direction", vector_json(light.direction)},
-                          {"intensity", vector_json(light.intensity)},
+        lights.push_back({{"direction", raw_vector_json(light.direction)},
+                          {"intensity", raw_vector_json(light.intensity)},
                           {"solid_angle", light.solid_angle},
                           {"angular_radius", light.angular_radius},
                           {"luminance_share", light.luminance_share},

@@ -12,6 +12,7 @@
 // removed. Readers that got the asset before keep it (shared ownership): a frame in flight
 // finishes.
 #include <chrono>
+#include <cstddef>
 #include <functional>
 #include <future>
 #include <map>
@@ -19,7 +20,9 @@
 #include <mutex>
 #include <optional>
 #include <shared_mutex>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "oer/api/content_id.hpp"
@@ -29,6 +32,11 @@
 #include "service_metrics.hpp"
 
 namespace oer::server {
+
+// Bytes held in a string (an upload's body, a stored source) as the span the decoders read.
+inline std::span<const std::byte> as_bytes(std::string_view text) {
+    return std::as_bytes(std::span(text.data(), text.size()));
+}
 
 // An entry of a listing (GET /v1/environments, GET /v1/meshes).
 struct ListedAsset {

@@ -17,10 +17,6 @@ namespace oer::server {
 
 namespace {
 
-std::span<const std::byte> as_bytes(std::string_view text) {
-    return std::as_bytes(std::span(text.data(), text.size()));
-}
-
 std::size_t charge_of(const Environment& environment) {
     std::size_t pixels = 0;
     for (const Light& light : environment.rig->lights) {

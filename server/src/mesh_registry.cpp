@@ -10,10 +10,6 @@ namespace oer::server {
 
 namespace {
 
-std::span<const std::byte> as_bytes(std::string_view text) {
-    return std::as_bytes(std::span(text.data(), text.size()));
-}
-
 // Memory that loading a mesh holds, per byte of its file, at most: measured 5.3 for a binary
 // glTF (2CylinderEngine.glb, 1.8 MB: +9.7 MB peak resident) and 7.2 for OBJ text (glmark2's
 // bunny.obj, 2.4 MB: +17 MB), the parsed document, the decoded arrays and the welded mesh.

@@ -19,6 +19,7 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/version.hpp"
 #include "oer/core/error.hpp"
+#include "oer/core/size_text.hpp"
 #include "oer/server/asset_store.hpp"
 #include "oer/server/byte_lru_cache.hpp"
 #include "oer/server/metrics.hpp"
@@ -57,12 +58,6 @@ constexpr int kAdminThreads = 4;
 constexpr std::chrono::milliseconds kRenderAdmissionWait(500);
 // At most this share of the HTTP threads waits so; the others stay free for everything else.
 constexpr int kRenderAdmissionThreadShare = 2;  // one half
-
-std::string mebibytes(std::uint64_t bytes) {
-    std::ostringstream text;
-    text << double(bytes) / double(1 << 20) << " MiB";
-    return text.str();
-}
 
 }  // namespace
 

@@ -5,19 +5,9 @@
 
 #include "http_errors.hpp"
 #include "oer/core/error.hpp"
+#include "oer/core/size_text.hpp"
 
 namespace oer::server {
-
-namespace {
-
-std::string mebibytes(std::uint64_t bytes) {
-    std::ostringstream text;
-    text.precision(3);
-    text << double(bytes) / double(1 << 20) << " MiB";
-    return text.str();
-}
-
-}  // namespace
 
 UploadBudget::Lease::Lease(Lease&& other) noexcept
     : budget_(std::exchange(other.budget_, nullptr)), cost_(other.cost_) {}

@@ -29,8 +29,11 @@
 #include "oer/lighting/default_environment.hpp"
 #include "oer/mesh/default_product.hpp"
 #include "openapi_spec.hpp"
+#include "rejected_parameter.hpp"
 
 using namespace oer;
+using oer::testing::rejected_member;
+using oer::testing::rejected_parameter;
 using Json = nlohmann::json;
 
 namespace {
@@ -172,24 +175,6 @@ std::optional<Json> default_of(const Spec::Block& block) {
     return std::nullopt;
 }
 
-std::string rejected_member(const Json& body) {
-    try {
-        api::parse_render_json(body.dump());
-    } catch (const api::InvalidParameter& error) {
-        return error.parameter();
-    }
-    return "";
-}
-
-std::string rejected_parameter(const std::multimap<std::string, std::string>& query) {
-    try {
-        api::parse_render_query(query);
-    } catch (const api::InvalidParameter& error) {
-        return error.parameter();
-    }
-    return "";
-}
-
 // The values just inside and just outside a schema's bounds and enums, as JSON.
 struct Probes {
     std::vector<Json> accepted;
@@ -305,7 +290,7 @@ TEST(OpenApi, RenderRequestBoundsAndEnumsAreTheParsers) {
                     body["camera"] = {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}};
                 }
                 body[Json::json_pointer("/" + path)] = value;
-                EXPECT_EQ(rejected_member(body), accept ? "" : path) << body.dump();
+                EXPECT_EQ(rejected_member(body.dump()), accept ? "" : path) << body.dump();
                 ++probed;
             }
         }

@@ -19,11 +19,14 @@
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/default_product.hpp"
 #include "oer/scene/scene_rules.hpp"
+#include "rejected_parameter.hpp"
 
 using namespace oer;
 using api::InvalidParameter;
 using api::MalformedRequest;
 using api::RenderSpec;
+using oer::testing::rejected_member;
+using oer::testing::rejected_parameter;
 using Json = nlohmann::json;
 using Query = std::multimap<std::string, std::string>;
 
@@ -32,25 +35,6 @@ namespace {
 const std::string kRig(64, 'a');
 const std::string kMeshA(64, 'b');
 const std::string kMeshB = "0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
-
-// The member a body is rejected for, or "" when it is accepted.
-std::string rejected_member(const std::string& body) {
-    try {
-        api::parse_render_json(body);
-    } catch (const InvalidParameter& error) {
-        return error.parameter();
-    }
-    return "";
-}
-
-std::string rejected_parameter(const Query& query) {
-    try {
-        api::parse_render_query(query);
-    } catch (const InvalidParameter& error) {
-        return error.parameter();
-    }
-    return "";
-}
 
 // A body with `member` set to `value` on top of a valid minimal request.
 std::string with(const std::string& member, const std::string& value) {

@@ -16,19 +16,20 @@
 
 #include "oer/scene/scene_transfer.hpp"
 #include "sweep_process.hpp"
+#include "sweep_support.hpp"
 
 namespace {
 
-const char* const kWorldDirectory = "/usr/share/blender/datafiles/studiolights/world";
 const char* const kBunny = "/usr/share/glmark2/models/bunny.obj";
 
 // (world, config, state, bounce, surface)
-using Key = std::tuple<std::string, std::string, std::string, std::string, std::string>;
+using FrameRowKey = std::tuple<std::string, std::string, std::string, std::string, std::string>;
 
 class FrameSweepQuick : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
-        if (!std::filesystem::exists(std::filesystem::path(kWorldDirectory) / "studio.exr") ||
+        if (!std::filesystem::exists(std::filesystem::path(oer::bench::kBlenderWorldDirectory) /
+                                     "studio.exr") ||
             !std::filesystem::exists(kBunny)) {
             return;
         }
@@ -67,7 +68,7 @@ class FrameSweepQuick : public ::testing::Test {
 
     static SweepOutput* output_;
     static std::map<std::string, std::uintmax_t>* images_;
-    std::map<Key, nlohmann::json> rows_;
+    std::map<FrameRowKey, nlohmann::json> rows_;
 };
 SweepOutput* FrameSweepQuick::output_ = nullptr;
 std::map<std::string, std::uintmax_t>* FrameSweepQuick::images_ = nullptr;

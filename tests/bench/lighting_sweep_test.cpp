@@ -14,16 +14,17 @@
 #include <tuple>
 
 #include "sweep_process.hpp"
+#include "sweep_support.hpp"
 
 namespace {
 
-const char* const kWorldDirectory = "/usr/share/blender/datafiles/studiolights/world";
 constexpr double kTolerance = 0.01;  // RigOptions::sh_tolerance, the auto order's promise
 
 std::set<std::string> installed_worlds() {
     std::set<std::string> worlds;
     std::error_code error;
-    for (const auto& entry : std::filesystem::directory_iterator(kWorldDirectory, error)) {
+    for (const auto& entry :
+         std::filesystem::directory_iterator(oer::bench::kBlenderWorldDirectory, error)) {
         if (entry.path().extension() == ".exr") {
             worlds.insert(entry.path().stem().string());
         }
@@ -37,7 +38,7 @@ const std::set<double> kCutoffFactors = {1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0};
 constexpr double kHanningDefault = 2.0, kLanczosDefault = 1.5;
 
 // (world, subset, order, window, cutoff over the order (0 for none and auto), downsampling)
-using Key = std::tuple<std::string, std::string, int, std::string, double, int>;
+using LightingRowKey = std::tuple<std::string, std::string, int, std::string, double, int>;
 
 class LightingSweepQuick : public ::testing::Test {
   protected:
@@ -52,7 +53,7 @@ class LightingSweepQuick : public ::testing::Test {
     }
     void SetUp() override {
         if (output_ == nullptr) {
-            GTEST_SKIP() << "no Blender worlds in " << kWorldDirectory
+            GTEST_SKIP() << "no Blender worlds in " << oer::bench::kBlenderWorldDirectory
                          << ": install blender-data (scripts/setup-debian.sh --with-test-data)";
         }
         ASSERT_EQ(output_->status, 0) << output_->stderr_text;
@@ -70,7 +71,7 @@ class LightingSweepQuick : public ::testing::Test {
     }
 
     static SweepOutput* output_;
-    std::map<Key, nlohmann::json> rows_;
+    std::map<LightingRowKey, nlohmann::json> rows_;
 };
 
 SweepOutput* LightingSweepQuick::output_ = nullptr;

@@ -27,7 +27,7 @@ glm::dvec3 direction_of(double azimuth_degrees, double elevation_degrees) {
             std::cos(elevation) * std::sin(phi)};
 }
 
-struct Disc {
+struct SkyDisc {
     glm::dvec3 centre;
     double radius_degrees;
     glm::vec3 radiance;
@@ -36,13 +36,13 @@ struct Disc {
 // A dim sky, brightest towards +X, with bright discs. (A sky whose brightest pixels form a
 // band, at the horizon or the zenith, draws the thesis's pixel-space clusters into the band
 // and merges discs near it with the sky: the literal algorithm's weakness, not tested here.)
-HdrImage sky_with_discs(int width, int height, const std::vector<Disc>& discs) {
+HdrImage sky_with_discs(int width, int height, const std::vector<SkyDisc>& discs) {
     HdrImage image(width, height);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             const glm::dvec3 d = equirect::pixel_direction(x, y, width, height);
             glm::vec3 value = glm::vec3(0.2f, 0.22f, 0.25f) * float(1.0 + 0.3 * d.x);
-            for (const Disc& disc : discs) {
+            for (const SkyDisc& disc : discs) {
                 if (glm::dot(d, disc.centre) >= std::cos(disc.radius_degrees * pi / 180.0)) {
                     value = disc.radiance;
                 }
@@ -55,7 +55,7 @@ HdrImage sky_with_discs(int width, int height, const std::vector<Disc>& discs) {
 
 // Share of the map's (unblurred) luminance inside the disc: what the light of that disc
 // should report as luminanceLoss, up to the few sky pixels of its halo.
-double disc_share(const HdrImage& image, const Disc& disc) {
+double disc_share(const HdrImage& image, const SkyDisc& disc) {
     double inside = 0.0, total = 0.0;
     for (int y = 0; y < image.height; ++y) {
         for (int x = 0; x < image.width; ++x) {
@@ -180,7 +180,7 @@ TEST(LiteralThesis, BlurClampsAtTheSeamInsteadOfWrapping) {
 TEST(LiteralThesis, FindsASingleDiscWithinTwoPixels) {
     const int w = 512, h = 256;
     const glm::dvec3 centre = direction_of(40.0, 30.0);
-    const Disc disc{centre, 3.0, glm::vec3(50.0f, 45.0f, 40.0f)};
+    const SkyDisc disc{centre, 3.0, glm::vec3(50.0f, 45.0f, 40.0f)};
     const HdrImage image = sky_with_discs(w, h, {disc});
     LiteralOptions options;
     options.light_count = 1;
@@ -194,7 +194,7 @@ TEST(LiteralThesis, FindsASingleDiscWithinTwoPixels) {
 
 TEST(LiteralThesis, ThreeDiscsGiveThreeLightsAndEightOccludedMaps) {
     const int w = 512, h = 256;
-    const std::vector<Disc> discs = {
+    const std::vector<SkyDisc> discs = {
         {direction_of(-100.0, 20.0), 3.5, glm::vec3(40.0f, 38.0f, 30.0f)},
         {direction_of(0.0, 45.0), 2.5, glm::vec3(60.0f, 70.0f, 90.0f)},
         {direction_of(110.0, 10.0), 2.0, glm::vec3(120.0f, 80.0f, 50.0f)},

@@ -38,6 +38,7 @@
 
 using namespace oer;
 using oer::testing::DiscLight;
+using oer::testing::front_camera;
 using oer::testing::hit_sphere;
 using oer::testing::hits_box;
 using oer::testing::linear_alpha;
@@ -46,8 +47,6 @@ using oer::testing::make_rig;
 using oer::testing::pixel_ray;
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Three lights from distinct directions over a dim sky.
 HdrImage three_light_map() {
@@ -141,13 +140,6 @@ Mesh box_textured_with(const std::string& root, int width, int height) {
     return load_mesh_memory(std::as_bytes(std::span(gltf)), "BoxTextured.gltf", MeshFormat::Gltf);
 }
 
-Camera front_camera() {
-    Camera camera;
-    camera.eye = {0.0f, 0.0f, 3.5f};
-    camera.fov_y = 40.0f;
-    return camera;
-}
-
 }  // namespace
 
 TEST_F(FrameRendererTest, WhiteSphereUnderAConstantEnvironmentHasItsRadiance) {
@@ -188,7 +180,7 @@ TEST_F(FrameRendererTest, SpherePixelsMatchTheRigsShIrradianceAtTheirNormals) {
         for (int y = 0; y < 128; ++y) {
             for (int x = 0; x < 128; ++x) {
                 const auto n = equirect::pixel_direction(x, y, 128, 64);
-                largest = std::max(largest, irradiance.evaluate(n).g / kPi);
+                largest = std::max(largest, irradiance.evaluate(n).g / std::numbers::pi);
             }
         }
         int checked = 0;
@@ -200,7 +192,7 @@ TEST_F(FrameRendererTest, SpherePixelsMatchTheRigsShIrradianceAtTheirNormals) {
                 }
                 // The environment turned by yaw lights n as the unturned one lights n turned back.
                 const glm::dvec3 expected =
-                    irradiance.evaluate(equirect::rotate_yaw(*normal, -yaw)) / kPi;
+                    irradiance.evaluate(equirect::rotate_yaw(*normal, -yaw)) / std::numbers::pi;
                 const glm::dvec3 got = linear_rgb(frame, x, y);
                 for (int c = 0; c < 3; ++c) {
                     ASSERT_NEAR(got[c], expected[c], 0.01 * std::abs(expected[c]) + 0.002 * largest)
@@ -303,7 +295,7 @@ TEST_F(FrameRendererTest, ShadowsTakeExactlyTheirLightsShContribution) {
                 glm::dvec3 expected_difference{0.0};
                 for (int k = 0; k < 3; ++k) {
                     if ((mask & subset) & (1 << k)) {
-                        expected_difference -= 0.8 / kPi * ground_irradiance[k];
+                        expected_difference -= 0.8 / std::numbers::pi * ground_irradiance[k];
                         ++shadowed_pixels[k];
                     }
                 }
@@ -332,7 +324,7 @@ TEST_F(FrameRendererTest, ALightsWeightScalesItsShContributionWhereItReaches) {
     const std::vector<int>& classes = box.classes;
     constexpr std::size_t kDimmed = 0;
     const glm::dvec3 light_part =
-        0.8 / kPi *
+        0.8 / std::numbers::pi *
         irradiance_coefficients(rig->sh.per_light[kDimmed], rig->window).evaluate({0, 1, 0});
     const std::vector<float> weights = {1.0f, 0.5f, 2.0f, 4.0f, 0.0f};
     std::vector<Frame> frames;
@@ -408,7 +400,8 @@ TEST_F(FrameRendererTest, ShadowEdgeLiesWhereGeometryPutsIt) {
     request.shadows.enabled = false;
     const Frame unshadowed = render(request);
     const glm::dvec3 light_contribution =
-        0.8 / kPi * irradiance_coefficients(rig->sh.per_light[0], rig->window).evaluate({0, 1, 0});
+        0.8 / std::numbers::pi *
+        irradiance_coefficients(rig->sh.per_light[0], rig->window).evaluate({0, 1, 0});
 
     std::vector<int> predicted(256 * 256, -1), measured(256 * 256, -1);
     for (int y = 0; y < 256; ++y) {
@@ -711,7 +704,7 @@ TEST_F(FrameRendererTest, SixteenShadowingLightsEachCastTheirShadow) {
     // and llvmpipe offer.
     std::vector<oer::testing::DiscLight> discs;
     for (int i = 0; i < 16; ++i) {
-        const double angle = 2.0 * kPi * i / 16.0;
+        const double angle = 2.0 * std::numbers::pi * i / 16.0;
         discs.push_back({{std::cos(angle), 0.9, std::sin(angle)}, 0.06, {100.0f, 100.0f, 100.0f}});
     }
     RigOptions options;
@@ -1027,7 +1020,7 @@ ShadowCheck check_shadows(const Frame& shadowed, const Frame& unshadowed, const 
     }
     const glm::dvec3 towards_light = rig.lights[0].direction;
     const ShRgb light_irradiance = irradiance_coefficients(rig.sh.per_light[0], rig.window);
-    const double ground_part = 0.8 / kPi * light_irradiance.evaluate({0, 1, 0}).g;
+    const double ground_part = 0.8 / std::numbers::pi * light_irradiance.evaluate({0, 1, 0}).g;
     const double ground_y = boxes[0].low.y;
     const auto shadowed_point = [&](glm::dvec3 point) {
         return std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) {
@@ -1063,7 +1056,8 @@ ShadowCheck check_shadows(const Frame& shadowed, const Frame& unshadowed, const 
             if (face) {
                 const double facing = glm::dot(*face, towards_light);
                 if (facing > 0.0 && !shadowed_point(face_point + 1e-9 * *face)) {
-                    const double part = box_albedo / kPi * light_irradiance.evaluate(*face).g;
+                    const double part =
+                        box_albedo / std::numbers::pi * light_irradiance.evaluate(*face).g;
                     ++check.lit_faces;
                     check.acne += part > 0.0 && drop > 0.02 * part;
                 }
@@ -1222,7 +1216,7 @@ TEST_F(FrameRendererTest, LightsAtThePoleAndOnTheSeamCastTheirShadows) {
         const auto found = one_light_rig(direction);
         ASSERT_EQ(found->lights.size(), 1u);
         EXPECT_LT(std::acos(glm::dot(found->lights[0].direction, glm::normalize(direction))),
-                  kPi / 512)
+                  std::numbers::pi / 512)
             << "light found off its disc";
         // Exactly on the pole and the seam: the mean of the disc's pixel directions leaves about
         // 1e-17 of the other axes, which would hide a light view whose up vector is parallel to
@@ -1357,7 +1351,7 @@ TEST_F(FrameRendererTest, ALightBelowTheHorizonLightsTheBoxButNotTheGround) {
     const ShRgb light_irradiance = irradiance_coefficients(rig->sh.per_light[0], rig->window);
     // What the ground would show of the light's SH lobe (0.8 / pi E_k(+Y)), against which the
     // ground's measured change is judged.
-    const double lobe = 0.8 / kPi * light_irradiance.evaluate({0, 1, 0}).g;
+    const double lobe = 0.8 / std::numbers::pi * light_irradiance.evaluate({0, 1, 0}).g;
     const glm::dvec3 eye(camera.eye);
     int ground_pixels = 0, face_pixels = 0;
     double ground_change = 0.0, face_loss = 0.0, least_face_part = HUGE_VAL;
@@ -1373,7 +1367,7 @@ TEST_F(FrameRendererTest, ALightBelowTheHorizonLightsTheBoxButNotTheGround) {
                 }
                 // A face towards the light: the light's SH irradiance there, all of it, with
                 // shadows as without.
-                const double part = 0.5 / kPi * light_irradiance.evaluate(*face).g;
+                const double part = 0.5 / std::numbers::pi * light_irradiance.evaluate(*face).g;
                 least_face_part = std::min(least_face_part, part);
                 face_loss = std::max(face_loss, std::abs((light_on - light_off).g - part) / part);
                 face_loss = std::max(face_loss,

@@ -342,5 +342,5 @@ TEST(GlContextDeathTest, NoDriverGivesUnsupportedListingEveryAttempt) {
             }
             std::exit(1);
         },
-        testing::ExitedWithCode(0), "no headless OpenGL 4.5.*device platform.*surfaceless");
+        ::testing::ExitedWithCode(0), "no headless OpenGL 4.5.*device platform.*surfaceless");
 }

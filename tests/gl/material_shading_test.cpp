@@ -36,6 +36,7 @@
 #include "test_meshes.hpp"
 
 using namespace oer;
+using oer::testing::front_camera;
 using oer::testing::hit_sphere;
 using oer::testing::hits_box;
 using oer::testing::linear_alpha;
@@ -45,16 +46,7 @@ using oer::testing::pixel_ray;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 class MaterialShadingTest : public oer::testing::RendererSuite {};
-
-Camera front_camera() {
-    Camera camera;
-    camera.eye = {0.0f, 0.0f, 3.5f};
-    camera.fov_y = 40.0f;
-    return camera;
-}
 
 std::shared_ptr<const Mesh> shared(Mesh mesh) {
     return std::make_shared<const Mesh>(std::move(mesh));
@@ -436,7 +428,8 @@ TEST_F(MaterialShadingTest, LambertianMaterialsShadeAsBeforeAndCostNoSpecularMap
             if (!n || glm::dot(*n, -pixel_ray(camera, 128, 128, x, y)) < 0.4) {
                 continue;
             }
-            const glm::dvec3 want = glm::dvec3(0.8, 0.6, 0.4) / kPi * irradiance.evaluate(*n);
+            const glm::dvec3 want =
+                glm::dvec3(0.8, 0.6, 0.4) / std::numbers::pi * irradiance.evaluate(*n);
             const glm::dvec3 got = linear_rgb(plain, x, y);
             for (int c = 0; c < 3; ++c) {
                 worst = std::max(worst, std::abs(got[c] / want[c] - 1.0));
@@ -822,7 +815,7 @@ TEST_F(MaterialShadingTest, AMaskCutsItsCellsInTheFrameAndInItsShadow) {
         return opaque_cell((p.x + 1.0) / 2.0, (p.z + 1.0) / 2.0) ? 1 : 0;
     };
     const ShRgb light_irradiance = irradiance_coefficients(rig->sh.per_light[0], rig->window);
-    const double ground_part = 0.8 / kPi * light_irradiance.evaluate({0, 1, 0}).g;
+    const double ground_part = 0.8 / std::numbers::pi * light_irradiance.evaluate({0, 1, 0}).g;
     std::vector<int> predicted(std::size_t(size * size), -1), measured = predicted;
     const glm::dvec3 eye(above.eye);
     for (int y = 0; y < size; ++y) {

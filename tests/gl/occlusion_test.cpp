@@ -32,8 +32,6 @@ namespace {
 using oer::testing::linear_alpha;
 using oer::testing::linear_rgb;
 
-constexpr double kPi = std::numbers::pi;
-
 // Three disc lights over a background that varies with direction, so that the residual map is
 // not symmetric about +Y and the yaw's rotation of it shows. Lights above the horizon unless
 // below_horizon.
@@ -199,7 +197,8 @@ TEST_F(OcclusionTest, AZeroTransferTakesTheResidualMapsIrradianceOffTheGround) {
     const TransferLighting lighting = transfer_lighting(*rig, std::vector<float>(3, 1.0f), 0.0,
                                                         transfer_order(*rig), true, Bounce::None);
     const glm::dvec3 residual_up =
-        irradiance_coefficients(lighting.residual).evaluate({0.0, 1.0, 0.0}) * (0.8 / kPi);
+        irradiance_coefficients(lighting.residual).evaluate({0.0, 1.0, 0.0}) *
+        (0.8 / std::numbers::pi);
     ASSERT_GT(residual_up.g, 0.05);
     const SceneBounds bounds = scene_bounds(plain.objects);
     int ground_pixels = 0;

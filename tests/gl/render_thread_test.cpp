@@ -279,7 +279,7 @@ TEST(RenderThreadDeathTest, ConstructorRethrowsACreationFailure) {
             }
             std::exit(1);
         },
-        testing::ExitedWithCode(0), "no headless OpenGL");
+        ::testing::ExitedWithCode(0), "no headless OpenGL");
 }
 
 // A render thread made with a nice increment runs its jobs below its creator, and so do the
@@ -290,7 +290,7 @@ TEST(RenderThreadDeathTest, ConstructorRethrowsACreationFailure) {
 // context and shares them after.
 TEST(RenderThreadDeathTest, ANiceIncrementLowersItAndTheThreadsTheDriverStarts) {
     GTEST_FLAG_SET(death_test_style, "threadsafe");
-    EXPECT_EXIT(std::_Exit(nice_render_thread_check()), testing::ExitedWithCode(0), "");
+    EXPECT_EXIT(std::_Exit(nice_render_thread_check()), ::testing::ExitedWithCode(0), "");
 }
 
 TEST(RenderThread, ANiceIncrementOutsideZeroToNineteenIsRefused) {

@@ -34,16 +34,6 @@ using oer::server::ProblemKind;
 
 namespace {
 
-ShRgb sh_of(const Json& coefficients) {
-    const int order = int(std::lround(std::sqrt(double(coefficients.size()))));
-    ShRgb sh(order);
-    for (std::size_t i = 0; i < coefficients.size(); ++i) {
-        sh.coefficients[i] = {coefficients[i][0].get<double>(), coefficients[i][1].get<double>(),
-                              coefficients[i][2].get<double>()};
-    }
-    return sh;
-}
-
 ShWindow window_of(const Json& rig) {
     const Json& window = rig.at("sh").at("window");
     ShWindow result;

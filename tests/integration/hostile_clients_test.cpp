@@ -24,10 +24,6 @@ namespace {
 // its 1 MiB upload limit: keeping a sixteenth of each one's limit would exceed it.
 constexpr std::size_t kLiveHeapGrowthBound = std::size_t(4) << 20;
 
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 // Seconds /healthz took on a fresh connection, or a large number if it failed.
 double health_seconds(const TestServer& server) {
     auto client = server.client(5);

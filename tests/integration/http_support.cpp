@@ -751,4 +751,18 @@ Rgba8Image get_frame(httplib::Client& client, const std::string& path_and_query)
     return decode_image(result);
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+ShRgb sh_of(const Json& coefficients) {
+    const int order = int(std::lround(std::sqrt(double(coefficients.size()))));
+    ShRgb sh(order);
+    for (std::size_t i = 0; i < coefficients.size(); ++i) {
+        sh.coefficients[i] = {coefficients[i][0].get<double>(), coefficients[i][1].get<double>(),
+                              coefficients[i][2].get<double>()};
+    }
+    return sh;
+}
+
 }  // namespace oer::itest

@@ -21,6 +21,7 @@
 
 #include "oer/core/image.hpp"
 #include "oer/image/image_encoding.hpp"
+#include "oer/lighting/sh.hpp"
 #include "oer/server/problem_json.hpp"
 #include "oer/server/service.hpp"
 #include "oer/server/service_config.hpp"
@@ -180,5 +181,10 @@ httplib::Result post_json(httplib::Client& client, const std::string& path, cons
 // GET /v1/render with this path and query, checked to succeed and to conform to the spec: the
 // frame decoded (an empty image after a failure).
 Rgba8Image get_frame(httplib::Client& client, const std::string& path_and_query);
+
+// Seconds of the steady clock since `start`.
+double seconds_since(std::chrono::steady_clock::time_point start);
+// SH coefficients as the API writes them (an array of [r, g, b], l (l + 1) + m order).
+ShRgb sh_of(const Json& coefficients);
 
 }  // namespace oer::itest

@@ -40,10 +40,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 Clock::time_point after_seconds(Clock::time_point start, double seconds) {
     return start + std::chrono::milliseconds(std::int64_t(seconds * 1000.0));
 }

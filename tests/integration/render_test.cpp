@@ -27,16 +27,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-ShRgb sh_of(const Json& coefficients) {
-    const int order = int(std::lround(std::sqrt(double(coefficients.size()))));
-    ShRgb sh(order);
-    for (std::size_t i = 0; i < coefficients.size(); ++i) {
-        sh.coefficients[i] = {coefficients[i][0].get<double>(), coefficients[i][1].get<double>(),
-                              coefficients[i][2].get<double>()};
-    }
-    return sh;
-}
-
 double srgb_encode(double linear) {
     linear = std::clamp(linear, 0.0, 1.0);
     return 255.0 *

@@ -9,22 +9,21 @@
 
 #include <glm/geometric.hpp>
 
+#include "directions.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/default_environment.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "process_memory.hpp"
 
 using namespace oer;
+using oer::testing::angle_between;
 using std::numbers::pi;
 
 namespace {
 
-double luminance(const float* p) {
+// The thesis's luminance weights over a pixel's radiance, without light_location's 179 lm/W.
+double pixel_luminance(const float* p) {
     return 0.265 * p[0] + 0.670 * p[1] + 0.065 * p[2];
-}
-
-double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
-    return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
 }
 
 }  // namespace
@@ -101,7 +100,7 @@ TEST(DefaultEnvironment, BrightPixelsLieInTheDocumentedDiscs) {
     std::vector<int> lit(lights.size(), 0);
     std::vector<std::pair<double, std::size_t>> by_luminance;
     for (std::size_t i = 0; i < image.pixel_count(); ++i) {
-        const double l = luminance(&image.pixels[i * 3]);
+        const double l = pixel_luminance(&image.pixels[i * 3]);
         by_luminance.emplace_back(l, i);
         if (l < 0.5) {  // 6x the brightest background (0.08): nothing but a light is here
             continue;

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <glm/trigonometric.hpp>
+#include "directions.hpp"
 #include "oer/core/error.hpp"
 #include "oer/core/image.hpp"
 #include "oer/image/image_io.hpp"
@@ -20,6 +21,7 @@
 #include "oer/lighting/sh_projection.hpp"
 
 using namespace oer;
+using oer::testing::angle_between;
 using std::numbers::pi;
 
 namespace {
@@ -73,10 +75,6 @@ Scene make_scene(int width, int height, float background, const std::vector<Disc
         }
     }
     return s;
-}
-
-double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
-    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
 }
 
 double max_relative_error(const glm::dvec3& got, const glm::dvec3& want) {

@@ -44,11 +44,6 @@ const fs::path kBaseDir = kDockerDir / "k8s" / "base";
 const fs::path kGpuDir = kDockerDir / "k8s" / "gpu";
 const fs::path kAdapterRules = kDockerDir / "k8s" / "prometheus-adapter-rules.yaml";
 
-std::string read_text(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // ---- The image: the ENV and USER of docker/Dockerfile's last stage (the one that runs). ----
 
 struct Image {

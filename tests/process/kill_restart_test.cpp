@@ -43,26 +43,10 @@ namespace {
 // long an uninterrupted one took).
 constexpr double kMoments[] = {0.0, 0.5, 0.9};
 
-// A map whose preprocessing takes long enough to be killed at several moments (0.85 s measured
-// at 2048x1024 on 2 cores at a load of 10), within the upload budget: its discs compress its EXR
-// to some 50 KB, far more than the 200 times a real map expands, so it must stay under the
-// budget's 64 MiB floor (2048x1024 would take 72 MiB to decode and preprocess; 1792x896 takes
-// 55 MiB).
-constexpr int kLargeMapWidth = 1792;
-
 // The material spheres (oer/mesh/material_spheres.hpp) at their default 32 rings: 21 k
 // vertices, whose scene transfer takes a second or two to bake at the test servers' smallest
 // budget of 64 rays a point (2.1 s measured on 2 cores at a load of 10).
 constexpr int kSceneRings = 32;
-// The side of the noise texture of the boxes written to the store: a 15 MB file (noise does not
-// compress), whose write and flush last long enough to be interrupted, while the mesh is a box,
-// quick to load and draw.
-constexpr int kTextureSide = 2048;
-
-std::string_view as_text(const std::vector<std::byte>& bytes) {
-    return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
-}
-
 // An upload or a frame answered before the kill.
 struct Acknowledged {
     std::map<std::string, Json> rigs;    // id -> the upload's answer, "cached" removed

@@ -47,24 +47,8 @@ namespace {
 constexpr int kReplicas = 3;
 constexpr const char* kNginx = "/usr/sbin/nginx";
 
-// A map whose preprocessing lasts long enough to be killed in the middle (0.85 s measured on 2
-// cores at a load of 10: tests/process/kill_restart_test.cpp's kLargeMapWidth).
-constexpr int kLargeMapWidth = 1792;
-// The noise texture of a mesh whose store write (15 MB) lasts long enough to be caught in the
-// middle.
-constexpr int kTextureSide = 2048;
-
 long long milliseconds_since(Clock::time_point start) {
     return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start).count();
-}
-
-std::string read_text(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string_view as_text(const std::vector<std::byte>& bytes) {
-    return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
 
 // A TCP port on 127.0.0.1 that nothing listens on now.

@@ -27,11 +27,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_text(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // This process's environment with `extra` (NAME=VALUE) set over it.
 std::vector<std::string> environment_with(const std::vector<std::string>& extra) {
     std::map<std::string, std::string> variables;
@@ -320,6 +315,11 @@ std::optional<std::string> FolderWatch::wait(const std::string& prefix,
         }
     }
     return std::nullopt;
+}
+
+std::string read_text(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 }  // namespace oer::ptest

@@ -7,12 +7,14 @@
 #include <sys/types.h>
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <httplib.h>
@@ -119,5 +121,25 @@ std::vector<std::filesystem::path> temporary_files(const std::filesystem::path& 
 
 // Sets each file's modification time so long before now (a file removed meanwhile is skipped).
 void set_untouched_for(const std::vector<std::filesystem::path>& files, std::chrono::minutes age);
+
+// A file's whole content ("" when it cannot be read).
+std::string read_text(const std::filesystem::path& path);
+
+// Bytes as the text they hold.
+inline std::string_view as_text(const std::vector<std::byte>& bytes) {
+    return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
+// A map whose preprocessing takes long enough to be killed at several moments (0.85 s measured
+// at 2048x1024 on 2 cores at a load of 10), within the upload budget: its discs compress its EXR
+// to some 50 KB, far more than the 200 times a real map expands, so it must stay under the
+// budget's 64 MiB floor (2048x1024 would take 72 MiB to decode and preprocess; 1792x896 takes
+// 55 MiB).
+constexpr int kLargeMapWidth = 1792;
+
+// The side of the noise texture of a box written to the store: a 15 MB file (noise does not
+// compress), whose write and flush last long enough to be interrupted, while the mesh is a box,
+// quick to load and draw.
+constexpr int kTextureSide = 2048;
 
 }  // namespace oer::ptest

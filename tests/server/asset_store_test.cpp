@@ -14,12 +14,14 @@
 #include <thread>
 #include <vector>
 
+#include "error_kind.hpp"
 #include "oer/api/content_id.hpp"
 #include "oer/core/error.hpp"
 #include "oer/server/asset_store.hpp"
 
 using namespace oer;
 using namespace oer::server;
+using oer::testing::kind_of_failure;
 namespace fs = std::filesystem;
 
 namespace {
@@ -49,16 +51,6 @@ std::vector<std::string> file_names(const fs::path& folder) {
     }
     std::sort(names.begin(), names.end());
     return names;
-}
-
-ErrorKind kind_of_failure(const std::function<void()>& operation) {
-    try {
-        operation();
-    } catch (const Error& error) {
-        return error.kind();
-    }
-    ADD_FAILURE() << "no oer::Error thrown";
-    return ErrorKind::Internal;
 }
 
 class AssetStoreTest : public ::testing::Test {

@@ -10,10 +10,12 @@
 #include <thread>
 #include <vector>
 
+#include "error_kind.hpp"
 #include "oer/core/error.hpp"
 #include "oer/server/metrics.hpp"
 
 using namespace oer::server;
+using oer::testing::kind_of_failure;
 
 namespace {
 
@@ -80,16 +82,6 @@ double value_of(const std::vector<Sample>& samples, const std::string& name, con
     }
     ADD_FAILURE() << "no sample " << name;
     return NAN;
-}
-
-oer::ErrorKind kind_of_failure(const std::function<void()>& operation) {
-    try {
-        operation();
-    } catch (const oer::Error& error) {
-        return error.kind();
-    }
-    ADD_FAILURE() << "no oer::Error thrown";
-    return oer::ErrorKind::InvalidInput;
 }
 
 }  // namespace

@@ -19,6 +19,15 @@
 
 namespace oer::testing {
 
+// A camera 3.5 units in front of the origin on +z, looking at it with a 40 degree vertical
+// field: the unit sphere and box of the frame tests fill the middle half of the frame.
+inline Camera front_camera() {
+    Camera camera;
+    camera.eye = {0.0f, 0.0f, 3.5f};
+    camera.fov_y = 40.0f;
+    return camera;
+}
+
 inline std::shared_ptr<const Rig> make_rig(const HdrImage& map, std::optional<int> lights,
                                            int order) {
     RigOptions options;

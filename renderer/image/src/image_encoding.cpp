@@ -15,6 +15,7 @@
 #include "jpeg_codec.hpp"
 #include "oer/core/error.hpp"
 #include "oer/core/one_line.hpp"
+#include "oer/core/size_text.hpp"
 #include "png_structure.hpp"
 
 namespace oer {
@@ -25,10 +26,6 @@ namespace {
 constexpr std::uint64_t max_decoded_pixels = 64ull * 1024 * 1024;
 // JPEG's own limit, per side.
 constexpr int max_jpeg_side = 65535;
-
-std::string size_text(int width, int height) {
-    return std::to_string(width) + "x" + std::to_string(height);
-}
 
 // Checks width, height and the number of values (channels per pixel) before any encoder
 // touches the buffer.

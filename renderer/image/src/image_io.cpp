@@ -20,6 +20,7 @@
 #include "image_io_errors.hpp"
 #include "oer/core/enum_names.hpp"
 #include "oer/core/error.hpp"
+#include "oer/core/size_text.hpp"
 
 namespace oer {
 
@@ -67,10 +68,6 @@ bool declared_linear(const OIIO::ImageSpec& spec) {
 
 // ---------------------------------------------------------------------------------------------
 // Validation of the header, before any pixel memory is allocated.
-
-std::string size_text(int width, int height) {
-    return std::to_string(width) + "x" + std::to_string(height);
-}
 
 // A claimed size against the limits (the file's own header, then OpenImageIO's).
 void check_size(int width, int height, const std::string& name, const ImageLimits& limits) {

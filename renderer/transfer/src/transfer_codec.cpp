@@ -17,7 +17,7 @@ constexpr std::size_t kMagicBytes = 6;
 constexpr int kMaxRays = 1 << 20;
 constexpr int kMaxGroundResolution = 4096;
 
-[[noreturn]] void invalid(const std::string& message) {
+[[noreturn]] void invalid_transfer(const std::string& message) {
     throw Error(ErrorKind::InvalidInput, "stored transfer: " + message);
 }
 
@@ -62,17 +62,17 @@ class Reader {
     float f32(const char* what) {
         const float value = std::bit_cast<float>(u32(what));
         if (!std::isfinite(value)) {
-            invalid(std::string(what) + " holds a non-finite value at byte " +
-                    std::to_string(offset_ - 4));
+            invalid_transfer(std::string(what) + " holds a non-finite value at byte " +
+                             std::to_string(offset_ - 4));
         }
         return value;
     }
     // count floats, after checking that the bytes hold them.
     std::vector<float> floats(std::uint64_t count, const char* what) {
         if (count > remaining() / 4) {
-            invalid(std::string(what) + ": " + std::to_string(count) + " values need " +
-                    std::to_string(count * 4) + " bytes, " + std::to_string(remaining()) +
-                    " remain (truncated or damaged)");
+            invalid_transfer(std::string(what) + ": " + std::to_string(count) + " values need " +
+                             std::to_string(count * 4) + " bytes, " + std::to_string(remaining()) +
+                             " remain (truncated or damaged)");
         }
         std::vector<float> values(count);
         for (float& value : values) {
@@ -85,9 +85,9 @@ class Reader {
   private:
     void need(std::size_t count, const char* what) {
         if (remaining() < count) {
-            invalid(std::string("truncated: ") + what + " needs " + std::to_string(count) +
-                    " bytes at byte " + std::to_string(offset_) + ", " +
-                    std::to_string(remaining()) + " remain");
+            invalid_transfer(std::string("truncated: ") + what + " needs " + std::to_string(count) +
+                             " bytes at byte " + std::to_string(offset_) + ", " +
+                             std::to_string(remaining()) + " remain");
         }
     }
     std::string_view bytes_;
@@ -106,15 +106,16 @@ TransferPoints read_points(Reader& in, int coefficients, Bounce bounce, const ch
     points.count = std::size_t(in.u64(what));
     const std::uint32_t has_bounce = in.u32(what);
     if (has_bounce != (bounce == Bounce::One ? 1u : 0u)) {
-        invalid(std::string(what) + (has_bounce ? " has" : " lacks") +
-                " bounce vectors, but the transfer's bounce is " +
-                (bounce == Bounce::One ? "one" : "none"));
+        invalid_transfer(std::string(what) + (has_bounce ? " has" : " lacks") +
+                         " bounce vectors, but the transfer's bounce is " +
+                         (bounce == Bounce::One ? "one" : "none"));
     }
     // Each point takes at least coefficients * 4 bytes: a count the bytes cannot hold is refused
     // before its vector is sized.
     if (points.count > in.remaining() / (std::size_t(coefficients) * 4)) {
-        invalid(std::string(what) + ": " + std::to_string(points.count) +
-                " points cannot fit the " + std::to_string(in.remaining()) + " bytes left");
+        invalid_transfer(std::string(what) + ": " + std::to_string(points.count) +
+                         " points cannot fit the " + std::to_string(in.remaining()) +
+                         " bytes left");
     }
     points.direct = in.floats(std::uint64_t(points.count) * std::uint64_t(coefficients), what);
     if (has_bounce) {
@@ -155,29 +156,29 @@ std::string encode_transfer(const SceneTransfer& transfer) {
 
 SceneTransfer decode_transfer(std::string_view bytes) {
     if (bytes.size() < kMagicBytes + 1 || bytes.substr(0, kMagicBytes) != kMagic) {
-        invalid("wrong magic: the bytes do not start with \"OERPRT\"");
+        invalid_transfer("wrong magic: the bytes do not start with \"OERPRT\"");
     }
     if (bytes[kMagicBytes] != kVersion) {
-        invalid("version '" + std::string(1, bytes[kMagicBytes]) + "' is not the supported '" +
-                std::string(1, kVersion) + "'");
+        invalid_transfer("version '" + std::string(1, bytes[kMagicBytes]) +
+                         "' is not the supported '" + std::string(1, kVersion) + "'");
     }
     Reader in(bytes.substr(kMagicBytes + 1));
     SceneTransfer transfer;
     const std::uint32_t order = in.u32("order");
     if (order < 1 || order > std::uint32_t(kTransferBakeOrder)) {
-        invalid("order " + std::to_string(order) + " is not in [1, " +
-                std::to_string(kTransferBakeOrder) + "]");
+        invalid_transfer("order " + std::to_string(order) + " is not in [1, " +
+                         std::to_string(kTransferBakeOrder) + "]");
     }
     transfer.order = int(order);
     const std::uint32_t bounce = in.u32("bounce");
     if (bounce > 1) {
-        invalid("bounce " + std::to_string(bounce) + " is neither 0 (none) nor 1 (one)");
+        invalid_transfer("bounce " + std::to_string(bounce) + " is neither 0 (none) nor 1 (one)");
     }
     transfer.bounce = bounce == 1 ? Bounce::One : Bounce::None;
     const std::uint32_t rays = in.u32("rays");
     if (rays < 1 || rays > std::uint32_t(kMaxRays)) {
-        invalid("rays " + std::to_string(rays) + " is not in [1, " + std::to_string(kMaxRays) +
-                "]");
+        invalid_transfer("rays " + std::to_string(rays) + " is not in [1, " +
+                         std::to_string(kMaxRays) + "]");
     }
     transfer.rays = int(rays);
     transfer.bake_ms = in.f32("bake_ms");
@@ -186,15 +187,15 @@ SceneTransfer decode_transfer(std::string_view bytes) {
     // bytes before the vectors of them are sized.
     const std::uint32_t objects = in.u32("object count");
     if (objects > in.remaining() / 4) {
-        invalid(std::to_string(objects) + " objects cannot fit the " +
-                std::to_string(in.remaining()) + " bytes left");
+        invalid_transfer(std::to_string(objects) + " objects cannot fit the " +
+                         std::to_string(in.remaining()) + " bytes left");
     }
     transfer.objects.resize(objects);
     for (std::vector<TransferPoints>& object : transfer.objects) {
         const std::uint32_t primitives = in.u32("primitive count");
         if (primitives > in.remaining() / 12) {
-            invalid(std::to_string(primitives) + " primitives cannot fit the " +
-                    std::to_string(in.remaining()) + " bytes left");
+            invalid_transfer(std::to_string(primitives) + " primitives cannot fit the " +
+                             std::to_string(in.remaining()) + " bytes left");
         }
         object.reserve(primitives);
         for (std::uint32_t p = 0; p < primitives; ++p) {
@@ -203,7 +204,7 @@ SceneTransfer decode_transfer(std::string_view bytes) {
     }
     const std::uint32_t has_ground = in.u32("ground flag");
     if (has_ground > 1) {
-        invalid("ground flag " + std::to_string(has_ground) + " is neither 0 nor 1");
+        invalid_transfer("ground flag " + std::to_string(has_ground) + " is neither 0 nor 1");
     }
     if (has_ground) {
         GroundTransfer ground;
@@ -212,24 +213,26 @@ SceneTransfer decode_transfer(std::string_view bytes) {
         ground.half_size = in.f32("ground half size");
         ground.height = in.f32("ground height");
         if (!(ground.half_size > 0.0f)) {
-            invalid("ground half size " + std::to_string(ground.half_size) + " is not positive");
+            invalid_transfer("ground half size " + std::to_string(ground.half_size) +
+                             " is not positive");
         }
         const std::uint32_t resolution = in.u32("ground resolution");
         if (resolution < 1 || resolution > std::uint32_t(kMaxGroundResolution)) {
-            invalid("ground resolution " + std::to_string(resolution) + " is not in [1, " +
-                    std::to_string(kMaxGroundResolution) + "]");
+            invalid_transfer("ground resolution " + std::to_string(resolution) + " is not in [1, " +
+                             std::to_string(kMaxGroundResolution) + "]");
         }
         ground.resolution = int(resolution);
         ground.points = read_points(in, coefficients, transfer.bounce, "the ground's points");
         if (ground.points.count != std::size_t(resolution) * resolution) {
-            invalid("the ground has " + std::to_string(ground.points.count) +
-                    " points, not resolution^2 = " +
-                    std::to_string(std::size_t(resolution) * resolution));
+            invalid_transfer("the ground has " + std::to_string(ground.points.count) +
+                             " points, not resolution^2 = " +
+                             std::to_string(std::size_t(resolution) * resolution));
         }
         transfer.ground = std::move(ground);
     }
     if (in.remaining() != 0) {
-        invalid(std::to_string(in.remaining()) + " bytes follow the transfer's last field");
+        invalid_transfer(std::to_string(in.remaining()) +
+                         " bytes follow the transfer's last field");
     }
     return transfer;
 }

@@ -17,7 +17,7 @@ namespace oer {
 
 namespace {
 
-[[noreturn]] void invalid(const std::string& message) {
+[[noreturn]] void invalid_lighting(const std::string& message) {
     throw Error(ErrorKind::InvalidInput, "transfer lighting: " + message);
 }
 
@@ -69,12 +69,12 @@ int transfer_order(const Rig& rig) {
 TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weights,
                                    double yaw_degrees, int order, bool ground, Bounce bounce) {
     if (weights.size() != rig.lights.size()) {
-        invalid(std::to_string(weights.size()) + " light weights for a rig of " +
-                std::to_string(rig.lights.size()) + " lights");
+        invalid_lighting(std::to_string(weights.size()) + " light weights for a rig of " +
+                         std::to_string(rig.lights.size()) + " lights");
     }
     if (order < 1 || order > transfer_order(rig)) {
-        invalid("order " + std::to_string(order) + " is outside 1.." +
-                std::to_string(transfer_order(rig)));
+        invalid_lighting("order " + std::to_string(order) + " is outside 1.." +
+                         std::to_string(transfer_order(rig)));
     }
     // The yaw turns about +Y: it keeps the horizon, so the ground's part needs no turning.
     ShRgb residual = ground ? residual_above_horizon(rig.sh, order) : rig.sh.all.truncated(order);
@@ -111,17 +111,17 @@ std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int 
                                               const TransferLighting& lighting) {
     const int order = lighting.residual.order;
     if (order > stored_order || lighting.whole.order != order) {
-        invalid("lighting of order " + std::to_string(order) + " for a transfer baked at order " +
-                std::to_string(stored_order));
+        invalid_lighting("lighting of order " + std::to_string(order) +
+                         " for a transfer baked at order " + std::to_string(stored_order));
     }
     const std::size_t stored = std::size_t(stored_order) * std::size_t(stored_order);
     const std::size_t used = std::size_t(order) * std::size_t(order);
     const bool bounce = !points.bounce.empty();
     if (points.direct.size() != points.count * stored ||
         (bounce && points.bounce.size() != points.count * 3 * stored)) {
-        invalid("transfer vectors of " + std::to_string(points.direct.size()) + " direct and " +
-                std::to_string(points.bounce.size()) + " bounce values for " +
-                std::to_string(points.count) + " points");
+        invalid_lighting("transfer vectors of " + std::to_string(points.direct.size()) +
+                         " direct and " + std::to_string(points.bounce.size()) +
+                         " bounce values for " + std::to_string(points.count) + " points");
     }
     // Float copies, channel-major, so that each dot product below is a contiguous loop.
     std::vector<float> residual(3 * used), whole(3 * used);
