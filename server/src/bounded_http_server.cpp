@@ -130,7 +130,13 @@ class BoundedStream : public httplib::Stream {
                 // accept) ends the headers.
                 headers_read_ = headers_read_ || line_bytes_ <= 1;
                 line_bytes_ = 0;
+                ++lines_read_;
             } else if (++line_bytes_ > kMaxLineBytes) {
+                // Answered 414 or 431 (a chunk-size line of the body just ends the connection).
+                if (!headers_read_) {
+                    current_request().oversized_line =
+                        lines_read_ == 0 ? OversizedLine::RequestLine : OversizedLine::HeaderLine;
+                }
                 return -1;
             }
         } else {
@@ -165,25 +171,33 @@ class BoundedStream : public httplib::Stream {
     const std::chrono::milliseconds write_timeout_;
     std::size_t read_bytes_ = 0;
     std::size_t line_bytes_ = 0;
+    std::size_t lines_read_ = 0;
     bool headers_read_ = false;
     Clock::time_point deadline_{};
     Clock::time_point header_deadline_{};
 };
 
-// The answer to a connection over its address's limit, written before reading anything: the
-// connection closes after it (RFC 6585 section 4's 429, with when to come back).
-void refuse_connection(socket_t sock, const std::string& address, std::size_t limit) {
-    Problem answer = problem(ProblemKind::TooManyConnections,
-                             "too many connections from " + address + " (at most " +
-                                 std::to_string(limit) + " at once); close one or retry later");
+// A problem written straight to the socket, outside cpp-httplib (which has no request to answer
+// at this point); the connection closes after it.
+void send_closing_problem(socket_t sock, const Problem& answer, const std::string& headers = "") {
     const std::string body = problem_to_json(answer).dump();
     const std::string response =
-        "HTTP/1.1 429 Too Many Requests\r\nContent-Type: " + std::string(kProblemContentType) +
-        "\r\nRetry-After: " + std::to_string(kRetryAfterSeconds) +
-        "\r\nConnection: close\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" +
-        body;
+        "HTTP/1.1 " + std::to_string(answer.status()) + " " +
+        std::string(problem_type(answer.kind).title) +
+        "\r\nContent-Type: " + std::string(kProblemContentType) + "\r\n" + headers +
+        "Connection: close\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
     // One non-blocking attempt: a client that does not read its answer gets none.
     (void)::send(sock, response.data(), response.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+}
+
+// The answer to a connection over its address's limit, written before reading anything (RFC
+// 6585 section 4's 429, with when to come back).
+void refuse_connection(socket_t sock, const std::string& address, std::size_t limit) {
+    send_closing_problem(sock,
+                         problem(ProblemKind::TooManyConnections,
+                                 "too many connections from " + address + " (at most " +
+                                     std::to_string(limit) + " at once); close one or retry later"),
+                         "Retry-After: " + std::to_string(kRetryAfterSeconds) + "\r\n");
 }
 
 std::chrono::milliseconds milliseconds(time_t seconds, time_t microseconds) {
@@ -191,6 +205,16 @@ std::chrono::milliseconds milliseconds(time_t seconds, time_t microseconds) {
 }
 
 }  // namespace
+
+std::string request_line_too_long() {
+    return "the request line (method, path and query) is longer than the " +
+           std::to_string(CPPHTTPLIB_REQUEST_URI_MAX_LENGTH) + " bytes the server reads";
+}
+
+std::string header_line_too_long() {
+    return "a header line is longer than the " + std::to_string(kMaxLineBytes) +
+           " bytes the server reads";
+}
 
 bool BoundedHttpServer::wait_for_request(socket_t sock, bool buffered) const {
     if (buffered) {
@@ -263,6 +287,10 @@ bool BoundedHttpServer::serve_connection(socket_t sock) {
                              milliseconds(write_timeout_sec_, write_timeout_usec_));
         bool closed = false;
         served = process_request(stream, left == 1, closed, [](httplib::Request&) {});
+        // cpp-httplib gives up on a request line it could not read without answering.
+        if (!served && current_request().oversized_line == OversizedLine::RequestLine) {
+            send_closing_problem(sock, problem(ProblemKind::UriTooLong, request_line_too_long()));
+        }
         if (!served || closed || current_request().close_connection) {
             break;
         }

@@ -40,6 +40,11 @@ struct ConnectionLimits {
 // Longer than any request line cpp-httplib accepts (CPPHTTPLIB_REQUEST_URI_MAX_LENGTH, 8 KiB).
 inline constexpr std::size_t kMaxLineBytes = 16 << 10;
 
+// The details of the 414 and 431 answers, with the limits they are over: the request line's is
+// cpp-httplib's (CPPHTTPLIB_REQUEST_URI_MAX_LENGTH), a header line's kMaxLineBytes.
+std::string request_line_too_long();
+std::string header_line_too_long();
+
 // The open connections of each client address.
 class ConnectionsPerClient {
   public:

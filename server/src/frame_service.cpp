@@ -1,6 +1,8 @@
 #include "frame_service.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 
 #include "http_errors.hpp"
@@ -36,31 +38,52 @@ std::string server_timing(const Frame& frame, double encode_ms) {
 
 FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
                            TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
-                           ServiceMetrics& metrics, std::chrono::seconds deadline)
+                           ServiceMetrics& metrics, std::chrono::seconds deadline,
+                           RenderBudgets budgets, double transfer_rays_per_phase,
+                           ClientWorkBudget& client_work)
     : environments_(environments),
       meshes_(meshes),
       transfers_(transfers),
       pool_(pool),
       frames_(frames),
       metrics_(metrics),
-      deadline_(deadline) {}
+      deadline_(deadline),
+      budgets_(budgets),
+      transfer_rays_per_phase_(transfer_rays_per_phase),
+      client_work_(client_work) {}
 
 ResolvedRender FrameService::resolve(const api::RenderSpec& spec, RequestForm form) {
-    ResolvedRender resolved{spec, nullptr, {}, {}, {}};
-    for (std::size_t i = 0; i < spec.objects.size(); ++i) {
-        const auto mesh = meshes_.find(spec.objects[i].mesh);
-        if (!mesh) {
-            throw not_found(
-                ProblemKind::UnknownId, "no mesh with id '" + spec.objects[i].mesh + "'",
-                form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
-        }
-        resolved.meshes.push_back(mesh->mesh);
-        resolved.mesh_ids.push_back(mesh->id);
-    }
+    ResolvedRender resolved{spec, nullptr, {}, {}, {}, {}};
     resolved.environment = environments_.find(spec.environment);
     if (!resolved.environment) {
         throw not_found(ProblemKind::UnknownId, "no environment with id '" + spec.environment + "'",
                         "environment");
+    }
+    const auto unknown_mesh = [&](std::size_t i) {
+        return not_found(
+            ProblemKind::UnknownId, "no mesh with id '" + spec.objects[i].mesh + "'",
+            form == RequestForm::Json ? "objects/" + std::to_string(i) + "/mesh" : "mesh");
+    };
+    std::vector<MeshSummary> summaries;
+    std::vector<std::string> ids;
+    for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+        const auto summary = meshes_.summary(spec.objects[i].mesh);
+        if (!summary) {
+            throw unknown_mesh(i);
+        }
+        summaries.push_back(*summary);
+        ids.push_back(spec.objects[i].mesh);
+    }
+    resolved.cost = estimate_render_cost(
+        spec, summaries, ids, resolved.environment->rig->lights.size(), transfer_rays_per_phase_);
+    check_render_cost(resolved.cost, budgets_);
+    for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+        const auto mesh = meshes_.find(spec.objects[i].mesh);
+        if (!mesh) {
+            throw unknown_mesh(i);
+        }
+        resolved.meshes.push_back(mesh->mesh);
+        resolved.mesh_ids.push_back(mesh->id);
     }
     resolved.camera = api::resolved_camera(spec, resolved.meshes);
     return resolved;
@@ -123,7 +146,7 @@ Frame FrameService::rendered(std::shared_ptr<const FrameRequest> request) {
 }
 
 EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
-                                  RequestForm form) {
+                                  RequestForm form, const std::string& client) {
     EncodedFrame result;
     result.etag = etag;
     result.content_type = api::content_type_of(spec.format);
@@ -139,6 +162,14 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         return result;
     }
     metrics_.cache(CacheName::Frame, false);
+    if (const auto wait = client_work_.charge(client, resolved.cost.seconds())) {
+        const int seconds = std::max(1, int(std::ceil(*wait)));
+        throw HttpError(problem(ProblemKind::TooManyRenders,
+                                "this client's share of uncached rendering is used up for " +
+                                    std::to_string(seconds) +
+                                    " s; frames already rendered are served meanwhile"),
+                        {{"Retry-After", std::to_string(seconds)}});
+    }
 
     const Frame frame = rendered(std::make_shared<const FrameRequest>(frame_request(resolved)));
     const auto encode_start = Clock::now();

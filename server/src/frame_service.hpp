@@ -11,10 +11,12 @@
 #include <memory>
 #include <string>
 
+#include "client_work_budget.hpp"
 #include "environment_registry.hpp"
 #include "mesh_registry.hpp"
 #include "oer/api/render_request.hpp"
 #include "oer/server/byte_lru_cache.hpp"
+#include "render_cost.hpp"
 #include "render_pool.hpp"
 #include "service_metrics.hpp"
 #include "transfer_registry.hpp"
@@ -38,6 +40,7 @@ struct ResolvedRender {
     std::vector<std::shared_ptr<const Mesh>> meshes;  // one per object, in order
     std::vector<std::string> mesh_ids;
     Camera camera;
+    RenderCost cost;  // estimated before the meshes were decoded
 };
 
 // How the request named its members, for the `parameter` of a 404.
@@ -47,15 +50,21 @@ class FrameService {
   public:
     FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
                  TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
-                 ServiceMetrics& metrics, std::chrono::seconds deadline);
+                 ServiceMetrics& metrics, std::chrono::seconds deadline, RenderBudgets budgets,
+                 double transfer_rays_per_phase, ClientWorkBudget& client_work);
 
     // etag: api::render_etag(spec), computed once by the caller (which answers 304 with it).
-    // Throws HttpError (404 for an unknown id, 503 past the deadline), QueueFull, and what
+    // A frame not in the cache is charged to `client`'s share of render work first
+    // (client_work_budget.hpp). Throws HttpError (404 for an unknown id, 413 over a budget,
+    // 429 past the client's share, 503 past the deadline), QueueFull, and what
     // to_frame_request and the renderer throw.
-    EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form);
+    EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
+                        const std::string& client);
 
   private:
-    // The environment and meshes the spec names (404 for an unknown id), and its camera.
+    // The environment the spec names, then its cost estimated from its meshes' summaries and
+    // checked against the budgets (413), then the meshes, decoded, and its camera; 404 for an
+    // unknown id.
     ResolvedRender resolve(const api::RenderSpec& spec, RequestForm form);
     // The frame to render: the resolved scene with its map, specular cube and transfer where
     // it needs them (404 when the store no longer holds the map).
@@ -70,6 +79,9 @@ class FrameService {
     ByteLruCache& frames_;
     ServiceMetrics& metrics_;
     const std::chrono::seconds deadline_;
+    const RenderBudgets budgets_;
+    const double transfer_rays_per_phase_;
+    ClientWorkBudget& client_work_;
 };
 
 }  // namespace oer::server

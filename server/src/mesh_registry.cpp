@@ -31,6 +31,42 @@ std::size_t charge_of(const Mesh& mesh) {
     return bytes;
 }
 
+MeshSummary summary_of(const Mesh& mesh) {
+    MeshSummary summary{mesh.triangle_count, mesh.vertex_count, 0, charge_of(mesh)};
+    for (const Texture& texture : mesh.textures) {
+        summary.texture_bytes += texture.rgba.size();
+    }
+    return summary;
+}
+
+std::string summary_record(const MeshSummary& summary) {
+    return nlohmann::json{{"triangles", summary.triangles},
+                          {"vertices", summary.vertices},
+                          {"texture_bytes", summary.texture_bytes},
+                          {"resident_bytes", summary.resident_bytes}}
+        .dump();
+}
+
+// nullopt for a record that does not read as one (it is then made again from the mesh).
+std::optional<MeshSummary> parse_summary_record(const std::string& text) {
+    const nlohmann::json record = nlohmann::json::parse(text, nullptr, false);
+    const auto count = [&](const char* name) -> std::optional<std::uint64_t> {
+        if (!record.is_object() || !record.contains(name) ||
+            !record.at(name).is_number_unsigned()) {
+            return std::nullopt;
+        }
+        return record.at(name).get<std::uint64_t>();
+    };
+    const auto triangles = count("triangles");
+    const auto vertices = count("vertices");
+    const auto texture_bytes = count("texture_bytes");
+    const auto resident_bytes = count("resident_bytes");
+    if (!triangles || !vertices || !texture_bytes || !resident_bytes) {
+        return std::nullopt;
+    }
+    return MeshSummary{*triangles, *vertices, *texture_bytes, *resident_bytes};
+}
+
 }  // namespace
 
 MeshRegistry::MeshRegistry(AssetStore& store, ServiceMetrics& metrics, UploadBudget& budget,
@@ -44,6 +80,7 @@ MeshRegistry::MeshRegistry(AssetStore& store, ServiceMetrics& metrics, UploadBud
     const std::string id(api::kDefaultPresetId);
     meshes_.set_preset(
         std::make_shared<const StoredMesh>(StoredMesh{id, mesh, api::mesh_to_json(*mesh, id)}));
+    summaries_.emplace(id, summary_of(*mesh));
 }
 
 MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat format) {
@@ -66,6 +103,30 @@ MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat for
 
 std::shared_ptr<const StoredMesh> MeshRegistry::find(const std::string& id) {
     return meshes_.find(id, [&] { return read_stored(id); });
+}
+
+std::optional<MeshSummary> MeshRegistry::summary(const std::string& id) {
+    {
+        const std::lock_guard lock(summaries_mutex_);
+        if (const auto found = summaries_.find(id); found != summaries_.end()) {
+            return found->second;
+        }
+    }
+    if (!api::is_content_id(id) || !store_.contains(SourceKind::Mesh, id)) {
+        return std::nullopt;
+    }
+    if (const auto record = store_.get_derived(DerivedKind::MeshSummary, id)) {
+        if (const auto parsed = parse_summary_record(*record)) {
+            const std::lock_guard lock(summaries_mutex_);
+            summaries_[id] = *parsed;
+            return parsed;
+        }
+    }
+    const auto stored = find(id);  // decodes it, which remembers its summary
+    if (!stored) {
+        return std::nullopt;
+    }
+    return summary_of(*stored->mesh);
 }
 
 std::shared_ptr<const StoredMesh> MeshRegistry::read_stored(const std::string& id) {
@@ -95,7 +156,13 @@ bool MeshRegistry::remove(const std::string& id) {
     if (!api::is_content_id(id)) {
         return false;
     }
-    return meshes_.remove(id, [&] { return store_.remove(SourceKind::Mesh, id); });
+    return meshes_.remove(id, [&] {
+        const bool removed = store_.remove(SourceKind::Mesh, id);
+        store_.remove(DerivedKind::MeshSummary, id);
+        const std::lock_guard lock(summaries_mutex_);
+        summaries_.erase(id);
+        return removed;
+    });
 }
 
 Mesh MeshRegistry::load(std::string_view bytes, const std::string& name, MeshFormat format) {
@@ -110,6 +177,15 @@ std::shared_ptr<const StoredMesh> MeshRegistry::remember(const std::string& id, 
     auto stored = std::make_shared<const StoredMesh>(
         StoredMesh{id, shared, api::mesh_to_json(*shared, id, format)});
     meshes_.remember(id, stored, charge_of(*shared));
+    const MeshSummary summary = summary_of(*shared);
+    bool known = false;
+    {
+        const std::lock_guard lock(summaries_mutex_);
+        known = !summaries_.emplace(id, summary).second;
+    }
+    if (!known && !store_.get_derived(DerivedKind::MeshSummary, id)) {
+        store_.put_derived_if_room(DerivedKind::MeshSummary, id, summary_record(summary));
+    }
     return stored;
 }
 

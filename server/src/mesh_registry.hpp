@@ -3,7 +3,11 @@
 // the render workers' per-mesh GPU caches stay warm between frames, and read back from the
 // asset store after a restart. The preset `default` is the built-in product. Uploaded meshes are
 // listed by id and removed from the store and from memory.
+#include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -16,6 +20,15 @@
 #include "upload_budget.hpp"
 
 namespace oer::server {
+
+// What a render needs to know of a mesh before decoding it (render_cost.hpp): kept in memory
+// and stored beside the mesh (DerivedKind::MeshSummary) when the mesh is first decoded.
+struct MeshSummary {
+    std::uint64_t triangles = 0;
+    std::uint64_t vertices = 0;        // also the receiver points of its transfer
+    std::uint64_t texture_bytes = 0;   // every texture decoded (RGBA, 8 bits a channel)
+    std::uint64_t resident_bytes = 0;  // what the decoded mesh holds, textures included
+};
 
 struct StoredMesh {
     std::string id;  // content id, or kDefaultPresetId
@@ -39,6 +52,10 @@ class MeshRegistry {
 
     // nullptr when no mesh has that id.
     std::shared_ptr<const StoredMesh> find(const std::string& id);
+    // The summary of mesh id without decoding it (nullopt when no mesh has that id): from
+    // memory, else from its stored record; a mesh stored without one (by an older version) is
+    // decoded once to make it.
+    std::optional<MeshSummary> summary(const std::string& id);
 
     // The uploaded meshes (the preset is not listed) with ids after `after` ("" for the first
     // page), at most limit of them; each with its file's size and format and when it was stored.
@@ -61,6 +78,8 @@ class MeshRegistry {
     UploadBudget& budget_;
     const MeshLimits limits_;
     AssetRegistry<StoredMesh> meshes_;
+    std::mutex summaries_mutex_;
+    std::map<std::string, MeshSummary> summaries_;  // a few numbers per stored mesh
 };
 
 }  // namespace oer::server

@@ -14,7 +14,7 @@ namespace {
 // would name someone else's, and a tag: URI needs an authority we do not have), and it resolves
 // against whichever server answered, in the API's own path space. Clients compare it as given.
 // The types are part of the contract: a kind may be added, never renamed.
-constexpr std::array<ProblemType, 15> kProblemTypes{{
+constexpr std::array<ProblemType, 19> kProblemTypes{{
     {ProblemKind::MalformedRequest, 400, "/v1/problems/malformed-request", "Malformed request"},
     {ProblemKind::Unauthorized, 401, "/v1/problems/unauthorized", "API key missing or wrong"},
     {ProblemKind::NotFound, 404, "/v1/problems/not-found", "Nothing at this path"},
@@ -25,13 +25,20 @@ constexpr std::array<ProblemType, 15> kProblemTypes{{
     {ProblemKind::PresetNotDeletable, 409, "/v1/problems/preset-not-deletable",
      "The built-in preset cannot be deleted"},
     {ProblemKind::LimitExceeded, 413, "/v1/problems/limit-exceeded", "Over a limit of the server"},
+    {ProblemKind::UriTooLong, 414, "/v1/problems/uri-too-long", "Request line too long"},
     {ProblemKind::UnsupportedMediaType, 415, "/v1/problems/unsupported-media-type",
      "Unsupported media type"},
+    {ProblemKind::RangeNotSatisfiable, 416, "/v1/problems/range-not-satisfiable",
+     "Range not satisfiable"},
     {ProblemKind::InvalidParameter, 422, "/v1/problems/invalid-parameter", "Invalid parameter"},
     {ProblemKind::InvalidContent, 422, "/v1/problems/invalid-content",
      "Content that cannot be used"},
     {ProblemKind::TooManyConnections, 429, "/v1/problems/too-many-connections",
      "Too many connections from this address"},
+    {ProblemKind::TooManyRenders, 429, "/v1/problems/too-many-renders",
+     "Too many uncached renders from this client"},
+    {ProblemKind::HeaderFieldsTooLarge, 431, "/v1/problems/header-fields-too-large",
+     "Request header fields too large"},
     {ProblemKind::Internal, 500, "/v1/problems/internal-error", "Internal error"},
     {ProblemKind::Unavailable, 503, "/v1/problems/unavailable", "Unavailable; retry later"},
     // RFC 4918 section 11.5.

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 
+#include "byte_ranges.hpp"
 #include "cors.hpp"
 #include "http_errors.hpp"
 #include "http_exchange.hpp"
@@ -63,6 +64,7 @@ void Router::authorize(const RoutePolicy& policy, const httplib::Request& reques
 httplib::Server::HandlerResponse Router::before_routing(const httplib::Request& request,
                                                         httplib::Response& response) const {
     add_cors_headers(policies_.cors_origins, request, response);
+    current_request().ranges = take_byte_ranges(request);
     if (request.method != "OPTIONS") {
         return httplib::Server::HandlerResponse::Unhandled;
     }
@@ -102,6 +104,10 @@ httplib::Server::Handler Router::without_body(const std::string& method, const s
             authorize(policy, request);
             handler(request, response);
         });
+        // HEAD reaches GET's handlers; RFC 9110 section 14.2 gives ranges to GET alone.
+        if (request.method == "GET") {
+            answer_byte_ranges(current_request().ranges, request, response);
+        }
     };
 }
 

@@ -37,7 +37,9 @@ void answer_frame(ServiceContext& context, const httplib::Request& request,
         response.set_header("ETag", etag);
         return;
     }
-    const EncodedFrame frame = context.frame_service.render(spec, etag, form);
+    // The client whose share of uncached rendering a miss is charged to: its address (behind
+    // a proxy, the proxy's, which shares out its own clients).
+    const EncodedFrame frame = context.frame_service.render(spec, etag, form, request.remote_addr);
     // Set only now: an error answer (a 503 while the renderer cannot start) must not be kept
     // by caches for a day.
     response.set_header("Cache-Control", kFrameCacheControl);

@@ -1,8 +1,12 @@
 #include "oer/server/service.hpp"
 
+#include <sys/socket.h>
+
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
+#include <cstring>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -11,6 +15,7 @@
 
 #include "access_log.hpp"
 #include "bounded_http_server.hpp"
+#include "client_work_budget.hpp"
 #include "environment_registry.hpp"
 #include "frame_service.hpp"
 #include "http_exchange.hpp"
@@ -77,7 +82,8 @@ struct Service::Impl {
                        kAssetCacheBytes),
           meshes(store, metrics, uploads, mesh_limits(config), kAssetCacheBytes / 2),
           transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget)),
-          frames(config.frame_cache_bytes) {
+          frames(config.frame_cache_bytes),
+          client_work(config.client_render_rate, double(config.max_render_seconds)) {
         render_limits.max_width = config.max_frame_width;
         render_limits.max_height = config.max_frame_height;
     }
@@ -119,6 +125,7 @@ struct Service::Impl {
     MeshRegistry meshes;
     TransferRegistry transfers;
     ByteLruCache frames;
+    ClientWorkBudget client_work;
     api::RenderLimits render_limits;
 
     std::unique_ptr<RenderPool> pool;
@@ -165,9 +172,12 @@ void Service::Impl::start() {
         [this](std::size_t waiting) { metrics.render_queue_depth.set(double(waiting)); },
         RenderAdmission{kRenderAdmissionWait, std::size_t(std::max(config.http_threads, 1) /
                                                           kRenderAdmissionThreadShare)});
-    frame_service =
-        std::make_unique<FrameService>(environments, meshes, transfers, *pool, frames, metrics,
-                                       std::chrono::seconds(config.request_timeout_seconds));
+    frame_service = std::make_unique<FrameService>(
+        environments, meshes, transfers, *pool, frames, metrics,
+        std::chrono::seconds(config.request_timeout_seconds),
+        RenderBudgets{config.max_render_memory_bytes, double(config.max_render_seconds),
+                      config.max_transfer_bytes},
+        double(config.transfer_ray_budget), client_work);
     start_renderer();
 
     const std::size_t max_body =
@@ -258,9 +268,12 @@ void Service::Impl::listen(Listener& listener, int wanted_port) {
                           ? http.bind_to_any_port(config.host)
                           : (http.bind_to_port(config.host, wanted_port) ? wanted_port : -1);
     if (bound < 0) {
+        // bind(2)'s own reason, which the HTTP library keeps in errno ("Address already in
+        // use": another server has the port).
+        const std::string reason = std::strerror(errno);
         const std::string where = config.host + ":" + std::to_string(wanted_port);
         stop();
-        throw Error(ErrorKind::Io, "cannot listen on " + where);
+        throw Error(ErrorKind::Io, "cannot listen on " + where + ": " + reason);
     }
     if (!widen_listen_backlog(bound)) {
         log("warning: the listen backlog of port " + std::to_string(bound) +
@@ -283,6 +296,14 @@ void Service::Impl::listen(Listener& listener, int wanted_port) {
 void Service::Impl::configure_server(httplib::Server& http, const Router& routes,
                                      std::size_t threads) {
     http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    // SO_REUSEADDR alone, not cpp-httplib's SO_REUSEPORT: with it a second server started on a
+    // port in use bound it too, and the kernel split the connections between two processes
+    // (and two data folders). SO_REUSEADDR still lets a restart take the port while the last
+    // run's connections linger in TIME_WAIT.
+    http.set_socket_options([](socket_t sock) {
+        const int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+    });
     // The largest body any route reads; each route bounds its own below that.
     http.set_payload_max_length(
         std::max<std::size_t>(config.max_upload_bytes, render_limits.max_body_bytes));
@@ -306,45 +327,60 @@ void Service::Impl::configure_server(httplib::Server& http, const Router& routes
 
     // Answers that cpp-httplib makes itself (no route, a malformed request) and routes that
     // set a status without a body become problem+json too.
-    http.set_error_handler(httplib::Server::HandlerWithResponse(
-        [this, &routes](const httplib::Request& request, httplib::Response& response) {
-            if (!response.body.empty()) {
-                return httplib::Server::HandlerResponse::Unhandled;
-            }
-            if (response.status == 404 && current_request().route == "unmatched") {
-                const std::vector<std::string> methods = routes.methods_for(request.path);
-                if (methods.empty()) {
-                    send_problem(
-                        response,
-                        {problem(ProblemKind::NotFound, "no route has this path"), {}, false, ""});
-                } else {
-                    std::string allow;
-                    for (const std::string& method : methods) {
-                        allow += (allow.empty() ? "" : ", ") + method;
-                    }
-                    send_problem(response, {problem(ProblemKind::MethodNotAllowed,
-                                                    "this path allows " + allow),
-                                            {{"Allow", allow}},
-                                            false,
-                                            ""});
-                }
-            } else if (response.status == 413) {
-                send_problem(response, {problem(ProblemKind::LimitExceeded,
-                                                "the body is over the server's limit"),
-                                        {},
-                                        false,
-                                        ""});
+    http.set_error_handler(httplib::Server::HandlerWithResponse([this, &routes](
+                                                                    const httplib::Request& request,
+                                                                    httplib::Response& response) {
+        if (!response.body.empty()) {
+            return httplib::Server::HandlerResponse::Unhandled;
+        }
+        if (response.status == 404 && current_request().route == "unmatched") {
+            const std::vector<std::string> methods = routes.methods_for(request.path);
+            if (methods.empty()) {
+                send_problem(
+                    response,
+                    {problem(ProblemKind::NotFound, "no route has this path"), {}, false, ""});
             } else {
-                // Other statuses cpp-httplib answers with (414, 431, ...) mean a malformed request.
-                send_problem(response, {problem(ProblemKind::MalformedRequest,
-                                                "the request could not be read (HTTP " +
-                                                    std::to_string(response.status) + ")"),
-                                        {},
-                                        false,
-                                        ""});
+                std::string allow;
+                for (const std::string& method : methods) {
+                    allow += (allow.empty() ? "" : ", ") + method;
+                }
+                send_problem(response,
+                             {problem(ProblemKind::MethodNotAllowed, "this path allows " + allow),
+                              {{"Allow", allow}},
+                              false,
+                              ""});
             }
-            return httplib::Server::HandlerResponse::Handled;
-        }));
+        } else if (response.status == 413) {
+            send_problem(response, {problem(ProblemKind::LimitExceeded,
+                                            "the body is over the server's limit"),
+                                    {},
+                                    false,
+                                    ""});
+        } else if (response.status == 414 ||
+                   current_request().oversized_line == OversizedLine::HeaderLine) {
+            // A line over the limits: cpp-httplib's own 414, or the 400 it answers when the
+            // connection's stream stopped reading a header line (bounded_http_server.hpp).
+            // The rest of the request is unread, so the connection closes.
+            const bool request_line = response.status == 414;
+            current_request().close_connection = true;
+            send_problem(
+                response,
+                {problem(request_line ? ProblemKind::UriTooLong : ProblemKind::HeaderFieldsTooLarge,
+                         request_line ? request_line_too_long() : header_line_too_long()),
+                 {{"Connection", "close"}},
+                 false,
+                 ""});
+        } else {
+            // Other statuses cpp-httplib answers with mean a malformed request.
+            send_problem(response, {problem(ProblemKind::MalformedRequest,
+                                            "the request could not be read (HTTP " +
+                                                std::to_string(response.status) + ")"),
+                                    {},
+                                    false,
+                                    ""});
+        }
+        return httplib::Server::HandlerResponse::Handled;
+    }));
 
     http.set_exception_handler([this](const httplib::Request& request, httplib::Response& response,
                                       std::exception_ptr error) {

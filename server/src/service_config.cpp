@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cstdlib>
 #include <memory>
+#include <sstream>
 #include <string_view>
 
 #include <CLI/CLI.hpp>
@@ -47,6 +48,30 @@ Option integer_option(std::string_view flag, std::string_view value_name, std::s
                       config.*member = Integer(value);
                   },
                   [member](const ServiceConfig& config) { return std::to_string(config.*member); }};
+}
+
+Option number_option(std::string_view flag, std::string_view value_name, std::string_view meaning,
+                     double ServiceConfig::*member, double low, double high) {
+    const auto text_of = [](double value) {
+        std::ostringstream text;
+        text << value;
+        return text.str();
+    };
+    return Option{
+        flag, value_name, meaning,
+        [member, low, high, text_of](ServiceConfig& config, const std::string& source,
+                                     const std::string& text) {
+            double value = 0.0;
+            const auto [end, error] =
+                std::from_chars(text.data(), text.data() + text.size(), value);
+            if (error != std::errc() || end != text.data() + text.size() ||
+                !(value >= low && value <= high)) {
+                throw InvalidParameter(source, "expected a number " + text_of(low) + ".." +
+                                                   text_of(high) + ", got " + quoted_excerpt(text));
+            }
+            config.*member = value;
+        },
+        [member, text_of](const ServiceConfig& config) { return text_of(config.*member); }};
 }
 
 Option text_option(std::string_view flag, std::string_view value_name, std::string_view meaning,
@@ -200,6 +225,23 @@ const std::vector<Option>& options() {
                        "rays per phase of a scene's transfer bake, shared by its points (fewer: "
                        "faster bakes, noisier occlusion)",
                        &ServiceConfig::transfer_ray_budget, 100'000, 1'000'000'000),
+        integer_option("max-render-memory-bytes", "BYTES",
+                       "most memory one render may be estimated to take (meshes, frame targets, "
+                       "shadow maps, transfer); more is answered 413 before it runs",
+                       &ServiceConfig::max_render_memory_bytes, 64ull << 20, 1ull << 44),
+        integer_option("max-render-seconds", "SECONDS",
+                       "most time one render may be estimated to take on llvmpipe (drawing, "
+                       "shading, baking its transfer); more is answered 413 before it runs",
+                       &ServiceConfig::max_render_seconds, 1, 3600),
+        number_option("client-render-rate", "SECONDS",
+                      "seconds of estimated render work each client address earns a second for "
+                      "uncached frames, saved up to --max-render-seconds; past it, 429; 0: no "
+                      "limit (behind a proxy)",
+                      &ServiceConfig::client_render_rate, 0.0, 1000.0),
+        integer_option("max-transfer-bytes", "BYTES",
+                       "largest occlusion transfer one render may bake and store; larger is "
+                       "answered 413 before it runs",
+                       &ServiceConfig::max_transfer_bytes, 1ull << 20, 1ull << 40),
         Option{"access-log", "on|off", "one line per request on stderr",
                [](ServiceConfig& config, const std::string& source, const std::string& text) {
                    if (text != "on" && text != "off") {

@@ -200,3 +200,37 @@ TEST_F(HostileClients, LiveHeapStaysBoundedOverRepeatedAttacks) {
     EXPECT_LT(after, before + kLiveHeapGrowthBound)
         << "the live heap grew by " << growth_kib << " KiB over 64 rounds";
 }
+
+// A request line or a header line longer than the server reads is answered, never just
+// dropped: 414 (cpp-httplib's own limit of 8 KiB for the request line, or the connection's
+// 16 KiB for any line) and 431, as problem+json, with the connection closed after it.
+TEST_F(HostileClients, OverlongLinesAreAnswered414Or431) {
+    struct Case {
+        std::string request;
+        std::string status_line;
+        std::string type;
+    };
+    const std::string get = "GET /v1/render?environment=default&mesh=default&pad=";
+    const Case cases[] = {
+        {get + std::string(10 << 10, 'a') + " HTTP/1.1\r\nHost: x\r\n\r\n", "HTTP/1.1 414",
+         "uri-too-long"},
+        {get + std::string(70 << 10, 'a') + " HTTP/1.1\r\nHost: x\r\n\r\n", "HTTP/1.1 414",
+         "uri-too-long"},
+        {"GET /healthz HTTP/1.1\r\nHost: x\r\nX-Pad: " + std::string(20 << 10, 'a') + "\r\n\r\n",
+         "HTTP/1.1 431", "header-fields-too-large"},
+        {"GET /healthz HTTP/1.1\r\nHost: x\r\nX-Pad: " + std::string(70 << 10, 'a') + "\r\n\r\n",
+         "HTTP/1.1 431", "header-fields-too-large"},
+    };
+    for (const Case& c : cases) {
+        RawSocket socket(server_->port());
+        ASSERT_TRUE(socket.ok());
+        socket.send_all(c.request);  // the server may stop reading (and close) part way
+        const std::optional<std::string> answer =
+            socket.receive_response(std::chrono::milliseconds(2000));
+        ASSERT_TRUE(answer) << c.request.size() << " bytes: no answer";
+        EXPECT_EQ(answer->substr(0, c.status_line.size()), c.status_line) << *answer;
+        EXPECT_NE(answer->find("/v1/problems/" + c.type), std::string::npos) << *answer;
+        EXPECT_NE(answer->find("Connection: close"), std::string::npos) << *answer;
+    }
+    EXPECT_LT(health_seconds(*server_), 1.0);
+}

@@ -93,6 +93,9 @@ server::ServiceConfig test_config(const std::filesystem::path& data_dir) {
     // budget (64 rays a point) keeps that to a fraction of a second, under the sanitizers too
     // (at the default budget it was about 13 s there, for each of some 50 servers).
     config.transfer_ray_budget = 100'000;
+    // The tests render many uncached frames from one address; the per-client share of
+    // rendering is tested where it is set (render_budget_test.cpp).
+    config.client_render_rate = 0.0;
     config.access_log = true;
     return config;
 }

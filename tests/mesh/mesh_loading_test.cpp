@@ -1050,6 +1050,22 @@ TEST(MeshLoadingObj, IndexOutOfRangeIsRejected) {
                  ErrorKind::InvalidInput, {"not a valid OBJ file"});
 }
 
+// tinyobjloader reads indices into an int: 4294967297 would wrap to 1, a valid vertex, and
+// 2147483648 to the most negative int. Every index beyond 31 bits is refused by its line,
+// whether a position's, a texture coordinate's or a normal's, relative or not.
+TEST(MeshLoadingObj, IndicesBeyond31BitsAreRejectedNotWrapped) {
+    const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+    for (const std::string face :
+         {"f 1 2 4294967297", "f 1 2 2147483648", "f 1/4294967297 2/1 3/1",
+          "f 1//1 2//1 3//4294967297", "f -1 -2 -4294967299", "f 1 2 99999999999999999999999"}) {
+        expect_error([&] { load_obj_text(triangle + face + "\n"); }, ErrorKind::InvalidInput,
+                     {"line 6: a face index beyond the largest an OBJ index may be (2147483647)"});
+    }
+    // The largest index that fits is out of range of this file, and said so as before.
+    expect_error([&] { load_obj_text(triangle + "f 1 2 2147483647\n"); }, ErrorKind::InvalidInput,
+                 {"out of range"});
+}
+
 TEST(MeshLoadingObj, MtllibIsNeverRead) {
     // A real material file that would paint the triangle red, if it were read.
     const fs::path dir =

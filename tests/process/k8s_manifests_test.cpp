@@ -740,7 +740,7 @@ std::string listed(const Problems& problems) {
 
 }  // namespace
 
-// One oer-server for the suite (ONE_PROCESS_SUITES in tests/CMakeLists.txt), started with the
+// One oer-server for the suite (a suite is one process: tests/CMakeLists.txt), started with the
 // OER_* variables the container would have; its ports and data folder are the test's own.
 class K8sManifests : public ::testing::Test {
   protected:

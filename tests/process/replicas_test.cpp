@@ -412,8 +412,10 @@ TEST_F(Replicas, ConcurrentUploadsOfTheSameBytesLeaveOneEntry) {
             // Each computed the rig: the same but for its timings.
             EXPECT_EQ(without(first, {"timings_ms"}), without(second, {"timings_ms"}));
         } else {
+            // The mesh and its summary (what a render's cost is estimated from).
             EXPECT_EQ(files_named(root_.data(), id),
-                      std::vector<std::string>{"meshes/" + id + ".obj"});
+                      (std::vector<std::string>{"mesh-summaries/" + id + ".sealed",
+                                                "meshes/" + id + ".obj"}));
             EXPECT_EQ(first, second);
         }
 

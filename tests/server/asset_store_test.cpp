@@ -87,8 +87,8 @@ TEST_F(AssetStoreTest, CreatesTheFolderAndOneSubFolderPerKind) {
     ASSERT_FALSE(fs::exists(folder_));
     const AssetStore store = open();
     EXPECT_EQ(file_names(folder_),
-              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs", "specular",
-                                        "transfer"}));
+              (std::vector<std::string>{"environments", "mesh-summaries", "meshes", "rig-sources",
+                                        "rigs", "specular", "transfer"}));
     EXPECT_EQ(store.folder(), folder_);
 }
 
@@ -416,8 +416,8 @@ TEST_F(AssetStoreTest, InvalidIdsAreRejectedBeforeAnyPathIsBuilt) {
     }
     EXPECT_EQ(file_names(folder_.parent_path()), std::vector<std::string>{"data"});
     EXPECT_EQ(file_names(folder_),
-              (std::vector<std::string>{"environments", "meshes", "rig-sources", "rigs", "specular",
-                                        "transfer"}));
+              (std::vector<std::string>{"environments", "mesh-summaries", "meshes", "rig-sources",
+                                        "rigs", "specular", "transfer"}));
     for (const char* kind : {"environments", "meshes", "rig-sources", "rigs"}) {
         EXPECT_TRUE(file_names(folder_ / kind).empty()) << kind;
     }

@@ -71,6 +71,10 @@ const std::vector<std::string> kEveryFlag{
     "max-connections-per-client",
     "frame-cache-bytes",
     "transfer-ray-budget",
+    "max-render-memory-bytes",
+    "max-render-seconds",
+    "client-render-rate",
+    "max-transfer-bytes",
     "access-log",
 };
 
@@ -80,7 +84,8 @@ const std::vector<std::string> kEveryValue{
     "0.0.0.0", "9000", "9001", "/var/lib/oer", "secret",
     "https://a.example, http://b.example:3000",
     "1000", "2000", "3000", "3", "5000000", "20",
-    "640", "480", "4", "2", "60", "10", "7", "50", "16", "8", "0", "250000", "off",
+    "640", "480", "4", "2", "60", "10", "7", "50", "16", "8", "0", "250000",
+    "1073741824", "20", "0.25", "33554432", "off",
 };
 // clang-format on
 
@@ -110,6 +115,10 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.max_connections_per_client, 8);
     EXPECT_EQ(config.frame_cache_bytes, 0u);
     EXPECT_EQ(config.transfer_ray_budget, 250'000u);
+    EXPECT_EQ(config.max_render_memory_bytes, 1u << 30);
+    EXPECT_EQ(config.max_render_seconds, 20);
+    EXPECT_EQ(config.client_render_rate, 0.25);
+    EXPECT_EQ(config.max_transfer_bytes, 32u << 20);
     EXPECT_FALSE(config.access_log);
 }
 
@@ -141,6 +150,10 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.max_connections_per_client, 64);
     EXPECT_EQ(config.frame_cache_bytes, 268'435'456u);
     EXPECT_EQ(config.transfer_ray_budget, 6'000'000u);
+    EXPECT_EQ(config.max_render_memory_bytes, 2u << 30);
+    EXPECT_EQ(config.max_render_seconds, 30);
+    EXPECT_EQ(config.client_render_rate, 1.0);
+    EXPECT_EQ(config.max_transfer_bytes, 64u << 20);
     EXPECT_TRUE(config.access_log);
 }
 

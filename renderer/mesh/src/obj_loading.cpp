@@ -4,8 +4,10 @@
 // per distinct (position, normal, texcoord) triple.
 #include <tiny_obj_loader.h>
 
+#include <cstdint>
 #include <cstring>
 #include <istream>
+#include <limits>
 #include <streambuf>
 #include <unordered_map>
 #include <utility>
@@ -47,6 +49,30 @@ class RefusingMaterialReader : public tinyobj::MaterialReader {
 
 bool is_command(std::string_view line, char command) {
     return line.size() >= 2 && line[0] == command && (line[1] == ' ' || line[1] == '\t');
+}
+
+// tinyobjloader reads a face's indices into an int without checking for overflow, so that
+// "f 1 2 4294967297" would refer to vertex 1: every index (position, texture coordinate or
+// normal, relative or not) must fit in 31 bits before it reads them.
+void check_face_indices(std::string_view line, std::uint64_t line_number,
+                        const std::string& asset) {
+    constexpr std::uint64_t kLargestIndex = std::numeric_limits<std::int32_t>::max();
+    std::uint64_t value = 0;
+    bool in_number = false;
+    for (const char c : line.substr(1)) {
+        if (c >= '0' && c <= '9') {
+            value = in_number ? value * 10 + std::uint64_t(c - '0') : std::uint64_t(c - '0');
+            in_number = true;
+            if (value > kLargestIndex) {
+                fail(ErrorKind::InvalidInput, asset,
+                     "line " + std::to_string(line_number) +
+                         ": a face index beyond the largest an OBJ index may be (" +
+                         std::to_string(kLargestIndex) + ")");
+            }
+        } else {
+            in_number = false;
+        }
+    }
 }
 
 // Before tinyobjloader allocates anything: the number of positions and of triangles (a face
@@ -96,6 +122,7 @@ void check_counts(std::span<const std::byte> bytes, const std::string& asset,
                          std::to_string(max_face_vertices) + " are supported)");
             }
             triangles += vertices >= 3 ? vertices - 2 : 0;
+            check_face_indices(line, line_number, asset);
         }
     }
     if (triangles > limits.max_triangles) {

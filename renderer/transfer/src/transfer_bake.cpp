@@ -521,14 +521,21 @@ class ReceiverTracer {
 
 }  // namespace
 
-int transfer_ray_count(const std::vector<SceneObject>& objects, double rays_per_phase) {
+std::uint64_t transfer_point_count(std::uint64_t object_points) {
+    return object_points + std::uint64_t(kGroundResolution) * kGroundResolution;
+}
+
+int transfer_ray_count(std::uint64_t object_points, double rays_per_phase) {
     // The ground's grid is counted whether or not a frame has the ground: the rule sees the
     // objects only, and an upper bound keeps the bake within its time.
-    const double receivers =
-        double(receiver_count(objects)) + double(kGroundResolution) * kGroundResolution;
+    const double receivers = double(transfer_point_count(object_points));
     const int strata =
         std::clamp(int(std::sqrt(rays_per_phase / receivers)), kMinStrata, kMaxStrata);
     return strata * strata;
+}
+
+int transfer_ray_count(const std::vector<SceneObject>& objects, double rays_per_phase) {
+    return transfer_ray_count(receiver_count(objects), rays_per_phase);
 }
 
 SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptions& options) {

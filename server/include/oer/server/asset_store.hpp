@@ -86,8 +86,9 @@ enum class SourceKind { Environment, Mesh };
 // rig came from, kept apart so that a damaged rig can be recomputed from its source. Specular:
 // a rig's residual map prefiltered (oer::encode_prefiltered_cube), by the rig's id. Transfer: a
 // scene's precomputed radiance transfer (oer::encode_transfer), by an id hashing everything its
-// bake depends on.
-enum class DerivedKind { Rig, RigSource, Specular, Transfer };
+// bake depends on. MeshSummary: what a render needs to know of a stored mesh before it decodes
+// it (its counts and its textures' decoded bytes), by the mesh's id.
+enum class DerivedKind { Rig, RigSource, Specular, Transfer, MeshSummary };
 
 struct StoredSource {
     std::string bytes;

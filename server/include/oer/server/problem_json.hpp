@@ -24,11 +24,15 @@ enum class ProblemKind {
     MethodNotAllowed,      // 405: the path exists, not with this method
     PresetNotDeletable,    // 409: the built-in preset cannot be deleted
     LimitExceeded,         // 413: over a size limit of the server
+    UriTooLong,            // 414: the request line is longer than the server reads
     UnsupportedMediaType,  // 415: a Content-Type the route does not read, or a body of another
+    RangeNotSatisfiable,   // 416: a Range header's only range starts past the end
     InvalidParameter,      // 422: a member or parameter is invalid (`parameter` names it)
     InvalidContent,        // 422: well-formed, yet its content cannot be used (an upload that
                            //      does not decode, a scene the renderer refuses)
     TooManyConnections,    // 429: the client's address holds as many connections as it may
+    TooManyRenders,        // 429: the client's share of uncached rendering is used up
+    HeaderFieldsTooLarge,  // 431: a header line is longer than the server reads
     Internal,              // 500: the server's fault; its log has the cause
     Unavailable,           // 503: try again after Retry-After
     InsufficientStorage,   // 507: the server's storage is full; nothing of the request was kept

@@ -60,6 +60,16 @@ struct ServiceConfig {
     // Rays per phase of a scene's transfer bake, shared by its points (transfer_bake.hpp's
     // kTransferRayBudget: the bunny in under 2 s on 2 cores with one bounce).
     std::uint64_t transfer_ray_budget = 6'000'000;
+    // A render's estimated cost before any of it runs (render_cost.hpp): its peak memory, its
+    // time on the slowest renderer the service runs on, and the stored size of its occlusion
+    // transfer. Over any: 413, naming the estimate and the budget.
+    std::uint64_t max_render_memory_bytes = 2ull << 30;
+    int max_render_seconds = 30;
+    std::uint64_t max_transfer_bytes = 64ull << 20;
+    // Each client address's share of uncached rendering: the seconds of estimated render work
+    // it earns a second, saved up to max_render_seconds (client_work_budget.hpp); past it, 429
+    // with Retry-After. 0: no per-client limit (behind a proxy that shares out its clients).
+    double client_render_rate = 1.0;
     bool access_log = true;  // one line per request on stderr
 };
 

@@ -1,6 +1,6 @@
 #pragma once
 // Sizes as messages and logs write them: an image's or a frame's as "640x480", a byte count as
-// "1.5 MiB" (three significant digits).
+// "1.5 MiB" (three significant digits, whole mebibytes from 1000 up).
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -12,9 +12,15 @@ inline std::string size_text(int width, int height) {
 }
 
 inline std::string mebibytes(std::uint64_t bytes) {
+    const double value = double(bytes) / double(1 << 20);
     std::ostringstream text;
-    text.precision(3);
-    text << double(bytes) / double(1 << 20) << " MiB";
+    if (value >= 1000.0) {
+        text << std::fixed;  // "4096 MiB", not "4.1e+03 MiB"
+        text.precision(0);
+    } else {
+        text.precision(3);
+    }
+    text << value << " MiB";
     return text.str();
 }
 

@@ -4,6 +4,8 @@
 // (the same surfaces and plane the frame renderer draws: oer/scene/scene_bounds.hpp), and under
 // Bounce::One what those rays hit, reflecting its own direct transfer once.
 // And the rules that choose how much a scene needs ("model only what a scene needs").
+#include <cstdint>
+
 #include "oer/lighting/rig.hpp"
 #include "oer/scene/frame_request.hpp"
 #include "oer/scene/scene_transfer.hpp"
@@ -23,6 +25,12 @@ struct TransferBakeOptions {
 inline constexpr double kTransferRayBudget = 6.0e6;
 int transfer_ray_count(const std::vector<SceneObject>& objects,
                        double rays_per_phase = kTransferRayBudget);
+// The same rule for objects of `object_points` vertices in all, known before they are decoded
+// (a service's estimate of a bake's cost).
+int transfer_ray_count(std::uint64_t object_points, double rays_per_phase = kTransferRayBudget);
+// The receiver points of a scene whose objects have `object_points` vertices in all: theirs and
+// the ground's grid, which every scene's transfer holds.
+std::uint64_t transfer_point_count(std::uint64_t object_points);
 
 // The transfer of request.objects (with their transforms) and, when request.ground, of the
 // ground plane under them. Throws oer::Error (InvalidInput) for a request without objects,
