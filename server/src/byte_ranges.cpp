@@ -74,7 +74,9 @@ void answer_byte_ranges(const httplib::Ranges& ranges, const httplib::Request& r
         send_problem(response, {problem(ProblemKind::RangeNotSatisfiable,
                                         "the range asked for starts past the end of the " +
                                             std::to_string(length) + " bytes of this answer"),
-                                {{"Content-Range", "bytes */" + std::to_string(length)}}});
+                                {{"Content-Range", "bytes */" + std::to_string(length)}},
+                                false,
+                                ""});
         return;
     }
     const auto [begin, end] = *range;

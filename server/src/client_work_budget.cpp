@@ -14,25 +14,34 @@ double ClientWorkBudget::tokens_at(const Bucket& bucket, Clock::time_point now) 
     return std::min(burst_, bucket.tokens + rate_ * std::max(0.0, elapsed));
 }
 
-std::optional<double> ClientWorkBudget::charge(const std::string& client, double seconds,
-                                               Clock::time_point now) {
+std::optional<double> ClientWorkBudget::wait_before_work(const std::string& client,
+                                                         Clock::time_point now) {
     if (rate_ <= 0.0) {
         return std::nullopt;
     }
-    // A render may cost more than the burst only if its estimate was over the budget, which
-    // refuses it first; the bucket never has to hold more than a full one.
-    seconds = std::min(seconds, burst_);
+    const std::lock_guard lock(mutex_);
+    const auto found = buckets_.find(client);
+    if (found == buckets_.end()) {
+        return std::nullopt;
+    }
+    const double tokens = tokens_at(found->second, now);
+    if (tokens > 0.0) {
+        return std::nullopt;
+    }
+    return -tokens / rate_;
+}
+
+void ClientWorkBudget::charge(const std::string& client, double seconds, Clock::time_point now) {
+    if (rate_ <= 0.0) {
+        return;
+    }
     const std::lock_guard lock(mutex_);
     const auto found = buckets_.find(client);
     const double tokens = found == buckets_.end() ? burst_ : tokens_at(found->second, now);
-    if (tokens < seconds) {
-        return (seconds - tokens) / rate_;
-    }
     if (found == buckets_.end() && buckets_.size() >= kMaxClients) {
         forget_full(now);
     }
-    buckets_[client] = Bucket{tokens - seconds, now};
-    return std::nullopt;
+    buckets_[client] = Bucket{std::max(-burst_, tokens - seconds), now};
 }
 
 void ClientWorkBudget::forget_full(Clock::time_point now) {

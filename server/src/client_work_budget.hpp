@@ -1,14 +1,16 @@
 #pragma once
-// Each client's fair share of uncached rendering: a token bucket per client (its address, or
-// its API key where it gives one), filled with seconds of render work at a steady rate up to a
-// burst, and drawn by each uncached render's estimated seconds (render_cost.hpp) before it is
-// queued. A client whose bucket cannot pay is answered 429 with Retry-After (when it will have
-// earned enough), so that one client flooding uncached frames cannot take the render workers
-// from everyone else. Frames from the cache and revalidations are never charged.
+// Each client's fair share of uncached rendering: a token bucket per client (its address),
+// filled with seconds of render work at a steady rate up to a burst, and drawn by the work each
+// uncached frame took (its render, and the transfer bake or specular cube it needed). A client
+// whose bucket is empty (in debt after a costly frame) is answered 429 with Retry-After (when
+// it will have earned its way out) before anything of its next frame runs, so that one client
+// asking for frame after frame cannot take the render workers from everyone else. Frames from
+// the cache and revalidations are never charged. The work is measured, not estimated: a frame
+// whose transfer is already baked costs its render alone.
 //
-// The buckets of idle clients are full, and a full bucket is forgotten: what is kept is
-// bounded by the clients active within the time it takes to refill a bucket (at most
-// kMaxClients; beyond that, the fullest are forgotten first).
+// The buckets of idle clients refill, and a full bucket is forgotten: what is kept is bounded
+// by the clients active within the time it takes to refill one (at most kMaxClients; beyond,
+// the least in debt are forgotten first).
 #include <chrono>
 #include <cstddef>
 #include <map>
@@ -21,14 +23,16 @@ namespace oer::server {
 class ClientWorkBudget {
   public:
     using Clock = std::chrono::steady_clock;
-    // rate: seconds of render work a client earns per second; burst: the most it can save up
-    // (and the most one render may cost: the service's --max-render-seconds). rate 0: no limit.
+    // rate: seconds of render work a client earns per second; burst: the most it can save up,
+    // and the most debt it can run into. rate 0: no limit.
     ClientWorkBudget(double rate, double burst);
 
-    // Charges `seconds` of work to client. nullopt when it could pay; else the seconds after
-    // which it could (nothing charged).
-    std::optional<double> charge(const std::string& client, double seconds,
-                                 Clock::time_point now = Clock::now());
+    // Whether client may start uncached work now: nullopt when its bucket is not empty, else
+    // the seconds after which it will be.
+    std::optional<double> wait_before_work(const std::string& client,
+                                           Clock::time_point now = Clock::now());
+    // Draws `seconds` of work done for client from its bucket (into debt, down to -burst).
+    void charge(const std::string& client, double seconds, Clock::time_point now = Clock::now());
 
     std::size_t clients() const;  // the buckets kept (not full)
 

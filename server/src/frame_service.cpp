@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "http_errors.hpp"
 #include "oer/api/frame_encoding.hpp"
@@ -53,7 +54,7 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
       client_work_(client_work) {}
 
 ResolvedRender FrameService::resolve(const api::RenderSpec& spec, RequestForm form) {
-    ResolvedRender resolved{spec, nullptr, {}, {}, {}, {}};
+    ResolvedRender resolved{spec, nullptr, {}, {}, {}};
     resolved.environment = environments_.find(spec.environment);
     if (!resolved.environment) {
         throw not_found(ProblemKind::UnknownId, "no environment with id '" + spec.environment + "'",
@@ -74,9 +75,10 @@ ResolvedRender FrameService::resolve(const api::RenderSpec& spec, RequestForm fo
         summaries.push_back(*summary);
         ids.push_back(spec.objects[i].mesh);
     }
-    resolved.cost = estimate_render_cost(
-        spec, summaries, ids, resolved.environment->rig->lights.size(), transfer_rays_per_phase_);
-    check_render_cost(resolved.cost, budgets_);
+    check_render_cost(
+        estimate_render_cost(spec, summaries, ids, resolved.environment->rig->lights.size(),
+                             transfer_rays_per_phase_),
+        budgets_);
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const auto mesh = meshes_.find(spec.objects[i].mesh);
         if (!mesh) {
@@ -162,7 +164,7 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         return result;
     }
     metrics_.cache(CacheName::Frame, false);
-    if (const auto wait = client_work_.charge(client, resolved.cost.seconds())) {
+    if (const auto wait = client_work_.wait_before_work(client)) {
         const int seconds = std::max(1, int(std::ceil(*wait)));
         throw HttpError(problem(ProblemKind::TooManyRenders,
                                 "this client's share of uncached rendering is used up for " +
@@ -170,8 +172,33 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                                     " s; frames already rendered are served meanwhile"),
                         {{"Retry-After", std::to_string(seconds)}});
     }
+    // The work charged to the client: its frame's preparation on this thread (a transfer bake,
+    // a specular cube, as long as they took) and its render on the worker (the frame's "total",
+    // not the time it waited in the queue behind other clients' frames).
+    class ChargeOnExit {
+      public:
+        ChargeOnExit(ClientWorkBudget& budget, const std::string& client)
+            : budget_(budget), client_(client) {}
+        ~ChargeOnExit() {
+            budget_.charge(
+                client_,
+                (preparation_ms.value_or(milliseconds_since(start_)) + render_ms) / 1000.0);
+        }
+        Clock::time_point start() const { return start_; }
+        std::optional<double> preparation_ms;  // set once the frame request is made
+        double render_ms = 0.0;
 
-    const Frame frame = rendered(std::make_shared<const FrameRequest>(frame_request(resolved)));
+      private:
+        ClientWorkBudget& budget_;
+        const std::string& client_;
+        const Clock::time_point start_ = Clock::now();
+    } work(client_work_, client);
+    auto request = std::make_shared<const FrameRequest>(frame_request(resolved));
+    work.preparation_ms = milliseconds_since(work.start());
+    const Frame frame = rendered(std::move(request));
+    if (const auto total = frame.timings_ms.find("total"); total != frame.timings_ms.end()) {
+        work.render_ms = total->second;
+    }
     const auto encode_start = Clock::now();
     const std::vector<std::uint8_t> bytes = api::encode(frame, spec.format, spec.quality);
     result.server_timing = server_timing(frame, milliseconds_since(encode_start));

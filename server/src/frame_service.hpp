@@ -40,7 +40,6 @@ struct ResolvedRender {
     std::vector<std::shared_ptr<const Mesh>> meshes;  // one per object, in order
     std::vector<std::string> mesh_ids;
     Camera camera;
-    RenderCost cost;  // estimated before the meshes were decoded
 };
 
 // How the request named its members, for the `parameter` of a 404.
@@ -54,9 +53,9 @@ class FrameService {
                  double transfer_rays_per_phase, ClientWorkBudget& client_work);
 
     // etag: api::render_etag(spec), computed once by the caller (which answers 304 with it).
-    // A frame not in the cache is charged to `client`'s share of render work first
-    // (client_work_budget.hpp). Throws HttpError (404 for an unknown id, 413 over a budget,
-    // 429 past the client's share, 503 past the deadline), QueueFull, and what
+    // A frame not in the cache is first checked against `client`'s share of render work, then
+    // charged the work it took (client_work_budget.hpp). Throws HttpError (404 for an unknown id,
+    // 413 over a budget, 429 past the client's share, 503 past the deadline), QueueFull, and what
     // to_frame_request and the renderer throw.
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
                         const std::string& client);

@@ -234,9 +234,9 @@ const std::vector<Option>& options() {
                        "shading, baking its transfer); more is answered 413 before it runs",
                        &ServiceConfig::max_render_seconds, 1, 3600),
         number_option("client-render-rate", "SECONDS",
-                      "seconds of estimated render work each client address earns a second for "
-                      "uncached frames, saved up to --max-render-seconds; past it, 429; 0: no "
-                      "limit (behind a proxy)",
+                      "seconds of render work each client address earns a second for uncached "
+                      "frames, saved up to --max-render-seconds; past it, 429; 0: no limit "
+                      "(behind a proxy)",
                       &ServiceConfig::client_render_rate, 0.0, 1000.0),
         integer_option("max-transfer-bytes", "BYTES",
                        "largest occlusion transfer one render may bake and store; larger is "

@@ -80,7 +80,7 @@ TEST_F(ByteRanges, OneRangeIsA206WithItsSliceAndContentRange) {
 
 TEST_F(ByteRanges, ARangePastTheEndIs416GivingTheLength) {
     const std::size_t n = frame_.size();
-    for (const std::string range : {"bytes=" + std::to_string(n) + "-", std::string("bytes=-0")}) {
+    for (const std::string& range : {"bytes=" + std::to_string(n) + "-", std::string("bytes=-0")}) {
         const auto result = get(range);
         ASSERT_TRUE(result) << range;
         EXPECT_EQ(result->status, 416) << range;

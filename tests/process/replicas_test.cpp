@@ -266,6 +266,7 @@ class Replicas : public ::testing::Test {
     void start(int i) {
         ServerLaunch launch(root_.data(), root_.root());
         launch.options["max-connections-per-client"] = "0";
+        launch.options["client-render-rate"] = "0";
         replicas_[i].reset();
         replicas_[i] = std::make_unique<ServerProcess>(launch);
     }

@@ -66,9 +66,10 @@ struct ServiceConfig {
     std::uint64_t max_render_memory_bytes = 2ull << 30;
     int max_render_seconds = 30;
     std::uint64_t max_transfer_bytes = 64ull << 20;
-    // Each client address's share of uncached rendering: the seconds of estimated render work
-    // it earns a second, saved up to max_render_seconds (client_work_budget.hpp); past it, 429
-    // with Retry-After. 0: no per-client limit (behind a proxy that shares out its clients).
+    // Each client address's share of uncached rendering: the seconds of render work it earns a
+    // second, saved up to max_render_seconds, each uncached frame costing the work it took
+    // (client_work_budget.hpp); past it, 429 with Retry-After. 0: no per-client limit (behind
+    // a proxy that shares out its own clients).
     double client_render_rate = 1.0;
     bool access_log = true;  // one line per request on stderr
 };
