@@ -6,6 +6,13 @@
 // its error). What differs between kinds (how an asset is decoded, stored and read back) comes
 // in as functions.
 //
+// Making an asset may be stopped (a transfer bake whose frames' clients have gone): each caller
+// of upload() brings its own stop token, and the making is asked to stop (through the token
+// make() receives) only once every caller waiting for it has had its stop requested; a caller
+// whose stop is requested stops waiting at once (throwing Cancelled) while the others keep
+// waiting for the asset. A caller that comes while a stopped making winds down waits for it to
+// end and starts a making of its own.
+//
 // Removal: remove() takes the store lock exclusively, while every read or write of the store
 // through this registry (read_stored, make, guarded) holds it shared; so a removal waits for the
 // uploads and reads under way, and none of them can put back in memory or in the store what it
@@ -21,11 +28,13 @@
 #include <optional>
 #include <shared_mutex>
 #include <span>
+#include <stop_token>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "oer/api/content_id.hpp"
+#include "oer/core/cancellation.hpp"
 #include "oer/core/error.hpp"
 #include "oer/server/asset_store.hpp"
 #include "oer/server/shared_lru_cache.hpp"
@@ -81,6 +90,7 @@ class AssetRegistry {
   public:
     using Pointer = std::shared_ptr<const Asset>;
     using Make = std::function<Pointer()>;
+    using MakeStoppable = std::function<Pointer(const std::stop_token&)>;
 
     struct Upload {
         Pointer asset;
@@ -124,41 +134,62 @@ class AssetRegistry {
     // store lock, so it may call find() (and guarded() for writes). make(): decodes, stores and
     // remember()s it, under the store lock; run once per id however many uploads of it overlap.
     Upload upload(const std::string& id, const Make& known, const Make& make) {
-        if (auto found = known()) {
-            return {std::move(found), true};
-        }
-        std::promise<Pointer> promise;
-        {
+        return upload(id, known, [&](const std::stop_token&) { return make(); }, {});
+    }
+
+    // The same, for a making that can be stopped: make's token is stopped once every caller
+    // waiting for id has had its `stop` requested (see the top of this file). Throws oer::Error
+    // (Cancelled) once this caller's stop is requested.
+    Upload upload(const std::string& id, const Make& known, const MakeStoppable& make,
+                  const std::stop_token& stop) {
+        for (;;) {
+            if (auto found = known()) {
+                return {std::move(found), true};
+            }
             std::unique_lock lock(in_flight_mutex_);
             const auto running = in_flight_.find(id);
             if (running != in_flight_.end()) {
-                const auto making = running->second;
+                const Making making = running->second;
                 lock.unlock();
-                return {making.get(), true};
+                if (!making.callers->join()) {
+                    // Stopping: wait for it to end (whatever its outcome), then start again.
+                    making.result.wait();
+                    continue;
+                }
+                const std::stop_callback leave(stop, [&] { making.callers->leave(); });
+                while (making.result.wait_for(kStopPollInterval) != std::future_status::ready) {
+                    throw_if_stopped(stop, "the wait for " + id);
+                }
+                return {making.result.get(), true};
             }
             // Finished between known() above and this lock: remembered before it left
             // in_flight_.
             if (auto finished = assets_.get(id)) {
                 return {std::move(finished), true};
             }
-            in_flight_.emplace(id, promise.get_future().share());
-        }
-        const auto finish = [&] {
-            const std::lock_guard lock(in_flight_mutex_);
-            in_flight_.erase(id);
-        };
-        try {
-            Pointer made = [&] {
-                const std::shared_lock store_lock(store_mutex_);
-                return make();
-            }();
-            promise.set_value(made);
-            finish();
-            return {std::move(made), false};
-        } catch (...) {
-            promise.set_exception(std::current_exception());
-            finish();
-            throw;
+            std::promise<Pointer> promise;
+            const auto callers = std::make_shared<Callers>();
+            callers->join();
+            in_flight_.emplace(id, Making{promise.get_future().share(), callers});
+            lock.unlock();
+            const auto finish = [&] {
+                const std::lock_guard finished_lock(in_flight_mutex_);
+                in_flight_.erase(id);
+            };
+            try {
+                const std::stop_callback leave(stop, [&] { callers->leave(); });
+                Pointer made = [&] {
+                    const std::shared_lock store_lock(store_mutex_);
+                    return make(callers->token());
+                }();
+                promise.set_value(made);
+                finish();
+                return {std::move(made), false};
+            } catch (...) {
+                promise.set_exception(std::current_exception());
+                finish();
+                throw;
+            }
         }
     }
 
@@ -184,13 +215,47 @@ class AssetRegistry {
     }
 
   private:
+    // How often a caller waiting for another's making looks at its own stop token.
+    static constexpr std::chrono::milliseconds kStopPollInterval{50};
+
+    // The callers waiting for one making; the last to leave stops it.
+    class Callers {
+      public:
+        // Counts a caller in; false when the making is stopping already.
+        bool join() {
+            const std::lock_guard lock(mutex_);
+            if (source_.stop_requested()) {
+                return false;
+            }
+            ++count_;
+            return true;
+        }
+        void leave() {
+            const std::lock_guard lock(mutex_);
+            if (--count_ == 0) {
+                source_.request_stop();
+            }
+        }
+        std::stop_token token() const { return source_.get_token(); }
+
+      private:
+        std::mutex mutex_;
+        std::stop_source source_;
+        int count_ = 0;
+    };
+
+    struct Making {
+        std::shared_future<Pointer> result;
+        std::shared_ptr<Callers> callers;
+    };
+
     ServiceMetrics& metrics_;
     const CacheName cache_;
     Pointer preset_;
     SharedLruCache<Asset> assets_;
     // Assets being made, by id.
     std::mutex in_flight_mutex_;
-    std::map<std::string, std::shared_future<Pointer>> in_flight_;
+    std::map<std::string, Making> in_flight_;
     // Shared by reads and writes of the store, exclusive for removals.
     std::shared_mutex store_mutex_;
 };

@@ -42,6 +42,8 @@ std::string_view folder_name(DerivedKind kind) {
             return "specular";
         case DerivedKind::Transfer:
             return "transfer";
+        case DerivedKind::TransferMeshes:
+            return "transfer-meshes";
         case DerivedKind::MeshSummary:
             return "mesh-summaries";
     }
@@ -85,6 +87,8 @@ std::string entry_name(DerivedKind kind, std::string_view id) {
             return "the specular cube of rig " + std::string(id);
         case DerivedKind::Transfer:
             return "the transfer " + std::string(id);
+        case DerivedKind::TransferMeshes:
+            return "the record of transfer " + std::string(id);
         case DerivedKind::MeshSummary:
             return "the summary of mesh " + std::string(id);
     }
@@ -313,7 +317,7 @@ AssetStore::AssetStore(fs::path folder, Log log)
          {folder_name(SourceKind::Environment), folder_name(SourceKind::Mesh),
           folder_name(DerivedKind::Rig), folder_name(DerivedKind::RigSource),
           folder_name(DerivedKind::Specular), folder_name(DerivedKind::Transfer),
-          folder_name(DerivedKind::MeshSummary)}) {
+          folder_name(DerivedKind::TransferMeshes), folder_name(DerivedKind::MeshSummary)}) {
         const fs::path kind_folder = folder_ / name;
         std::error_code error;
         fs::create_directories(kind_folder, error);

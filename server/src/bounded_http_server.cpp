@@ -282,6 +282,7 @@ bool BoundedHttpServer::serve_connection(socket_t sock) {
             break;
         }
         current_request() = RequestState{};
+        current_request().socket = sock;
         BoundedStream stream(connection, limits_,
                              milliseconds(read_timeout_sec_, read_timeout_usec_),
                              milliseconds(write_timeout_sec_, write_timeout_usec_));

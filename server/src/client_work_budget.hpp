@@ -8,6 +8,15 @@
 // the cache and revalidations are never charged. The work is measured, not estimated: a frame
 // whose transfer is already baked costs its render alone.
 //
+// A refusal is held before it is sent (FrameService: up to kRefusalHold, or until the client
+// would have earned its way out, or leaves): a client that ignores Retry-After and asks again
+// at once would otherwise make thousands of refusals a second, and those took the CPU from the
+// renders of every other client (measured by tests/integration/render_budget_test.cpp: another
+// address's uncached frames went from 30 ms to 75 ms at 4,800 refusals a second). Held, each of
+// its connections (at most --max-connections-per-client) asks about once a second and sleeps
+// meanwhile; a client that waits as told is never held. This is a tarpit, as mail servers hold
+// a sender over its rate.
+//
 // The buckets of idle clients refill, and a full bucket is forgotten: what is kept is bounded
 // by the clients active within the time it takes to refill one (at most kMaxClients; beyond,
 // the least in debt are forgotten first).
@@ -37,6 +46,8 @@ class ClientWorkBudget {
     std::size_t clients() const;  // the buckets kept (not full)
 
     static constexpr std::size_t kMaxClients = 100'000;
+    // The longest a refusal is held before it is sent.
+    static constexpr std::chrono::milliseconds kRefusalHold{1000};
 
   private:
     struct Bucket {

@@ -1,13 +1,14 @@
 #include "frame_service.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <thread>
 
 #include "http_errors.hpp"
 #include "oer/api/frame_encoding.hpp"
+#include "oer/core/cancellation.hpp"
 #include "oer/scene/scene_rules.hpp"
 
 namespace oer::server {
@@ -15,6 +16,10 @@ namespace oer::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// How often a thread waiting for its frame looks at the deadline and at its client's
+// connection: the most a frame runs on for nobody before it is asked to stop.
+constexpr std::chrono::milliseconds kClientPollInterval{50};
 
 double milliseconds_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -116,39 +121,62 @@ FrameRequest FrameService::frame_request(const ResolvedRender& resolved) {
                             "environment");
         }
     }
-    if (request.occlusion) {
-        request.transfer = transfers_.transfer(request, resolved.mesh_ids);
-    }
     return request;
 }
 
-Frame FrameService::rendered(std::shared_ptr<const FrameRequest> request) {
-    // Set once this request stops waiting: a worker that reaches the frame afterwards skips it
-    // rather than render it for nobody (its answer, a 503, has gone already).
-    const auto abandoned = std::make_shared<std::atomic<bool>>(false);
-    std::future<Frame> pending = pool_.submit([this, request, abandoned](FrameRenderer& renderer) {
-        if (abandoned->load()) {
+Frame FrameService::rendered(std::shared_ptr<FrameRequest> request,
+                             std::vector<std::string> mesh_ids, const Client& client) {
+    // Requested once this request stops waiting: a worker that reaches the frame afterwards
+    // skips it, and one under way stops it (its answer, a 503, has gone already, or nobody
+    // reads it).
+    std::stop_source stop;
+    std::future<Frame> pending = pool_.submit([this, request, ids = std::move(mesh_ids),
+                                               stop = stop.get_token()](FrameRenderer& renderer) {
+        if (stop.stop_requested()) {
             metrics_.renders_skipped.increment();
-            return Frame{};  // nobody reads it
+            throw_if_stopped(stop, "the frame");
         }
-        const auto start = Clock::now();
-        Frame frame = renderer.render(*request);
-        metrics_.render_seconds.observe(
-            std::chrono::duration<double>(Clock::now() - start).count());
-        return frame;
+        try {
+            double transfer_ms = 0.0;
+            if (request->occlusion) {
+                const auto transfer_start = Clock::now();
+                request->transfer = transfers_.transfer(*request, ids, stop);
+                transfer_ms = milliseconds_since(transfer_start);
+            }
+            const auto start = Clock::now();
+            Frame frame = renderer.render(*request, stop);
+            metrics_.render_seconds.observe(
+                std::chrono::duration<double>(Clock::now() - start).count());
+            if (request->occlusion) {
+                frame.timings_ms["transfer"] = transfer_ms;
+            }
+            return frame;
+        } catch (const Error& error) {
+            if (error.kind() == ErrorKind::Cancelled) {
+                metrics_.renders_stopped.increment();
+            }
+            throw;
+        }
     });
-    if (pending.wait_for(deadline_) != std::future_status::ready) {
-        abandoned->store(true);
-        // A frame already being rendered is finished and dropped; the client may ask again.
-        throw unavailable(
-            "the frame was not rendered within " + std::to_string(deadline_.count()) + " s",
-            kRetryAfterSeconds);
+    const auto deadline = Clock::now() + deadline_;
+    while (pending.wait_for(kClientPollInterval) != std::future_status::ready) {
+        if (Clock::now() >= deadline) {
+            stop.request_stop();
+            throw unavailable(
+                "the frame was not rendered within " + std::to_string(deadline_.count()) + " s",
+                kRetryAfterSeconds);
+        }
+        if (client.gone && client.gone()) {
+            stop.request_stop();
+            throw unavailable("the client closed its connection; the frame was stopped",
+                              kRetryAfterSeconds);
+        }
     }
     return pending.get();
 }
 
 EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
-                                  RequestForm form, const std::string& client) {
+                                  RequestForm form, const Client& client) {
     EncodedFrame result;
     result.etag = etag;
     result.content_type = api::content_type_of(spec.format);
@@ -164,17 +192,29 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         return result;
     }
     metrics_.cache(CacheName::Frame, false);
-    if (const auto wait = client_work_.wait_before_work(client)) {
-        const int seconds = std::max(1, int(std::ceil(*wait)));
+    if (const auto wait = client_work_.wait_before_work(client.address)) {
+        // Held first (client_work_budget.hpp), in slices that watch for the client leaving.
+        const auto held_until =
+            Clock::now() +
+            std::min(
+                std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*wait)),
+                std::chrono::duration_cast<Clock::duration>(ClientWorkBudget::kRefusalHold));
+        while (Clock::now() < held_until && !(client.gone && client.gone())) {
+            std::this_thread::sleep_for(
+                std::min<Clock::duration>(kClientPollInterval, held_until - Clock::now()));
+        }
+        const double left =
+            *wait - std::chrono::duration<double>(ClientWorkBudget::kRefusalHold).count();
+        const int seconds = std::max(1, int(std::ceil(left)));
         throw HttpError(problem(ProblemKind::TooManyRenders,
                                 "this client's share of uncached rendering is used up for " +
                                     std::to_string(seconds) +
                                     " s; frames already rendered are served meanwhile"),
                         {{"Retry-After", std::to_string(seconds)}});
     }
-    // The work charged to the client: its frame's preparation on this thread (a transfer bake,
-    // a specular cube, as long as they took) and its render on the worker (the frame's "total",
-    // not the time it waited in the queue behind other clients' frames).
+    // The work charged to the client: its frame's preparation on this thread (a specular cube,
+    // as long as it took) and its work on the worker (its transfer and the frame's "total", not
+    // the time it waited in the queue behind other clients' frames).
     class ChargeOnExit {
       public:
         ChargeOnExit(ClientWorkBudget& budget, const std::string& client)
@@ -192,12 +232,14 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         ClientWorkBudget& budget_;
         const std::string& client_;
         const Clock::time_point start_ = Clock::now();
-    } work(client_work_, client);
-    auto request = std::make_shared<const FrameRequest>(frame_request(resolved));
+    } work(client_work_, client.address);
+    auto request = std::make_shared<FrameRequest>(frame_request(resolved));
     work.preparation_ms = milliseconds_since(work.start());
-    const Frame frame = rendered(std::move(request));
-    if (const auto total = frame.timings_ms.find("total"); total != frame.timings_ms.end()) {
-        work.render_ms = total->second;
+    const Frame frame = rendered(std::move(request), resolved.mesh_ids, client);
+    for (const char* part : {"transfer", "total"}) {
+        if (const auto ms = frame.timings_ms.find(part); ms != frame.timings_ms.end()) {
+            work.render_ms += ms->second;
+        }
     }
     const auto encode_start = Clock::now();
     const std::vector<std::uint8_t> bytes = api::encode(frame, spec.format, spec.quality);

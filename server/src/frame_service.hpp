@@ -1,13 +1,19 @@
 #pragma once
 // Frames for POST and GET /v1/render: the encoded frame of a render request, from the LRU of
-// encoded frames (keyed by the request's ETag) when it is there, else rendered by a worker of
-// the pool within the request's deadline and encoded on the calling HTTP thread (so the GL
-// worker moves on to the next frame); a frame whose request gave up at the deadline is skipped
-// by the worker that reaches it, unless it is already being rendered. A frame whose scene has a
-// glossy material under an hdr rig gets the rig's specular cube (EnvironmentRegistry::specular);
-// any other gets none. A frame with occlusion on gets its scene's transfer (TransferRegistry),
-// baked on the calling thread when neither memory nor the store has it.
+// encoded frames (keyed by the request's ETag) when it is there, else prepared on the calling
+// HTTP thread (its map and specular cube), then completed and rendered by a worker of the pool
+// (the transfer of a frame with occlusion on, from TransferRegistry, baked there when neither
+// memory nor the store has it: a bake is render work, on the workers' queue at their priority)
+// and encoded on the calling HTTP thread (so the GL worker moves on to the next frame). A frame
+// whose scene has a glossy material under an hdr rig gets the rig's specular cube
+// (EnvironmentRegistry::specular); any other gets none.
+//
+// The calling thread waits for the worker while its client does: once the request's deadline
+// passes (503) or its client closes the connection, the frame is stopped (oer/core/
+// cancellation.hpp): skipped by a worker that has not started it, stopped between passes or bake
+// chunks by one that has, unless other frames wait for the same bake (AssetRegistry).
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -52,24 +58,32 @@ class FrameService {
                  ServiceMetrics& metrics, std::chrono::seconds deadline, RenderBudgets budgets,
                  double transfer_rays_per_phase, ClientWorkBudget& client_work);
 
+    // Who asks: the client's address (its share of render work) and whether it has gone.
+    struct Client {
+        std::string address;
+        std::function<bool()> gone;
+    };
+
     // etag: api::render_etag(spec), computed once by the caller (which answers 304 with it).
     // A frame not in the cache is first checked against `client`'s share of render work, then
     // charged the work it took (client_work_budget.hpp). Throws HttpError (404 for an unknown id,
-    // 413 over a budget, 429 past the client's share, 503 past the deadline), QueueFull, and what
-    // to_frame_request and the renderer throw.
+    // 413 over a budget, 429 past the client's share, 503 past the deadline or once the client
+    // has gone), QueueFull, and what to_frame_request and the renderer throw.
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
-                        const std::string& client);
+                        const Client& client);
 
   private:
     // The environment the spec names, then its cost estimated from its meshes' summaries and
     // checked against the budgets (413), then the meshes, decoded, and its camera; 404 for an
     // unknown id.
     ResolvedRender resolve(const api::RenderSpec& spec, RequestForm form);
-    // The frame to render: the resolved scene with its map, specular cube and transfer where
-    // it needs them (404 when the store no longer holds the map).
+    // The frame to render: the resolved scene with its map and specular cube where it needs
+    // them (404 when the store no longer holds the map); its transfer comes on the worker.
     FrameRequest frame_request(const ResolvedRender& resolved);
-    // The frame a worker renders from request, within the deadline (503 past it).
-    Frame rendered(std::shared_ptr<const FrameRequest> request);
+    // The frame a worker renders from request, with its transfer when occlusion is on, while
+    // the client waits and within the deadline (503 past either).
+    Frame rendered(std::shared_ptr<FrameRequest> request, std::vector<std::string> mesh_ids,
+                   const Client& client);
 
     EnvironmentRegistry& environments_;
     MeshRegistry& meshes_;

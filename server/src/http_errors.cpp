@@ -34,6 +34,8 @@ ProblemKind problem_kind_of(ErrorKind kind) {
             return ProblemKind::InvalidContent;
         case ErrorKind::LimitExceeded:
             return ProblemKind::LimitExceeded;
+        case ErrorKind::Cancelled:  // work stopped at its deadline: try again
+            return ProblemKind::Unavailable;
         case ErrorKind::Io:
         case ErrorKind::Internal:
             return ProblemKind::Internal;
@@ -88,6 +90,12 @@ ErrorAnswer error_answer(std::exception_ptr error) {
         const ProblemKind kind = problem_kind_of(e.kind());
         if (kind == ProblemKind::Internal) {
             return internal(e.what());
+        }
+        if (kind == ProblemKind::Unavailable) {
+            return {problem(kind, e.what()),
+                    {{"Retry-After", std::to_string(kRetryAfterSeconds)}},
+                    false,
+                    e.what()};
         }
         return {problem(kind, e.what()), {}, false, e.what()};
     } catch (const std::exception& e) {

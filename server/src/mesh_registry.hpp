@@ -63,8 +63,8 @@ class MeshRegistry {
 
     // Removes the uploaded mesh id (a content id: the preset is not removed) from the store and
     // from memory; false when no mesh has that id. A mesh is one file, removed at once. The
-    // transfers of scenes holding it are not removed: their ids hash its id, so no frame reaches
-    // them without the mesh, and the same bytes uploaded again make them valid again.
+    // transfers of scenes holding it are removed after it (TransferRegistry::remove_with_mesh,
+    // by the DELETE route); until then no frame reaches them, as their ids hash the mesh's.
     bool remove(const std::string& id);
 
   private:

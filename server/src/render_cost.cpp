@@ -54,6 +54,7 @@ RenderCost estimate_render_cost(const api::RenderSpec& spec,
             cost.texture_bytes += mesh.texture_bytes;
         }
     }
+    cost.gl_texture_bytes = cost.texture_bytes / 3 * 4;
     const std::uint64_t lights = shadowing_lights(spec, rig_lights);
     const std::uint64_t resolution = std::uint64_t(spec.shadows.resolution);
     cost.shadow_bytes = lights * resolution * resolution * 4;
@@ -101,9 +102,10 @@ void check_render_cost(const RenderCost& cost, const RenderBudgets& budgets) {
     if (cost.memory_bytes() > budgets.memory_bytes) {
         refuse("memory", mebibytes(cost.memory_bytes()), mebibytes(budgets.memory_bytes),
                "meshes " + mebibytes(cost.mesh_bytes) + " (textures " +
-                   mebibytes(cost.texture_bytes) + "), frame targets " +
-                   mebibytes(cost.target_bytes) + ", shadow maps " + mebibytes(cost.shadow_bytes) +
-                   ", transfer " + mebibytes(cost.transfer_bytes),
+                   mebibytes(cost.texture_bytes) + ", and " + mebibytes(cost.gl_texture_bytes) +
+                   " as GL holds them), frame targets " + mebibytes(cost.target_bytes) +
+                   ", shadow maps " + mebibytes(cost.shadow_bytes) + ", transfer " +
+                   mebibytes(cost.transfer_bytes),
                "ask for fewer pixels or samples, a lower shadow_resolution, fewer lights or "
                "fewer distinct meshes");
     }

@@ -6,7 +6,9 @@
 // mesh) or gigabytes of disk (the transfer of a 5M-triangle mesh: 2 GB).
 //
 // The figures are upper estimates of what the renderer allocates and does, per part:
-//  - memory: the distinct meshes as decoded (their summaries), the frame's targets at
+//  - memory: the distinct meshes as decoded (their summaries), their textures again as GL holds
+//    them with their mipmaps (4/3 of the decoded bytes: llvmpipe keeps them in the process's
+//    memory, a GPU's driver stages them there), the frame's targets at
 //    kTargetBytesPerSample per sample (render_targets.cpp: positions, normals, albedos,
 //    emissive, transferred, depth and shaded; float formats for EXR), one 32-bit depth map per
 //    shadowing light (shadow_map_cache.cpp), and the transfer with occlusion on (held while
@@ -37,17 +39,18 @@ struct RenderBudgets {
 };
 
 struct RenderCost {
-    std::uint64_t mesh_bytes = 0;      // the distinct meshes, decoded
-    std::uint64_t texture_bytes = 0;   // of which their textures
-    std::uint64_t target_bytes = 0;    // the frame's render targets
-    std::uint64_t shadow_bytes = 0;    // the shadow maps
-    std::uint64_t transfer_bytes = 0;  // the transfer (memory while baked, then disk)
-    double draw_seconds = 0.0;         // triangles drawn
-    double shade_seconds = 0.0;        // samples shaded
-    double bake_seconds = 0.0;         // the transfer's rays
+    std::uint64_t mesh_bytes = 0;        // the distinct meshes, decoded
+    std::uint64_t texture_bytes = 0;     // of which their textures
+    std::uint64_t gl_texture_bytes = 0;  // the textures as GL holds them, with mipmaps
+    std::uint64_t target_bytes = 0;      // the frame's render targets
+    std::uint64_t shadow_bytes = 0;      // the shadow maps
+    std::uint64_t transfer_bytes = 0;    // the transfer (memory while baked, then disk)
+    double draw_seconds = 0.0;           // triangles drawn
+    double shade_seconds = 0.0;          // samples shaded
+    double bake_seconds = 0.0;           // the transfer's rays
 
     std::uint64_t memory_bytes() const {
-        return mesh_bytes + target_bytes + shadow_bytes + transfer_bytes;
+        return mesh_bytes + gl_texture_bytes + target_bytes + shadow_bytes + transfer_bytes;
     }
     double seconds() const { return draw_seconds + shade_seconds + bake_seconds; }
 };

@@ -25,8 +25,17 @@ struct RequestState {
     // The request's byte ranges, taken out of cpp-httplib's hands before routing
     // (byte_ranges.hpp): cpp-httplib's parse of its Range header, a pair of positions each.
     std::vector<std::pair<ssize_t, ssize_t>> ranges;
+    // The connection's socket, for client_has_gone(); -1 outside BoundedHttpServer.
+    int socket = -1;
 };
 
 RequestState& current_request();
+
+// Whether the client of the request answered on this thread has closed its connection (or shut
+// down its sending side: it sends nothing more, and HTTP clients do that only on leaving), so
+// that work done only for it can stop, as nginx's proxy does for a client that goes
+// (proxy_ignore_client_abort off). Looks at the socket without waiting or reading; false
+// outside BoundedHttpServer.
+bool client_has_gone();
 
 }  // namespace oer::server

@@ -84,7 +84,10 @@ void add_mesh_routes(Router& router, ServiceContext& context) {
         });
 
     add_asset_listing_route(router, context.meshes, kMeshKind, listed_mesh);
-    add_asset_removal_route(router, context.meshes, kMeshKind);
+    // The stored transfers of scenes holding the mesh go with it.
+    add_asset_removal_route(router, context.meshes, kMeshKind, [&context](const std::string& id) {
+        context.transfers.remove_with_mesh(id);
+    });
     add_asset_reading_route(router, context.meshes, kMeshKind);
 }
 

@@ -3,6 +3,7 @@
 
 #include "http_exchange.hpp"
 #include "oer/api/parameter_text.hpp"
+#include "request_state.hpp"
 #include "service_context.hpp"
 
 namespace oer::server {
@@ -39,7 +40,8 @@ void answer_frame(ServiceContext& context, const httplib::Request& request,
     }
     // The client whose share of uncached rendering a miss is charged to: its address (behind
     // a proxy, the proxy's, which shares out its own clients).
-    const EncodedFrame frame = context.frame_service.render(spec, etag, form, request.remote_addr);
+    const EncodedFrame frame =
+        context.frame_service.render(spec, etag, form, {request.remote_addr, client_has_gone});
     // Set only now: an error answer (a 503 while the renderer cannot start) must not be kept
     // by caches for a day.
     response.set_header("Cache-Control", kFrameCacheControl);

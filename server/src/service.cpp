@@ -81,7 +81,8 @@ struct Service::Impl {
           environments(store, metrics, uploads, log, ImageLimits{config.max_image_pixels, 32768},
                        kAssetCacheBytes),
           meshes(store, metrics, uploads, mesh_limits(config), kAssetCacheBytes / 2),
-          transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget)),
+          transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget),
+                    config.transfer_store_bytes),
           frames(config.frame_cache_bytes),
           client_work(config.client_render_rate, double(config.max_render_seconds)) {
         render_limits.max_width = config.max_frame_width;
@@ -188,8 +189,9 @@ void Service::Impl::start() {
     limits.header_deadline = std::chrono::seconds(config.header_timeout_seconds);
     limits.max_connections_per_client = std::size_t(config.max_connections_per_client);
     api = make_listener(limits, std::size_t(std::max(config.http_threads, 1)));
-    context = std::make_unique<ServiceContext>(ServiceContext{
-        config, render_limits, metrics, environments, meshes, frames, *pool, *frame_service, log});
+    context = std::make_unique<ServiceContext>(ServiceContext{config, render_limits, metrics,
+                                                              environments, meshes, transfers,
+                                                              frames, *pool, *frame_service, log});
     add_environment_routes(*api.routes, *context);
     add_mesh_routes(*api.routes, *context);
     add_render_routes(*api.routes, *context);
@@ -319,8 +321,11 @@ void Service::Impl::configure_server(httplib::Server& http, const Router& routes
 
     http.set_pre_routing_handler(
         [&routes](const httplib::Request& request, httplib::Response& response) {
+            // A new request's state, on the connection BoundedHttpServer set (its socket).
             RequestState& state = current_request();
+            const int socket = state.socket;
             state = RequestState{};
+            state.socket = socket;
             state.start = std::chrono::steady_clock::now();
             return routes.before_routing(request, response);
         });

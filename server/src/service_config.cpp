@@ -242,6 +242,10 @@ const std::vector<Option>& options() {
                        "largest occlusion transfer one render may bake and store; larger is "
                        "answered 413 before it runs",
                        &ServiceConfig::max_transfer_bytes, 1ull << 20, 1ull << 40),
+        integer_option("transfer-store-bytes", "BYTES",
+                       "disk for stored occlusion transfers; past it the least recently used are "
+                       "removed (and baked again when a frame needs one)",
+                       &ServiceConfig::transfer_store_bytes, 1ull << 20, 1ull << 44),
         Option{"access-log", "on|off", "one line per request on stderr",
                [](ServiceConfig& config, const std::string& source, const std::string& text) {
                    if (text != "on" && text != "off") {

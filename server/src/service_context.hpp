@@ -12,6 +12,7 @@
 #include "render_pool.hpp"
 #include "router.hpp"
 #include "service_metrics.hpp"
+#include "transfer_registry.hpp"
 
 namespace oer::server {
 
@@ -21,6 +22,7 @@ struct ServiceContext {
     ServiceMetrics& metrics;
     EnvironmentRegistry& environments;
     MeshRegistry& meshes;
+    TransferRegistry& transfers;
     ByteLruCache& frames;  // encoded frames, and previews
     RenderPool& pool;
     FrameService& frame_service;

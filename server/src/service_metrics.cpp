@@ -35,9 +35,12 @@ const char* name_of(CacheName cache) {
 ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
     : render_seconds(registry.histogram(
           "oer_render_seconds", "GL time of one frame on a render worker", kLatencyBucketsSeconds)),
-      renders_skipped(registry.counter(
-          "oer_renders_skipped_total",
-          "Frames not rendered because their request had stopped waiting (its deadline passed)")),
+      renders_skipped(registry.counter("oer_renders_skipped_total",
+                                       "Frames not started because their request had stopped "
+                                       "waiting (its deadline passed or its client went)")),
+      renders_stopped(registry.counter("oer_renders_stopped_total",
+                                       "Frames (and their transfer bakes) stopped part way because "
+                                       "their request had stopped waiting")),
       preprocess_seconds(registry.histogram("oer_preprocess_seconds",
                                             "Time to decode an environment and build its rig",
                                             kLatencyBucketsSeconds)),
@@ -56,6 +59,11 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
       transfers_computed(
           registry.counter("oer_transfers_computed_total",
                            "Scene transfers baked (bake runs; memory and store hits excluded)")),
+      transfers_evicted(registry.counter(
+          "oer_transfers_evicted_total",
+          "Stored transfers removed, least recently used first, over --transfer-store-bytes")),
+      transfer_store_bytes(registry.gauge("oer_transfer_store_bytes",
+                                          "Bytes of the stored transfers this process knows of")),
       meshes_loaded(
           registry.counter("oer_meshes_loaded_total",
                            "Meshes decoded from uploads or from the store (cache hits excluded)")),

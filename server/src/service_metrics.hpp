@@ -35,14 +35,18 @@ class ServiceMetrics {
     void cache(CacheName cache, bool hit);
 
     Histogram& render_seconds;  // GL time of one frame
-    // Frames a worker skipped because their request had stopped waiting (its deadline passed).
+    // Frames a worker skipped, or stopped part way, because their request had stopped waiting
+    // (its deadline passed or its client went).
     Counter& renders_skipped;
+    Counter& renders_stopped;
     Histogram& preprocess_seconds;  // decoding a map and building its rig
     Counter& rigs_computed;         // each rig actually computed, never a cache hit
     Histogram& specular_seconds;    // prefiltering a rig's residual map (specular cube)
     Counter& specular_computed;     // each specular cube actually computed, never a hit
     Histogram& transfer_seconds;    // baking a scene's transfer
     Counter& transfers_computed;    // each transfer actually baked, never a memory or store hit
+    Counter& transfers_evicted;     // stored transfers removed over the store's quota
+    Gauge& transfer_store_bytes;    // the stored transfers this process knows of
     Counter& meshes_loaded;         // each mesh actually decoded (upload or store), never a hit
     // Computations running now (an operator sees what a slow request waits for; a test sees
     // the moment one is under way): rigs (decoding the map and preprocessing it), specular

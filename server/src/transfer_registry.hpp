@@ -4,11 +4,29 @@
 // the bounce. Kept like a rig's specular cube: in memory (LRU by bytes), else read back from the
 // asset store (an entry that is damaged, or does not fit its scene, is logged, dropped and baked
 // again, never served), else baked once however many frames of the scene arrive together
-// (AssetRegistry), on the calling thread (an HTTP thread, or start-up: never a GL render
-// worker), stored and remembered (in memory only when the disk is full: the frame is not
-// refused for it). A bake of the Stanford bunny takes up to about 2 s.
+// (AssetRegistry), on the calling thread, stored and remembered (in memory only when the disk is
+// full: the frame is not refused for it). A bake of the Stanford bunny takes up to about 2 s.
+// Bakes run where their frames are rendered (FrameService: on a render worker, or at start-up),
+// and stop once no frame waits for them.
+//
+// The store's transfers are bounded together (store_bytes, --transfer-store-bytes): past it the
+// least recently used are removed, from the store and from memory, and baked again when a frame
+// needs one. Each stored transfer has a record of the meshes its scene holds
+// (DerivedKind::TransferMeshes, written before it and removed after it, so that every stored
+// transfer has one), and goes when any of them is deleted (remove_with_mesh).
+//
+// The index of stored transfers (their sizes and last uses) is this process's: it is read from
+// the store at start-up (ordered by when each was written), and follows what this process bakes,
+// reads and removes. Processes sharing a data folder each keep the quota over what they know,
+// so the folder holds at most the quota per process; removal with a mesh reads the records on
+// disk, and so removes every process's transfers of it.
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <stop_token>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,27 +50,61 @@ class TransferRegistry {
   public:
     using Log = std::function<void(std::string_view)>;
 
-    // rays_per_phase: ServiceConfig::transfer_ray_budget, which transfer_ray_count shares out.
+    // rays_per_phase: ServiceConfig::transfer_ray_budget, which transfer_ray_count shares out;
+    // store_bytes: ServiceConfig::transfer_store_bytes. Reads the store's transfers and their
+    // records (removing a transfer without a record, which an older version stored, and the
+    // least recently written past store_bytes). Throws oer::Error (Io) when the store fails.
     TransferRegistry(AssetStore& store, ServiceMetrics& metrics, Log log, std::size_t cache_bytes,
-                     double rays_per_phase);
+                     double rays_per_phase, std::uint64_t store_bytes);
 
     // The transfer of request's objects, ground and bounce, from memory, the store, or baked
     // (with transfer_ray_count's rays for the budget on every core). Throws oer::Error as
-    // bake_transfer does (InvalidInput for a request without objects).
+    // bake_transfer does (InvalidInput for a request without objects), Cancelled once `stop` is
+    // requested (the bake itself stops once every frame waiting for it has stopped).
     std::shared_ptr<const SceneTransfer> transfer(const FrameRequest& request,
-                                                  const std::vector<std::string>& mesh_ids);
+                                                  const std::vector<std::string>& mesh_ids,
+                                                  const std::stop_token& stop = {});
+
+    // Removes every stored transfer whose scene holds mesh_id, from the store and from memory;
+    // how many it removed.
+    std::size_t remove_with_mesh(const std::string& mesh_id);
+
+    // The bytes of the stored transfers this process knows of (at most store_bytes once a call
+    // of transfer() has returned).
+    std::uint64_t stored_bytes() const;
 
   private:
+    struct StoredTransfer {
+        std::uint64_t bytes = 0;
+        std::uint64_t last_use = 0;  // of use_clock_
+    };
+
     std::shared_ptr<const SceneTransfer> load_stored(const std::string& id,
                                                      const FrameRequest& request);
     std::shared_ptr<const SceneTransfer> bake(const std::string& id, const FrameRequest& request,
-                                              int rays);
+                                              int rays, const std::stop_token& stop,
+                                              const std::vector<std::string>& mesh_ids);
+    // Counts id's use (it moves to the back of the eviction order), with its size when it has
+    // just been stored or read.
+    void note_use(const std::string& id, std::optional<std::uint64_t> bytes = std::nullopt);
+    // The size of transfer id's file (its sealed form), as the store's quota counts it; 0 when
+    // it is gone.
+    std::uint64_t stored_file_bytes(const std::string& id) const;
+    // Removes the least recently used stored transfers until those known fit store_bytes.
+    void evict_over_budget();
+    // Removes transfer id and its record, in that order, from the store and from memory.
+    void remove_stored(const std::string& id);
 
     AssetStore& store_;
     ServiceMetrics& metrics_;
     const Log log_;
     AssetRegistry<SceneTransfer> transfers_;
     const double rays_per_phase_;
+    const std::uint64_t store_budget_;
+    mutable std::mutex index_mutex_;
+    std::map<std::string, StoredTransfer> stored_;  // guarded by index_mutex_
+    std::uint64_t stored_bytes_ = 0;                // guarded by index_mutex_
+    std::uint64_t use_clock_ = 0;                   // guarded by index_mutex_
 };
 
 }  // namespace oer::server

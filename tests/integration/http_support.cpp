@@ -595,7 +595,8 @@ std::string box_obj(glm::dvec3 low, glm::dvec3 high) {
     return out.str();
 }
 
-std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint8_t>& png) {
+std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint8_t>& png,
+                    int texture_maps) {
     const BoxGeometry box = box_geometry(low, high);
     std::string bin;
     const auto append = [&bin](const void* data, std::size_t size) {
@@ -647,11 +648,25 @@ std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint
                              {"type", "VEC2"}});
         primitive["attributes"]["TEXCOORD_0"] = 3;
         primitive["material"] = 0;
-        gltf["materials"] = {{{"pbrMetallicRoughness",
-                               {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.0}}}}};
-        gltf["textures"] = {{{"source", 0}}};
-        gltf["images"] = {{{"bufferView", view(png.data(), png.size(), std::nullopt)},
-                           {"mimeType", "image/png"}}};
+        Json material = {{"pbrMetallicRoughness",
+                          {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.0}}}};
+        if (texture_maps > 1) {
+            material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
+        }
+        if (texture_maps > 2) {
+            material["normalTexture"] = {{"index", 2}};
+        }
+        if (texture_maps > 3) {
+            material["occlusionTexture"] = {{"index", 3}};
+        }
+        gltf["materials"] = {material};
+        gltf["textures"] = Json::array();
+        gltf["images"] = Json::array();
+        for (int map = 0; map < std::clamp(texture_maps, 1, 4); ++map) {
+            gltf["textures"].push_back({{"source", map}});
+            gltf["images"].push_back({{"bufferView", view(png.data(), png.size(), std::nullopt)},
+                                      {"mimeType", "image/png"}});
+        }
     }
     gltf["meshes"] = {{{"primitives", {primitive}}}};
     gltf["accessors"] = accessors;
@@ -752,6 +767,14 @@ Rgba8Image get_frame(httplib::Client& client, const std::string& path_and_query)
     }
     expect_conforms("GET", "/v1/render", result);
     return decode_image(result);
+}
+
+double percentile(std::vector<double> values, double fraction) {
+    if (values.empty()) {
+        return 0.0;
+    }
+    std::sort(values.begin(), values.end());
+    return values[std::min(values.size() - 1, std::size_t(fraction * double(values.size())))];
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {

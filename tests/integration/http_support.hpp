@@ -153,7 +153,10 @@ std::string box_obj(glm::dvec3 low, glm::dvec3 high);
 // The same box as a binary glTF (positions, normals, indices; one primitive, no material), or,
 // given a PNG's bytes, with texture coordinates and a dielectric material whose base colour is
 // that image, embedded (each face shows all of it).
-std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint8_t>& png = {});
+// texture_maps (1 to 4): the image is also the metallic-roughness, normal and occlusion
+// texture, in that order, each its own copy.
+std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint8_t>& png = {},
+                    int texture_maps = 1);
 // box_glb with a side x side texture of noise from seed (a PNG of about 3.7 side^2 bytes: noise
 // does not compress), for uploads whose store write lasts long enough to be interrupted while
 // the mesh stays quick to load and draw.
@@ -181,6 +184,10 @@ httplib::Result post_json(httplib::Client& client, const std::string& path, cons
 // GET /v1/render with this path and query, checked to succeed and to conform to the spec: the
 // frame decoded (an empty image after a failure).
 Rgba8Image get_frame(httplib::Client& client, const std::string& path_and_query);
+
+// The value below which `fraction` of values lie (0.5: the median, 0.99: p99), by rank; 0 for
+// no values.
+double percentile(std::vector<double> values, double fraction);
 
 // Seconds of the steady clock since `start`.
 double seconds_since(std::chrono::steady_clock::time_point start);

@@ -89,14 +89,6 @@ bool sensible_retry_after(int seconds, const server::ServiceConfig& config) {
     return seconds >= 1 && seconds <= config.request_timeout_seconds;
 }
 
-double percentile(std::vector<double> values, double fraction) {
-    if (values.empty()) {
-        return 0.0;
-    }
-    std::sort(values.begin(), values.end());
-    return values[std::min(values.size() - 1, std::size_t(fraction * double(values.size())))];
-}
-
 // ---------------------------------------------------------------------------------------------
 // Mixed traffic.
 

@@ -3,6 +3,7 @@
 // cache, concurrent clients, and back-pressure (503 when the render queue is full, never a hang).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -578,10 +579,10 @@ TEST(RenderBackPressure, RequestsOverCapacityGet503PromptlyAndNoneHang) {
 }
 
 // A request that stops waiting (its deadline passed) takes its frame with it: a worker that
-// reaches the frame afterwards skips it (oer_renders_skipped_total) instead of rendering it for
-// nobody, so that clients who gave up do not cost the ones still waiting. One worker, a 1 s
-// deadline, four frames of seconds each sent at once: the first is rendered (and
-// dropped, it was under way), the three queued behind it are not.
+// reaches the frame afterwards skips it (oer_renders_skipped_total), and one under way stops it
+// between passes (oer_renders_stopped_total), instead of rendering it for nobody, so that
+// clients who gave up do not cost the ones still waiting. One worker, a 1 s deadline, four
+// frames of seconds each sent at once: none is rendered to the end.
 TEST(RenderDeadline, FramesWhoseRequestGaveUpAreSkipped) {
     TempRoot root;
     server::ServiceConfig config = test_config(root.data());
@@ -627,23 +628,26 @@ TEST(RenderDeadline, FramesWhoseRequestGaveUpAreSkipped) {
     }
     // A frame of 1024x1024 pixels at 4 samples takes seconds on llvmpipe: every request gives up.
     ASSERT_GE(refused, kRequests - 1) << "the frames were rendered within the 1 s deadline";
-    const auto rendered_and_skipped = [&] {
+    const auto ended = [&] {
         const Metrics now = scrape(*metrics_client);
-        return std::pair(
-            now.sum("oer_render_seconds_count") - before.sum("oer_render_seconds_count"),
-            now.sum("oer_renders_skipped_total") - before.sum("oer_renders_skipped_total"));
+        const auto counted = [&](const std::string& name) {
+            return now.sum(name) - before.sum(name);
+        };
+        return std::array{counted("oer_render_seconds_count"), counted("oer_renders_skipped_total"),
+                          counted("oer_renders_stopped_total")};
     };
     ASSERT_TRUE(eventually(
         [&] {
-            const auto [rendered, skipped] = rendered_and_skipped();
-            return rendered + skipped == kRequests;
+            const auto [rendered, skipped, stopped] = ended();
+            return rendered + skipped + stopped == kRequests;
         },
         std::chrono::seconds(120)))
         << "the worker did not get through the four frames";
-    const auto [rendered, skipped] = rendered_and_skipped();
-    // Only a frame already under way when its request gave up is rendered for nobody (one
-    // worker: at most one), and those answered 200.
-    EXPECT_LE(rendered, double(kRequests - refused + 1));
+    const auto [rendered, skipped, stopped] = ended();
+    // Only frames answered 200 are rendered to the end; the one under way when its request gave
+    // up is stopped, the others are skipped.
+    EXPECT_EQ(rendered, double(kRequests - refused));
+    EXPECT_LE(stopped, 1.0);
     EXPECT_GE(skipped, double(refused - 1));
 }
 

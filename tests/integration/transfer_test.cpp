@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "http_support.hpp"
+#include "oer/server/asset_store.hpp"
 
 using namespace oer;
 using namespace oer::itest;
@@ -315,4 +316,107 @@ TEST(Transfer, AnEntryOfAnotherSceneIsBakedAgainNeverServed) {
     EXPECT_EQ(transfers_computed(*client), 1.0);
     EXPECT_TRUE(frame == first_frame);
     EXPECT_TRUE(logged(second, "does not fit its scene"));
+}
+
+namespace {
+
+// box_scene with the box moved x along the x axis: another scene, another transfer of the same
+// size.
+Json moved_box_scene(const std::string& mesh, double x) {
+    Json scene = box_scene(mesh);
+    scene["objects"][0]["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, x, 0, 0, 1};
+    return scene;
+}
+
+double stored_transfer_bytes(httplib::Client& client) {
+    return scrape(client).sum("oer_transfer_store_bytes");
+}
+
+}  // namespace
+
+// The stored transfers stay within --transfer-store-bytes: past it the least recently used go
+// (from the store and from memory), and are baked again when a frame needs one; those used
+// since are kept. The order survives a restart (by when each was written).
+TEST(TransferStore, OverItsQuotaTheLeastRecentlyUsedAreRemoved) {
+    TempRoot root;
+    std::string mesh;
+    double default_bytes = 0.0, box_bytes = 0.0;
+    {
+        TestServer first(test_config(root.data()));
+        auto client = first.client();
+        default_bytes = stored_transfer_bytes(*client);
+        ASSERT_GT(default_bytes, 0.0) << "the default scene's transfer is stored at start-up";
+        mesh = upload_box(*client);
+        ASSERT_FALSE(mesh.empty());
+        frame_of(render(*client, moved_box_scene(mesh, 0.0)));  // A
+        box_bytes = stored_transfer_bytes(*client) - default_bytes;
+        ASSERT_GT(box_bytes, 0.0);
+    }
+    // Room for the default scene's and two boxes', not three.
+    server::ServiceConfig config = test_config(root.data());
+    config.transfer_store_bytes = std::uint64_t(default_bytes + 2.5 * box_bytes);
+    config.frame_cache_bytes = 0;  // every frame uses its transfer
+    TestServer second(config);
+    auto client = second.client();
+    EXPECT_EQ(stored_transfer_bytes(*client), default_bytes + box_bytes);
+    // Uses, oldest first: the default scene's and A's as written in the first run; then the
+    // default scene's (its start-up frame), B, A, the default scene's again; then C overflows
+    // the store. The least recently used is B, although the default scene's was written first.
+    frame_of(render(*client, box_scene("default")));
+    EXPECT_EQ(transfers_computed(*client), 0.0) << "the default scene's transfer was not stored";
+    frame_of(render(*client, moved_box_scene(mesh, 1.0)));  // B, baked
+    frame_of(render(*client, moved_box_scene(mesh, 0.0)));  // A, read back
+    frame_of(render(*client, box_scene("default")));
+    EXPECT_EQ(transfers_computed(*client), 1.0);
+    frame_of(render(*client, moved_box_scene(mesh, 2.0)));  // C, baked: over the quota
+    EXPECT_EQ(transfers_computed(*client), 2.0);
+    EXPECT_EQ(scrape(*client).sum("oer_transfers_evicted_total"), 1.0);
+    EXPECT_LE(stored_transfer_bytes(*client), double(config.transfer_store_bytes));
+    EXPECT_TRUE(logged(second, "over the " + std::to_string(config.transfer_store_bytes) +
+                                   " of --transfer-store-bytes"));
+    // C, A and the default scene's are kept: rendered without a bake.
+    frame_of(render(*client, moved_box_scene(mesh, 2.0)));
+    frame_of(render(*client, moved_box_scene(mesh, 0.0)));
+    frame_of(render(*client, box_scene("default")));
+    EXPECT_EQ(transfers_computed(*client), 2.0) << "a transfer used since was removed";
+    // B, the least recently used, went (from the store and from memory): baked again.
+    frame_of(render(*client, moved_box_scene(mesh, 1.0)));
+    EXPECT_EQ(transfers_computed(*client), 3.0) << "the least recently used was not removed";
+}
+
+// Deleting a mesh deletes the stored transfers of the scenes that hold it, and only those.
+TEST(TransferStore, DeletingAMeshDeletesItsScenesTransfers) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::set<std::string> at_start = transfer_entries(root);
+    const double default_bytes = stored_transfer_bytes(*client);
+    const std::string mesh = upload_box(*client);
+    ASSERT_FALSE(mesh.empty());
+    frame_of(render(*client, moved_box_scene(mesh, 0.0)));
+    frame_of(render(*client, moved_box_scene(mesh, 1.0)));
+    EXPECT_EQ(transfer_entries(root).size(), at_start.size() + 2);
+    const auto deleted = client->Delete(("/v1/meshes/" + mesh).c_str());
+    ASSERT_TRUE(deleted);
+    EXPECT_EQ(deleted->status, 204);
+    EXPECT_EQ(transfer_entries(root), at_start) << "the mesh's scenes' transfers are still stored";
+    EXPECT_TRUE(std::filesystem::is_empty(root.data() / "transfer-meshes") ||
+                std::distance(std::filesystem::directory_iterator(root.data() / "transfer-meshes"),
+                              std::filesystem::directory_iterator()) == long(at_start.size()));
+    EXPECT_EQ(stored_transfer_bytes(*client), default_bytes);
+    EXPECT_TRUE(logged(server, "removed 2 stored transfer(s) of scenes holding mesh " + mesh));
+}
+
+// A stored transfer without the record of its meshes (stored by an older version) could never
+// go with its meshes: it is removed at start-up.
+TEST(TransferStore, ATransferWithoutItsRecordIsRemovedAtStartUp) {
+    TempRoot root;
+    const std::string orphan(64, 'a');
+    {
+        server::AssetStore store(root.data());
+        store.put_derived(server::DerivedKind::Transfer, orphan, "a transfer of an older version");
+    }
+    TestServer server(test_config(root.data()));
+    EXPECT_FALSE(std::filesystem::exists(root.data() / "transfer" / (orphan + ".sealed")));
+    EXPECT_TRUE(logged(server, "stored transfer " + orphan + " has no record of its meshes"));
 }

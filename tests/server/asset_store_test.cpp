@@ -88,7 +88,7 @@ TEST_F(AssetStoreTest, CreatesTheFolderAndOneSubFolderPerKind) {
     const AssetStore store = open();
     EXPECT_EQ(file_names(folder_),
               (std::vector<std::string>{"environments", "mesh-summaries", "meshes", "rig-sources",
-                                        "rigs", "specular", "transfer"}));
+                                        "rigs", "specular", "transfer", "transfer-meshes"}));
     EXPECT_EQ(store.folder(), folder_);
 }
 
@@ -417,7 +417,7 @@ TEST_F(AssetStoreTest, InvalidIdsAreRejectedBeforeAnyPathIsBuilt) {
     EXPECT_EQ(file_names(folder_.parent_path()), std::vector<std::string>{"data"});
     EXPECT_EQ(file_names(folder_),
               (std::vector<std::string>{"environments", "mesh-summaries", "meshes", "rig-sources",
-                                        "rigs", "specular", "transfer"}));
+                                        "rigs", "specular", "transfer", "transfer-meshes"}));
     for (const char* kind : {"environments", "meshes", "rig-sources", "rigs"}) {
         EXPECT_TRUE(file_names(folder_ / kind).empty()) << kind;
     }

@@ -75,6 +75,7 @@ const std::vector<std::string> kEveryFlag{
     "max-render-seconds",
     "client-render-rate",
     "max-transfer-bytes",
+    "transfer-store-bytes",
     "access-log",
 };
 
@@ -85,7 +86,7 @@ const std::vector<std::string> kEveryValue{
     "https://a.example, http://b.example:3000",
     "1000", "2000", "3000", "3", "5000000", "20",
     "640", "480", "4", "2", "60", "10", "7", "50", "16", "8", "0", "250000",
-    "1073741824", "20", "0.25", "33554432", "off",
+    "1073741824", "20", "0.25", "33554432", "268435456", "off",
 };
 // clang-format on
 
@@ -119,6 +120,7 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.max_render_seconds, 20);
     EXPECT_EQ(config.client_render_rate, 0.25);
     EXPECT_EQ(config.max_transfer_bytes, 32u << 20);
+    EXPECT_EQ(config.transfer_store_bytes, 256u << 20);
     EXPECT_FALSE(config.access_log);
 }
 
@@ -154,6 +156,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.max_render_seconds, 30);
     EXPECT_EQ(config.client_render_rate, 1.0);
     EXPECT_EQ(config.max_transfer_bytes, 64u << 20);
+    EXPECT_EQ(config.transfer_store_bytes, 1u << 30);
     EXPECT_TRUE(config.access_log);
 }
 

@@ -6,6 +6,7 @@
 
 #include "frame_context.hpp"
 #include "frame_validation.hpp"
+#include "oer/core/cancellation.hpp"
 #include "oer/gl/gl_context.hpp"
 #include "passes/frame_passes.hpp"
 #include "renderer_state.hpp"
@@ -38,7 +39,7 @@ std::size_t FrameRenderer::specular_uploads() const {
 // The passes in order (passes/frame_passes.hpp), each taking what it reads and returning what
 // it produces: the frame's data flow. GL runs commands asynchronously (llvmpipe on its
 // rasterizer threads), so each pass's timing waits for them (glFinish) before it stops.
-Frame FrameRenderer::render(const FrameRequest& request) {
+Frame FrameRenderer::render(const FrameRequest& request, const std::stop_token& stop) {
     validate_frame_request(request, state_->limits, state_->max_texture_size);
     RendererState& state = *state_;
     const auto frame_start = Clock::now();
@@ -52,16 +53,19 @@ Frame FrameRenderer::render(const FrameRequest& request) {
     result.timings_ms["setup"] = elapsed_ms(start);
 
     start = Clock::now();
-    const ShadowMaps shadows = render_shadow_maps(frame, state);
+    throw_if_stopped(stop, "the frame");
+    const ShadowMaps shadows = render_shadow_maps(frame, state, stop);
     result.shadow_maps_rendered = shadows.rendered;
     glFinish();
     result.timings_ms["shadow_pass"] = elapsed_ms(start);
 
+    throw_if_stopped(stop, "the frame");
     start = Clock::now();
     const RenderTargets& targets = render_geometry(frame, lighting, state);
     glFinish();
     result.timings_ms["geometry_pass"] = elapsed_ms(start);
 
+    throw_if_stopped(stop, "the frame");
     start = Clock::now();
     GLuint finished = shade_surfaces(frame, lighting, shadows, targets, state);
     if (frame.blending) {

@@ -20,6 +20,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "oer/core/cancellation.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/sampling.hpp"
 #include "oer/lighting/sh.hpp"
@@ -142,15 +143,16 @@ class RaysMeetingSurfaces {
 };
 
 // Calls work(i) for i in [0, count) on `threads` threads, in chunks taken in turn; what work(i)
-// writes depends on i alone, so the result does not depend on the thread count.
+// writes depends on i alone, so the result does not depend on the thread count. Each thread
+// looks at stop before each chunk: once it is requested no chunk starts, and the call throws
+// (Cancelled) after the chunks under way end.
 template <class Work>
-void parallel_for(std::size_t count, int threads, const Work& work) {
-    constexpr std::size_t kChunk = 32;
+void parallel_for(std::size_t count, int threads, const std::stop_token& stop, const Work& work) {
     std::atomic<std::size_t> next{0};
     const auto run = [&] {
-        for (std::size_t start = next.fetch_add(kChunk); start < count;
-             start = next.fetch_add(kChunk)) {
-            const std::size_t end = std::min(count, start + kChunk);
+        for (std::size_t start = next.fetch_add(kBakeChunk);
+             start < count && !stop.stop_requested(); start = next.fetch_add(kBakeChunk)) {
+            const std::size_t end = std::min(count, start + kBakeChunk);
             for (std::size_t i = start; i < end; ++i) {
                 work(i);
             }
@@ -164,6 +166,7 @@ void parallel_for(std::size_t count, int threads, const Work& work) {
     for (std::thread& worker : workers) {
         worker.join();
     }
+    throw_if_stopped(stop, "the transfer bake");
 }
 
 std::size_t receiver_count(const std::vector<SceneObject>& objects) {
@@ -550,11 +553,11 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
 
     const ReceiverTracer tracer(scene, layout, request.ground);
     RaysMeetingSurfaces meeting(receivers.size(), layout.rays);
-    parallel_for(receivers.size(), layout.threads,
+    parallel_for(receivers.size(), layout.threads, options.stop,
                  [&](std::size_t r) { tracer.trace_direct(r, receivers[r], meeting); });
     if (options.bounce == Bounce::One) {
         const DirectAtHit direct_at(request, transfer, sky_direct);
-        parallel_for(receivers.size(), layout.threads, [&](std::size_t r) {
+        parallel_for(receivers.size(), layout.threads, options.stop, [&](std::size_t r) {
             tracer.trace_bounce(r, receivers[r], meeting, direct_at);
         });
     }

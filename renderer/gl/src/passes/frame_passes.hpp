@@ -12,6 +12,7 @@
 #include <GL/glcorearb.h>
 
 #include <cstddef>
+#include <stop_token>
 
 #include "frame_context.hpp"
 #include "gl_objects.hpp"
@@ -47,7 +48,10 @@ struct ShadowMaps {
 
 // Shadow pass: a depth map per light that is on, from the cache or rendered, and for a frame
 // with a ground its ground visibility, held in state.shadow_layers at the light's rig index.
-ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state);
+// Looks at stop before each light (throwing Cancelled once it is requested): sixteen lights at
+// a large resolution take seconds.
+ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state,
+                              const std::stop_token& stop);
 
 // Ground visibility bake (part of the shadow pass): the visibility of the frame's light
 // `light` (its index among the lights that are on) over the ground plane at ground_height, a

@@ -12,6 +12,7 @@
 
 #include "gl_bindings.hpp"
 #include "material_uniforms.hpp"
+#include "oer/core/cancellation.hpp"
 #include "passes/frame_passes.hpp"
 
 namespace oer {
@@ -32,7 +33,8 @@ std::string scene_key(const FrameContext& frame, RendererState& state) {
 
 }  // namespace
 
-ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state) {
+ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state,
+                              const std::stop_token& stop) {
     using namespace gl_bindings;
     const FrameRequest& request = frame.request;
     ShadowMaps shadows;
@@ -52,6 +54,7 @@ ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state) {
     }
     gl::Program& depth = state.program("depth", "#define ALPHA_TEST 0\n");
     for (std::size_t i = 0; frame.shadows && i < frame.lit.size(); ++i) {
+        throw_if_stopped(stop, "the frame's shadow pass");
         std::string key = scene;
         key.append(reinterpret_cast<const char*>(glm::value_ptr(frame.light_directions[i])),
                    3 * sizeof(float));

@@ -6,7 +6,8 @@
 //
 // Layout: DIR/environments/<id>.<ext>, DIR/meshes/<id>.<ext> (the upload's bytes as they came,
 // the extension naming their format), DIR/rigs/<id>.sealed, DIR/rig-sources/<id>.sealed and
-// DIR/specular/<rig id>.sealed, DIR/transfer/<scene's transfer id>.sealed (a header line
+// DIR/specular/<rig id>.sealed, DIR/transfer/<scene's transfer id>.sealed,
+// DIR/transfer-meshes/<transfer id>.sealed, DIR/mesh-summaries/<mesh id>.sealed (a header line
 // "oer-sealed-v1 <sha256 of payload> <payload length>\n", then the payload).
 //
 // Writes are atomic: a uniquely named temporary file beside the entry is written, flushed to
@@ -86,9 +87,10 @@ enum class SourceKind { Environment, Mesh };
 // rig came from, kept apart so that a damaged rig can be recomputed from its source. Specular:
 // a rig's residual map prefiltered (oer::encode_prefiltered_cube), by the rig's id. Transfer: a
 // scene's precomputed radiance transfer (oer::encode_transfer), by an id hashing everything its
-// bake depends on. MeshSummary: what a render needs to know of a stored mesh before it decodes
-// it (its counts and its textures' decoded bytes), by the mesh's id.
-enum class DerivedKind { Rig, RigSource, Specular, Transfer, MeshSummary };
+// bake depends on. TransferMeshes: the meshes a stored transfer's scene holds, by the transfer's
+// id (so that it goes with any of them). MeshSummary: what a render needs to know of a stored
+// mesh before it decodes it (its counts and its textures' decoded bytes), by the mesh's id.
+enum class DerivedKind { Rig, RigSource, Specular, Transfer, TransferMeshes, MeshSummary };
 
 struct StoredSource {
     std::string bytes;

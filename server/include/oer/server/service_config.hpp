@@ -66,6 +66,9 @@ struct ServiceConfig {
     std::uint64_t max_render_memory_bytes = 2ull << 30;
     int max_render_seconds = 30;
     std::uint64_t max_transfer_bytes = 64ull << 20;
+    // The stored transfers together (transfer_registry.hpp): past it, the least recently used
+    // are removed (they are baked again when a frame needs them).
+    std::uint64_t transfer_store_bytes = 1ull << 30;
     // Each client address's share of uncached rendering: the seconds of render work it earns a
     // second, saved up to max_render_seconds, each uncached frame costing the work it took
     // (client_work_budget.hpp); past it, 429 with Retry-After. 0: no per-client limit (behind

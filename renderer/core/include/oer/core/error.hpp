@@ -12,6 +12,7 @@ enum class ErrorKind {
     Unsupported,    // well-formed input of a kind we do not handle
     Io,             // the file system or a device failed
     Internal,       // a bug: an invariant did not hold
+    Cancelled,      // stopped on request: its deadline passed, or nobody waits for it
 };
 
 class Error : public std::runtime_error {

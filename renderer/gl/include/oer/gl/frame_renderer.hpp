@@ -6,6 +6,7 @@
 // A FrameRenderer holds GL objects (meshes, environment textures, cached shadow maps): create
 // and use it on one thread with a current GL context (inside RenderThread jobs).
 #include <memory>
+#include <stop_token>
 
 #include "oer/scene/frame_request.hpp"
 
@@ -21,8 +22,9 @@ class FrameRenderer {
     FrameRenderer& operator=(const FrameRenderer&) = delete;
 
     // Throws oer::Error: InvalidInput for a malformed request (naming the member),
-    // LimitExceeded past the limits, Internal on a GL error.
-    Frame render(const FrameRequest& request);
+    // LimitExceeded past the limits, Internal on a GL error, Cancelled once stop is requested
+    // (looked at between passes and between lights' shadow maps: oer/core/cancellation.hpp).
+    Frame render(const FrameRequest& request, const std::stop_token& stop = {});
 
     std::size_t cached_shadow_maps() const;
     // Prefiltered cubes (FrameRequest::specular) uploaded so far: only frames with glossy

@@ -5,6 +5,7 @@
 // Bounce::One what those rays hit, reflecting its own direct transfer once.
 // And the rules that choose how much a scene needs ("model only what a scene needs").
 #include <cstdint>
+#include <stop_token>
 
 #include "oer/lighting/rig.hpp"
 #include "oer/scene/frame_request.hpp"
@@ -16,7 +17,13 @@ struct TransferBakeOptions {
     Bounce bounce = Bounce::One;
     int rays = 0;     // per receiver point, rounded down to a square; 0: transfer_ray_count's rule
     int threads = 0;  // 0: every core
+    // Checked by every thread before each chunk of kBakeChunk receivers (a few milliseconds of
+    // rays): once a stop is requested the bake throws oer::Error (Cancelled) within one chunk.
+    std::stop_token stop;
 };
+
+// The receivers a bake thread traces between two looks at its stop token.
+inline constexpr std::size_t kBakeChunk = 32;
 
 // The rays per receiver point the rule gives for these objects (their vertex count bounds the
 // bake's work; see the definition for the rule and its measurements).
@@ -34,7 +41,7 @@ std::uint64_t transfer_point_count(std::uint64_t object_points);
 
 // The transfer of request.objects (with their transforms) and, when request.ground, of the
 // ground plane under them. Throws oer::Error (InvalidInput) for a request without objects,
-// (Internal) when Embree fails.
+// (Internal) when Embree fails, (Cancelled) once options.stop is requested.
 SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptions& options);
 
 }  // namespace oer

@@ -1,0 +1,165 @@
+// Work that nobody waits for stops (server/src/frame_service.hpp, oer/core/cancellation.hpp): a
+// frame or a transfer bake whose client closes its connection is stopped within a fraction of
+// a second wherever it is, the process is idle again, and the frame asked for next starts at
+// once; a bake that another frame still waits for goes on for that one.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "http_support.hpp"
+#include "process_cpu.hpp"
+
+using namespace oer;
+using namespace oer::itest;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// The request line and headers of a POST /v1/render of body, as a client sends them.
+std::string render_request(const Json& body) {
+    const std::string text = body.dump();
+    return "POST /v1/render HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
+           "Content-Length: " +
+           std::to_string(text.size()) + "\r\n\r\n" + text;
+}
+
+// A frame of seconds on llvmpipe (more under the sanitizers): 1024 x 1024 pixels at 4 samples
+// with 4096^2 shadow maps.
+Json slow_frame(int yaw) {
+    return {{"environment", "default"},
+            {"objects", {{{"mesh", "default"}}}},
+            {"camera", {{"orbit", {{"yaw", yaw}}}}},
+            {"occlusion", false},
+            {"width", 1024},
+            {"height", 1024},
+            {"samples", 4},
+            {"shadows", {{"resolution", 4096}}}};
+}
+
+// An occluded 64 x 64 frame of mesh, whose transfer the server bakes first.
+Json occluded_frame(const std::string& mesh, int yaw) {
+    return {{"environment", "default"},
+            {"objects", {{{"mesh", mesh}}}},
+            {"camera", {{"orbit", {{"yaw", yaw}}}}},
+            {"width", 64},
+            {"height", 64}};
+}
+
+class RenderCancellation : public ::testing::Test {
+  protected:
+    void start(int workers) {
+        server::ServiceConfig config = test_config(root_.data());
+        config.render_workers = workers;
+        config.frame_cache_bytes = 0;
+        // The most rays a point (32^2 per phase) for any scene: a bake of seconds from a mesh
+        // of a megabyte.
+        config.transfer_ray_budget = 1'000'000'000;
+        server_ = std::make_unique<TestServer>(config);
+        client_ = server_->client();
+    }
+
+    double metric(const std::string& name) { return scrape(*client_).sum(name); }
+
+    // A 250 x 250 grid (2.8 MB of OBJ): 63 001 points and the ground's 4096, 1024 rays each and
+    // phase, about 137 million rays: 2 s of baking on 2 cores.
+    std::string upload_grid() {
+        const Json mesh = upload_mesh(*client_, grid_obj(250), "model/obj");
+        return mesh.value("id", "");
+    }
+
+    // Sends body from a client that leaves (closes its socket) after `after`, once the work is
+    // under way; then checks that the work stopped within 1 s of it (one more frame counted in
+    // oer_renders_stopped_total) and that the process is idle again.
+    void send_and_leave(const Json& body, std::chrono::milliseconds after) {
+        const double stopped_before = metric("oer_renders_stopped_total");
+        {
+            RawSocket leaving(server_->port());
+            ASSERT_TRUE(leaving.ok());
+            ASSERT_TRUE(leaving.send_all(render_request(body)));
+            std::this_thread::sleep_for(after);
+            // Still under way: no answer yet.
+            EXPECT_EQ(leaving.receive(std::chrono::milliseconds(0)).value_or("?"), "");
+        }
+        const auto left = Clock::now();
+        EXPECT_TRUE(
+            eventually([&] { return metric("oer_renders_stopped_total") == stopped_before + 1.0; },
+                       std::chrono::milliseconds(1000)))
+            << "the work of the client that left was not stopped within 1 s";
+        const double stopped_after = seconds_since(left);
+        EXPECT_LT(stopped_after, 1.0);
+        const double cpu = oer::testing::cpu_share_over(std::chrono::milliseconds(500));
+        std::printf("stopped %.0f ms after its client left; then %.1f %% of a core\n",
+                    stopped_after * 1e3, cpu * 100.0);
+        EXPECT_LT(cpu, 0.05) << "the process still worked after the client left";
+    }
+
+    TempRoot root_;
+    std::unique_ptr<TestServer> server_;
+    std::unique_ptr<httplib::Client> client_;
+};
+
+}  // namespace
+
+// A frame of seconds whose client leaves after half a second is stopped between its passes; the
+// worker is free for the next frame at once.
+TEST_F(RenderCancellation, AFrameWhoseClientLeftStopsAndTheNextStartsAtOnce) {
+    start(1);
+    const double rendered_before = metric("oer_render_seconds_count");
+    send_and_leave(slow_frame(0), std::chrono::milliseconds(500));
+    EXPECT_EQ(metric("oer_render_seconds_count"), rendered_before) << "the frame was finished";
+    const auto start = Clock::now();
+    const Rgba8Image next = get_frame(
+        *client_, "/v1/render?environment=default&mesh=default&width=64&height=64&occlusion=off");
+    EXPECT_EQ(next.width, 64);
+    EXPECT_LT(seconds_since(start), 1.0) << "the next frame waited for the abandoned one";
+}
+
+// A transfer bake of seconds whose only frame's client leaves is stopped between its batches of
+// receivers: nothing is stored, nothing counted as baked.
+TEST_F(RenderCancellation, ABakeNobodyWaitsForStopsAndStoresNothing) {
+    start(1);
+    const std::string grid = upload_grid();
+    ASSERT_FALSE(grid.empty());
+    const double baked_before = metric("oer_transfers_computed_total");
+    send_and_leave(occluded_frame(grid, 0), std::chrono::milliseconds(500));
+    EXPECT_EQ(metric("oer_transfers_computed_total"), baked_before);
+    EXPECT_TRUE(std::filesystem::is_empty(root_.data() / "transfer") ||
+                std::distance(std::filesystem::directory_iterator(root_.data() / "transfer"),
+                              std::filesystem::directory_iterator()) == 1)
+        << "only the default scene's transfer is stored";
+    bool logged = false;
+    for (const std::string& line : server_->log_lines()) {
+        logged = logged || line.find("no frame waits for it any more") != std::string::npos;
+    }
+    EXPECT_TRUE(logged) << "the stopped bake was not logged";
+}
+
+// Two frames of one scene on two workers share its bake: when the first one's client leaves,
+// the bake goes on for the second, which gets its frame; the scene is baked once.
+TEST_F(RenderCancellation, ABakeAnotherFrameWaitsForGoesOn) {
+    start(2);
+    const std::string grid = upload_grid();
+    ASSERT_FALSE(grid.empty());
+    const double baked_before = metric("oer_transfers_computed_total");
+    RawSocket staying(server_->port(), "127.0.0.2");
+    ASSERT_TRUE(staying.ok());
+    {
+        RawSocket leaving(server_->port(), "127.0.0.3");
+        ASSERT_TRUE(leaving.ok());
+        ASSERT_TRUE(leaving.send_all(render_request(occluded_frame(grid, 0))));
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        ASSERT_TRUE(staying.send_all(render_request(occluded_frame(grid, 90))));
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    }
+    const std::optional<std::string> answer = staying.receive_response(std::chrono::seconds(120));
+    ASSERT_TRUE(answer);
+    EXPECT_EQ(answer->rfind("HTTP/1.1 200", 0), 0u) << answer->substr(0, 400);
+    EXPECT_EQ(metric("oer_transfers_computed_total"), baked_before + 1.0);
+    EXPECT_EQ(metric("oer_renders_stopped_total"), 1.0) << "the leaving client's frame stops";
+}
