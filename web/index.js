@@ -365,6 +365,35 @@ const endUpload = () => {
   uploading = null;
   uploadGroup.removeAttribute('aria-busy');
 };
+// An uploaded mesh's first frames need its transfer (occlusion and one bounce), which the
+// server starts baking on upload: GET /v1/meshes/{id}/preparation says how far it has come,
+// polled until it is ready (or will not be prepared ahead), into the progress bar. The status
+// line, which a screen reader announces, changes only every 10 %.
+const PREPARATION_POLL_MS = 250;
+async function followPreparation(id, name) {
+  let announced = -1;
+  for (;;) {
+    const preparation = await fetchJson(`/v1/meshes/${id}/preparation`);
+    if (preparation.state !== 'queued' && preparation.state !== 'baking') {
+      return;
+    }
+    const percent = Math.floor(100 * preparation.progress);
+    if (preparation.state === 'queued' || percent === 0) {
+      uploadProgress.removeAttribute('value');
+    } else {
+      uploadProgress.value = preparation.progress;
+    }
+    const step = Math.floor(percent / 10);
+    if (step !== announced) {
+      announced = step;
+      const left = preparation.seconds_left === null ? ''
+        : `, about ${Math.max(1, Math.round(preparation.seconds_left))} s left`;
+      say(`Preparing ${name}'s shadows and reflected light: ${percent} %${left}`);
+    }
+    await new Promise((resolve) => setTimeout(resolve, PREPARATION_POLL_MS));
+  }
+}
+
 async function upload(file) {
   if (refuseWhileUploading(file.name)) {
     return;
@@ -424,9 +453,18 @@ async function upload(file) {
       uploads[kind.attribute].push({ id: asset.id, name: file.name });
     }
     show(kind.attribute, asset.id);
-    finish(kind.attribute === 'environment'
-      ? `${file.name}: ${asset.lights.length} lights`
-      : `${file.name}: ${asset.counts.triangles.toLocaleString('en-US')} triangles`);
+    if (kind.attribute === 'environment') {
+      finish(`${file.name}: ${asset.lights.length} lights`);
+      return;
+    }
+    const triangles = `${file.name}: ${asset.counts.triangles.toLocaleString('en-US')} triangles`;
+    try {
+      await followPreparation(asset.id, file.name);
+      finish(triangles);
+    } catch (error) {
+      finish(`${triangles}; its preparation's progress did not load: ${error.message}`,
+             { error: true });
+    }
   });
   request.addEventListener('error', () =>
     finish(`Network error: ${file.name} did not reach ${new URL(url, location.href).origin}`,

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "http_errors.hpp"
+#include "oer/api/content_id.hpp"
 #include "oer/api/frame_encoding.hpp"
 #include "oer/core/cancellation.hpp"
 #include "oer/scene/scene_rules.hpp"
@@ -46,7 +47,7 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
                            TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
                            ServiceMetrics& metrics, std::chrono::seconds deadline,
                            RenderBudgets budgets, double transfer_rays_per_phase,
-                           ClientWorkBudget& client_work)
+                           ClientWorkBudget& client_work, std::function<void(std::string_view)> log)
     : environments_(environments),
       meshes_(meshes),
       transfers_(transfers),
@@ -56,7 +57,100 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
       deadline_(deadline),
       budgets_(budgets),
       transfer_rays_per_phase_(transfer_rays_per_phase),
-      client_work_(client_work) {}
+      client_work_(client_work),
+      log_(std::move(log)) {}
+
+FrameRequest FrameService::standard_scene(std::shared_ptr<const Mesh> mesh) {
+    FrameRequest request;
+    request.objects.push_back({std::move(mesh), glm::mat4(1.0f), std::nullopt});
+    request.occlusion = true;
+    request.bounce = Bounce::One;
+    request.ground = true;
+    return request;
+}
+
+void FrameService::prepare(const std::string& mesh_id) {
+    const auto summary = meshes_.summary(mesh_id);
+    const auto environment = environments_.find(std::string(api::kDefaultPresetId));
+    if (!summary || !environment) {
+        return;
+    }
+    api::RenderSpec spec;
+    spec.objects.push_back({});
+    spec.objects.back().mesh = mesh_id;
+    try {
+        check_render_cost(
+            estimate_render_cost(spec, {*summary}, {mesh_id}, environment->rig->lights.size(),
+                                 transfer_rays_per_phase_),
+            budgets_);
+    } catch (const HttpError& over) {
+        log_("preparation: mesh " + mesh_id + " not prepared ahead: " + over.what());
+        return;
+    }
+    const auto mesh = meshes_.find(mesh_id);
+    if (!mesh) {
+        return;
+    }
+    auto request = std::make_shared<FrameRequest>(standard_scene(mesh->mesh));
+    const std::string id = transfers_.id_for(*request, {mesh_id}, summary->vertices);
+    {
+        const std::lock_guard lock(queued_mutex_);
+        if (!queued_.insert(id).second) {
+            return;  // queued already
+        }
+    }
+    const auto dequeue = [this, id] {
+        const std::lock_guard lock(queued_mutex_);
+        queued_.erase(id);
+    };
+    try {
+        // The future is dropped: nobody waits for the bake, whose outcome the log tells.
+        (void)pool_.submit([this, request, mesh_id, dequeue](FrameRenderer&) {
+            dequeue();
+            try {
+                transfers_.transfer(*request, {mesh_id});
+            } catch (const std::exception& error) {
+                log_("preparation: the transfer of mesh " + mesh_id +
+                     " was not baked ahead: " + error.what());
+            }
+            return Frame{};
+        });
+    } catch (const std::exception& busy) {
+        dequeue();
+        log_("preparation: mesh " + mesh_id + " not prepared ahead: " + busy.what());
+    }
+}
+
+std::optional<MeshPreparation> FrameService::preparation(const std::string& mesh_id) {
+    const auto summary = meshes_.summary(mesh_id);
+    if (!summary) {
+        return std::nullopt;
+    }
+    const std::string id = transfers_.id_for(standard_scene(nullptr), {mesh_id}, summary->vertices);
+    MeshPreparation answer;
+    const TransferPreparation transfer = transfers_.preparation(id);
+    switch (transfer.state) {
+        case TransferPreparation::State::Ready:
+            answer.state = MeshPreparation::State::Ready;
+            answer.fraction = 1.0;
+            return answer;
+        case TransferPreparation::State::Baking:
+            answer.state = MeshPreparation::State::Baking;
+            answer.fraction = transfer.fraction;
+            if (transfer.fraction > 0.0) {
+                answer.seconds_left =
+                    transfer.elapsed_seconds * (1.0 - transfer.fraction) / transfer.fraction;
+            }
+            return answer;
+        case TransferPreparation::State::Absent:
+            break;
+    }
+    const std::lock_guard lock(queued_mutex_);
+    if (queued_.contains(id)) {
+        answer.state = MeshPreparation::State::Queued;
+    }
+    return answer;
+}
 
 ResolvedRender FrameService::resolve(const api::RenderSpec& spec, RequestForm form) {
     ResolvedRender resolved{spec, nullptr, {}, {}, {}};

@@ -15,7 +15,11 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
 #include <string>
+#include <string_view>
 
 #include "client_work_budget.hpp"
 #include "environment_registry.hpp"
@@ -48,6 +52,16 @@ struct ResolvedRender {
     Camera camera;
 };
 
+// Where the preparation of a mesh's first frames stands (GET /v1/meshes/{id}/preparation): its
+// standard scene's transfer (FrameService::prepare) queued, baking, ready, or not prepared
+// (over the budgets, refused by a full queue, failed, or removed since).
+struct MeshPreparation {
+    enum class State { NotPrepared, Queued, Baking, Ready };
+    State state = State::NotPrepared;
+    double fraction = 0.0;
+    std::optional<double> seconds_left;  // Baking, once a part is done: at the rate so far
+};
+
 // How the request named its members, for the `parameter` of a 404.
 enum class RequestForm { Json, Query };
 
@@ -56,7 +70,8 @@ class FrameService {
     FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
                  TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
                  ServiceMetrics& metrics, std::chrono::seconds deadline, RenderBudgets budgets,
-                 double transfer_rays_per_phase, ClientWorkBudget& client_work);
+                 double transfer_rays_per_phase, ClientWorkBudget& client_work,
+                 std::function<void(std::string_view)> log);
 
     // Who asks: the client's address (its share of render work) and whether it has gone.
     struct Client {
@@ -72,7 +87,19 @@ class FrameService {
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
                         const Client& client);
 
+    // Bakes ahead, on a render worker, the transfer of mesh_id's standard scene (the mesh
+    // alone, untransformed, on the ground, one bounce: the scene of a product's first frames),
+    // so that they find it ready instead of baking it. Skipped (logged) when its cost is over
+    // the budgets, or when the renderer is not started or its queue is full.
+    void prepare(const std::string& mesh_id);
+    // Where that preparation stands; nullopt when no mesh has that id.
+    std::optional<MeshPreparation> preparation(const std::string& mesh_id);
+
   private:
+    // The standard scene of mesh_id (prepare's), its objects' meshes left empty: enough for
+    // its transfer's id.
+    static FrameRequest standard_scene(std::shared_ptr<const Mesh> mesh);
+
     // The environment the spec names, then its cost estimated from its meshes' summaries and
     // checked against the budgets (413), then the meshes, decoded, and its camera; 404 for an
     // unknown id.
@@ -95,6 +122,9 @@ class FrameService {
     const RenderBudgets budgets_;
     const double transfer_rays_per_phase_;
     ClientWorkBudget& client_work_;
+    const std::function<void(std::string_view)> log_;
+    std::mutex queued_mutex_;
+    std::set<std::string> queued_;  // transfer ids of preparations not started yet
 };
 
 }  // namespace oer::server

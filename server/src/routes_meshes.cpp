@@ -66,6 +66,31 @@ nlohmann::json listed_mesh(const ListedAsset& entry) {
             {"bytes", entry.source->bytes}};
 }
 
+// GET /v1/meshes/{id}/preparation's answer.
+nlohmann::json preparation_json(const MeshPreparation& preparation) {
+    const auto state = [&] {
+        switch (preparation.state) {
+            case MeshPreparation::State::Queued:
+                return "queued";
+            case MeshPreparation::State::Baking:
+                return "baking";
+            case MeshPreparation::State::Ready:
+                return "ready";
+            case MeshPreparation::State::NotPrepared:
+                break;
+        }
+        return "not_prepared";
+    }();
+    nlohmann::json answer = {{"stage", "transfer"},
+                             {"state", state},
+                             {"progress", preparation.fraction},
+                             {"seconds_left", nullptr}};
+    if (preparation.seconds_left) {
+        answer["seconds_left"] = *preparation.seconds_left;
+    }
+    return answer;
+}
+
 }  // namespace
 
 void add_mesh_routes(Router& router, ServiceContext& context) {
@@ -79,6 +104,10 @@ void add_mesh_routes(Router& router, ServiceContext& context) {
                 throw api::InvalidParameter("body", "the body must be the mesh file's bytes");
             }
             const auto upload = context.meshes.upload(body, format_of(request));
+            // Its first frames' transfer, baked ahead (GET .../preparation tells how far).
+            if (!upload.cached) {
+                context.frame_service.prepare(upload.asset->id);
+            }
             send_upload(response, upload.asset->json, upload.cached,
                         "/v1/meshes/" + upload.asset->id);
         });
@@ -89,6 +118,17 @@ void add_mesh_routes(Router& router, ServiceContext& context) {
         context.transfers.remove_with_mesh(id);
     });
     add_asset_reading_route(router, context.meshes, kMeshKind);
+
+    router.get("/v1/meshes/{id}/preparation",
+               [&context](const httplib::Request& request, httplib::Response& response) {
+                   single_query(request, {});
+                   const std::string& id = request.matches[1];
+                   const auto preparation = context.frame_service.preparation(id);
+                   if (!preparation) {
+                       throw unknown_asset(kMeshKind, id);
+                   }
+                   send_json(response, 200, preparation_json(*preparation));
+               });
 }
 
 }  // namespace oer::server

@@ -178,7 +178,7 @@ void Service::Impl::start() {
         std::chrono::seconds(config.request_timeout_seconds),
         RenderBudgets{config.max_render_memory_bytes, double(config.max_render_seconds),
                       config.max_transfer_bytes},
-        double(config.transfer_ray_budget), client_work);
+        double(config.transfer_ray_budget), client_work, log);
     start_renderer();
 
     const std::size_t max_body =

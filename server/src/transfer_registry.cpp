@@ -189,6 +189,32 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::transfer(
     return transfer;
 }
 
+std::string TransferRegistry::id_for(const FrameRequest& request,
+                                     const std::vector<std::string>& mesh_ids,
+                                     std::uint64_t object_points) const {
+    return transfer_id(request, mesh_ids, transfer_ray_count(object_points, rays_per_phase_));
+}
+
+TransferPreparation TransferRegistry::preparation(const std::string& id) const {
+    TransferPreparation answer;
+    {
+        const std::lock_guard lock(baking_mutex_);
+        if (const auto baking = baking_.find(id); baking != baking_.end()) {
+            answer.state = TransferPreparation::State::Baking;
+            answer.fraction = baking->second->fraction();
+            answer.elapsed_seconds = std::chrono::duration<double>(
+                                         std::chrono::steady_clock::now() - baking->second->start)
+                                         .count();
+            return answer;
+        }
+    }
+    if (store_.contains(DerivedKind::Transfer, id)) {
+        answer.state = TransferPreparation::State::Ready;
+        answer.fraction = 1.0;
+    }
+    return answer;
+}
+
 std::size_t TransferRegistry::remove_with_mesh(const std::string& mesh_id) {
     std::vector<std::string> holding;
     for_each_stored(store_, DerivedKind::TransferMeshes, [&](const std::string& id) {
@@ -311,6 +337,21 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::bake(
     options.bounce = request.bounce;
     options.rays = rays;
     options.stop = stop;
+    const auto progress = std::make_shared<BakeProgress>();
+    options.progress = progress.get();
+    {
+        const std::lock_guard lock(baking_mutex_);
+        baking_[id] = progress;
+    }
+    // Out of the list of bakes under way however the bake ends.
+    struct Unlist {
+        TransferRegistry& registry;
+        const std::string& id;
+        ~Unlist() {
+            const std::lock_guard lock(registry.baking_mutex_);
+            registry.baking_.erase(id);
+        }
+    } const unlist{*this, id};
     std::shared_ptr<const SceneTransfer> transfer;
     try {
         transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, options));

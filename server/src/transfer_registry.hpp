@@ -35,6 +35,7 @@
 #include "oer/scene/frame_request.hpp"
 #include "oer/scene/scene_transfer.hpp"
 #include "oer/server/asset_store.hpp"
+#include "oer/transfer/transfer_bake.hpp"
 #include "service_metrics.hpp"
 
 namespace oer::server {
@@ -45,6 +46,14 @@ namespace oer::server {
 // kTransferBakeOrder and the bake's version (transfer_registry.cpp).
 std::string transfer_id(const FrameRequest& request, const std::vector<std::string>& mesh_ids,
                         int rays);
+
+// Where the making of one transfer stands.
+struct TransferPreparation {
+    enum class State { Absent, Baking, Ready };
+    State state = State::Absent;
+    double fraction = 0.0;         // Baking: of the bake's rays traced
+    double elapsed_seconds = 0.0;  // Baking: since it started
+};
 
 class TransferRegistry {
   public:
@@ -64,6 +73,13 @@ class TransferRegistry {
     std::shared_ptr<const SceneTransfer> transfer(const FrameRequest& request,
                                                   const std::vector<std::string>& mesh_ids,
                                                   const std::stop_token& stop = {});
+
+    // The id request's transfer has (transfer_id with the rays of transfer_ray_count's rule for
+    // `object_points` receiver points: the objects' vertices, known before they are decoded).
+    std::string id_for(const FrameRequest& request, const std::vector<std::string>& mesh_ids,
+                       std::uint64_t object_points) const;
+    // Whether transfer id is being baked (and how far it has come), is stored, or neither.
+    TransferPreparation preparation(const std::string& id) const;
 
     // Removes every stored transfer whose scene holds mesh_id, from the store and from memory;
     // how many it removed.
@@ -101,6 +117,8 @@ class TransferRegistry {
     AssetRegistry<SceneTransfer> transfers_;
     const double rays_per_phase_;
     const std::uint64_t store_budget_;
+    mutable std::mutex baking_mutex_;
+    std::map<std::string, std::shared_ptr<BakeProgress>> baking_;  // guarded by baking_mutex_
     mutable std::mutex index_mutex_;
     std::map<std::string, StoredTransfer> stored_;  // guarded by index_mutex_
     std::uint64_t stored_bytes_ = 0;                // guarded by index_mutex_

@@ -420,3 +420,65 @@ TEST(TransferStore, ATransferWithoutItsRecordIsRemovedAtStartUp) {
     EXPECT_FALSE(std::filesystem::exists(root.data() / "transfer" / (orphan + ".sealed")));
     EXPECT_TRUE(logged(server, "stored transfer " + orphan + " has no record of its meshes"));
 }
+
+// An upload bakes ahead the transfer its first frames need (the mesh alone, untransformed, on
+// the ground): the first frame finds it ready; GET .../preparation says so.
+TEST(Preparation, AnUploadBakesItsFirstFramesTransferAhead) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const double at_start = transfers_computed(*client);  // the default scene's
+    const std::string mesh = upload_box(*client);
+    ASSERT_FALSE(mesh.empty());
+    const std::string path = "/v1/meshes/" + mesh + "/preparation";
+    Json preparation;
+    EXPECT_TRUE(eventually(
+        [&] {
+            preparation =
+                expect_conforms("GET", "/v1/meshes/{id}/preparation", client->Get(path.c_str()));
+            return preparation.value("state", "") == "ready";
+        },
+        std::chrono::seconds(30)))
+        << "the upload did not prepare its first frames: " << preparation.dump();
+    EXPECT_EQ(preparation.value("progress", 0.0), 1.0);
+    EXPECT_EQ(transfers_computed(*client), at_start + 1.0);
+    frame_of(render(*client, box_scene(mesh)));
+    EXPECT_EQ(transfers_computed(*client), at_start + 1.0)
+        << "the first frame baked its transfer again";
+    expect_problem("GET", "/v1/meshes/{id}/preparation",
+                   client->Get(("/v1/meshes/" + std::string(64, 'f') + "/preparation").c_str()),
+                   ProblemKind::UnknownId);
+}
+
+// While the bake runs, the preparation reports its progress and the time left.
+TEST(Preparation, ABakeReportsItsProgress) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.transfer_ray_budget = 1'000'000'000;  // 1024 rays a point: a bake of about a second
+    TestServer server(config);
+    auto client = server.client();
+    const Json uploaded = upload_mesh(*client, grid_obj(150), "model/obj");
+    ASSERT_FALSE(::testing::Test::HasFatalFailure());
+    const std::string path = "/v1/meshes/" + uploaded.at("id").get<std::string>() + "/preparation";
+    std::vector<Json> seen;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline &&
+           (seen.empty() || seen.back().value("state", "") != "ready")) {
+        seen.push_back(
+            expect_conforms("GET", "/v1/meshes/{id}/preparation", client->Get(path.c_str())));
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ASSERT_EQ(seen.back().value("state", ""), "ready");
+    bool partway = false;
+    double last = 0.0;
+    for (const Json& step : seen) {
+        const double progress = step.value("progress", 0.0);
+        EXPECT_GE(progress, last) << "progress went back";
+        last = progress;
+        if (step.value("state", "") == "baking" && progress > 0.0 && progress < 1.0) {
+            partway = true;
+            EXPECT_TRUE(step["seconds_left"].is_number()) << step.dump();
+        }
+    }
+    EXPECT_TRUE(partway) << "no progress was seen between 0 and 1 in " << seen.size() << " answers";
+}

@@ -616,6 +616,7 @@ try {
                   'f 1 4 3', 'f 1 3 2', 'f 5 6 7', 'f 5 7 8', 'f 1 5 8', 'f 1 8 4',
                   'f 2 3 7', 'f 2 7 6', 'f 4 8 7', 'f 4 7 3', 'f 1 2 6', 'f 1 6 5', ''].join('\n');
     const frames = await page.evaluate(() => window.oerFrames.length);
+    await watchUploadStatus();
     const dataTransfer = await page.evaluateHandle((text) => {
       const transfer = new DataTransfer();
       transfer.items.add(new File([text], 'cube.obj'));
@@ -632,6 +633,11 @@ try {
     // every face, 6 x 2 x 16^2 triangles.
     assert.equal(mesh.counts.triangles, 3072);
     assert.equal(await uploadStatus.textContent(), 'cube.obj: 3,072 triangles');
+    // The transfer of its first frames, baked from the upload on, showed its progress.
+    const texts = await page.evaluate(() => window.uploadTexts);
+    console.log(`  upload status: ${texts.join(' | ')}`);
+    assert.ok(texts.some((text) => /^Preparing cube\.obj's shadows and reflected light: \d+ %/
+      .test(text)), texts.join(' | '));
     assert.equal(await viewerAttribute('mesh'), mesh.id);
     assert.equal(await page.locator('#mesh-picker option:checked').textContent(), 'cube.obj');
     const handle = await page.waitForFunction(

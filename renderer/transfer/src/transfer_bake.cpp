@@ -145,9 +145,10 @@ class RaysMeetingSurfaces {
 // Calls work(i) for i in [0, count) on `threads` threads, in chunks taken in turn; what work(i)
 // writes depends on i alone, so the result does not depend on the thread count. Each thread
 // looks at stop before each chunk: once it is requested no chunk starts, and the call throws
-// (Cancelled) after the chunks under way end.
+// (Cancelled) after the chunks under way end. Each chunk done is counted in progress, if given.
 template <class Work>
-void parallel_for(std::size_t count, int threads, const std::stop_token& stop, const Work& work) {
+void parallel_for(std::size_t count, int threads, const std::stop_token& stop,
+                  BakeProgress* progress, const Work& work) {
     std::atomic<std::size_t> next{0};
     const auto run = [&] {
         for (std::size_t start = next.fetch_add(kBakeChunk);
@@ -155,6 +156,9 @@ void parallel_for(std::size_t count, int threads, const std::stop_token& stop, c
             const std::size_t end = std::min(count, start + kBakeChunk);
             for (std::size_t i = start; i < end; ++i) {
                 work(i);
+            }
+            if (progress) {
+                progress->done += end - start;
             }
         }
     };
@@ -553,13 +557,17 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
 
     const ReceiverTracer tracer(scene, layout, request.ground);
     RaysMeetingSurfaces meeting(receivers.size(), layout.rays);
-    parallel_for(receivers.size(), layout.threads, options.stop,
+    if (options.progress) {
+        options.progress->total =
+            receivers.size() * (options.bounce == Bounce::One ? std::size_t(2) : std::size_t(1));
+    }
+    parallel_for(receivers.size(), layout.threads, options.stop, options.progress,
                  [&](std::size_t r) { tracer.trace_direct(r, receivers[r], meeting); });
     if (options.bounce == Bounce::One) {
         const DirectAtHit direct_at(request, transfer, sky_direct);
-        parallel_for(receivers.size(), layout.threads, options.stop, [&](std::size_t r) {
-            tracer.trace_bounce(r, receivers[r], meeting, direct_at);
-        });
+        parallel_for(
+            receivers.size(), layout.threads, options.stop, options.progress,
+            [&](std::size_t r) { tracer.trace_bounce(r, receivers[r], meeting, direct_at); });
     }
     transfer.bake_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -4,6 +4,9 @@
 // (the same surfaces and plane the frame renderer draws: oer/scene/scene_bounds.hpp), and under
 // Bounce::One what those rays hit, reflecting its own direct transfer once.
 // And the rules that choose how much a scene needs ("model only what a scene needs").
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <stop_token>
 
@@ -13,6 +16,21 @@
 
 namespace oer {
 
+// How far a bake has come, for a caller that reports it while the bake's threads run: the
+// receivers traced so far over both phases, of `total` (set once the bake has built its scene
+// and starts tracing; 0 before), since `start` (when it was made).
+struct BakeProgress {
+    std::atomic<std::uint64_t> done{0};
+    std::atomic<std::uint64_t> total{0};
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+
+    // In [0, 1]; 0 before tracing starts.
+    double fraction() const {
+        const std::uint64_t all = total.load();
+        return all == 0 ? 0.0 : double(std::min(done.load(), all)) / double(all);
+    }
+};
+
 struct TransferBakeOptions {
     Bounce bounce = Bounce::One;
     int rays = 0;     // per receiver point, rounded down to a square; 0: transfer_ray_count's rule
@@ -20,6 +38,8 @@ struct TransferBakeOptions {
     // Checked by every thread before each chunk of kBakeChunk receivers (a few milliseconds of
     // rays): once a stop is requested the bake throws oer::Error (Cancelled) within one chunk.
     std::stop_token stop;
+    // Counted up by every chunk of receivers traced, when given.
+    BakeProgress* progress = nullptr;
 };
 
 // The receivers a bake thread traces between two looks at its stop token.
