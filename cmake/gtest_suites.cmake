@@ -28,7 +28,9 @@ set(suites "")
 foreach(line IN LISTS lines)
     if(line MATCHES "^([A-Za-z_][A-Za-z0-9_/]*)\\.")
         set(suite "${CMAKE_MATCH_1}")
-        if(NOT suite IN_LIST EXCLUDED)
+        # A parameterised suite is listed as "Instantiation/Suite".
+        string(REGEX REPLACE "^.*/" "" suite_base "${suite}")
+        if(NOT suite_base IN_LIST EXCLUDED)
             list(APPEND suites "${suite}")
             set(has_fast_${suite} FALSE)
             set(has_slow_${suite} FALSE)
@@ -52,8 +54,14 @@ foreach(suite IN LISTS suites)
             "TIMEOUT ${TIMEOUT})\n")
     endif()
     if(has_slow_${suite})
+        # A suite named Slow is slow whole; otherwise its tests named Slow are.
+        if(suite MATCHES "Slow")
+            set(slow_filter "${suite}.*")
+        else()
+            set(slow_filter "${suite}.*Slow*")
+        endif()
         string(APPEND content
-            "add_test([=[${suite}.Slow]=] \"${EXECUTABLE}\" [=[--gtest_filter=${suite}.*Slow*]=])\n"
+            "add_test([=[${suite}.Slow]=] \"${EXECUTABLE}\" [=[--gtest_filter=${slow_filter}]=])\n"
             "set_tests_properties([=[${suite}.Slow]=] PROPERTIES LABELS [=[${LABEL}-slow]=] "
             "TIMEOUT 900)\n")
     endif()

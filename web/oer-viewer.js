@@ -14,6 +14,16 @@ const PREVIEW = { scale: 0.5, samples: 1, quality: 50, shadow_resolution: 256, s
 const SHARP = { samples: 1 };
 // The largest frame side GET /v1/render accepts.
 const MAX_FRAME_SIDE = 4096;
+// A preliminary frame (drawn while its scene's occlusion transfer is baked) is asked for again
+// this often until the whole one comes.
+const PRELIMINARY_RETRY_MS = 500;
+// The query parameters that decide a scene's occlusion transfer (the server bakes one per
+// scene: its meshes, their colour, the ground and the bounce).
+const TRANSFER_PARAMETERS = ['mesh', 'base_color', 'ground', 'occlusion', 'bounce'];
+const transferKey = (url) => {
+  const query = new URL(url, location.href).searchParams;
+  return TRANSFER_PARAMETERS.map((name) => `${name}=${query.getAll(name).join('+')}`).join('&');
+};
 // The orbit when camera-orbit gives none: GET /v1/render's defaults for yaw, pitch, distance.
 const DEFAULT_ORBIT = { yaw: 30, pitch: 15, distance: 3 };
 // Orbit limits: from just below the horizon to just short of straight down (the up vector
@@ -77,6 +87,11 @@ export class OerViewer extends HTMLElement {
 
   #image;
   #controller = null;  // the one request in flight
+  // The scenes (transferKey) whose whole frame came: a frame of any other asks with
+  // `Prefer: wait=1` (RFC 7240), so that while its transfer is baked the server answers at once
+  // with a preliminary frame (X-Oer-Preliminary), shown, then asked for again. Only then: the
+  // header makes a cross-origin request need a CORS preflight.
+  #refinedScenes = new Set();
   #objectUrl = null;
   #lights = [];
   #lightsFor = null;  // the environment URL #lights came from
@@ -357,7 +372,9 @@ export class OerViewer extends HTMLElement {
     const url = this.frameUrl(stage);
     const started = performance.now();
     try {
-      const response = await fetch(url, { signal: controller.signal });
+      const scene = transferKey(url);
+      const headers = this.#refinedScenes.has(scene) ? {} : { Prefer: 'wait=1' };
+      const response = await fetch(url, { signal: controller.signal, headers });
       if (!response.ok) {
         throw await problemOf(response, url);
       }
@@ -377,11 +394,22 @@ export class OerViewer extends HTMLElement {
       }
       this.#objectUrl = objectUrl;
       this.#shownDistance = cameraDistance(response.headers.get('X-Oer-Camera')) ?? this.#shownDistance;
+      const preliminary = response.headers.get('X-Oer-Preliminary') !== null;
+      if (!preliminary) {
+        this.#refinedScenes.add(scene);
+      } else if (stage === 'full') {
+        setTimeout(() => {
+          if (this.#controller === null && this.frameUrl('full') === url) {
+            this.#requestFrame('full');
+          }
+        }, PRELIMINARY_RETRY_MS);
+      }
       this.dispatchEvent(new CustomEvent('load', {
         detail: {
           url,
           stage,
           preview: stage !== 'full',
+          preliminary,
           etag: response.headers.get('ETag'),
           serverTiming: response.headers.get('Server-Timing'),
           cache: response.headers.get('X-Oer-Cache'),

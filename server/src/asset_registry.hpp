@@ -193,6 +193,9 @@ class AssetRegistry {
         }
     }
 
+    // Whether id is in memory, without counting a hit or a miss (a caller that only asks).
+    bool remembered(const std::string& id) { return assets_.get(id) != nullptr; }
+
     void remember(const std::string& id, const Pointer& asset, std::size_t charge) {
         assets_.put(id, asset, charge);
     }

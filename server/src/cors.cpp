@@ -21,7 +21,8 @@ void add_cors_headers(const std::vector<std::string>& origins, const httplib::Re
     }
     response.set_header("Access-Control-Allow-Origin", origin);
     response.set_header("Access-Control-Expose-Headers",
-                        "ETag, Server-Timing, X-Oer-Cache, X-Oer-Camera");
+                        "ETag, Server-Timing, X-Oer-Cache, X-Oer-Camera, X-Oer-Preliminary, "
+                        "Preference-Applied");
 }
 
 void answer_preflight(const std::vector<std::string>& methods, httplib::Response& response) {
@@ -38,7 +39,7 @@ void answer_preflight(const std::vector<std::string>& methods, httplib::Response
     response.set_header("Allow", allow);
     response.set_header("Access-Control-Allow-Methods", allow);
     response.set_header("Access-Control-Allow-Headers",
-                        "Authorization, Content-Type, If-None-Match");
+                        "Authorization, Content-Type, If-None-Match, Prefer");
     response.set_header("Access-Control-Max-Age", "600");
 }
 

@@ -58,7 +58,8 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
       budgets_(budgets),
       transfer_rays_per_phase_(transfer_rays_per_phase),
       client_work_(client_work),
-      log_(std::move(log)) {}
+      log_(std::move(log)),
+      bake_lane_(kRenderNice, kMaxQueuedBakes) {}
 
 FrameRequest FrameService::standard_scene(std::shared_ptr<const Mesh> mesh) {
     FrameRequest request;
@@ -91,8 +92,13 @@ void FrameService::prepare(const std::string& mesh_id) {
     if (!mesh) {
         return;
     }
-    auto request = std::make_shared<FrameRequest>(standard_scene(mesh->mesh));
-    const std::string id = transfers_.id_for(*request, {mesh_id}, summary->vertices);
+    bake_ahead(std::make_shared<FrameRequest>(standard_scene(mesh->mesh)), {mesh_id},
+               "mesh " + mesh_id);
+}
+
+void FrameService::bake_ahead(std::shared_ptr<const FrameRequest> request,
+                              std::vector<std::string> mesh_ids, const std::string& what) {
+    const std::string id = transfers_.id_of(*request, mesh_ids);
     {
         const std::lock_guard lock(queued_mutex_);
         if (!queued_.insert(id).second) {
@@ -103,21 +109,19 @@ void FrameService::prepare(const std::string& mesh_id) {
         const std::lock_guard lock(queued_mutex_);
         queued_.erase(id);
     };
-    try {
-        // The future is dropped: nobody waits for the bake, whose outcome the log tells.
-        (void)pool_.submit([this, request, mesh_id, dequeue](FrameRenderer&) {
-            dequeue();
-            try {
-                transfers_.transfer(*request, {mesh_id});
-            } catch (const std::exception& error) {
-                log_("preparation: the transfer of mesh " + mesh_id +
-                     " was not baked ahead: " + error.what());
-            }
-            return Frame{};
-        });
-    } catch (const std::exception& busy) {
+    const bool queued = bake_lane_.submit([this, request, ids = std::move(mesh_ids), what,
+                                           dequeue](const std::stop_token& stop) {
         dequeue();
-        log_("preparation: mesh " + mesh_id + " not prepared ahead: " + busy.what());
+        try {
+            transfers_.transfer(*request, ids, stop, false);
+        } catch (const std::exception& error) {
+            log_("preparation: the transfer of " + what + " was not baked ahead: " + error.what());
+        }
+    });
+    if (!queued) {
+        dequeue();
+        log_("preparation: the transfer of " + what +
+             " was not baked ahead: the bakes' queue is full");
     }
 }
 
@@ -270,7 +274,8 @@ Frame FrameService::rendered(std::shared_ptr<FrameRequest> request,
 }
 
 EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
-                                  RequestForm form, const Client& client) {
+                                  RequestForm form, const Client& client,
+                                  bool preliminary_allowed) {
     EncodedFrame result;
     result.etag = etag;
     result.content_type = api::content_type_of(spec.format);
@@ -328,6 +333,14 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         const Clock::time_point start_ = Clock::now();
     } work(client_work_, client.address);
     auto request = std::make_shared<FrameRequest>(frame_request(resolved));
+    if (preliminary_allowed && request->occlusion &&
+        !transfers_.ready(transfers_.id_of(*request, resolved.mesh_ids))) {
+        // Baked ahead for the frames to come; this one is drawn without it, now.
+        bake_ahead(std::make_shared<const FrameRequest>(*request), resolved.mesh_ids,
+                   "a frame's scene");
+        request->occlusion = false;
+        result.preliminary = true;
+    }
     work.preparation_ms = milliseconds_since(work.start());
     const Frame frame = rendered(std::move(request), resolved.mesh_ids, client);
     for (const char* part : {"transfer", "total"}) {
@@ -339,7 +352,9 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     const std::vector<std::uint8_t> bytes = api::encode(frame, spec.format, spec.quality);
     result.server_timing = server_timing(frame, milliseconds_since(encode_start));
     result.bytes = std::make_shared<const std::string>(bytes.begin(), bytes.end());
-    frames_.put(result.etag, result.bytes);
+    if (!result.preliminary) {
+        frames_.put(result.etag, result.bytes);
+    }
     return result;
 }
 

@@ -21,6 +21,7 @@
 #include <string>
 #include <string_view>
 
+#include "bake_lane.hpp"
 #include "client_work_budget.hpp"
 #include "environment_registry.hpp"
 #include "mesh_registry.hpp"
@@ -40,6 +41,9 @@ struct EncodedFrame {
     bool cache_hit = false;
     std::string server_timing;  // W3C Server-Timing, per pass; empty for a cached frame
     Camera camera;              // what the frame is seen from (api::resolved_camera)
+    // Drawn without the occlusion transfer the request asked for, which is being baked: not
+    // cached, not to be kept (FrameService::render's preliminary_allowed).
+    bool preliminary = false;
 };
 
 // A render request with its ids resolved and its camera computed, once: the answer's camera
@@ -84,18 +88,27 @@ class FrameService {
     // charged the work it took (client_work_budget.hpp). Throws HttpError (404 for an unknown id,
     // 413 over a budget, 429 past the client's share, 503 past the deadline or once the client
     // has gone), QueueFull, and what to_frame_request and the renderer throw.
+    // preliminary_allowed: a frame whose occlusion transfer is not ready is drawn at once
+    // without it (its lighting unoccluded), marked preliminary and not cached, while the
+    // transfer is baked ahead for the frames asked for next; otherwise the frame waits for it.
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
-                        const Client& client);
+                        const Client& client, bool preliminary_allowed = false);
 
-    // Bakes ahead, on a render worker, the transfer of mesh_id's standard scene (the mesh
-    // alone, untransformed, on the ground, one bounce: the scene of a product's first frames),
+    // Bakes ahead, on the bake lane (bake_lane.hpp), the transfer of mesh_id's standard scene (the
+    // mesh alone, untransformed, on the ground, one bounce: the scene of a product's first frames),
     // so that they find it ready instead of baking it. Skipped (logged) when its cost is over
-    // the budgets, or when the renderer is not started or its queue is full.
+    // the budgets, or when the lane's queue is full.
     void prepare(const std::string& mesh_id);
     // Where that preparation stands; nullopt when no mesh has that id.
     std::optional<MeshPreparation> preparation(const std::string& mesh_id);
 
   private:
+    // Bakes waiting for the bake lane at most; beyond, bake_ahead queues nothing.
+    static constexpr std::size_t kMaxQueuedBakes = 16;
+    // Queues the bake of request's transfer on the bake lane, nobody waiting for it (its
+    // outcome logged, naming `what`), unless it is queued already.
+    void bake_ahead(std::shared_ptr<const FrameRequest> request, std::vector<std::string> mesh_ids,
+                    const std::string& what);
     // The standard scene of mesh_id (prepare's), its objects' meshes left empty: enough for
     // its transfer's id.
     static FrameRequest standard_scene(std::shared_ptr<const Mesh> mesh);
@@ -125,6 +138,8 @@ class FrameService {
     const std::function<void(std::string_view)> log_;
     std::mutex queued_mutex_;
     std::set<std::string> queued_;  // transfer ids of preparations not started yet
+    // Last: destroyed first, stopping its bake before what the bake uses goes.
+    BakeLane bake_lane_;
 };
 
 }  // namespace oer::server

@@ -6,19 +6,10 @@
 
 namespace oer::server {
 
-namespace {
-
-// The workers' nice increment (inherited by the driver's rasterizer threads): frames are
-// throughput work, answers from memory latency work, so HTTP threads preempt the renders
-// rather than wait for a time slice behind them. With the workers saturated on 2 cores, 16
-// clients' cached frames had a p99 of 6-12 ms at the same priority and 4-4.5 ms at 5 or 10
-// below (tests/integration/load_test.cpp); with no requests the renders have the CPU alone.
-constexpr int kWorkerNice = 10;
-
-}  // namespace
+namespace {}  // namespace
 
 struct RenderPool::Worker {
-    RenderThread thread{kWorkerNice};
+    RenderThread thread{kRenderNice};
     std::unique_ptr<FrameRenderer> renderer;  // touched only by jobs on `thread`
     std::atomic<std::size_t> pending{0};
 };

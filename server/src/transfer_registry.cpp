@@ -167,7 +167,7 @@ TransferRegistry::TransferRegistry(AssetStore& store, ServiceMetrics& metrics, L
 
 std::shared_ptr<const SceneTransfer> TransferRegistry::transfer(
     const FrameRequest& request, const std::vector<std::string>& mesh_ids,
-    const std::stop_token& stop) {
+    const std::stop_token& stop, bool keep_in_memory) {
     const int rays = transfer_ray_count(request.objects, rays_per_phase_);
     const std::string id = transfer_id(request, mesh_ids, rays);
     auto transfer = transfers_
@@ -180,10 +180,17 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::transfer(
                                 return load_stored(id, request);
                             },
                             [&](const std::stop_token& bake_stop) {
-                                return bake(id, request, rays, bake_stop, mesh_ids);
+                                return bake(id, request, rays, bake_stop, mesh_ids, keep_in_memory);
                             },
                             stop)
                         .asset;
+    // A frame that joined a bake ahead (which only stores what it bakes) keeps it in memory for
+    // the frames after it.
+    if (keep_in_memory && !transfers_.remembered(id)) {
+        if (const std::uint64_t bytes = stored_file_bytes(id); bytes > 0) {
+            transfers_.remember(id, transfer, bytes);
+        }
+    }
     note_use(id);
     evict_over_budget();
     return transfer;
@@ -193,6 +200,15 @@ std::string TransferRegistry::id_for(const FrameRequest& request,
                                      const std::vector<std::string>& mesh_ids,
                                      std::uint64_t object_points) const {
     return transfer_id(request, mesh_ids, transfer_ray_count(object_points, rays_per_phase_));
+}
+
+std::string TransferRegistry::id_of(const FrameRequest& request,
+                                    const std::vector<std::string>& mesh_ids) const {
+    return transfer_id(request, mesh_ids, transfer_ray_count(request.objects, rays_per_phase_));
+}
+
+bool TransferRegistry::ready(const std::string& id) {
+    return transfers_.remembered(id) || store_.contains(DerivedKind::Transfer, id);
 }
 
 TransferPreparation TransferRegistry::preparation(const std::string& id) const {
@@ -330,7 +346,7 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::load_stored(const std::st
 
 std::shared_ptr<const SceneTransfer> TransferRegistry::bake(
     const std::string& id, const FrameRequest& request, int rays, const std::stop_token& stop,
-    const std::vector<std::string>& mesh_ids) {
+    const std::vector<std::string>& mesh_ids, bool keep_in_memory) {
     const InProgress in_progress(metrics_.transfers_in_progress);
     const auto start = std::chrono::steady_clock::now();
     TransferBakeOptions options;
@@ -375,11 +391,15 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::bake(
          std::to_string(encoded.size()) + " bytes, " + std::to_string(transfer->rays) +
          " rays per point");
     // The record before the transfer, so that every stored transfer has one.
-    if (store_.put_derived_if_room(DerivedKind::TransferMeshes, id, meshes_record(mesh_ids)) &&
-        store_.put_derived_if_room(DerivedKind::Transfer, id, encoded)) {
+    const bool stored =
+        store_.put_derived_if_room(DerivedKind::TransferMeshes, id, meshes_record(mesh_ids)) &&
+        store_.put_derived_if_room(DerivedKind::Transfer, id, encoded);
+    if (stored) {
         note_use(id, stored_file_bytes(id));
     }
-    transfers_.remember(id, transfer, encoded.size());
+    if (keep_in_memory || !stored) {
+        transfers_.remember(id, transfer, encoded.size());
+    }
     return transfer;
 }
 

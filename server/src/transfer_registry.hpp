@@ -70,14 +70,23 @@ class TransferRegistry {
     // (with transfer_ray_count's rays for the budget on every core). Throws oer::Error as
     // bake_transfer does (InvalidInput for a request without objects), Cancelled once `stop` is
     // requested (the bake itself stops once every frame waiting for it has stopped).
+    // keep_in_memory false (a bake ahead, which no frame draws yet): a transfer it bakes is
+    // only stored (kept in memory after all when the disk is full), so that uploads nobody
+    // renders do not fill the memory cache.
     std::shared_ptr<const SceneTransfer> transfer(const FrameRequest& request,
                                                   const std::vector<std::string>& mesh_ids,
-                                                  const std::stop_token& stop = {});
+                                                  const std::stop_token& stop = {},
+                                                  bool keep_in_memory = true);
 
     // The id request's transfer has (transfer_id with the rays of transfer_ray_count's rule for
     // `object_points` receiver points: the objects' vertices, known before they are decoded).
     std::string id_for(const FrameRequest& request, const std::vector<std::string>& mesh_ids,
                        std::uint64_t object_points) const;
+    // The id request's transfer has (its objects' meshes decoded: transfer_ray_count's rule
+    // counts their vertices).
+    std::string id_of(const FrameRequest& request, const std::vector<std::string>& mesh_ids) const;
+    // Whether transfer id is ready to draw: in memory or stored.
+    bool ready(const std::string& id);
     // Whether transfer id is being baked (and how far it has come), is stored, or neither.
     TransferPreparation preparation(const std::string& id) const;
 
@@ -99,7 +108,8 @@ class TransferRegistry {
                                                      const FrameRequest& request);
     std::shared_ptr<const SceneTransfer> bake(const std::string& id, const FrameRequest& request,
                                               int rays, const std::stop_token& stop,
-                                              const std::vector<std::string>& mesh_ids);
+                                              const std::vector<std::string>& mesh_ids,
+                                              bool keep_in_memory);
     // Counts id's use (it moves to the back of the eviction order), with its size when it has
     // just been stored or read.
     void note_use(const std::string& id, std::optional<std::uint64_t> bytes = std::nullopt);

@@ -659,7 +659,7 @@ std::string box_glb(glm::dvec3 low, glm::dvec3 high, const std::vector<std::uint
         if (texture_maps > 3) {
             material["occlusionTexture"] = {{"index", 3}};
         }
-        gltf["materials"] = {material};
+        gltf["materials"] = Json::array({material});
         gltf["textures"] = Json::array();
         gltf["images"] = Json::array();
         for (int map = 0; map < std::clamp(texture_maps, 1, 4); ++map) {
@@ -752,6 +752,21 @@ Json upload_mesh(httplib::Client& client, const std::string& bytes,
         return nullptr;
     }
     return expect_conforms("POST", "/v1/meshes", result);
+}
+
+std::string wait_for_preparation(httplib::Client& client, const std::string& mesh_id) {
+    const std::string path = "/v1/meshes/" + mesh_id + "/preparation";
+    std::string state;
+    const bool ended = eventually(
+        [&] {
+            const auto answer = client.Get(path.c_str());
+            state =
+                answer && answer->status == 200 ? Json::parse(answer->body).value("state", "") : "";
+            return state != "queued" && state != "baking";
+        },
+        std::chrono::seconds(120));
+    EXPECT_TRUE(ended) << "the preparation of mesh " << mesh_id << " did not end";
+    return state;
 }
 
 httplib::Result post_json(httplib::Client& client, const std::string& path, const Json& body,

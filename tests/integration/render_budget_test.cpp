@@ -75,9 +75,12 @@ class RenderBudget : public ::testing::Test {
             << "the process still works after the refusal";
     }
 
+    // Returns once the bake its upload started, if any, has ended.
     std::string upload_obj(const std::string& text) {
         const Json mesh = upload_mesh(*client_, text, "model/obj");
-        return mesh.value("id", "");
+        const std::string id = mesh.value("id", "");
+        wait_for_preparation(*client_, id);
+        return id;
     }
 
     TempRoot root_;
@@ -223,7 +226,7 @@ TEST(RenderBudgetShare, AClientPastItsShareGets429WhileOthersAndCachedFramesAreS
 // renders (two connections asking without pause, whatever the answer), another address's
 // uncached frames keep their latency (median within 1.5 times the one measured without the
 // flood, in the same run), and cached frames asked for meanwhile keep their p99.
-TEST(RenderBudgetShare, AFloodingAddressLeavesOthersTheirLatency) {
+TEST(RenderBudgetShare, AFloodingAddressLeavesOthersTheirLatencySlow) {
     TempRoot root;
     server::ServiceConfig config = test_config(root.data());
     config.client_render_rate = 0.2;
@@ -333,7 +336,7 @@ TEST_F(RenderBudget, OneObjectWhoseTransferAloneIsOverTheBudgetIsRefused) {
 // mesh is 256 MiB of decoded textures and as much again with mipmaps in GL, so that four are
 // already over the 2 GiB budget however small their files (1.2 MB here, 50 KB with a better
 // PNG encoder): refused before any of it is drawn, within 512 MiB of peak growth.
-TEST_F(RenderBudget, TwelveMeshesWithFour4096TexturesEachAreRefusedForTheirMemory) {
+TEST_F(RenderBudget, TwelveMeshesWithFour4096TexturesEachAreRefusedForTheirMemorySlow) {
     Rgba8Image plain;
     plain.width = plain.height = 4096;
     plain.pixels.assign(std::size_t(4096) * 4096 * 4, 200);
@@ -345,6 +348,7 @@ TEST_F(RenderBudget, TwelveMeshesWithFour4096TexturesEachAreRefusedForTheirMemor
         EXPECT_LT(glb.size(), 2u << 20);
         const Json mesh = upload_mesh(*client_, glb, "model/gltf-binary");
         ASSERT_FALSE(::testing::Test::HasFatalFailure());
+        wait_for_preparation(*client_, mesh.at("id"));
         objects.push_back({{"mesh", mesh.at("id")},
                            {"transform", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 2.0 * i, 0, 0, 1}}});
     }

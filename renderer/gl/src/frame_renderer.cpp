@@ -67,7 +67,7 @@ Frame FrameRenderer::render(const FrameRequest& request, const std::stop_token& 
 
     throw_if_stopped(stop, "the frame");
     start = Clock::now();
-    GLuint finished = shade_surfaces(frame, lighting, shadows, targets, state);
+    GLuint finished = shade_surfaces(frame, lighting, shadows, targets, state, stop);
     if (frame.blending) {
         finished = blend_transparent_surfaces(frame, lighting, targets, state);
     }

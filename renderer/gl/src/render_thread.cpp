@@ -1,35 +1,15 @@
 #include "oer/gl/render_thread.hpp"
 
 #include <pthread.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
-#include <cerrno>
-#include <cstring>
 #include <exception>
 #include <string>
 #include <utility>
 
 #include "oer/core/error.hpp"
+#include "oer/core/thread_priority.hpp"
 
 namespace oer {
-
-namespace {
-
-// Adds nice to the calling thread's nice value (Linux: setpriority on a thread id affects that
-// thread alone).
-void lower_priority(int nice) {
-    const pid_t self = ::gettid();
-    errno = 0;
-    const int current = ::getpriority(PRIO_PROCESS, id_t(self));
-    if ((current == -1 && errno != 0) ||
-        ::setpriority(PRIO_PROCESS, id_t(self), current + nice) != 0) {
-        throw Error(ErrorKind::Internal, "cannot lower the render thread's priority by " +
-                                             std::to_string(nice) + ": " + std::strerror(errno));
-    }
-}
-
-}  // namespace
 
 RenderThread::RenderThread(int nice) {
     if (nice < 0 || nice > 19) {
@@ -77,7 +57,7 @@ void RenderThread::run(std::promise<void>& started, int nice) {
     std::unique_ptr<GlContext> context;
     try {
         if (nice > 0) {
-            lower_priority(nice);
+            lower_thread_priority(nice, "the render thread");
         }
         context = GlContext::create();
         info_ = context->info();

@@ -76,8 +76,8 @@ void attach_object_transfer(const FrameContext& frame, const FrameLightingBuffer
 // routed by the stencil, into targets.shaded (display-encoded at one sample per pixel without
 // blending), which it returns.
 GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
-                      const ShadowMaps& shadows, const RenderTargets& targets,
-                      RendererState& state);
+                      const ShadowMaps& shadows, const RenderTargets& targets, RendererState& state,
+                      const std::stop_token& stop);
 
 // Transparent pass, for frames with BLEND primitives: each blended over targets.shaded, the
 // shading pass's product, farthest first, shaded as the shading pass shades objects (with the
