@@ -12,6 +12,25 @@
 // passes (503) or its client closes the connection, the frame is stopped (oer/core/
 // cancellation.hpp): skipped by a worker that has not started it, stopped between passes or bake
 // chunks by one that has, unless other frames wait for the same bake (AssetRegistry).
+//
+// What invalidates what (docs/design.md section 9 explains each row): a change pays for what it
+// invalidates, which is where each cached thing's key stops.
+//   change               | computed again                        | reused
+//   camera               | geometry and shading passes           | shadow maps, transferred
+//                        |                                       | irradiance, transfer, rig
+//   light switch, dimmer | irradiance sets, transferred irr.     | shadow maps (per light),
+//                        |                                       | transfer
+//   environment's yaw    | shadow maps, transferred irradiance   | transfer, rig
+//   colour               | transferred irradiance (slot weights) | transfer, shadow maps
+//   floor                | transferred irradiance (slot family)  | transfer, shadow maps
+//   shadow settings      | shadow maps of that setting           | transfer
+//   bounce, transform    | transfer                              | rig, meshes
+//   product              | transfer (baked ahead), shadow maps   | rig
+//   environment          | rig, specular cube, shadow maps       | transfer
+// Keys: the encoded frame's ETag (everything); the transfer's id (transfer_registry.hpp:
+// meshes, transforms, bounce, rays); the shadow maps' (shadow_pass.cpp: meshes, transforms,
+// the light's direction and size, resolution, filter); the transferred irradiance's
+// (frame_context.hpp: transfer, rig, weights, yaw, floor, bounce, slot albedos).
 #include <chrono>
 #include <functional>
 #include <memory>

@@ -1,5 +1,6 @@
 #include "mesh_registry.hpp"
 
+#include <set>
 #include <span>
 
 #include "oer/api/content_id.hpp"
@@ -32,10 +33,15 @@ std::size_t charge_of(const Mesh& mesh) {
 }
 
 MeshSummary summary_of(const Mesh& mesh) {
-    MeshSummary summary{mesh.triangle_count, mesh.vertex_count, 0, charge_of(mesh)};
+    MeshSummary summary{mesh.triangle_count, mesh.vertex_count, 0, charge_of(mesh), 0};
     for (const Texture& texture : mesh.textures) {
         summary.texture_bytes += texture.rgba.size();
     }
+    std::set<int> materials;
+    for (const Primitive& primitive : mesh.primitives) {
+        materials.insert(primitive.material);
+    }
+    summary.materials = materials.size();
     return summary;
 }
 
@@ -43,7 +49,8 @@ std::string summary_record(const MeshSummary& summary) {
     return nlohmann::json{{"triangles", summary.triangles},
                           {"vertices", summary.vertices},
                           {"texture_bytes", summary.texture_bytes},
-                          {"resident_bytes", summary.resident_bytes}}
+                          {"resident_bytes", summary.resident_bytes},
+                          {"materials", summary.materials}}
         .dump();
 }
 
@@ -61,10 +68,11 @@ std::optional<MeshSummary> parse_summary_record(const std::string& text) {
     const auto vertices = count("vertices");
     const auto texture_bytes = count("texture_bytes");
     const auto resident_bytes = count("resident_bytes");
-    if (!triangles || !vertices || !texture_bytes || !resident_bytes) {
+    const auto materials = count("materials");
+    if (!triangles || !vertices || !texture_bytes || !resident_bytes || !materials) {
         return std::nullopt;
     }
-    return MeshSummary{*triangles, *vertices, *texture_bytes, *resident_bytes};
+    return MeshSummary{*triangles, *vertices, *texture_bytes, *resident_bytes, *materials};
 }
 
 }  // namespace

@@ -35,6 +35,34 @@ std::string seconds_text(double seconds) {
     return text.str();
 }
 
+// The reflector slots of each ground family that reflector_slots (transfer_bake.hpp) makes for
+// these objects: one per (object, material), or past kMaxReflectingSurfaces one per mesh,
+// material and colour.
+std::size_t surface_slots(const api::RenderSpec& spec,
+                          const std::vector<MeshSummary>& object_meshes,
+                          const std::vector<std::string>& mesh_ids) {
+    std::size_t pairs = 0;
+    for (const MeshSummary& mesh : object_meshes) {
+        pairs += mesh.materials;
+    }
+    if (pairs <= kMaxReflectingSurfaces) {
+        return pairs;
+    }
+    std::set<std::pair<std::string, std::string>> groups;
+    std::size_t merged = 0;
+    for (std::size_t i = 0; i < object_meshes.size(); ++i) {
+        const auto& colour = spec.objects[i].base_color;
+        const std::string colour_key = colour ? std::to_string(colour->r) + " " +
+                                                    std::to_string(colour->g) + " " +
+                                                    std::to_string(colour->b)
+                                              : "";
+        if (groups.emplace(mesh_ids[i], colour_key).second) {
+            merged += object_meshes[i].materials;
+        }
+    }
+    return merged;
+}
+
 }  // namespace
 
 RenderCost estimate_render_cost(const api::RenderSpec& spec,
@@ -68,8 +96,13 @@ RenderCost estimate_render_cost(const api::RenderSpec& spec,
     if (spec.occlusion && !object_meshes.empty()) {
         const std::uint64_t receivers = transfer_point_count(points);
         const bool bounce = spec.bounce == Bounce::One;
+        // A direct vector and, under one bounce, a vector per reflector slot (transfer_bake.hpp:
+        // always baked with the ground).
+        const std::uint64_t vectors =
+            1 +
+            (bounce ? reflector_slot_count(surface_slots(spec, object_meshes, mesh_ids), true) : 0);
         const std::uint64_t floats_per_point =
-            std::uint64_t(kTransferBakeOrder) * kTransferBakeOrder * (bounce ? 4 : 1);
+            std::uint64_t(kTransferBakeOrder) * kTransferBakeOrder * vectors;
         cost.transfer_bytes = receivers * floats_per_point * sizeof(float);
         const double rays = double(receivers) * transfer_ray_count(points, rays_per_phase);
         cost.bake_seconds =

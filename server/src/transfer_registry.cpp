@@ -21,7 +21,7 @@ namespace {
 // the stored form (transfer_codec.cpp) changes: every stored transfer of an older bake then has
 // an id no frame asks for, so none is ever served. It also stands for the preset product
 // (make_default_product), whose id `default` does not change with its geometry.
-constexpr int kTransferBakeVersion = 1;
+constexpr int kTransferBakeVersion = 2;
 
 // -0 and 0 are one value (one scene, one id).
 double canonical(float value) {
@@ -100,16 +100,18 @@ std::string transfer_id(const FrameRequest& request, const std::vector<std::stri
                 transform.push_back(canonical(object.transform[column][row]));
             }
         }
+        // Colours are weights of the bounce's reflector slots, not part of the bake, unless the
+        // scene has so many surfaces that the slots merge them by colour.
         nlohmann::json base_color = nullptr;
-        if (object.base_color) {
+        if (object.base_color && reflectors_follow_colours(request)) {
             base_color = {canonical(object.base_color->r), canonical(object.base_color->g),
                           canonical(object.base_color->b)};
         }
         objects.push_back(
             {{"mesh", mesh_ids[i]}, {"transform", transform}, {"base_color", base_color}});
     }
+    // No ground: every transfer is baked with it (TransferRegistry::bake).
     const nlohmann::json bake = {{"objects", objects},
-                                 {"ground", request.ground},
                                  {"bounce", api::to_string(request.bounce)},
                                  {"rays", rays},
                                  {"order", kTransferBakeOrder}};
@@ -370,7 +372,11 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::bake(
     } const unlist{*this, id};
     std::shared_ptr<const SceneTransfer> transfer;
     try {
-        transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, options));
+        // Always with the ground: its transfer serves the frames without it too (its reflector
+        // slots without the ground), so that the floor's toggle never bakes again.
+        FrameRequest scene = request;
+        scene.ground = true;
+        transfer = std::make_shared<const SceneTransfer>(bake_transfer(scene, options));
     } catch (const Error& error) {
         if (error.kind() == ErrorKind::Cancelled) {
             log_("transfers: the bake of transfer " + id + " stopped after " +

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <vector>
 
@@ -165,6 +166,51 @@ TEST_F(OcclusionReferenceTest, AnOpenBoxUnderAConstantSkyHasTheReferencesOcclusi
         block_relative_rms(render(request).linear, truth, ReferenceSurface::Object);
     EXPECT_GT(plain, 0.3);  // unoccluded, the box's inside is as bright as its outside
     EXPECT_LT(ours, 0.05);  // measured 0.046: vertex interpolation at the inside corners
+}
+
+// A colour change re-weighs the bake's reflector slots and bakes nothing: the open box baked as
+// its mesh colours it (grey), then drawn red with that same transfer, has the one-bounce
+// reference's light of the red box, inside (where it reflects onto itself) and on the ground.
+TEST_F(OcclusionReferenceTest, ARecolouredObjectReflectsItsNewColourWithoutANewBake) {
+    Camera camera;
+    camera.eye = {0.0f, 1.6f, 1.3f};
+    camera.target = {0.0f, 0.0f, 0.0f};
+    camera.fov_y = 45.0f;
+    const auto map =
+        std::make_shared<const HdrImage>(oer::testing::constant_map(64, 32, glm::vec3(1.0f)));
+    FrameRequest request =
+        request_for(map, oer::testing::open_box(0.5f, 0.5f, 0.02f, 8, glm::vec3(0.5f)), camera);
+    request.occlusion = true;
+    request.bounce = Bounce::One;
+    TransferBakeOptions options;
+    options.bounce = Bounce::One;
+    const auto transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, options));
+    request.transfer = transfer;
+    request.objects[0].base_color = glm::vec3(0.9f, 0.2f, 0.1f);
+    const Frame red = render(request);
+    EXPECT_EQ(request.transfer, transfer);
+
+    FrameRequest truth_request = request;
+    truth_request.transfer = nullptr;
+    truth_request.occlusion = false;
+    const ReferenceFrame truth = reference(truth_request, Bounce::One);
+    ASSERT_LT(truth.noise.object / kBlock, 0.01);
+    const double object = block_relative_rms(red.linear, truth, ReferenceSurface::Object);
+    const double ground = block_relative_rms(red.linear, truth, ReferenceSurface::Ground);
+    // Without the bounce, the red box's inside lacks the red light it reflects onto itself.
+    request.bounce = Bounce::None;
+    TransferBakeOptions direct_only;
+    direct_only.bounce = Bounce::None;
+    request.transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, direct_only));
+    const double without_bounce =
+        block_relative_rms(render(request).linear, truth, ReferenceSurface::Object);
+    std::printf(
+        "recoloured box against the one-bounce reference: object %.4f, ground %.4f; "
+        "without the bounce %.4f\n",
+        object, ground, without_bounce);
+    EXPECT_GT(without_bounce, 0.08);
+    EXPECT_LT(object, 0.05);
+    EXPECT_LT(ground, 0.05);
 }
 
 // The scene turned about +Y with the map and the camera is the same picture: the bake follows

@@ -22,6 +22,7 @@
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/sh.hpp"
 #include "oer/scene/scene_bounds.hpp"
+#include "oer/transfer/transfer_bake.hpp"
 #include "oer/transfer/transfer_lighting.hpp"
 #include "synthetic_maps.hpp"
 #include "test_meshes.hpp"
@@ -81,11 +82,14 @@ std::shared_ptr<const SceneTransfer> cosine_scene_transfer(const FrameRequest& r
                                                            Bounce bounce = Bounce::None) {
     auto transfer = std::make_shared<SceneTransfer>();
     transfer->bounce = bounce;
+    if (bounce == Bounce::One) {
+        transfer->reflectors = reflector_slots(request);
+    }
     // Under Bounce::One, nothing reflected: zero bounce vectors.
     const auto reflect_nothing = [&](TransferPoints& points) {
-        if (bounce == Bounce::One) {
-            points.bounce.assign(points.count * 3 * kTransferBakeOrder * kTransferBakeOrder, 0.0f);
-        }
+        points.bounce.assign(
+            points.count * transfer->reflectors.size() * kTransferBakeOrder * kTransferBakeOrder,
+            0.0f);
     };
     for (const SceneObject& object : request.objects) {
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(object.transform));
@@ -247,6 +251,40 @@ TEST_F(OcclusionTest, ALightBelowTheGroundsHorizonReachesNoObject) {
     }
 }
 
+// The transferred irradiance does not depend on the camera: an orbit reuses the previous frame's,
+// and gets the frame a renderer that never saw the first one draws. Anything the transfer's
+// lighting reads (a colour, a light's weight, the yaw, the floor) computes it again.
+TEST_F(OcclusionTest, AnOrbitReusesTheTransferredIrradianceAndNothingElseDoes) {
+    const auto rig = lit_rig(false);
+    FrameRequest request = with_cosine_transfer(sphere_on_ground(rig), 0.7f, 0.9f, Bounce::One);
+    render(request);
+    const std::size_t reuses = transferred_irradiance_reuses();
+    request.camera->eye = {1.5f, 1.2f, 3.5f};
+    const Frame orbited = render(request);
+    EXPECT_EQ(transferred_irradiance_reuses(), reuses + 1);
+    const Frame expected = thread_
+                               ->submit([&request] {
+                                   FrameRenderer fresh;
+                                   return fresh.render(request);
+                               })
+                               .get();
+    EXPECT_EQ(orbited.linear, expected.linear);
+
+    FrameRequest changed = request;
+    changed.objects[0].base_color = glm::vec3(0.2f, 0.9f, 0.4f);
+    render(changed);
+    changed = request;
+    changed.lights = {1.0f, 0.5f, 1.0f};
+    render(changed);
+    changed = request;
+    changed.environment_yaw = 30.0;
+    render(changed);
+    changed = request;
+    changed.ground = false;
+    render(changed);
+    EXPECT_EQ(transferred_irradiance_reuses(), reuses + 1);
+}
+
 TEST_F(OcclusionTest, ATransferThatDoesNotFitTheSceneIsRefused) {
     const auto rig = lit_rig(false);
     FrameRequest request = sphere_on_ground(rig);
@@ -261,9 +299,21 @@ TEST_F(OcclusionTest, ATransferThatDoesNotFitTheSceneIsRefused) {
     other_mesh.objects[0].mesh = std::make_shared<const Mesh>(
         oer::testing::uv_sphere({0, 0, 0}, 1.0f, 64, 32, glm::vec3(1.0f)));
     EXPECT_THROW(render(other_mesh), Error);
+    // A transfer baked with the ground serves a frame without it; not the other way round.
     FrameRequest no_ground = request;
     no_ground.ground = false;
-    EXPECT_THROW(render(no_ground), Error);
+    EXPECT_NO_THROW(render(no_ground));
+    no_ground.transfer = cosine_scene_transfer(no_ground, 1.0f, 1.0f);
+    FrameRequest ground_again = no_ground;
+    ground_again.ground = true;
+    EXPECT_THROW(render(ground_again), Error);
+    // Reflector slots must name the frame's own surfaces.
+    FrameRequest bounce = with_cosine_transfer(request, 1.0f, 1.0f, Bounce::One);
+    EXPECT_NO_THROW(render(bounce));
+    auto other_material = std::make_shared<SceneTransfer>(*bounce.transfer);
+    other_material->reflectors.back().surfaces[0].material = 1;
+    bounce.transfer = other_material;
+    EXPECT_THROW(render(bounce), Error);
     FrameRequest no_occlusion = request;
     no_occlusion.occlusion = false;
     EXPECT_THROW(render(no_occlusion), Error);  // a transfer it would not use

@@ -203,6 +203,40 @@ TEST(Transfer, AFrameWithOcclusionBakesItsSceneOnce) {
     EXPECT_EQ(transfer_entries(root).size(), 4u);
 }
 
+// What invalidates what (docs/design.md section 9): a colour only weighs the bounce's reflector
+// slots, and the transfer baked with the ground serves frames without it, so neither bakes
+// again: both frames take the transfer of the upload's bake from memory. Each is still another
+// frame: the colour and the floor show.
+TEST(Transfer, AColourChangeOrTheFloorsToggleBakesNothing) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::string mesh = upload_box(*client);
+    ASSERT_FALSE(mesh.empty());
+    EXPECT_EQ(wait_for_preparation(*client, mesh), "ready");
+    const double prepared = transfers_computed(*client);
+    const std::string plain = frame_of(render(*client, box_scene(mesh)));
+    const Metrics before = scrape(*client);
+
+    Json red = box_scene(mesh);
+    red["objects"][0]["base_color"] = {0.8, 0.05, 0.05};
+    const std::string red_frame = frame_of(render(*client, red));
+    EXPECT_NE(red_frame, plain);
+    Json green = red;
+    green["objects"][0]["base_color"] = {0.05, 0.8, 0.05};
+    EXPECT_NE(frame_of(render(*client, green)), red_frame);
+
+    Json no_floor = red;
+    no_floor["ground"] = false;
+    EXPECT_NE(frame_of(render(*client, no_floor)), red_frame);
+    const Metrics after = scrape(*client);
+    EXPECT_EQ(after.sum("oer_transfers_computed_total"), prepared);
+    EXPECT_EQ(after.sum("oer_transfer_seconds_count"), before.sum("oer_transfer_seconds_count"));
+    EXPECT_EQ(after.sum("oer_cache_hits_total", {{"cache", "transfer"}}) -
+                  before.sum("oer_cache_hits_total", {{"cache", "transfer"}}),
+              3.0);
+}
+
 TEST(Transfer, ConcurrentFramesBakeTheSceneOnce) {
     TempRoot root;
     TestServer server(test_config(root.data()));

@@ -25,8 +25,8 @@ api::RenderSpec spec_of(int objects) {
     return spec;
 }
 
-constexpr MeshSummary kTexturedMesh{1000, 600, 3 << 20, 5 << 20};
-constexpr MeshSummary kPlainMesh{20000, 10000, 0, 1 << 20};
+constexpr MeshSummary kTexturedMesh{1000, 600, 3 << 20, 5 << 20, 2};
+constexpr MeshSummary kPlainMesh{20000, 10000, 0, 1 << 20, 1};
 
 }  // namespace
 
@@ -43,10 +43,12 @@ TEST(RenderCost, EachPartFollowsItsRule) {
     EXPECT_EQ(cost.gl_texture_bytes, 4u << 20);
     EXPECT_EQ(cost.target_bytes, 100u * 50 * 2 * kTargetBytesPerSample);
     EXPECT_EQ(cost.shadow_bytes, 3u * 1024 * 1024 * 4);
-    // Every object's vertices and the ground's grid, 4 x order^2 floats each with the bounce.
+    // Every object's vertices and the ground's grid, each order^2 floats for its direct vector
+    // and as many per reflector slot: the ground's, and with and without the ground one per
+    // (object, material), 2 + 2 + 1.
     const std::uint64_t points = transfer_point_count(600 + 600 + 10000);
     EXPECT_EQ(cost.transfer_bytes,
-              points * kTransferBakeOrder * kTransferBakeOrder * 4 * sizeof(float));
+              points * kTransferBakeOrder * kTransferBakeOrder * (1 + 1 + 2 * 5) * sizeof(float));
     // Every triangle drawn by the geometry pass, 3 shadow maps and the ground's visibility.
     EXPECT_DOUBLE_EQ(cost.draw_seconds, 22000.0 * 5 / kTrianglesPerSecond);
     EXPECT_DOUBLE_EQ(cost.shade_seconds, 100.0 * 50 * 2 * 4 / kSampleLightsPerSecond);
@@ -55,6 +57,29 @@ TEST(RenderCost, EachPartFollowsItsRule) {
                      double(points) * kBakeSecondsPerPoint + 2.0 * rays / kRaysPerSecond);
     EXPECT_EQ(cost.memory_bytes(), cost.mesh_bytes + cost.gl_texture_bytes + cost.target_bytes +
                                        cost.shadow_bytes + cost.transfer_bytes);
+}
+
+// Past kMaxReflectingSurfaces (object, material) pairs, a slot per mesh, material and colour.
+TEST(RenderCost, ManySurfacesShareReflectorSlotsByMeshMaterialAndColour) {
+    api::RenderSpec spec = spec_of(9);
+    spec.occlusion = true;
+    spec.bounce = Bounce::One;
+    for (std::size_t i = 0; i < 9; ++i) {
+        if (i % 2 == 1) {
+            spec.objects[i].base_color = glm::dvec3(1.0, 0.0, 0.0);
+        }
+    }
+    const RenderCost cost = estimate_render_cost(spec, std::vector<MeshSummary>(9, kTexturedMesh),
+                                                 std::vector<std::string>(9, "a"), 0, 1e6);
+    // 18 pairs: the uncoloured and the red copies, 2 materials each, in each ground family.
+    const std::uint64_t points = transfer_point_count(9 * 600);
+    EXPECT_EQ(cost.transfer_bytes,
+              points * kTransferBakeOrder * kTransferBakeOrder * (1 + 1 + 2 * 4) * sizeof(float));
+    spec.bounce = Bounce::None;
+    EXPECT_EQ(estimate_render_cost(spec, std::vector<MeshSummary>(9, kTexturedMesh),
+                                   std::vector<std::string>(9, "a"), 0, 1e6)
+                  .transfer_bytes,
+              points * kTransferBakeOrder * kTransferBakeOrder * sizeof(float));
 }
 
 TEST(RenderCost, LightsSwitchedOffAndShadowsOffDrawNoShadowMap) {

@@ -65,6 +65,9 @@ class RendererSuite : public ::testing::Test {
     static std::size_t specular_uploads() {
         return thread_->submit([] { return renderer_->specular_uploads(); }).get();
     }
+    static std::size_t transferred_irradiance_reuses() {
+        return thread_->submit([] { return renderer_->transferred_irradiance_reuses(); }).get();
+    }
 
     static inline RenderThread* thread_ = nullptr;
     static inline std::shared_ptr<FrameRenderer> renderer_;

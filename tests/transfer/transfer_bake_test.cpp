@@ -121,8 +121,19 @@ const float* direct_of(const TransferPoints& points, std::size_t point) {
     return &points.direct[point * kCoefficients];
 }
 
-const float* bounce_of(const TransferPoints& points, std::size_t point, int channel) {
-    return &points.bounce[(point * 3 + std::size_t(channel)) * kCoefficients];
+// What a point reflects in one colour channel in a frame of `request`: its reflector slots'
+// unit-albedo vectors weighed by the albedos that frame gives them (reflector_albedos).
+Coefficients bounce_of(const SceneTransfer& transfer, const FrameRequest& request,
+                       const TransferPoints& points, std::size_t point, int channel) {
+    const std::vector<glm::vec3> albedos = reflector_albedos(transfer, request);
+    Coefficients bounce{};
+    for (std::size_t s = 0; s < albedos.size(); ++s) {
+        const float* slot = &points.bounce[(point * albedos.size() + s) * kCoefficients];
+        for (int i = 0; i < kCoefficients; ++i) {
+            bounce[std::size_t(i)] += double(albedos[s][channel]) * double(slot[i]);
+        }
+    }
+    return bounce;
 }
 
 double max_abs(const std::vector<float>& values) {
@@ -177,7 +188,7 @@ TEST(TransferBakeConvex, SphereAloneIsPlainIrradiance) {
     // Nothing occludes: the bake's control variate leaves A_l Y_i(n) itself, to float rounding.
     EXPECT_LT(worst_coefficient, 1e-5);
     // Nothing to reflect: no bounce at all.
-    ASSERT_EQ(points.bounce.size(), points.count * 3 * kCoefficients);
+    ASSERT_EQ(points.bounce.size(), points.count * transfer.reflectors.size() * kCoefficients);
     EXPECT_EQ(max_abs(points.bounce), 0.0);
 }
 
@@ -227,9 +238,9 @@ TEST(TransferBakeBounce, PointUnderABrightCeilingGetsItsReflectedLight) {
     const Mesh ceiling = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
     TransferBakeOptions options;
     options.rays = 4096;
-    const SceneTransfer transfer = bake_transfer(
-        request_of({object_of(receiver, face_up), object_of(ceiling, face_down, albedo)}, false),
-        options);
+    const FrameRequest request =
+        request_of({object_of(receiver, face_up), object_of(ceiling, face_down, albedo)}, false);
+    const SceneTransfer transfer = bake_transfer(request, options);
 
     const glm::vec3 point = glm::vec3(face_up * glm::vec4(receiver.primitives[0].positions[0], 1));
     ASSERT_NEAR(point.y, 0.0f, 1e-6f);
@@ -244,25 +255,30 @@ TEST(TransferBakeBounce, PointUnderABrightCeilingGetsItsReflectedLight) {
 
     const Coefficients ceiling_transfer = cosine_transfer({0.0, -1.0, 0.0});
     for (int c = 0; c < 3; ++c) {
-        const float* bounce = bounce_of(points, 0, c);
+        const Coefficients bounce = bounce_of(transfer, request, points, 0, c);
         const double share = double(bounce[0]) / (albedo[c] * ceiling_transfer[0]);
         std::printf("  channel %d: bounce_0 / (rho A_0 Y_0(-Y)) %.5f, view factor %.5f\n", c, share,
                     view_factor);
         for (int i = 0; i < kCoefficients; ++i) {
             const double expected = albedo[c] * view_factor * ceiling_transfer[std::size_t(i)];
-            EXPECT_NEAR(bounce[i], expected,
+            EXPECT_NEAR(bounce[std::size_t(i)], expected,
                         tolerance * albedo[c] * std::abs(ceiling_transfer[std::size_t(i)]) + 1e-6)
                 << "channel " << c << ", coefficient " << i;
         }
     }
 
-    // A black ceiling reflects nothing.
-    const SceneTransfer black = bake_transfer(
-        request_of({object_of(receiver, face_up), object_of(ceiling, face_down, glm::vec3(0.0f))},
-                   false),
-        options);
-    EXPECT_EQ(max_abs(black.objects[0][0].bounce), 0.0);
+    // The bake does not depend on the colours, which only weigh its slots: a black ceiling has
+    // the same vectors, and reflects nothing.
+    const FrameRequest black_request = request_of(
+        {object_of(receiver, face_up), object_of(ceiling, face_down, glm::vec3(0.0f))}, false);
+    const SceneTransfer black = bake_transfer(black_request, options);
+    EXPECT_EQ(black.objects[0][0].bounce, points.bounce);
     EXPECT_EQ(black.objects[0][0].direct, points.direct);
+    for (int c = 0; c < 3; ++c) {
+        for (const double value : bounce_of(black, black_request, points, 0, c)) {
+            EXPECT_EQ(value, 0.0);
+        }
+    }
 }
 
 TEST(TransferBakeBounce, ReflectedTransferIsInterpolatedAcrossTheHitTriangle) {
@@ -286,8 +302,9 @@ TEST(TransferBakeBounce, ReflectedTransferIsInterpolatedAcrossTheHitTriangle) {
     const Mesh receiver = oer::testing::quad({0, 0, 0}, 1e-3f, glm::vec3(0.5f));
     TransferBakeOptions options;
     options.rays = 4096;
-    const SceneTransfer transfer = bake_transfer(
-        request_of({object_of(receiver, face_up), object_of(ceiling)}, false), options);
+    const FrameRequest request =
+        request_of({object_of(receiver, face_up), object_of(ceiling)}, false);
+    const SceneTransfer transfer = bake_transfer(request, options);
 
     std::array<Coefficients, 4> corner_transfer;
     for (int k = 0; k < 4; ++k) {
@@ -321,13 +338,14 @@ TEST(TransferBakeBounce, ReflectedTransferIsInterpolatedAcrossTheHitTriangle) {
     const double view_factor =
         rectangle_view_factor(-1.0 - point.x, 1.0 - point.x, -1.0 - point.z, 1.0 - point.z, 1.0);
     const double tolerance = binomial_tolerance(view_factor, transfer.rays);
-    const float* bounce = bounce_of(transfer.objects[0][0], 0, 0);
+    const Coefficients bounce = bounce_of(transfer, request, transfer.objects[0][0], 0, 0);
     for (int c = 0; c < kCoefficients; ++c) {
         double largest = 0.0;
         for (const Coefficients& corner : corner_transfer) {
             largest = std::max(largest, std::abs(corner[std::size_t(c)]));
         }
-        EXPECT_NEAR(bounce[c], expected[std::size_t(c)], tolerance * albedo * largest + 1e-6)
+        EXPECT_NEAR(bounce[std::size_t(c)], expected[std::size_t(c)],
+                    tolerance * albedo * largest + 1e-6)
             << "coefficient " << c;
     }
     std::printf("interpolated bounce: bounce_0 %.5f, integral %.5f; bounce_3 %.5f, integral %.5f\n",
@@ -340,7 +358,8 @@ TEST(TransferBakeGround, SphereRestingOnTheGroundCastsItsViewFactor) {
         oer::testing::uv_sphere({0.0f, radius, 0.0f}, radius, 48, 24, glm::vec3(0.5f));
     TransferBakeOptions options;
     options.rays = 2304;
-    const SceneTransfer transfer = bake_transfer(request_of({object_of(sphere)}, true), options);
+    const FrameRequest request = request_of({object_of(sphere)}, true);
+    const SceneTransfer transfer = bake_transfer(request, options);
     ASSERT_TRUE(transfer.ground.has_value());
     const GroundTransfer& ground = *transfer.ground;
     EXPECT_EQ(ground.height, 0.0f);
@@ -402,7 +421,7 @@ TEST(TransferBakeGround, SphereRestingOnTheGroundCastsItsViewFactor) {
         }
     }
     for (int c = 0; c < 3; ++c) {
-        const float bounce = bounce_of(ground.points, 0, c)[0];
+        const double bounce = bounce_of(transfer, request, ground.points, 0, c)[0];
         EXPECT_GE(bounce, 0.0f);
         EXPECT_LE(bounce, 0.5 * covered_bound * kPi * kY00);
     }
@@ -412,7 +431,7 @@ TEST(TransferBakeGround, SphereRestingOnTheGroundCastsItsViewFactor) {
     const Coefficients up = cosine_transfer({0.0, 1.0, 0.0});
     for (int i = 0; i < kCoefficients; ++i) {
         EXPECT_NEAR(direct_of(points, 0)[i], up[std::size_t(i)], 1e-6) << "coefficient " << i;
-        EXPECT_EQ(bounce_of(points, 0, 0)[i], 0.0f);
+        EXPECT_EQ(bounce_of(transfer, request, points, 0, 0)[std::size_t(i)], 0.0);
     }
 }
 
@@ -425,19 +444,99 @@ TEST(TransferBakeGround, BounceFollowsTheReflectorsAlbedo) {
     const Mesh sphere = oer::testing::uv_sphere({0.0f, 1.0f, 0.0f}, 1.0f, 24, 12, glm::vec3(0.5f));
     TransferBakeOptions options;
     options.rays = 256;
-    const SceneTransfer transfer = bake_transfer(
-        request_of({object_of(sphere, glm::mat4(1.0f), glm::vec3(0.0f))}, true), options);
-    EXPECT_EQ(max_abs(transfer.ground->points.bounce), 0.0);
+    const FrameRequest request =
+        request_of({object_of(sphere, glm::mat4(1.0f), glm::vec3(0.0f))}, true);
+    const SceneTransfer transfer = bake_transfer(request, options);
+    for (std::size_t p = 0; p < transfer.ground->points.count; ++p) {
+        EXPECT_EQ(bounce_of(transfer, request, transfer.ground->points, p, 1)[0], 0.0);
+    }
     const std::size_t equator = vertex_at(sphere.primitives[0], {1, 1, 0}, {1, 0, 0});
     const TransferPoints& points = transfer.objects[0][0];
     const Coefficients open = cosine_transfer({1.0, 0.0, 0.0});
     for (int i = 0; i < kCoefficients; ++i) {
         EXPECT_NEAR(direct_of(points, equator)[i], open[std::size_t(i)], 1e-6) << i;
     }
-    const float red = bounce_of(points, equator, 0)[0];
-    EXPECT_LT(red, 0.0f);
-    EXPECT_EQ(bounce_of(points, equator, 1)[0], red);
-    EXPECT_EQ(bounce_of(points, equator, 2)[0], red);
+    const double red = bounce_of(transfer, request, points, equator, 0)[0];
+    EXPECT_LT(red, 0.0);
+    EXPECT_EQ(bounce_of(transfer, request, points, equator, 1)[0], red);
+    EXPECT_EQ(bounce_of(transfer, request, points, equator, 2)[0], red);
+}
+
+// The floor's toggle does not bake again: a transfer baked with the ground holds, in its slots
+// without the ground, exactly what a bake without the ground gives, and the same direct vectors
+// (the plane lies below every object, so it never stands between a vertex and an object).
+TEST(TransferBakeGround, TheBakeWithTheGroundServesFramesWithoutIt) {
+    const Mesh box = oer::testing::open_box(0.5f, 0.4f, 0.02f, 4, glm::vec3(0.6f, 0.4f, 0.2f));
+    const Mesh sphere = oer::testing::uv_sphere({0.9f, 0.3f, 0.0f}, 0.3f, 16, 8, glm::vec3(0.9f));
+    const std::vector<SceneObject> objects = {object_of(box), object_of(sphere)};
+    TransferBakeOptions options;
+    options.rays = 64;
+    const FrameRequest with_ground = request_of(objects, true);
+    const FrameRequest without_ground = request_of(objects, false);
+    const SceneTransfer both = bake_transfer(with_ground, options);
+    const SceneTransfer alone = bake_transfer(without_ground, options);
+    EXPECT_EQ(both.reflectors.size(), 1 + 2 * alone.reflectors.size());
+    const std::vector<glm::vec3> albedos = reflector_albedos(both, without_ground);
+    double largest = 0.0;
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+        for (std::size_t p = 0; p < both.objects[o].size(); ++p) {
+            const TransferPoints& a = both.objects[o][p];
+            const TransferPoints& b = alone.objects[o][p];
+            EXPECT_EQ(a.direct, b.direct);
+            for (std::size_t point = 0; point < a.count; ++point) {
+                for (int c = 0; c < 3; ++c) {
+                    const Coefficients expected = bounce_of(alone, without_ground, b, point, c);
+                    const Coefficients got = bounce_of(both, without_ground, a, point, c);
+                    for (int i = 0; i < kCoefficients; ++i) {
+                        EXPECT_NEAR(got[std::size_t(i)], expected[std::size_t(i)], 1e-6);
+                        largest = std::max(largest, std::abs(expected[std::size_t(i)]));
+                    }
+                }
+            }
+        }
+    }
+    // Not an empty comparison: the box and the sphere reflect onto each other.
+    EXPECT_GT(largest, 1e-3);
+    // And the frames with the ground take the other family: its ground slot is weighed.
+    EXPECT_EQ(reflector_albedos(both, with_ground)[0], glm::vec3(kGroundAlbedo));
+    EXPECT_EQ(albedos[0], glm::vec3(0.0f));
+}
+
+// A slot per (object, material) weighed by the frame's colours; past kMaxReflectingSurfaces
+// pairs, the pairs of one mesh, material and colour share one.
+TEST(TransferBakeReflectors, SlotsPerObjectAndMaterialMergedByColourPastTheirLimit) {
+    auto sphere = std::make_shared<const Mesh>(
+        oer::testing::uv_sphere({0.0f, 0.5f, 0.0f}, 0.5f, 8, 4, glm::vec3(0.25f, 0.5f, 1.0f)));
+    FrameRequest request = request_of({{sphere, glm::mat4(1.0f), std::nullopt},
+                                       {sphere, glm::mat4(1.0f), glm::vec3(1.0f, 0.0f, 0.0f)}},
+                                      true);
+    EXPECT_FALSE(reflectors_follow_colours(request));
+    const std::vector<ReflectorSlot> slots = reflector_slots(request);
+    ASSERT_EQ(slots.size(), 5u);  // the ground; each object with and without the ground
+    EXPECT_TRUE(slots[0].ground());
+    EXPECT_EQ(slots[1].surfaces, (std::vector<ReflectingSurface>{{0, 0}}));
+    EXPECT_EQ(slots[2].surfaces, (std::vector<ReflectingSurface>{{1, 0}}));
+    EXPECT_FALSE(slots[3].with_ground);
+    EXPECT_EQ(slots[1].albedo, glm::vec3(0.25f, 0.5f, 1.0f));
+    SceneTransfer transfer;
+    transfer.reflectors = slots;
+    const std::vector<glm::vec3> albedos = reflector_albedos(transfer, request);
+    EXPECT_EQ(albedos[1], glm::vec3(0.25f, 0.5f, 1.0f));  // the material's own
+    EXPECT_EQ(albedos[2], glm::vec3(1.0f, 0.0f, 0.0f));   // the request's colour
+    EXPECT_EQ(albedos[3], glm::vec3(0.0f));               // frames without the ground only
+
+    request.objects.clear();
+    for (std::size_t i = 0; i <= kMaxReflectingSurfaces; ++i) {
+        const std::optional<glm::vec3> colour =
+            i % 2 == 0 ? std::nullopt : std::optional<glm::vec3>(glm::vec3(0.5f));
+        request.objects.push_back({sphere, glm::mat4(1.0f), colour});
+    }
+    EXPECT_TRUE(reflectors_follow_colours(request));
+    const std::vector<ReflectorSlot> merged = reflector_slots(request);
+    ASSERT_EQ(merged.size(), 1u + 2u * 2u);  // uncoloured and grey, in each family
+    EXPECT_EQ(merged[1].surfaces.size(), kMaxReflectingSurfaces / 2 + 1);
+    EXPECT_EQ(merged[2].surfaces.size(), kMaxReflectingSurfaces / 2);
+    EXPECT_EQ(reflector_slot_count(2, true), merged.size());
 }
 
 TEST(TransferBakeDeterminism, SameVectorsOnOneAndTwoThreads) {

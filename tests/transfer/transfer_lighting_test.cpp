@@ -88,24 +88,28 @@ TEST(TransferLighting, TheYawTurnsTheLightingIntoTheWorld) {
               0.05);
 }
 
-TEST(TransferLighting, DirectVectorsTakeTheResidualAndBounceVectorsTheWholeLightingPerChannel) {
+TEST(TransferLighting,
+     DirectVectorsTakeTheResidualAndEachReflectorSlotTheWholeLightingByItsAlbedo) {
     const Rig rig = two_light_rig();
     const TransferLighting lighting =
         transfer_lighting(rig, std::vector<float>{1, 2}, 0.0, 3, false, Bounce::None);
     TransferPoints points;
     points.count = 2;
     points.direct.assign(2 * 25, 0.0f);
-    points.bounce.assign(2 * 3 * 25, 0.0f);
+    points.bounce.assign(2 * 3 * 25, 0.0f);       // three slots
     points.direct[0] = 1.0f;                      // point 0: the residual's coefficient 0
     points.direct[25 + 3] = 2.0f;                 // point 1: twice the residual's coefficient 3
-    points.bounce[(1 * 3 + 1) * 25 + 2] = 0.5f;   // point 1, green: half L's coefficient 2
-    points.bounce[(0 * 3 + 2) * 25 + 24] = 9.0f;  // beyond order 3: not read
-    const std::vector<glm::vec3> e = transferred_irradiance(points, 5, lighting);
+    points.bounce[(1 * 3 + 1) * 25 + 2] = 0.5f;   // point 1, slot 1: half L's coefficient 2
+    points.bounce[(1 * 3 + 2) * 25 + 0] = 7.0f;   // point 1, slot 2: of albedo 0, not read
+    points.bounce[(0 * 3 + 0) * 25 + 24] = 9.0f;  // beyond order 3: not read
+    const std::vector<glm::vec3> albedos{glm::vec3(0.3f), glm::vec3(0.2f, 0.6f, 1.0f),
+                                         glm::vec3(0.0f)};
+    const std::vector<glm::vec3> e = transferred_irradiance(points, 5, lighting, albedos);
     ASSERT_EQ(e.size(), 2u);
     for (int c = 0; c < 3; ++c) {
         EXPECT_FLOAT_EQ(e[0][c], float(lighting.residual.coefficients[0][c]));
-        const double green_bounce = c == 1 ? 0.5 * lighting.whole.coefficients[2][c] : 0.0;
-        EXPECT_NEAR(e[1][c], 2.0 * lighting.residual.coefficients[3][c] + green_bounce, 1e-5);
+        const double bounce = albedos[1][c] * 0.5 * lighting.whole.coefficients[2][c];
+        EXPECT_NEAR(e[1][c], 2.0 * lighting.residual.coefficients[3][c] + bounce, 1e-5);
     }
 }
 
@@ -166,9 +170,13 @@ TEST(TransferLighting, MismatchedInputsAreRefused) {
     TransferPoints points;
     points.count = 1;
     points.direct.assign(9, 0.0f);  // order 3 vectors for order 5 lighting
-    EXPECT_THROW(transferred_irradiance(points, 3, lighting), Error);
+    EXPECT_THROW(transferred_irradiance(points, 3, lighting, {}), Error);
     points.direct.assign(24, 0.0f);  // one short
-    EXPECT_THROW(transferred_irradiance(points, 5, lighting), Error);
+    EXPECT_THROW(transferred_irradiance(points, 5, lighting, {}), Error);
+    points.direct.assign(25, 0.0f);
+    points.bounce.assign(2 * 25, 0.0f);  // two slots' vectors for three albedos
+    EXPECT_THROW(transferred_irradiance(points, 5, lighting, std::vector<glm::vec3>(3)), Error);
+    EXPECT_NO_THROW(transferred_irradiance(points, 5, lighting, std::vector<glm::vec3>(2)));
 }
 
 }  // namespace

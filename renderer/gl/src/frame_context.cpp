@@ -77,9 +77,23 @@ void add_lights(FrameContext& frame) {
     }
 }
 
-void add_transferred_irradiance(FrameContext& frame) {
+void add_transferred_irradiance(FrameContext& frame, TransferredIrradianceCache& cache) {
     const FrameRequest& request = frame.request;
     const SceneTransfer& transfer = *request.transfer;
+    TransferredIrradianceInputs inputs{request.transfer,
+                                       request.rig,
+                                       frame.weights,
+                                       request.environment_yaw,
+                                       request.ground,
+                                       request.bounce,
+                                       reflector_albedos(transfer, request)};
+    if (cache.inputs && cache.inputs->same_as(inputs)) {
+        frame.transferred_vertices = cache.vertices;
+        frame.transferred_offsets = cache.offsets;
+        frame.transferred_ground = cache.ground;
+        ++cache.reuses;
+        return;
+    }
     const TransferLighting lighting =
         transfer_lighting(frame.rig, frame.weights, request.environment_yaw,
                           transfer_order(frame.rig), request.ground, request.bounce);
@@ -88,15 +102,19 @@ void add_transferred_irradiance(FrameContext& frame) {
         for (const TransferPoints& primitive : object) {
             offsets.push_back(frame.transferred_vertices.size());
             const std::vector<glm::vec3> irradiance =
-                transferred_irradiance(primitive, transfer.order, lighting);
+                transferred_irradiance(primitive, transfer.order, lighting, inputs.albedos);
             frame.transferred_vertices.insert(frame.transferred_vertices.end(), irradiance.begin(),
                                               irradiance.end());
         }
     }
-    if (transfer.ground) {
-        frame.transferred_ground =
-            transferred_irradiance(transfer.ground->points, transfer.order, lighting);
+    if (transfer.ground && request.ground) {
+        frame.transferred_ground = transferred_irradiance(transfer.ground->points, transfer.order,
+                                                          lighting, inputs.albedos);
     }
+    cache.inputs = std::move(inputs);
+    cache.vertices = frame.transferred_vertices;
+    cache.offsets = frame.transferred_offsets;
+    cache.ground = frame.transferred_ground;
 }
 
 void add_camera(FrameContext& frame) {
@@ -177,14 +195,24 @@ bool has_blending(const FrameRequest& request) {
         request, [](const Material& m) { return m.alpha_mode == AlphaMode::Blend; });
 }
 
-FrameContext make_frame_context(const FrameRequest& request) {
+bool TransferredIrradianceInputs::same_as(const TransferredIrradianceInputs& other) const {
+    const auto same_object = [](const auto& a, const auto& b) {
+        const auto locked = a.lock();
+        return locked != nullptr && locked == b.lock();
+    };
+    return same_object(transfer, other.transfer) && same_object(rig, other.rig) &&
+           weights == other.weights && yaw_degrees == other.yaw_degrees && ground == other.ground &&
+           bounce == other.bounce && albedos == other.albedos;
+}
+
+FrameContext make_frame_context(const FrameRequest& request, TransferredIrradianceCache& cache) {
     FrameContext frame(request);
     frame.specular = needs_specular(request);
     frame.blending = has_blending(request);
     frame.transfer = request.occlusion;
     add_lights(frame);
     if (frame.transfer) {
-        add_transferred_irradiance(frame);
+        add_transferred_irradiance(frame, cache);
     }
     frame.scene = scene_bounds(request.objects);
     add_camera(frame);

@@ -36,6 +36,10 @@ std::size_t FrameRenderer::specular_uploads() const {
     return state_->specular_uploads;
 }
 
+std::size_t FrameRenderer::transferred_irradiance_reuses() const {
+    return state_->transferred.reuses;
+}
+
 // The passes in order (passes/frame_passes.hpp), each taking what it reads and returning what
 // it produces: the frame's data flow. GL runs commands asynchronously (llvmpipe on its
 // rasterizer threads), so each pass's timing waits for them (glFinish) before it stops.
@@ -48,7 +52,7 @@ Frame FrameRenderer::render(const FrameRequest& request, const std::stop_token& 
     result.height = request.height;
 
     auto start = Clock::now();
-    const FrameContext frame = make_frame_context(request);
+    const FrameContext frame = make_frame_context(request, state.transferred);
     const FrameLightingBuffers lighting = upload_irradiance_sets(frame, state);
     result.timings_ms["setup"] = elapsed_ms(start);
 

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "frame_context.hpp"
 #include "gl_objects.hpp"
 #include "gl_program.hpp"
 #include "gpu_mesh.hpp"
@@ -55,6 +56,7 @@ struct RendererState {
 
     FrameLimits limits;
     ShadowMapCache shadows;
+    TransferredIrradianceCache transferred;
     ShadowLayers shadow_layers;
     gl::Object bake_framebuffer;  // the ground-visibility bake's
     RenderTargetCache targets;

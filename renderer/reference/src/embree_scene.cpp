@@ -1,6 +1,7 @@
 #include "oer/reference/embree_scene.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -46,6 +47,18 @@ glm::dvec3 sample_texture(const Texture& texture, glm::dvec2 uv) {
            fy * ((1 - fx) * texel(ix, iy + 1) + fx * texel(ix + 1, iy + 1));
 }
 
+// srgb_decode of every byte value, for a whole texture's mean.
+const std::array<double, 256>& srgb_decode_table() {
+    static const std::array<double, 256> table = [] {
+        std::array<double, 256> values{};
+        for (int i = 0; i < 256; ++i) {
+            values[std::size_t(i)] = srgb_decode(std::uint8_t(i));
+        }
+        return values;
+    }();
+    return table;
+}
+
 RTCRay make_ray(const glm::dvec3& origin, const glm::dvec3& direction, double t_near) {
     RTCRay ray{};
     ray.org_x = float(origin.x);
@@ -63,7 +76,19 @@ RTCRay make_ray(const glm::dvec3& origin, const glm::dvec3& direction, double t_
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) {
+glm::dvec3 mean_texture_color(const Texture& texture) {
+    const std::array<double, 256>& decode = srgb_decode_table();
+    glm::dvec3 sum(0.0);
+    const std::size_t texels = std::size_t(texture.width) * std::size_t(texture.height);
+    for (std::size_t i = 0; i < texels; ++i) {
+        sum += glm::dvec3(decode[texture.rgba[4 * i]], decode[texture.rgba[4 * i + 1]],
+                          decode[texture.rgba[4 * i + 2]]);
+    }
+    return texels == 0 ? glm::dvec3(1.0) : sum / double(texels);
+}
+
+EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
+                         GroundTracing ground_tracing) {
     device_ = rtcNewDevice(nullptr);
     if (device_ == nullptr) {
         throw Error(ErrorKind::Internal, "reference: rtcNewDevice failed (RTCError " +
@@ -104,6 +129,9 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) 
         }
     }
     if (request.ground) {
+        ground_height_ = double(frame.box.min.y);
+    }
+    if (request.ground && ground_tracing == GroundTracing::SquareAndPlane) {
         // The renderer's unit ground (renderer_state.cpp), albedo 0.8 (docs/design.md section 7).
         Geometry ground;
         const float h = frame.ground_half_size(), y = frame.box.min.y;
@@ -115,7 +143,6 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame) 
         ground.normals.assign(4, {0.0f, 1.0f, 0.0f});
         ground.indices = {0, 1, 2, 0, 2, 3};
         ground.base_color = glm::dvec3(kGroundAlbedo);
-        ground_height_ = double(y);
         ground.ground = true;
         add(std::move(ground));
     }

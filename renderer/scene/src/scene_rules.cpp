@@ -19,15 +19,47 @@ bool needs_specular(const FrameRequest& request) {
     return false;
 }
 
+namespace {
+
+// Why transfer's reflector slots do not fit request's objects: a surface the frame does not
+// have, or one slot's surfaces drawn with different colours (their shared vectors could not be
+// weighed apart).
+std::string reflectors_misfit(const SceneTransfer& transfer, const FrameRequest& request) {
+    if (transfer.bounce == Bounce::One && transfer.reflectors.empty()) {
+        return "it has bounce vectors but no reflector slots";
+    }
+    for (std::size_t s = 0; s < transfer.reflectors.size(); ++s) {
+        const ReflectorSlot& slot = transfer.reflectors[s];
+        const std::string name = "its reflector slot " + std::to_string(s);
+        for (const ReflectingSurface& surface : slot.surfaces) {
+            if (surface.object >= request.objects.size() ||
+                surface.material >= request.objects[surface.object].mesh->materials.size()) {
+                return name + " names object " + std::to_string(surface.object) + ", material " +
+                       std::to_string(surface.material) + ", which the frame does not have";
+            }
+            const SceneObject& first = request.objects[slot.surfaces.front().object];
+            const SceneObject& object = request.objects[surface.object];
+            if (object.base_color != first.base_color || object.mesh != first.mesh ||
+                surface.material != slot.surfaces.front().material) {
+                return name + " holds surfaces that the frame draws differently";
+            }
+        }
+    }
+    return {};
+}
+
+}  // namespace
+
 std::string transfer_misfit(const SceneTransfer& transfer, const FrameRequest& request) {
     if (transfer.bounce != request.bounce) {
         return std::string("it was baked with bounce ") +
                (transfer.bounce == Bounce::One ? "one" : "none") + ", the frame asks " +
                (request.bounce == Bounce::One ? "one" : "none");
     }
-    if (transfer.ground.has_value() != request.ground) {
-        return transfer.ground ? "it has a ground, the frame has none"
-                               : "it has no ground, the frame has one";
+    // A transfer baked with the ground serves frames without it too (its reflector slots
+    // without the ground, transfer_bake.hpp).
+    if (request.ground && !transfer.ground) {
+        return "it has no ground, the frame has one";
     }
     if (transfer.objects.size() != request.objects.size()) {
         return "it has " + std::to_string(transfer.objects.size()) + " object(s), the frame " +
@@ -48,7 +80,7 @@ std::string transfer_misfit(const SceneTransfer& transfer, const FrameRequest& r
             }
         }
     }
-    return {};
+    return reflectors_misfit(transfer, request);
 }
 
 }  // namespace oer

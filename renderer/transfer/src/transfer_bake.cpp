@@ -92,7 +92,7 @@ struct Receiver {
     glm::dvec3 position{0.0};
     glm::dvec3 normal{0.0, 1.0, 0.0};
     float* direct = nullptr;  // kCoefficients values
-    float* bounce = nullptr;  // 3 x kCoefficients values, red then green then blue
+    float* bounce = nullptr;  // kCoefficients values per reflector slot
     // An object's receiver in a scene with the ground, under Bounce::One: its direct transfer
     // with the plane counted as blocking (kCoefficients values), what it reflects from the map
     // alone, as the one-bounce reference's surfaces do.
@@ -214,10 +214,10 @@ GroundTransfer ground_grid(const SceneBounds& frame) {
     return ground;
 }
 
-void size_points(TransferPoints& points, std::size_t count, Bounce bounce) {
+void size_points(TransferPoints& points, std::size_t count, std::size_t slots) {
     points.count = count;
     points.direct.assign(count * kCoefficients, 0.0f);
-    points.bounce.assign(bounce == Bounce::One ? count * 3 * kCoefficients : 0, 0.0f);
+    points.bounce.assign(count * slots * kCoefficients, 0.0f);
 }
 
 // Every vertex of every primitive of every object, in world space (the normal by the
@@ -245,7 +245,9 @@ std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& t
                 }
                 receiver.direct = &points.direct[v * kCoefficients];
                 receiver.bounce =
-                    points.bounce.empty() ? nullptr : &points.bounce[v * 3 * kCoefficients];
+                    points.bounce.empty()
+                        ? nullptr
+                        : &points.bounce[v * transfer.reflectors.size() * kCoefficients];
                 if (!sky_direct.empty()) {
                     receiver.sky_direct = &sky_direct[o][p][v * kCoefficients];
                 }
@@ -265,9 +267,10 @@ std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& t
                                      ground.height,
                                      ground.centre.y - ground.half_size + (row + 0.5) * texel};
                 receiver.direct = &ground.points.direct[index * kCoefficients];
-                receiver.bounce = ground.points.bounce.empty()
-                                      ? nullptr
-                                      : &ground.points.bounce[index * 3 * kCoefficients];
+                receiver.bounce =
+                    ground.points.bounce.empty()
+                        ? nullptr
+                        : &ground.points.bounce[index * transfer.reflectors.size() * kCoefficients];
                 receivers.push_back(receiver);
             }
         }
@@ -290,25 +293,14 @@ class DirectAtHit {
           sky_direct_(sky_direct),
           open_ground_(unoccluded_transfer({0, 1, 0})) {}
 
-    Coefficients operator()(const SurfaceHit& hit) const {
-        if (!hit.ground) {
-            return on_object(hit);
-        }
-        Coefficients difference = on_ground(hit.position);
-        for (std::size_t i = 0; i < difference.size(); ++i) {
-            difference[i] -= open_ground_[i];
-        }
-        return difference;
-    }
-
-  private:
-    Coefficients on_object(const SurfaceHit& hit) const {
+    // With the ground (sky true), what the object reflects of the map alone
+    // (Receiver::sky_direct): the plane's light is the ground's slot; without it, of the whole map.
+    Coefficients on_object(const SurfaceHit& hit, bool sky) const {
         const std::vector<std::uint32_t>& indices =
             request_.objects[hit.object].mesh->primitives[hit.primitive].indices;
-        // With the ground, what the object reflects of the map alone (Receiver::sky_direct).
-        const std::vector<float>& direct = sky_direct_.empty()
-                                               ? transfer_.objects[hit.object][hit.primitive].direct
-                                               : sky_direct_[hit.object][hit.primitive];
+        const std::vector<float>& direct =
+            sky ? sky_direct_[hit.object][hit.primitive]
+                : transfer_.objects[hit.object][hit.primitive].direct;
         const std::uint32_t* corner = &indices[3 * std::size_t(hit.triangle)];
         const double weights[3] = {1.0 - hit.u - hit.v, hit.u, hit.v};
         Coefficients result{};
@@ -322,6 +314,15 @@ class DirectAtHit {
     }
 
     Coefficients on_ground(const glm::dvec3& position) const {
+        Coefficients difference = ground_direct(position);
+        for (std::size_t i = 0; i < difference.size(); ++i) {
+            difference[i] -= open_ground_[i];
+        }
+        return difference;
+    }
+
+  private:
+    Coefficients ground_direct(const glm::dvec3& position) const {
         const GroundTransfer& ground = *transfer_.ground;
         const double half = ground.half_size;
         const double dx = position.x - ground.centre.x, dz = position.z - ground.centre.y;
@@ -387,20 +388,60 @@ SceneTransfer sized_transfer(const FrameRequest& request, const SceneBounds& fra
     transfer.order = kTransferBakeOrder;
     transfer.bounce = bounce;
     transfer.rays = rays;
+    if (bounce == Bounce::One) {
+        transfer.reflectors = reflector_slots(request);
+    }
+    const std::size_t slots = transfer.reflectors.size();
     transfer.objects.resize(request.objects.size());
     for (std::size_t o = 0; o < request.objects.size(); ++o) {
         const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
         transfer.objects[o].resize(primitives.size());
         for (std::size_t p = 0; p < primitives.size(); ++p) {
-            size_points(transfer.objects[o][p], primitives[p].positions.size(), bounce);
+            size_points(transfer.objects[o][p], primitives[p].positions.size(), slots);
         }
     }
     if (request.ground) {
         transfer.ground = ground_grid(frame);
-        size_points(transfer.ground->points, transfer.ground->points.count, bounce);
+        size_points(transfer.ground->points, transfer.ground->points.count, slots);
     }
     return transfer;
 }
+
+// Where a hit's reflection goes: per object and material, its slot in each ground family
+// (SIZE_MAX: none), and the ground's slot.
+class SlotOfHit {
+  public:
+    SlotOfHit(const FrameRequest& request, const std::vector<ReflectorSlot>& slots)
+        : request_(request),
+          with_ground_(request.objects.size()),
+          without_(request.objects.size()) {
+        for (std::size_t o = 0; o < request.objects.size(); ++o) {
+            const std::size_t materials = request.objects[o].mesh->materials.size();
+            with_ground_[o].assign(materials, kNone);
+            without_[o].assign(materials, kNone);
+        }
+        for (std::size_t s = 0; s < slots.size(); ++s) {
+            if (slots[s].ground()) {
+                ground_ = s;
+            }
+            for (const ReflectingSurface& surface : slots[s].surfaces) {
+                (slots[s].with_ground ? with_ground_ : without_)[surface.object][surface.material] =
+                    s;
+            }
+        }
+    }
+    static constexpr std::size_t kNone = std::size_t(-1);
+    std::size_t ground() const { return ground_; }
+    std::size_t object(const SurfaceHit& hit, bool with_ground) const {
+        const int material = request_.objects[hit.object].mesh->primitives[hit.primitive].material;
+        return (with_ground ? with_ground_ : without_)[hit.object][std::size_t(material)];
+    }
+
+  private:
+    const FrameRequest& request_;
+    std::vector<std::vector<std::size_t>> with_ground_, without_;
+    std::size_t ground_ = kNone;
+};
 
 // Room for every vertex's direct transfer with the ground blocking (Receiver::sky_direct): only
 // a scene with the ground, under Bounce::One, needs it; otherwise empty.
@@ -465,36 +506,50 @@ class ReceiverTracer {
 
     // Phase 2, one bounce of interreflected transfer (Sloan et al. 2002, eq. 9, its first
     // pass), once every direct vector exists: a ray that hits a surface point q brings q's
-    // outgoing radiance rho(q) / pi * (D(q) . L), so
-    //   bounce_c,i = (pi / N) sum over the rays that hit of rho_c(q) / pi * D_i(q)
+    // outgoing radiance rho(q) / pi * (D(q) . L), so per reflector slot s, at unit albedo,
+    //   bounce_s,i = (pi / N) sum over the rays that hit s of D_i(q) / pi
     // (on the ground, D(q) less the open ground's, which the lighting already has:
     // DirectAtHit), over the rays of phase 1 that met a surface, traced again to find what they
-    // hit rather than storing their hits.
+    // hit rather than storing their hits. A hit on an object counts in its slot of each ground
+    // family: the plane lies below every object, so a ray meets the same object first with the
+    // plane or without it.
     void trace_bounce(std::size_t r, const Receiver& receiver, const RaysMeetingSurfaces& meeting,
-                      const DirectAtHit& direct_at) const {
+                      const DirectAtHit& direct_at, const SlotOfHit& slot_of,
+                      std::size_t slots) const {
         const glm::dvec3 origin = receiver.position + layout_.offset * receiver.normal;
-        std::array<Coefficients, 3> bounce{};
+        std::vector<Coefficients> bounce(slots, Coefficients{});
+        // (pi / N) (1 / pi) = 1 / N.
+        const double weight = 1.0 / layout_.rays;
+        const auto gather = [&](std::size_t slot, const Coefficients& reflected) {
+            for (int i = 0; i < kCoefficients; ++i) {
+                bounce[slot][std::size_t(i)] += weight * reflected[std::size_t(i)];
+            }
+        };
         for_each_ray(r, layout_.strata, [&](int ray, double u1, double u2) {
             if (!meeting.test(r, ray)) {
                 return;
             }
             const glm::dvec3 direction = sampling::cosine_direction(receiver.normal, u1, u2);
-            if (const std::optional<SurfaceHit> hit =
-                    scene_.intersect(origin, direction, 0.0, GroundReach::Infinite)) {
-                const Coefficients reflected = direct_at(*hit);
-                for (int c = 0; c < 3; ++c) {
-                    // (pi / N) (rho / pi) = rho / N.
-                    const double weight = hit->albedo[c] / layout_.rays;
-                    for (int i = 0; i < kCoefficients; ++i) {
-                        bounce[std::size_t(c)][std::size_t(i)] +=
-                            weight * reflected[std::size_t(i)];
-                    }
+            const std::optional<SurfaceHit> hit =
+                scene_.intersect(origin, direction, 0.0, GroundReach::Infinite);
+            if (!hit) {
+                return;
+            }
+            if (hit->ground) {
+                if (slot_of.ground() != SlotOfHit::kNone) {
+                    gather(slot_of.ground(), direct_at.on_ground(hit->position));
+                }
+                return;
+            }
+            for (const bool with_ground : {true, false}) {
+                const std::size_t slot = slot_of.object(*hit, with_ground);
+                if (slot != SlotOfHit::kNone) {
+                    gather(slot, direct_at.on_object(*hit, with_ground));
                 }
             }
         });
-        for (int c = 0; c < 3; ++c) {
-            std::copy(bounce[std::size_t(c)].begin(), bounce[std::size_t(c)].end(),
-                      receiver.bounce + c * kCoefficients);
+        for (std::size_t s = 0; s < slots; ++s) {
+            std::copy(bounce[s].begin(), bounce[s].end(), receiver.bounce + s * kCoefficients);
         }
     }
 
@@ -526,7 +581,76 @@ class ReceiverTracer {
     bool ground_;
 };
 
+// The (object, material) pairs request's objects draw, in object order, each object's materials
+// in the order its primitives first use them.
+std::vector<ReflectingSurface> reflecting_surfaces(const FrameRequest& request) {
+    std::vector<ReflectingSurface> surfaces;
+    for (std::size_t o = 0; o < request.objects.size(); ++o) {
+        const std::size_t first = surfaces.size();
+        for (const Primitive& primitive : request.objects[o].mesh->primitives) {
+            const ReflectingSurface surface{std::uint32_t(o), std::uint32_t(primitive.material)};
+            if (std::find(surfaces.begin() + std::ptrdiff_t(first), surfaces.end(), surface) ==
+                surfaces.end()) {
+                surfaces.push_back(surface);
+            }
+        }
+    }
+    return surfaces;
+}
+
+// The albedo a material has as its mesh gives it (ReflectorSlot::albedo).
+glm::vec3 material_albedo(const Mesh& mesh, std::size_t material_index) {
+    const Material& material = mesh.materials.at(material_index);
+    glm::dvec3 albedo(glm::vec3(material.base_color));
+    if (material.base_color_texture.present()) {
+        albedo *= reference::mean_texture_color(
+            mesh.textures.at(std::size_t(material.base_color_texture.texture)));
+    }
+    return glm::vec3(albedo);
+}
+
 }  // namespace
+
+std::size_t reflector_slot_count(std::size_t surface_slots, bool ground) {
+    return ground ? 1 + 2 * surface_slots : surface_slots;
+}
+
+bool reflectors_follow_colours(const FrameRequest& request) {
+    return reflecting_surfaces(request).size() > kMaxReflectingSurfaces;
+}
+
+std::vector<ReflectorSlot> reflector_slots(const FrameRequest& request) {
+    const std::vector<ReflectingSurface> surfaces = reflecting_surfaces(request);
+    // Each pair alone, or grouped with those of the same mesh, material and colour.
+    std::vector<ReflectorSlot> groups;
+    for (const ReflectingSurface& surface : surfaces) {
+        const SceneObject& object = request.objects[surface.object];
+        const auto same_group = [&](const ReflectorSlot& group) {
+            const ReflectingSurface& first = group.surfaces.front();
+            const SceneObject& other = request.objects[first.object];
+            return other.mesh == object.mesh && first.material == surface.material &&
+                   other.base_color == object.base_color;
+        };
+        const auto group = surfaces.size() > kMaxReflectingSurfaces
+                               ? std::find_if(groups.begin(), groups.end(), same_group)
+                               : groups.end();
+        if (group != groups.end()) {
+            group->surfaces.push_back(surface);
+        } else {
+            groups.push_back({true, {surface}, material_albedo(*object.mesh, surface.material)});
+        }
+    }
+    std::vector<ReflectorSlot> slots;
+    if (request.ground) {
+        slots.push_back({true, {}, glm::vec3(kGroundAlbedo)});
+        slots.insert(slots.end(), groups.begin(), groups.end());
+    }
+    for (ReflectorSlot& group : groups) {
+        group.with_ground = false;
+        slots.push_back(std::move(group));
+    }
+    return slots;
+}
 
 std::uint64_t transfer_point_count(std::uint64_t object_points) {
     return object_points + std::uint64_t(kGroundResolution) * kGroundResolution;
@@ -549,7 +673,10 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     validate(request, options);
     const auto start = std::chrono::steady_clock::now();
     const SceneBounds frame = scene_bounds(request.objects);
-    const EmbreeScene scene(request, frame);
+    // The ground as the infinite plane alone: a face of an object lying on the plane is hit
+    // before it, and a ray that leaves a vertex on the plane is not stopped by it at t = 0, so
+    // the objects block the same rays with the ground as without it.
+    const EmbreeScene scene(request, frame, reference::GroundTracing::PlaneOnly);
     const RayLayout layout = ray_layout(request, options, frame);
     SceneTransfer transfer = sized_transfer(request, frame, options.bounce, layout.rays);
     SkyDirect sky_direct = sky_direct_slots(request, transfer, options.bounce);
@@ -565,9 +692,12 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
                  [&](std::size_t r) { tracer.trace_direct(r, receivers[r], meeting); });
     if (options.bounce == Bounce::One) {
         const DirectAtHit direct_at(request, transfer, sky_direct);
-        parallel_for(
-            receivers.size(), layout.threads, options.stop, options.progress,
-            [&](std::size_t r) { tracer.trace_bounce(r, receivers[r], meeting, direct_at); });
+        const SlotOfHit slot_of(request, transfer.reflectors);
+        parallel_for(receivers.size(), layout.threads, options.stop, options.progress,
+                     [&](std::size_t r) {
+                         tracer.trace_bounce(r, receivers[r], meeting, direct_at, slot_of,
+                                             transfer.reflectors.size());
+                     });
     }
     transfer.bake_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

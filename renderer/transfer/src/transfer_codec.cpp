@@ -12,7 +12,7 @@ namespace oer {
 namespace {
 
 constexpr char kMagic[] = "OERPRT";
-constexpr char kVersion = '1';
+constexpr char kVersion = '2';
 constexpr std::size_t kMagicBytes = 6;
 constexpr int kMaxRays = 1 << 20;
 constexpr int kMaxGroundResolution = 4096;
@@ -94,6 +94,62 @@ class Reader {
     std::size_t offset_ = 0;
 };
 
+void put_reflectors(std::string& out, const std::vector<ReflectorSlot>& reflectors) {
+    put_u32(out, std::uint32_t(reflectors.size()));
+    for (const ReflectorSlot& slot : reflectors) {
+        put_u32(out, slot.with_ground ? 1u : 0u);
+        put_f32(out, slot.albedo.r);
+        put_f32(out, slot.albedo.g);
+        put_f32(out, slot.albedo.b);
+        put_u32(out, std::uint32_t(slot.surfaces.size()));
+        for (const ReflectingSurface& surface : slot.surfaces) {
+            put_u32(out, surface.object);
+            put_u32(out, surface.material);
+        }
+    }
+}
+
+// Each slot takes at least 20 bytes and each surface 8: their counts are bounded by the bytes
+// before anything is sized. Whether the objects and materials exist is the frame's to check
+// (transfer_misfit), which knows the meshes.
+std::vector<ReflectorSlot> read_reflectors(Reader& in, Bounce bounce) {
+    const std::uint32_t count = in.u32("reflector count");
+    if ((count == 0) != (bounce == Bounce::None)) {
+        invalid_transfer(std::to_string(count) + " reflector slots for bounce " +
+                         (bounce == Bounce::One ? "one" : "none"));
+    }
+    if (count > in.remaining() / 20) {
+        invalid_transfer(std::to_string(count) + " reflector slots cannot fit the " +
+                         std::to_string(in.remaining()) + " bytes left");
+    }
+    std::vector<ReflectorSlot> reflectors(count);
+    for (ReflectorSlot& slot : reflectors) {
+        const std::uint32_t with_ground = in.u32("reflector ground flag");
+        if (with_ground > 1) {
+            invalid_transfer("reflector ground flag " + std::to_string(with_ground) +
+                             " is neither 0 nor 1");
+        }
+        slot.with_ground = with_ground == 1;
+        for (int c = 0; c < 3; ++c) {
+            slot.albedo[c] = in.f32("reflector albedo");
+        }
+        const std::uint32_t surfaces = in.u32("reflector surface count");
+        if (surfaces > in.remaining() / 8) {
+            invalid_transfer(std::to_string(surfaces) + " reflecting surfaces cannot fit the " +
+                             std::to_string(in.remaining()) + " bytes left");
+        }
+        if (surfaces == 0 && !slot.with_ground) {
+            invalid_transfer("a ground reflector slot is marked for frames without the ground");
+        }
+        slot.surfaces.resize(surfaces);
+        for (ReflectingSurface& surface : slot.surfaces) {
+            surface.object = in.u32("reflecting surface");
+            surface.material = in.u32("reflecting surface");
+        }
+    }
+    return reflectors;
+}
+
 void put_points(std::string& out, const TransferPoints& points) {
     put_u64(out, points.count);
     put_u32(out, points.bounce.empty() ? 0u : 1u);
@@ -101,7 +157,8 @@ void put_points(std::string& out, const TransferPoints& points) {
     put_floats(out, points.bounce);
 }
 
-TransferPoints read_points(Reader& in, int coefficients, Bounce bounce, const char* what) {
+TransferPoints read_points(Reader& in, int coefficients, Bounce bounce, std::size_t slots,
+                           const char* what) {
     TransferPoints points;
     points.count = std::size_t(in.u64(what));
     const std::uint32_t has_bounce = in.u32(what);
@@ -120,7 +177,7 @@ TransferPoints read_points(Reader& in, int coefficients, Bounce bounce, const ch
     points.direct = in.floats(std::uint64_t(points.count) * std::uint64_t(coefficients), what);
     if (has_bounce) {
         points.bounce =
-            in.floats(std::uint64_t(points.count) * 3u * std::uint64_t(coefficients), what);
+            in.floats(std::uint64_t(points.count) * slots * std::uint64_t(coefficients), what);
     }
     return points;
 }
@@ -134,6 +191,7 @@ std::string encode_transfer(const SceneTransfer& transfer) {
     put_u32(out, transfer.bounce == Bounce::One ? 1u : 0u);
     put_u32(out, std::uint32_t(transfer.rays));
     put_f32(out, float(transfer.bake_ms));
+    put_reflectors(out, transfer.reflectors);
     put_u32(out, std::uint32_t(transfer.objects.size()));
     for (const std::vector<TransferPoints>& object : transfer.objects) {
         put_u32(out, std::uint32_t(object.size()));
@@ -182,6 +240,8 @@ SceneTransfer decode_transfer(std::string_view bytes) {
     }
     transfer.rays = int(rays);
     transfer.bake_ms = in.f32("bake_ms");
+    transfer.reflectors = read_reflectors(in, transfer.bounce);
+    const std::size_t slots = transfer.reflectors.size();
     const int coefficients = transfer.coefficients();
     // Every object and primitive takes at least 4 and 12 bytes: their counts are bounded by the
     // bytes before the vectors of them are sized.
@@ -199,7 +259,8 @@ SceneTransfer decode_transfer(std::string_view bytes) {
         }
         object.reserve(primitives);
         for (std::uint32_t p = 0; p < primitives; ++p) {
-            object.push_back(read_points(in, coefficients, transfer.bounce, "an object's points"));
+            object.push_back(
+                read_points(in, coefficients, transfer.bounce, slots, "an object's points"));
         }
     }
     const std::uint32_t has_ground = in.u32("ground flag");
@@ -222,7 +283,8 @@ SceneTransfer decode_transfer(std::string_view bytes) {
                              std::to_string(kMaxGroundResolution) + "]");
         }
         ground.resolution = int(resolution);
-        ground.points = read_points(in, coefficients, transfer.bounce, "the ground's points");
+        ground.points =
+            read_points(in, coefficients, transfer.bounce, slots, "the ground's points");
         if (ground.points.count != std::size_t(resolution) * resolution) {
             invalid_transfer("the ground has " + std::to_string(ground.points.count) +
                              " points, not resolution^2 = " +

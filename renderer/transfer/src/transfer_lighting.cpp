@@ -107,8 +107,25 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
     return {turned_by_yaw(residual, yaw_degrees), turned_by_yaw(whole, yaw_degrees)};
 }
 
+std::vector<glm::vec3> reflector_albedos(const SceneTransfer& transfer,
+                                         const FrameRequest& request) {
+    std::vector<glm::vec3> albedos;
+    for (const ReflectorSlot& slot : transfer.reflectors) {
+        if (slot.with_ground != request.ground) {
+            albedos.emplace_back(0.0f);
+        } else if (slot.ground()) {
+            albedos.push_back(slot.albedo);
+        } else {
+            const SceneObject& object = request.objects.at(slot.surfaces.front().object);
+            albedos.push_back(object.base_color.value_or(slot.albedo));
+        }
+    }
+    return albedos;
+}
+
 std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int stored_order,
-                                              const TransferLighting& lighting) {
+                                              const TransferLighting& lighting,
+                                              std::span<const glm::vec3> albedos) {
     const int order = lighting.residual.order;
     if (order > stored_order || lighting.whole.order != order) {
         invalid_lighting("lighting of order " + std::to_string(order) +
@@ -116,12 +133,13 @@ std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int 
     }
     const std::size_t stored = std::size_t(stored_order) * std::size_t(stored_order);
     const std::size_t used = std::size_t(order) * std::size_t(order);
-    const bool bounce = !points.bounce.empty();
+    const std::size_t slots = points.bounce.empty() ? 0 : albedos.size();
     if (points.direct.size() != points.count * stored ||
-        (bounce && points.bounce.size() != points.count * 3 * stored)) {
+        points.bounce.size() != points.count * slots * stored) {
         invalid_lighting("transfer vectors of " + std::to_string(points.direct.size()) +
                          " direct and " + std::to_string(points.bounce.size()) +
-                         " bounce values for " + std::to_string(points.count) + " points");
+                         " bounce values for " + std::to_string(points.count) + " points and " +
+                         std::to_string(albedos.size()) + " reflector slots");
     }
     // Float copies, channel-major, so that each dot product below is a contiguous loop.
     std::vector<float> residual(3 * used), whole(3 * used);
@@ -131,24 +149,28 @@ std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int 
             whole[std::size_t(c) * used + i] = float(lighting.whole.coefficients[i][c]);
         }
     }
+    const auto dot = [used](const float* a, const float* b) {
+        float sum = 0.0f;
+        for (std::size_t i = 0; i < used; ++i) {
+            sum += a[i] * b[i];
+        }
+        return sum;
+    };
     std::vector<glm::vec3> irradiance(points.count);
     for (std::size_t p = 0; p < points.count; ++p) {
         const float* direct = points.direct.data() + p * stored;
         glm::vec3 e(0.0f);
         for (int c = 0; c < 3; ++c) {
-            const float* r = residual.data() + std::size_t(c) * used;
-            float sum = 0.0f;
-            for (std::size_t i = 0; i < used; ++i) {
-                sum += direct[i] * r[i];
+            e[c] = dot(direct, residual.data() + std::size_t(c) * used);
+        }
+        for (std::size_t s = 0; s < slots; ++s) {
+            if (albedos[s] == glm::vec3(0.0f)) {
+                continue;
             }
-            if (bounce) {
-                const float* reflected = points.bounce.data() + (p * 3 + std::size_t(c)) * stored;
-                const float* l = whole.data() + std::size_t(c) * used;
-                for (std::size_t i = 0; i < used; ++i) {
-                    sum += reflected[i] * l[i];
-                }
+            const float* reflected = points.bounce.data() + (p * slots + s) * stored;
+            for (int c = 0; c < 3; ++c) {
+                e[c] += albedos[s][c] * dot(reflected, whole.data() + std::size_t(c) * used);
             }
-            e[c] = sum;
         }
         irradiance[p] = e;
     }

@@ -30,6 +30,9 @@ class FrameRenderer {
     // Prefiltered cubes (FrameRequest::specular) uploaded so far: only frames with glossy
     // materials under the hdr model upload one, once per cube while its owner lives.
     std::size_t specular_uploads() const;
+    // Frames with occlusion that reused the previous one's transferred irradiance (only the
+    // camera, or nothing the transfer's lighting reads, changed).
+    std::size_t transferred_irradiance_reuses() const;
 
   private:
     std::unique_ptr<RendererState> state_;

@@ -39,18 +39,29 @@ struct SurfaceHit {
     double v = 0.0;
 };
 
+// The mean linear colour of a base-colour texture's texels (sRGB decoded, as the renderer and
+// sample_texture decode them).
+glm::dvec3 mean_texture_color(const Texture& texture);
+
 // How far the ground plane reaches for a ray: as drawn (the renderer's square, for the rays of
 // the camera), or infinite (for rays that leave a surface towards a light or the map: above an
 // infinite plane every direction below the horizon sees the plane, never the map, docs/design.md
 // section 2, and the square's edge is only where the picture stops).
 enum class GroundReach { Drawn, Infinite };
 
+// How a scene with the ground traces it: the drawn square in the Embree scene and the infinite
+// plane beyond it (both reaches), or the infinite plane alone (GroundReach::Infinite only), found
+// only where a ray meets no object, so that a face of an object lying on the plane, or a ray
+// that starts on it, meets the object and not the plane.
+enum class GroundTracing { SquareAndPlane, PlaneOnly };
+
 class EmbreeScene {
   public:
     // Throws oer::Error (Internal) when Embree fails, with its message.
     // frame: the scene's bounds as the GL renderer has them (oer/scene/scene_bounds.hpp), whose
     // ground plane (y = the box's lowest y, half side ground_half_size()) the reference traces too.
-    EmbreeScene(const FrameRequest& request, const SceneBounds& frame);
+    EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
+                GroundTracing ground_tracing = GroundTracing::SquareAndPlane);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;

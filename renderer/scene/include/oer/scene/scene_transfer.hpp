@@ -8,11 +8,16 @@
 // objects and the ground reflect onto it once.
 //
 // For radiance coefficients L_i (docs/design.md section 3: world frame, the yaw applied, no A_l),
-//   E(x) = sum_i direct_i(x) R_i + sum_i bounce_c,i(x) L_c,i      (per colour channel c)
+//   E(x) = sum_i direct_i(x) R_i + sum_s rho_c(s) sum_i bounce_s,i(x) L_c,i   (per channel c)
 // where R is the residual map (the rig's radiance minus every light's own pixels) and L the
 // whole lighting of the frame (R plus each light's pixels times its weight): the lights' own
 // direct light keeps its shadow maps, their reflected light goes through the transfer.
 // Without occluders direct_i(x) = A_l Y_i(n(x)), so direct . R is plain SH irradiance.
+//
+// The bounce is linear in the albedo of what reflects, so it is baked per reflector slot s (the
+// ground, or the surfaces of one material of one object) at unit albedo, and each frame weighs
+// the slots by the albedos it draws them with, rho(s): a colour change, which re-weights, never
+// re-bakes (docs/design.md section 9, "what invalidates what").
 //
 // Plain data: the frame renderer reads it (FrameRequest::transfer), the bake
 // (oer/transfer/transfer_bake.hpp) writes it, the codec (oer/transfer/transfer_codec.hpp)
@@ -23,6 +28,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 namespace oer {
 
@@ -40,12 +46,36 @@ constexpr float kGroundAlbedo = 0.8f;
 constexpr int kTransferBakeOrder = 7;
 
 // One receiver set: count points, each `coefficients` direct values and, under Bounce::One,
-// 3 x `coefficients` bounce values (red, green, blue: the reflecting surfaces' albedos colour
-// the bounce), point-major: direct[p * coefficients + i], bounce[(p * 3 + c) * coefficients + i].
+// `coefficients` bounce values per reflector slot (SceneTransfer::reflectors), point-major:
+// direct[p * coefficients + i], bounce[(p * slots + s) * coefficients + i].
 struct TransferPoints {
     std::size_t count = 0;
     std::vector<float> direct;
     std::vector<float> bounce;  // empty under Bounce::None
+};
+
+// A surface of the scene that reflects in the bounce: one material of one object's mesh.
+struct ReflectingSurface {
+    std::uint32_t object = 0;    // index into FrameRequest::objects
+    std::uint32_t material = 0;  // index into that object's Mesh::materials
+    bool operator==(const ReflectingSurface&) const = default;
+};
+
+// What one bounce slot gathers: the ground plane's reflection (surfaces empty), or the
+// objects' surfaces listed, which a frame always draws with one albedo (one surface, or several
+// of the same mesh, material and colour: transfer_bake.hpp's reflector_slots).
+struct ReflectorSlot {
+    // Frames with the ground plane use the slots with the ground; frames without it the others:
+    // with the plane, an object reflects the map above the horizon alone (the plane's own light
+    // below it is the ground's slot), without it the whole map.
+    bool with_ground = true;
+    std::vector<ReflectingSurface> surfaces;
+    // The albedo the slot's surfaces have as their mesh gives them (linear RGB): the ground's,
+    // or the material's base colour factor times its texture's mean colour. A textured surface
+    // reflects its texture's mean (the bounce gathers light over a whole hemisphere of hits,
+    // which averages the texels anyway).
+    glm::vec3 albedo{0.0f};
+    bool ground() const { return surfaces.empty(); }
 };
 
 // The ground plane's receivers: a resolution x resolution grid of texel centres over
@@ -76,8 +106,9 @@ struct SceneTransfer {
     // [object][primitive], parallel to FrameRequest::objects and each mesh's primitives; each
     // one point per vertex of the primitive.
     std::vector<std::vector<TransferPoints>> objects;
-    std::optional<GroundTransfer> ground;  // when the scene has the ground plane
-    double bake_ms = 0.0;                  // how long the bake took, for logs and metrics
+    std::optional<GroundTransfer> ground;   // when the scene has the ground plane
+    std::vector<ReflectorSlot> reflectors;  // the bounce's slots, under Bounce::One
+    double bake_ms = 0.0;                   // how long the bake took, for logs and metrics
 
     int coefficients() const { return order * order; }
 };
