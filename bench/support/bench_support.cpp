@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <vector>
 
@@ -14,6 +16,18 @@
 namespace oer::bench {
 
 using std::numbers::pi;
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string content{std::istreambuf_iterator<char>(in), {}};
+    if (!in.good() && !in.eof()) {
+        throw Error(ErrorKind::Io, "cannot read " + path);
+    }
+    if (!in.is_open()) {
+        throw Error(ErrorKind::Io, "cannot open " + path);
+    }
+    return content;
+}
 
 double percentile(std::vector<double> values, double p) {
     if (values.empty()) {

@@ -53,6 +53,9 @@ double best_ms(int max_repetitions, double budget_ms, F&& f) {
 // there are none.
 double percentile(std::vector<double> values, double p);
 
+// A file's whole content. Throws oer::Error (Io) naming the path when it cannot be read.
+std::string read_file(const std::string& path);
+
 // The entries of a W3C Server-Timing header as oer-server writes them, "name;dur=1.25, ...",
 // as (name, milliseconds) in order. Throws oer::Error (InvalidInput) quoting the header when an
 // entry has no name or no readable dur.

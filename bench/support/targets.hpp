@@ -25,9 +25,15 @@ inline constexpr double kFps1366 = 30.0;     // at least, at 1366x768
 inline constexpr double kPbrColorPassRatio = 1.5;  // at most
 
 // Over HTTP (http_benchmark), medians.
-inline constexpr double kPreviewP50Ms = 15.0;   // preview frame while dragging
+inline constexpr double kPreviewP50Ms = 10.0;   // preview frame while dragging, at the server
 inline constexpr double kWarmJpegP50Ms = 40.0;  // warm 512x512 JPEG, default request
 inline constexpr double kCachedFrameMs = 1.0;   // a frame already in the cache (ETag or LRU)
+// A colour or floor change on a product already shown, against a normal uncached frame.
+inline constexpr double kChangeOverNormalFrame = 2.0;  // at most
+// A new product (about 50k triangles): from the start of its upload to its first frame (a
+// preliminary one, Prefer: wait=0), and to the refined frame with its transfer.
+inline constexpr double kNewProductFirstFrameS = 2.0;  // at most
+inline constexpr double kNewProductRefinedS = 5.0;     // at most
 
 // Frame error against the reference renderer (frame_sweep), on the product and on the ground:
 // the default's relative RMS of luminance at most this share of plain SH irradiance's.
