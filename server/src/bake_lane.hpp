@@ -1,11 +1,13 @@
 #pragma once
 // Bakes that nobody waits for: a mesh's first frames' transfer, baked from its upload on, and
 // the transfer of a scene whose frame was answered preliminary (FrameService::bake_ahead). One
-// thread at the render workers' priority (nice 10: the HTTP threads preempt it), beside the
-// render workers rather than on them, so that frames (a preliminary one first of all) are drawn
-// while it bakes; a bounded queue, beyond which a bake is not queued (the frame that needs it
-// bakes it then, on its worker). A frame that needs a transfer the lane is baking waits for
-// that bake (TransferRegistry shares it) rather than start another.
+// thread (and the bake's own threads, which inherit it) at the lowest priority, nice 19, beside
+// the render workers rather than on them, so that frames (a preliminary one first of all) are
+// drawn while it bakes and take the cores from it: at the workers' nice 10 a new product's
+// preliminary frame shared the 2 cores with its bake and took 2.6-4.7 s (its shadow pass 1.7-3
+// s) instead of about 1 s; a bounded queue, beyond which a bake is not queued (the frame that needs
+// it bakes it then, on its worker). A frame that needs a transfer the lane is baking waits for that
+// bake (TransferRegistry shares it) rather than start another.
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -16,6 +18,8 @@
 #include <thread>
 
 namespace oer::server {
+
+inline constexpr int kBakeLaneNice = 19;
 
 class BakeLane {
   public:

@@ -59,7 +59,7 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
       transfer_rays_per_phase_(transfer_rays_per_phase),
       client_work_(client_work),
       log_(std::move(log)),
-      bake_lane_(kRenderNice, kMaxQueuedBakes) {}
+      bake_lane_(kBakeLaneNice, kMaxQueuedBakes) {}
 
 FrameRequest FrameService::standard_scene(std::shared_ptr<const Mesh> mesh) {
     FrameRequest request;
@@ -333,8 +333,18 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         const Clock::time_point start_ = Clock::now();
     } work(client_work_, client.address);
     auto request = std::make_shared<FrameRequest>(frame_request(resolved));
+    // The preliminary frame is kept under its own key while the transfer bakes: the viewer asks
+    // again every 0.5 s until the whole frame comes, and drawing it again each time would take
+    // the cores from the bake it waits for (the bake lane runs at the lowest priority).
+    const std::string preliminary_key = result.etag + " preliminary";
     if (preliminary_allowed && request->occlusion &&
         !transfers_.ready(transfers_.id_of(*request, resolved.mesh_ids))) {
+        if (auto kept = frames_.get(preliminary_key)) {
+            result.bytes = std::move(kept);
+            result.cache_hit = true;
+            result.preliminary = true;
+            return result;
+        }
         // Baked ahead for the frames to come; this one is drawn without it, now.
         bake_ahead(std::make_shared<const FrameRequest>(*request), resolved.mesh_ids,
                    "a frame's scene");
@@ -352,8 +362,11 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     const std::vector<std::uint8_t> bytes = api::encode(frame, spec.format, spec.quality);
     result.server_timing = server_timing(frame, milliseconds_since(encode_start));
     result.bytes = std::make_shared<const std::string>(bytes.begin(), bytes.end());
-    if (!result.preliminary) {
+    if (result.preliminary) {
+        frames_.put(preliminary_key, result.bytes);
+    } else {
         frames_.put(result.etag, result.bytes);
+        frames_.erase(preliminary_key);
     }
     return result;
 }

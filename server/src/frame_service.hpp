@@ -61,7 +61,8 @@ struct EncodedFrame {
     std::string server_timing;  // W3C Server-Timing, per pass; empty for a cached frame
     Camera camera;              // what the frame is seen from (api::resolved_camera)
     // Drawn without the occlusion transfer the request asked for, which is being baked: not
-    // cached, not to be kept (FrameService::render's preliminary_allowed).
+    // the representation the request names, for no client to keep (FrameService::render's
+    // preliminary_allowed).
     bool preliminary = false;
 };
 
@@ -108,8 +109,10 @@ class FrameService {
     // 413 over a budget, 429 past the client's share, 503 past the deadline or once the client
     // has gone), QueueFull, and what to_frame_request and the renderer throw.
     // preliminary_allowed: a frame whose occlusion transfer is not ready is drawn at once
-    // without it (its lighting unoccluded), marked preliminary and not cached, while the
-    // transfer is baked ahead for the frames asked for next; otherwise the frame waits for it.
+    // without it (its lighting unoccluded), marked preliminary and kept apart from the whole
+    // frames (asked for again, it is served from there until the transfer is ready), while
+    // the transfer is baked ahead for the frames asked for next; otherwise the frame waits
+    // for it.
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
                         const Client& client, bool preliminary_allowed = false);
 

@@ -67,8 +67,9 @@ void answer_frame(ServiceContext& context, const httplib::Request& request,
     // The client whose share of uncached rendering a miss is charged to: its address (behind
     // a proxy, the proxy's, which shares out its own clients).
     // A client that prefers a quick answer gets, while its scene's transfer is baked, the frame
-    // without it, marked preliminary (X-Oer-Preliminary), kept by nobody and without an ETag
-    // (it is not the representation the request names); it asks again for the whole one.
+    // without it, marked preliminary (X-Oer-Preliminary), for no client to keep and without an
+    // ETag (it is not the representation the request names); it asks again for the whole one,
+    // and meanwhile gets the same preliminary frame from the server's memory.
     const std::optional<long> wait = preferred_wait(request);
     const EncodedFrame frame = context.frame_service.render(
         spec, etag, form, {request.remote_addr, client_has_gone}, wait.has_value());

@@ -570,3 +570,32 @@ TEST(TransferPreliminarySlow, AFrameThatPrefersNotToWaitIsDrawnWithoutItsTransfe
     std::printf("preliminary frame in %.0f ms while its transfer was baked\n",
                 preliminary_seconds * 1e3);
 }
+
+// Asked again while its transfer bakes (the viewer asks every 0.5 s), the preliminary frame is
+// served from memory, not drawn again: the bake keeps the cores.
+TEST(TransferPreliminarySlow, APreliminaryFrameAskedAgainIsServedFromMemory) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.transfer_ray_budget = 1'000'000'000;  // 1024 rays a point: a bake of about a second
+    TestServer server(config);
+    auto client = server.client();
+    const std::string mesh = upload_box(*client);
+    ASSERT_FALSE(mesh.empty());
+    const std::string frame = "/v1/render?environment=default&mesh=" + mesh +
+                              "&width=64&height=64&samples=1&format=png&yaw=40";
+    const httplib::Headers prefer{{"Prefer", "wait=0"}};
+    const auto first = client->Get(frame.c_str(), prefer);
+    const auto again = client->Get(frame.c_str(), prefer);
+    ASSERT_TRUE(first && again);
+    ASSERT_EQ(first->get_header_value("X-Oer-Preliminary"), "transfer") << "baked too soon";
+    ASSERT_EQ(again->get_header_value("X-Oer-Preliminary"), "transfer") << "baked too soon";
+    EXPECT_EQ(first->get_header_value("X-Oer-Cache"), "miss");
+    EXPECT_EQ(again->get_header_value("X-Oer-Cache"), "hit");
+    EXPECT_TRUE(again->body == first->body);
+    EXPECT_EQ(wait_for_preparation(*client, mesh), "ready");
+    const auto whole = client->Get(frame.c_str(), prefer);
+    ASSERT_TRUE(whole);
+    EXPECT_FALSE(whole->has_header("X-Oer-Preliminary"));
+    EXPECT_EQ(whole->get_header_value("X-Oer-Cache"), "miss");
+    EXPECT_FALSE(whole->body == first->body);
+}
