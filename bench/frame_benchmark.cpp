@@ -16,9 +16,12 @@
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
 #include "oer/image/image_encoding.hpp"
+#include "oer/lighting/default_environment.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/lighting/specular_environment.hpp"
+#include "oer/mesh/default_product.hpp"
 #include "oer/mesh/mesh_loading.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "oer/transfer/transfer_bake.hpp"
 #include "targets.hpp"
 
@@ -119,6 +122,29 @@ oer::FrameRequest bunny_request(std::shared_ptr<const oer::Mesh> bunny,
     return request;
 }
 
+// The service's default request (server/src/service.cpp's test frame at the API's defaults): the
+// default studio's rig (automatic lights and SH order) and its background, the glossy default
+// product framed automatically, occlusion with one bounce, PCF shadows at 2048.
+oer::FrameRequest default_request(int samples) {
+    auto map = std::make_shared<const oer::HdrImage>(oer::make_default_environment());
+    auto rig = std::make_shared<const oer::Rig>(oer::build_rig(*map, {}, oer::RigOptions{}));
+    oer::FrameRequest request;
+    request.specular =
+        std::make_shared<const oer::PrefilteredCube>(oer::prefilter_residual(*map, *rig));
+    request.rig = std::move(rig);
+    request.environment_map = std::move(map);
+    request.objects.push_back({std::make_shared<const oer::Mesh>(oer::make_default_product()),
+                               glm::mat4(1.0f), std::nullopt});
+    request.camera =
+        oer::frame_bounds(oer::scene_bounds(request.objects).box, oer::Camera{}.fov_y, 1.0f);
+    request.samples = samples;
+    request.occlusion = true;
+    request.bounce = oer::Bounce::One;
+    request.transfer = std::make_shared<const oer::SceneTransfer>(
+        oer::bake_transfer(request, oer::TransferBakeOptions{}));
+    return request;
+}
+
 double pass(const Measurement& m, const char* name) {
     const auto found = m.passes.find(name);
     return found == m.passes.end() ? 0.0 : found->second;
@@ -128,6 +154,23 @@ double pass(const Measurement& m, const char* name) {
 // supersample resolve), then readback.
 double color_and_readback(const Measurement& m) {
     return pass(m, "geometry_pass") + pass(m, "shading_pass") + pass(m, "readback");
+}
+
+// The default request's passes, at 4 samples per pixel (the default) and at 1.
+void print_default_request(Bench& bench) {
+    std::printf(
+        "\nthe default request (default studio and product, 512x512, occlusion, bounce one, PCF "
+        "2048, cached shadow maps):\n");
+    for (const int samples : {4, 1}) {
+        const oer::FrameRequest request = default_request(samples);
+        const Measurement m = bench.measure(request, true);
+        std::printf(
+            "  %d spp  frame %6.1f ms  setup %5.1f  geometry %6.1f  shading %6.1f  readback "
+            "%5.1f  (%zu lights, SH order %d)\n",
+            samples, m.frame_ms, pass(m, "setup"), pass(m, "geometry_pass"),
+            pass(m, "shading_pass"), pass(m, "readback"), request.rig->lights.size(),
+            request.rig->order);
+    }
 }
 
 // The docs/design.md section 8 frame targets beside the measured color pass + readback times.
@@ -146,7 +189,11 @@ void print_targets(const std::map<std::string, double>& target_ms) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+    // --passes: the target configurations and the default request alone, the cases to compare
+    // two builds' passes by.
+    const std::string mode = argc > 1 ? argv[1] : "";
+    const bool passes_only = mode == "--passes";
+    const bool quick = mode == "--quick" || passes_only;
     const auto start = Clock::now();
     if (!std::filesystem::exists(kBunny)) {
         std::printf("frame benchmark: %s is missing (Debian package glmark2-data); nothing run\n",
@@ -207,6 +254,11 @@ int main(int argc, char** argv) {
         }
     }
 
+    if (passes_only) {
+        print_default_request(bench);
+        print_targets(target_ms);
+        return 0;
+    }
     std::printf(
         "\nshadow filter, 2 lights, cached shadow maps, 1 sample per pixel (color pass ms; CPU ms "
         "of the frame):\n");
@@ -287,6 +339,7 @@ int main(int argc, char** argv) {
             }
         }
     }
+    print_default_request(bench);
     if (quick) {
         print_targets(target_ms);
         return 0;
