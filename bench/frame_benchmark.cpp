@@ -165,9 +165,9 @@ void print_default_request(Bench& bench) {
         const oer::FrameRequest request = default_request(samples);
         const Measurement m = bench.measure(request, true);
         std::printf(
-            "  %d spp  frame %6.1f ms  setup %5.1f  geometry %6.1f  shading %6.1f  readback "
-            "%5.1f  (%zu lights, SH order %d)\n",
-            samples, m.frame_ms, pass(m, "setup"), pass(m, "geometry_pass"),
+            "  %d spp  frame %6.1f ms  cpu %6.1f  setup %5.1f  geometry %6.1f  shading %6.1f  "
+            "readback %5.1f  (%zu lights, SH order %d)\n",
+            samples, m.frame_ms, m.frame_cpu_ms, pass(m, "setup"), pass(m, "geometry_pass"),
             pass(m, "shading_pass"), pass(m, "readback"), request.rig->lights.size(),
             request.rig->order);
     }
