@@ -18,8 +18,11 @@ const MAX_FRAME_SIDE = 4096;
 // this often until the whole one comes.
 const PRELIMINARY_RETRY_MS = 500;
 // The query parameters that decide a scene's occlusion transfer (the server bakes one per
-// scene: its meshes, their colour, the ground and the bounce).
-const TRANSFER_PARAMETERS = ['mesh', 'base_color', 'ground', 'occlusion', 'bounce'];
+// scene: its meshes and the bounce; a colour or the ground's toggle reuses it).
+const TRANSFER_PARAMETERS = ['mesh', 'occlusion', 'bounce'];
+// A frame longer in coming than this shows the waiting bar (and aria-busy), so that no wait
+// longer than half a second is silent.
+const WAITING_MS = 500;
 const transferKey = (url) => {
   const query = new URL(url, location.href).searchParams;
   return TRANSFER_PARAMETERS.map((name) => `${name}=${query.getAll(name).join('+')}`).join('&');
@@ -77,6 +80,13 @@ const STYLE = `
   :host([dragging]) { cursor: grabbing; }
   img { display: block; width: 100%; height: 100%; user-select: none;
         -webkit-user-drag: none; pointer-events: none; }
+  .waiting { display: none; position: absolute; left: 0; top: 0; height: 4px; width: 30%;
+             background: #4d90fe; animation: waiting 1.2s ease-in-out infinite; }
+  :host([waiting]) .waiting { display: block; }
+  @keyframes waiting { from { left: -30%; } to { left: 100%; } }
+  @media (prefers-reduced-motion: reduce) {
+    .waiting { width: 100%; animation: none; opacity: 0.6; }
+  }
 `;
 
 export class OerViewer extends HTMLElement {
@@ -86,6 +96,8 @@ export class OerViewer extends HTMLElement {
   ];
 
   #image;
+  #waitingBar;
+  #showingPreliminary = false;
   #controller = null;  // the one request in flight
   // The scenes (transferKey) whose whole frame came: a frame of any other asks with
   // `Prefer: wait=1` (RFC 7240), so that while its transfer is baked the server answers at once
@@ -116,7 +128,10 @@ export class OerViewer extends HTMLElement {
     this.#image = document.createElement('img');
     this.#image.alt = '';
     this.#image.part = 'frame';
-    root.append(style, this.#image);
+    this.#waitingBar = document.createElement('div');
+    this.#waitingBar.className = 'waiting';
+    this.#waitingBar.part = 'waiting';
+    root.append(style, this.#image, this.#waitingBar);
     this.#resizeObserver = new ResizeObserver(() => this.#requestFrame('sharp'));
     // Here rather than on connection, so that moving the element does not add them twice.
     this.addEventListener('pointerdown', this.#onPointerDown);
@@ -360,6 +375,17 @@ export class OerViewer extends HTMLElement {
     this.dispatchEvent(new CustomEvent('error', { detail }));
   }
 
+  // The waiting bar and aria-busy: on while a frame is longer than WAITING_MS in coming, or the
+  // one shown is preliminary.
+  #setWaiting(on) {
+    this.toggleAttribute('waiting', on);
+    if (on) {
+      this.setAttribute('aria-busy', 'true');
+    } else {
+      this.removeAttribute('aria-busy');
+    }
+  }
+
   // Asks for a frame at `stage`; a request still in flight is aborted, so only the latest is.
   // A sharp frame shown asks for the full one.
   async #requestFrame(stage) {
@@ -371,6 +397,11 @@ export class OerViewer extends HTMLElement {
     this.#controller = controller;
     const url = this.frameUrl(stage);
     const started = performance.now();
+    const waiting = setTimeout(() => {
+      if (this.#controller === controller) {
+        this.#setWaiting(true);
+      }
+    }, WAITING_MS);
     try {
       const scene = transferKey(url);
       const headers = this.#refinedScenes.has(scene) ? {} : { Prefer: 'wait=1' };
@@ -395,6 +426,8 @@ export class OerViewer extends HTMLElement {
       this.#objectUrl = objectUrl;
       this.#shownDistance = cameraDistance(response.headers.get('X-Oer-Camera')) ?? this.#shownDistance;
       const preliminary = response.headers.get('X-Oer-Preliminary') !== null;
+      // A preliminary frame is still a wait: for the frame with its transfer.
+      this.#showingPreliminary = preliminary;
       if (!preliminary) {
         this.#refinedScenes.add(scene);
       } else if (stage === 'full') {
@@ -431,6 +464,10 @@ export class OerViewer extends HTMLElement {
       }
       this.#dispatchError(error, url);
     } finally {
+      clearTimeout(waiting);
+      if (this.#controller === null) {
+        this.#setWaiting(this.#showingPreliminary);
+      }
       if (this.#pendingPreview && this.#controller === null && this.#previewing) {
         this.#pendingPreview = false;
         this.#requestFrame('preview');

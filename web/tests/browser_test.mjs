@@ -377,6 +377,50 @@ try {
     assert.equal(await page.locator('oer-viewer').getAttribute('base-color'), null);
   });
 
+  await check('a frame slower than half a second shows the waiting bar (aria-busy) until it comes',
+    async () => {
+      const viewer = page.locator('oer-viewer');
+      const waitingShown = () => viewer.evaluate((element) => ({
+        attribute: element.hasAttribute('waiting'),
+        busy: element.getAttribute('aria-busy'),
+        display: getComputedStyle(element.shadowRoot.querySelector('.waiting')).display,
+      }));
+      assert.deepEqual(await waitingShown(), { attribute: false, busy: null, display: 'none' });
+      // The real server's frames, held back 1.5 s on their way to the page.
+      const slow = async (route) => {
+        await new Promise((resolve) => setTimeout(resolve, 1500));
+        await route.continue();
+      };
+      await page.route('**/v1/render?**', slow);
+      const frames = await page.evaluate(() => window.oerFrames.length);
+      const exposure = await viewer.getAttribute('exposure');
+      const started = Date.now();
+      await viewer.evaluate((element) => element.setAttribute('exposure', '0.25'));
+      await page.waitForFunction(
+        () => document.querySelector('oer-viewer').hasAttribute('waiting'), null,
+        { timeout: 1400 });
+      const shownAfter = Date.now() - started;
+      assert.deepEqual(await waitingShown(), { attribute: true, busy: 'true', display: 'block' });
+      assert.ok(shownAfter >= 450, `the bar came after ${shownAfter} ms, before half a second`);
+      await page.unroute('**/v1/render?**', slow);
+      await fullFrame(page, frames);
+      await page.waitForFunction(
+        () => !document.querySelector('oer-viewer').hasAttribute('waiting'));
+      assert.deepEqual(await waitingShown(), { attribute: false, busy: null, display: 'none' });
+      console.log(`  the waiting bar came ${shownAfter} ms after the frame was asked for`);
+      // A frame as quick as a cached one (the one shown before) never shows it.
+      const again = await page.evaluate(() => window.oerFrames.length);
+      await viewer.evaluate((element, value) => {
+        if (value === null) {
+          element.removeAttribute('exposure');
+        } else {
+          element.setAttribute('exposure', value);
+        }
+      }, exposure);
+      await fullFrame(page, again);
+      assert.equal((await waitingShown()).attribute, false);
+    });
+
   await check('the lights panel marks each light where the environment\'s preview is bright',
               async () => {
     const rig = await (await fetch(`${server.url}/v1/environments/default`)).json();
