@@ -18,8 +18,8 @@ const MAX_FRAME_SIDE = 4096;
 // this often until the whole one comes.
 const PRELIMINARY_RETRY_MS = 500;
 // The query parameters that decide a scene's occlusion transfer (the server bakes one per
-// scene: its meshes and the bounce; a colour or the ground's toggle reuses it).
-const TRANSFER_PARAMETERS = ['mesh', 'occlusion', 'bounce'];
+// scene: its meshes, the ground and the bounce; a colour reuses it).
+const TRANSFER_PARAMETERS = ['mesh', 'ground', 'occlusion', 'bounce'];
 // A frame longer in coming than this shows the waiting bar (and aria-busy), so that no wait
 // longer than half a second is silent.
 const WAITING_MS = 500;

@@ -22,15 +22,15 @@
 //                        |                                       | transfer
 //   environment's yaw    | shadow maps, transferred irradiance   | transfer, rig
 //   colour               | transferred irradiance (slot weights) | transfer, shadow maps
-//   floor                | transferred irradiance (slot family)  | transfer, shadow maps
+//   floor                | transfer (the other floor state, once)| shadow maps
 //   shadow settings      | shadow maps of that setting           | transfer
 //   bounce, transform    | transfer                              | rig, meshes
 //   product              | transfer (baked ahead), shadow maps   | rig
 //   environment          | rig, specular cube, shadow maps       | transfer
 // Keys: the encoded frame's ETag (everything); the transfer's id (transfer_registry.hpp:
-// meshes, transforms, bounce, rays); the shadow maps' (shadow_pass.cpp: meshes, transforms,
+// meshes, transforms, ground, bounce, rays); the shadow maps' (shadow_pass.cpp: meshes, transforms,
 // the light's direction and size, resolution, filter); the transferred irradiance's
-// (frame_context.hpp: transfer, rig, weights, yaw, floor, bounce, slot albedos).
+// (frame_context.hpp: transfer, rig, weights, yaw, floor, bounce, bounce weights).
 #include <chrono>
 #include <functional>
 #include <memory>

@@ -33,24 +33,25 @@ std::size_t charge_of(const Mesh& mesh) {
 }
 
 MeshSummary summary_of(const Mesh& mesh) {
-    MeshSummary summary{mesh.triangle_count, mesh.vertex_count, 0, charge_of(mesh), 0};
+    MeshSummary summary{mesh.triangle_count, mesh.vertex_count, 0, charge_of(mesh), 0, 0};
     for (const Texture& texture : mesh.textures) {
         summary.texture_bytes += texture.rgba.size();
     }
     std::set<int> materials;
     for (const Primitive& primitive : mesh.primitives) {
         materials.insert(primitive.material);
+        summary.textured |=
+            mesh.materials.at(std::size_t(primitive.material)).base_color_texture.present() ? 1 : 0;
     }
     summary.materials = materials.size();
     return summary;
 }
 
 std::string summary_record(const MeshSummary& summary) {
-    return nlohmann::json{{"triangles", summary.triangles},
-                          {"vertices", summary.vertices},
-                          {"texture_bytes", summary.texture_bytes},
-                          {"resident_bytes", summary.resident_bytes},
-                          {"materials", summary.materials}}
+    return nlohmann::json{
+        {"triangles", summary.triangles},         {"vertices", summary.vertices},
+        {"texture_bytes", summary.texture_bytes}, {"resident_bytes", summary.resident_bytes},
+        {"materials", summary.materials},         {"textured", summary.textured}}
         .dump();
 }
 
@@ -69,10 +70,12 @@ std::optional<MeshSummary> parse_summary_record(const std::string& text) {
     const auto texture_bytes = count("texture_bytes");
     const auto resident_bytes = count("resident_bytes");
     const auto materials = count("materials");
-    if (!triangles || !vertices || !texture_bytes || !resident_bytes || !materials) {
+    const auto textured = count("textured");
+    if (!triangles || !vertices || !texture_bytes || !resident_bytes || !materials || !textured) {
         return std::nullopt;
     }
-    return MeshSummary{*triangles, *vertices, *texture_bytes, *resident_bytes, *materials};
+    return MeshSummary{*triangles,      *vertices,  *texture_bytes,
+                       *resident_bytes, *materials, *textured};
 }
 
 }  // namespace

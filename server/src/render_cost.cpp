@@ -35,32 +35,27 @@ std::string seconds_text(double seconds) {
     return text.str();
 }
 
-// The reflector slots of each ground family that reflector_slots (transfer_bake.hpp) makes for
-// these objects: one per (object, material), or past kMaxReflectingSurfaces one per mesh,
-// material and colour.
-std::size_t surface_slots(const api::RenderSpec& spec,
-                          const std::vector<MeshSummary>& object_meshes,
-                          const std::vector<std::string>& mesh_ids) {
-    std::size_t pairs = 0;
-    for (const MeshSummary& mesh : object_meshes) {
-        pairs += mesh.materials;
-    }
-    if (pairs <= kMaxReflectingSurfaces) {
-        return pairs;
-    }
+// The bounce vectors of the reflector slots that reflector_slots (transfer_bake.hpp) makes for
+// these objects and the ground: each object's group alone, or past kMaxSeparateReflectors
+// objects one group per mesh and colour.
+std::size_t bounce_vector_count(const api::RenderSpec& spec,
+                                const std::vector<MeshSummary>& object_meshes,
+                                const std::vector<std::string>& mesh_ids) {
+    const bool merge = object_meshes.size() > kMaxSeparateReflectors;
     std::set<std::pair<std::string, std::string>> groups;
-    std::size_t merged = 0;
+    std::size_t vectors = 1;  // the ground's
     for (std::size_t i = 0; i < object_meshes.size(); ++i) {
         const auto& colour = spec.objects[i].base_color;
         const std::string colour_key = colour ? std::to_string(colour->r) + " " +
                                                     std::to_string(colour->g) + " " +
                                                     std::to_string(colour->b)
                                               : "";
-        if (groups.emplace(mesh_ids[i], colour_key).second) {
-            merged += object_meshes[i].materials;
+        if (!merge || groups.emplace(mesh_ids[i], colour_key).second) {
+            vectors +=
+                group_bounce_vectors(object_meshes[i].materials, object_meshes[i].textured != 0);
         }
     }
-    return merged;
+    return vectors;
 }
 
 }  // namespace
@@ -96,11 +91,10 @@ RenderCost estimate_render_cost(const api::RenderSpec& spec,
     if (spec.occlusion && !object_meshes.empty()) {
         const std::uint64_t receivers = transfer_point_count(points);
         const bool bounce = spec.bounce == Bounce::One;
-        // A direct vector and, under one bounce, a vector per reflector slot (transfer_bake.hpp:
-        // always baked with the ground).
+        // A direct vector and, under one bounce, the reflector slots' (transfer_bake.hpp: always
+        // baked with the ground).
         const std::uint64_t vectors =
-            1 +
-            (bounce ? reflector_slot_count(surface_slots(spec, object_meshes, mesh_ids), true) : 0);
+            1 + (bounce ? bounce_vector_count(spec, object_meshes, mesh_ids) : 0);
         const std::uint64_t floats_per_point =
             std::uint64_t(kTransferBakeOrder) * kTransferBakeOrder * vectors;
         cost.transfer_bytes = receivers * floats_per_point * sizeof(float);

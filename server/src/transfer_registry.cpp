@@ -110,8 +110,8 @@ std::string transfer_id(const FrameRequest& request, const std::vector<std::stri
         objects.push_back(
             {{"mesh", mesh_ids[i]}, {"transform", transform}, {"base_color", base_color}});
     }
-    // No ground: every transfer is baked with it (TransferRegistry::bake).
     const nlohmann::json bake = {{"objects", objects},
+                                 {"ground", request.ground},
                                  {"bounce", api::to_string(request.bounce)},
                                  {"rays", rays},
                                  {"order", kTransferBakeOrder}};
@@ -372,11 +372,7 @@ std::shared_ptr<const SceneTransfer> TransferRegistry::bake(
     } const unlist{*this, id};
     std::shared_ptr<const SceneTransfer> transfer;
     try {
-        // Always with the ground: its transfer serves the frames without it too (its reflector
-        // slots without the ground), so that the floor's toggle never bakes again.
-        FrameRequest scene = request;
-        scene.ground = true;
-        transfer = std::make_shared<const SceneTransfer>(bake_transfer(scene, options));
+        transfer = std::make_shared<const SceneTransfer>(bake_transfer(request, options));
     } catch (const Error& error) {
         if (error.kind() == ErrorKind::Cancelled) {
             log_("transfers: the bake of transfer " + id + " stopped after " +

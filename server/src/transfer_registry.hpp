@@ -42,10 +42,10 @@ namespace oer::server {
 
 // The id a scene's transfer is stored and cached under: SHA-256 over everything the bake reads,
 // each object's mesh id (mesh_ids, parallel to request.objects: content ids, or the preset's) and
-// transform, the bounce, the ray count of transfer_ray_count's rule, kTransferBakeOrder and the
-// bake's version (transfer_registry.cpp). Not the ground, with which every transfer is baked and
-// which frames without it use too, nor the objects' colours, which weigh the bounce's reflector
-// slots, unless the slots merge surfaces by colour (reflectors_follow_colours).
+// transform, the ground, the bounce, the ray count of transfer_ray_count's rule,
+// kTransferBakeOrder and the bake's version (transfer_registry.cpp). Not the objects' colours,
+// which weigh the bounce's reflector slots, unless the slots group objects by colour
+// (reflectors_follow_colours).
 std::string transfer_id(const FrameRequest& request, const std::vector<std::string>& mesh_ids,
                         int rays);
 

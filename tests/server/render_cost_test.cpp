@@ -25,8 +25,8 @@ api::RenderSpec spec_of(int objects) {
     return spec;
 }
 
-constexpr MeshSummary kTexturedMesh{1000, 600, 3 << 20, 5 << 20, 2};
-constexpr MeshSummary kPlainMesh{20000, 10000, 0, 1 << 20, 1};
+constexpr MeshSummary kTexturedMesh{1000, 600, 3 << 20, 5 << 20, 2, 1};
+constexpr MeshSummary kPlainMesh{20000, 10000, 0, 1 << 20, 1, 0};
 
 }  // namespace
 
@@ -44,11 +44,11 @@ TEST(RenderCost, EachPartFollowsItsRule) {
     EXPECT_EQ(cost.target_bytes, 100u * 50 * 2 * kTargetBytesPerSample);
     EXPECT_EQ(cost.shadow_bytes, 3u * 1024 * 1024 * 4);
     // Every object's vertices and the ground's grid, each order^2 floats for its direct vector
-    // and as many per reflector slot: the ground's, and with and without the ground one per
-    // (object, material), 2 + 2 + 1.
+    // and as many per bounce vector: the ground's, each textured object's Native and Unit
+    // slots (4), the plain one's material (1).
     const std::uint64_t points = transfer_point_count(600 + 600 + 10000);
-    EXPECT_EQ(cost.transfer_bytes,
-              points * kTransferBakeOrder * kTransferBakeOrder * (1 + 1 + 2 * 5) * sizeof(float));
+    EXPECT_EQ(cost.transfer_bytes, points * kTransferBakeOrder * kTransferBakeOrder *
+                                       (1 + 1 + 4 + 4 + 1) * sizeof(float));
     // Every triangle drawn by the geometry pass, 3 shadow maps and the ground's visibility.
     EXPECT_DOUBLE_EQ(cost.draw_seconds, 22000.0 * 5 / kTrianglesPerSecond);
     EXPECT_DOUBLE_EQ(cost.shade_seconds, 100.0 * 50 * 2 * 4 / kSampleLightsPerSecond);
@@ -59,8 +59,8 @@ TEST(RenderCost, EachPartFollowsItsRule) {
                                        cost.shadow_bytes + cost.transfer_bytes);
 }
 
-// Past kMaxReflectingSurfaces (object, material) pairs, a slot per mesh, material and colour.
-TEST(RenderCost, ManySurfacesShareReflectorSlotsByMeshMaterialAndColour) {
+// Past kMaxSeparateReflectors objects, one group of slots per mesh and colour.
+TEST(RenderCost, ManyObjectsShareReflectorSlotsByMeshAndColour) {
     api::RenderSpec spec = spec_of(9);
     spec.occlusion = true;
     spec.bounce = Bounce::One;
@@ -69,15 +69,15 @@ TEST(RenderCost, ManySurfacesShareReflectorSlotsByMeshMaterialAndColour) {
             spec.objects[i].base_color = glm::dvec3(1.0, 0.0, 0.0);
         }
     }
-    const RenderCost cost = estimate_render_cost(spec, std::vector<MeshSummary>(9, kTexturedMesh),
-                                                 std::vector<std::string>(9, "a"), 0, 1e6);
-    // 18 pairs: the uncoloured and the red copies, 2 materials each, in each ground family.
-    const std::uint64_t points = transfer_point_count(9 * 600);
+    const RenderCost cost = estimate_render_cost(spec, std::vector<MeshSummary>(9, kPlainMesh),
+                                                 std::vector<std::string>(9, "b"), 0, 1e6);
+    // The ground's vector; the uncoloured and the red copies' material.
+    const std::uint64_t points = transfer_point_count(9 * 10000);
     EXPECT_EQ(cost.transfer_bytes,
-              points * kTransferBakeOrder * kTransferBakeOrder * (1 + 1 + 2 * 4) * sizeof(float));
+              points * kTransferBakeOrder * kTransferBakeOrder * (1 + 1 + 2) * sizeof(float));
     spec.bounce = Bounce::None;
-    EXPECT_EQ(estimate_render_cost(spec, std::vector<MeshSummary>(9, kTexturedMesh),
-                                   std::vector<std::string>(9, "a"), 0, 1e6)
+    EXPECT_EQ(estimate_render_cost(spec, std::vector<MeshSummary>(9, kPlainMesh),
+                                   std::vector<std::string>(9, "b"), 0, 1e6)
                   .transfer_bytes,
               points * kTransferBakeOrder * kTransferBakeOrder * sizeof(float));
 }

@@ -1,4 +1,4 @@
-// The stored form of a SceneTransfer (OERPRT2): what is encoded decodes to the same values,
+// The stored form of a SceneTransfer (OERPRT3): what is encoded decodes to the same values,
 // and damaged bytes are refused as InvalidInput, never a crash or an allocation the bytes do not
 // justify.
 #include <gtest/gtest.h>
@@ -15,8 +15,13 @@ using namespace oer;
 
 namespace {
 
-// count points of `coefficients` values each with distinct values (and bounce vectors of three
-// reflector slots when asked), so that a value read from the wrong place shows.
+// The sample's reflector slots: the ground, a material of two objects, and one object's Native
+// slot (three vectors): five bounce vectors.
+constexpr std::size_t kBounceVectors = 5;
+constexpr std::size_t kReflectorBytes = 4 + 24 + (24 + 2 * 4) + (24 + 4);
+
+// count points of `coefficients` values each with distinct values (and kBounceVectors bounce
+// vectors when asked), so that a value read from the wrong place shows.
 TransferPoints numbered_points(std::size_t count, int coefficients, bool bounce, float first) {
     TransferPoints points;
     points.count = count;
@@ -24,15 +29,12 @@ TransferPoints numbered_points(std::size_t count, int coefficients, bool bounce,
         points.direct.push_back(first + 0.25f * float(i));
     }
     if (bounce) {
-        for (std::size_t i = 0; i < 3 * count * std::size_t(coefficients); ++i) {
+        for (std::size_t i = 0; i < kBounceVectors * count * std::size_t(coefficients); ++i) {
             points.bounce.push_back(-first - 0.125f * float(i));
         }
     }
     return points;
 }
-
-// Three reflector slots: the ground, a slot of two surfaces with the ground, one without.
-constexpr std::size_t kReflectorBytes = 4 + 20 + (20 + 2 * 8) + (20 + 8);
 
 // Two objects (two primitives, then one) and a 3 x 3 ground grid, order 2, one bounce.
 SceneTransfer sample_transfer() {
@@ -41,9 +43,10 @@ SceneTransfer sample_transfer() {
     transfer.bounce = Bounce::One;
     transfer.rays = 196;
     transfer.bake_ms = 12.5;
-    transfer.reflectors = {{true, {}, glm::vec3(0.8f)},
-                           {true, {{0, 0}, {1, 2}}, glm::vec3(0.5f, 0.25f, 0.125f)},
-                           {false, {{0, 1}}, glm::vec3(1.0f, 0.0f, 0.75f)}};
+    using Kind = ReflectorSlot::Kind;
+    transfer.reflectors = {{Kind::Ground, {}, 0, glm::vec3(0.8f)},
+                           {Kind::Material, {0, 1}, 2, glm::vec3(0.5f, 0.25f, 0.125f)},
+                           {Kind::Native, {1}, 0, glm::vec3(0.0f)}};
     const int coefficients = transfer.coefficients();
     transfer.objects = {{numbered_points(3, coefficients, true, 1.0f),
                          numbered_points(1, coefficients, true, 100.0f)},
@@ -86,7 +89,7 @@ void put_u32_at(std::string& bytes, std::size_t offset, std::uint32_t value) {
 // Byte offsets of the layout (magic, version, order, bounce, rays, bake_ms, the reflector
 // slots, object count, the first object's primitive count, its first primitive's point count).
 constexpr std::size_t kReflectorCountOffset = 7 + 4 * 4;
-constexpr std::size_t kSecondSlotSurfacesOffset = kReflectorCountOffset + 4 + 20 + 16;
+constexpr std::size_t kSecondSlotObjectsOffset = kReflectorCountOffset + 4 + 24 + 20;
 constexpr std::size_t kObjectCountOffset = kReflectorCountOffset + kReflectorBytes;
 constexpr std::size_t kPrimitiveCountOffset = kObjectCountOffset + 4;
 constexpr std::size_t kPointCountOffset = kPrimitiveCountOffset + 4;
@@ -103,9 +106,7 @@ TEST(TransferCodec, RoundTripKeepsEveryValue) {
     EXPECT_EQ(decoded.bake_ms, transfer.bake_ms);
     ASSERT_EQ(decoded.reflectors.size(), 3u);
     for (std::size_t s = 0; s < 3; ++s) {
-        EXPECT_EQ(decoded.reflectors[s].with_ground, transfer.reflectors[s].with_ground);
-        EXPECT_EQ(decoded.reflectors[s].surfaces, transfer.reflectors[s].surfaces);
-        EXPECT_EQ(decoded.reflectors[s].albedo, transfer.reflectors[s].albedo);
+        EXPECT_EQ(decoded.reflectors[s], transfer.reflectors[s]) << "slot " << s;
     }
     ASSERT_EQ(decoded.objects.size(), 2u);
     ASSERT_EQ(decoded.objects[0].size(), 2u);
@@ -160,12 +161,16 @@ TEST(TransferCodec, HugeClaimedCountsAreRefusedBeforeAllocating) {
     std::string slots = bytes;
     put_u32_at(slots, kReflectorCountOffset, std::numeric_limits<std::uint32_t>::max());
     expect_invalid(slots, "2^32 - 1 reflector slots");
-    std::string surfaces = bytes;
-    put_u32_at(surfaces, kSecondSlotSurfacesOffset, std::numeric_limits<std::uint32_t>::max());
-    expect_invalid(surfaces, "2^32 - 1 reflecting surfaces");
+    std::string objects_of_slot = bytes;
+    put_u32_at(objects_of_slot, kSecondSlotObjectsOffset,
+               std::numeric_limits<std::uint32_t>::max());
+    expect_invalid(objects_of_slot, "2^32 - 1 reflecting objects");
     std::string fewer_slots = bytes;
     put_u32_at(fewer_slots, kReflectorCountOffset, 2);
     expect_invalid(fewer_slots, "two slots where the vectors are sized for three");
+    std::string kind = bytes;
+    put_u32_at(kind, kReflectorCountOffset + 4, 4);
+    expect_invalid(kind, "a reflector kind past Unit");
 }
 
 TEST(TransferCodec, NonFiniteValuesAreRefused) {
@@ -190,8 +195,8 @@ TEST(TransferCodec, WrongMagicVersionAndFieldsAreRefused) {
     magic[0] = 'X';
     expect_invalid(magic, "a wrong magic");
     std::string version = bytes;
-    version[6] = '1';
-    expect_invalid(version, "version 1, whose bounce was baked with the albedos");
+    version[6] = '2';
+    expect_invalid(version, "version 2, whose slots were of another form");
     SceneTransfer no_slots = sample_transfer();
     no_slots.reflectors.clear();
     expect_invalid(encode_transfer(no_slots), "one bounce without reflector slots");
@@ -199,11 +204,14 @@ TEST(TransferCodec, WrongMagicVersionAndFieldsAreRefused) {
     slots_without_bounce.order = 2;
     slots_without_bounce.bounce = Bounce::None;
     slots_without_bounce.rays = 64;
-    slots_without_bounce.reflectors = {{true, {}, glm::vec3(0.8f)}};
+    slots_without_bounce.reflectors = {{ReflectorSlot::Kind::Ground, {}, 0, glm::vec3(0.8f)}};
     expect_invalid(encode_transfer(slots_without_bounce), "reflector slots without a bounce");
-    SceneTransfer ground_without = sample_transfer();
-    ground_without.reflectors[0].with_ground = false;
-    expect_invalid(encode_transfer(ground_without), "the ground's slot for frames without it");
+    SceneTransfer ground_with_objects = sample_transfer();
+    ground_with_objects.reflectors[0].objects = {0};
+    expect_invalid(encode_transfer(ground_with_objects), "the ground's slot naming an object");
+    SceneTransfer material_of_nothing = sample_transfer();
+    material_of_nothing.reflectors[1].objects.clear();
+    expect_invalid(encode_transfer(material_of_nothing), "a material slot of no object");
     std::string order = bytes;
     put_u32_at(order, 7, std::uint32_t(kTransferBakeOrder + 1));
     expect_invalid(order, "an order above the bake's");

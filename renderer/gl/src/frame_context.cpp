@@ -86,7 +86,7 @@ void add_transferred_irradiance(FrameContext& frame, TransferredIrradianceCache&
                                        request.environment_yaw,
                                        request.ground,
                                        request.bounce,
-                                       reflector_albedos(transfer, request)};
+                                       bounce_weights(transfer, request)};
     if (cache.inputs && cache.inputs->same_as(inputs)) {
         frame.transferred_vertices = cache.vertices;
         frame.transferred_offsets = cache.offsets;
@@ -101,15 +101,15 @@ void add_transferred_irradiance(FrameContext& frame, TransferredIrradianceCache&
         std::vector<std::size_t>& offsets = frame.transferred_offsets.emplace_back();
         for (const TransferPoints& primitive : object) {
             offsets.push_back(frame.transferred_vertices.size());
-            const std::vector<glm::vec3> irradiance =
-                transferred_irradiance(primitive, transfer.order, lighting, inputs.albedos);
+            const std::vector<glm::vec3> irradiance = transferred_irradiance(
+                primitive, transfer.order, lighting, inputs.weights_of_bounce);
             frame.transferred_vertices.insert(frame.transferred_vertices.end(), irradiance.begin(),
                                               irradiance.end());
         }
     }
-    if (transfer.ground && request.ground) {
+    if (transfer.ground) {
         frame.transferred_ground = transferred_irradiance(transfer.ground->points, transfer.order,
-                                                          lighting, inputs.albedos);
+                                                          lighting, inputs.weights_of_bounce);
     }
     cache.inputs = std::move(inputs);
     cache.vertices = frame.transferred_vertices;
@@ -202,7 +202,7 @@ bool TransferredIrradianceInputs::same_as(const TransferredIrradianceInputs& oth
     };
     return same_object(transfer, other.transfer) && same_object(rig, other.rig) &&
            weights == other.weights && yaw_degrees == other.yaw_degrees && ground == other.ground &&
-           bounce == other.bounce && albedos == other.albedos;
+           bounce == other.bounce && weights_of_bounce == other.weights_of_bounce;
 }
 
 FrameContext make_frame_context(const FrameRequest& request, TransferredIrradianceCache& cache) {

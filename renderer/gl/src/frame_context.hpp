@@ -112,7 +112,7 @@ struct TransferredIrradianceInputs {
     double yaw_degrees = 0.0;
     bool ground = false;
     Bounce bounce = Bounce::One;
-    std::vector<glm::vec3> albedos;  // per reflector slot (reflector_albedos)
+    std::vector<glm::vec3> weights_of_bounce;  // per bounce vector (bounce_weights)
     // The same values, and the same transfer and rig objects, both still alive.
     bool same_as(const TransferredIrradianceInputs& other) const;
 };

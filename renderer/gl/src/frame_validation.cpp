@@ -70,8 +70,8 @@ void validate_cube(const PrefilteredCube& cube, int max_texture_size) {
 }
 
 // The transfer must be the one baked for this request's scene: one receiver set per object and
-// primitive with one point per vertex, the ground's grid when the frame has a ground, reflector
-// slots that fit its objects,
+// primitive with one point per vertex, the ground's grid exactly when the frame has a ground,
+// reflector slots that fit its objects,
 // the request's bounce, and the order its rig is evaluated at.
 void validate_transfer(const FrameRequest& request) {
     if (!request.occlusion) {

@@ -1,7 +1,6 @@
 #include "oer/reference/embree_scene.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -47,18 +46,6 @@ glm::dvec3 sample_texture(const Texture& texture, glm::dvec2 uv) {
            fy * ((1 - fx) * texel(ix, iy + 1) + fx * texel(ix + 1, iy + 1));
 }
 
-// srgb_decode of every byte value, for a whole texture's mean.
-const std::array<double, 256>& srgb_decode_table() {
-    static const std::array<double, 256> table = [] {
-        std::array<double, 256> values{};
-        for (int i = 0; i < 256; ++i) {
-            values[std::size_t(i)] = srgb_decode(std::uint8_t(i));
-        }
-        return values;
-    }();
-    return table;
-}
-
 RTCRay make_ray(const glm::dvec3& origin, const glm::dvec3& direction, double t_near) {
     RTCRay ray{};
     ray.org_x = float(origin.x);
@@ -75,17 +62,6 @@ RTCRay make_ray(const glm::dvec3& origin, const glm::dvec3& direction, double t_
 }
 
 }  // namespace
-
-glm::dvec3 mean_texture_color(const Texture& texture) {
-    const std::array<double, 256>& decode = srgb_decode_table();
-    glm::dvec3 sum(0.0);
-    const std::size_t texels = std::size_t(texture.width) * std::size_t(texture.height);
-    for (std::size_t i = 0; i < texels; ++i) {
-        sum += glm::dvec3(decode[texture.rgba[4 * i]], decode[texture.rgba[4 * i + 1]],
-                          decode[texture.rgba[4 * i + 2]]);
-    }
-    return texels == 0 ? glm::dvec3(1.0) : sum / double(texels);
-}
 
 EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
                          GroundTracing ground_tracing) {

@@ -21,28 +21,36 @@ bool needs_specular(const FrameRequest& request) {
 
 namespace {
 
-// Why transfer's reflector slots do not fit request's objects: a surface the frame does not
-// have, or one slot's surfaces drawn with different colours (their shared vectors could not be
-// weighed apart).
+// Why transfer's reflector slots do not fit request's objects: an object or material the frame
+// does not have, or one slot's objects of different meshes or drawn with different colours
+// (their shared vectors could not be weighed apart).
 std::string reflectors_misfit(const SceneTransfer& transfer, const FrameRequest& request) {
-    if (transfer.bounce == Bounce::One && transfer.reflectors.empty()) {
-        return "it has bounce vectors but no reflector slots";
+    if ((transfer.bounce == Bounce::One) != !transfer.reflectors.empty()) {
+        return transfer.reflectors.empty() ? "it has bounce vectors but no reflector slots"
+                                           : "it has reflector slots but no bounce";
     }
     for (std::size_t s = 0; s < transfer.reflectors.size(); ++s) {
         const ReflectorSlot& slot = transfer.reflectors[s];
         const std::string name = "its reflector slot " + std::to_string(s);
-        for (const ReflectingSurface& surface : slot.surfaces) {
-            if (surface.object >= request.objects.size() ||
-                surface.material >= request.objects[surface.object].mesh->materials.size()) {
-                return name + " names object " + std::to_string(surface.object) + ", material " +
-                       std::to_string(surface.material) + ", which the frame does not have";
+        if ((slot.kind == ReflectorSlot::Kind::Ground) != slot.objects.empty()) {
+            return name +
+                   (slot.objects.empty() ? " names no object" : " of the ground names objects");
+        }
+        for (const std::uint32_t o : slot.objects) {
+            if (o >= request.objects.size()) {
+                return name + " names object " + std::to_string(o) +
+                       ", which the frame does not have";
             }
-            const SceneObject& first = request.objects[slot.surfaces.front().object];
-            const SceneObject& object = request.objects[surface.object];
-            if (object.base_color != first.base_color || object.mesh != first.mesh ||
-                surface.material != slot.surfaces.front().material) {
-                return name + " holds surfaces that the frame draws differently";
+            const SceneObject& first = request.objects[slot.objects.front()];
+            if (request.objects[o].mesh != first.mesh ||
+                request.objects[o].base_color != first.base_color) {
+                return name + " holds objects that the frame draws differently";
             }
+        }
+        if (slot.kind == ReflectorSlot::Kind::Material &&
+            slot.material >= request.objects[slot.objects.front()].mesh->materials.size()) {
+            return name + " names material " + std::to_string(slot.material) +
+                   ", which its objects' mesh does not have";
         }
     }
     return {};
@@ -56,10 +64,9 @@ std::string transfer_misfit(const SceneTransfer& transfer, const FrameRequest& r
                (transfer.bounce == Bounce::One ? "one" : "none") + ", the frame asks " +
                (request.bounce == Bounce::One ? "one" : "none");
     }
-    // A transfer baked with the ground serves frames without it too (its reflector slots
-    // without the ground, transfer_bake.hpp).
-    if (request.ground && !transfer.ground) {
-        return "it has no ground, the frame has one";
+    if (transfer.ground.has_value() != request.ground) {
+        return transfer.ground ? "it has a ground, the frame has none"
+                               : "it has no ground, the frame has one";
     }
     if (transfer.objects.size() != request.objects.size()) {
         return "it has " + std::to_string(transfer.objects.size()) + " object(s), the frame " +

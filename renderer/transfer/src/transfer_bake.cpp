@@ -92,7 +92,7 @@ struct Receiver {
     glm::dvec3 position{0.0};
     glm::dvec3 normal{0.0, 1.0, 0.0};
     float* direct = nullptr;  // kCoefficients values
-    float* bounce = nullptr;  // kCoefficients values per reflector slot
+    float* bounce = nullptr;  // kCoefficients values per bounce vector of the reflector slots
     // An object's receiver in a scene with the ground, under Bounce::One: its direct transfer
     // with the plane counted as blocking (kCoefficients values), what it reflects from the map
     // alone, as the one-bounce reference's surfaces do.
@@ -225,6 +225,7 @@ void size_points(TransferPoints& points, std::size_t count, std::size_t slots) {
 // centres facing +Y.
 std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& transfer,
                                    SkyDirect& sky_direct) {
+    const std::size_t vectors = bounce_vectors(transfer.reflectors);
     std::vector<Receiver> receivers;
     for (std::size_t o = 0; o < request.objects.size(); ++o) {
         const SceneObject& object = request.objects[o];
@@ -245,9 +246,7 @@ std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& t
                 }
                 receiver.direct = &points.direct[v * kCoefficients];
                 receiver.bounce =
-                    points.bounce.empty()
-                        ? nullptr
-                        : &points.bounce[v * transfer.reflectors.size() * kCoefficients];
+                    points.bounce.empty() ? nullptr : &points.bounce[v * vectors * kCoefficients];
                 if (!sky_direct.empty()) {
                     receiver.sky_direct = &sky_direct[o][p][v * kCoefficients];
                 }
@@ -267,10 +266,9 @@ std::vector<Receiver> receivers_of(const FrameRequest& request, SceneTransfer& t
                                      ground.height,
                                      ground.centre.y - ground.half_size + (row + 0.5) * texel};
                 receiver.direct = &ground.points.direct[index * kCoefficients];
-                receiver.bounce =
-                    ground.points.bounce.empty()
-                        ? nullptr
-                        : &ground.points.bounce[index * transfer.reflectors.size() * kCoefficients];
+                receiver.bounce = ground.points.bounce.empty()
+                                      ? nullptr
+                                      : &ground.points.bounce[index * vectors * kCoefficients];
                 receivers.push_back(receiver);
             }
         }
@@ -293,14 +291,15 @@ class DirectAtHit {
           sky_direct_(sky_direct),
           open_ground_(unoccluded_transfer({0, 1, 0})) {}
 
-    // With the ground (sky true), what the object reflects of the map alone
-    // (Receiver::sky_direct): the plane's light is the ground's slot; without it, of the whole map.
-    Coefficients on_object(const SurfaceHit& hit, bool sky) const {
+    // With the ground, what the object reflects of the map alone (Receiver::sky_direct), as the
+    // one-bounce reference's surfaces do: the plane's own light is the ground's slot; without
+    // it, of the whole map.
+    Coefficients on_object(const SurfaceHit& hit) const {
         const std::vector<std::uint32_t>& indices =
             request_.objects[hit.object].mesh->primitives[hit.primitive].indices;
-        const std::vector<float>& direct =
-            sky ? sky_direct_[hit.object][hit.primitive]
-                : transfer_.objects[hit.object][hit.primitive].direct;
+        const std::vector<float>& direct = sky_direct_.empty()
+                                               ? transfer_.objects[hit.object][hit.primitive].direct
+                                               : sky_direct_[hit.object][hit.primitive];
         const std::uint32_t* corner = &indices[3 * std::size_t(hit.triangle)];
         const double weights[3] = {1.0 - hit.u - hit.v, hit.u, hit.v};
         Coefficients result{};
@@ -391,7 +390,7 @@ SceneTransfer sized_transfer(const FrameRequest& request, const SceneBounds& fra
     if (bounce == Bounce::One) {
         transfer.reflectors = reflector_slots(request);
     }
-    const std::size_t slots = transfer.reflectors.size();
+    const std::size_t slots = bounce_vectors(transfer.reflectors);
     transfer.objects.resize(request.objects.size());
     for (std::size_t o = 0; o < request.objects.size(); ++o) {
         const std::vector<Primitive>& primitives = request.objects[o].mesh->primitives;
@@ -407,39 +406,59 @@ SceneTransfer sized_transfer(const FrameRequest& request, const SceneBounds& fra
     return transfer;
 }
 
-// Where a hit's reflection goes: per object and material, its slot in each ground family
-// (SIZE_MAX: none), and the ground's slot.
-class SlotOfHit {
+// Where a hit's reflection goes: the index, among a receiver's bounce vectors, of each vector
+// it adds to (kNone: none), per object and material, and for the ground.
+class VectorsOfHit {
   public:
-    SlotOfHit(const FrameRequest& request, const std::vector<ReflectorSlot>& slots)
-        : request_(request),
-          with_ground_(request.objects.size()),
-          without_(request.objects.size()) {
+    static constexpr std::size_t kNone = std::size_t(-1);
+    struct Vectors {
+        std::size_t material = kNone;  // a Material slot's vector: D / N
+        std::size_t native = kNone;    // a Native slot's first vector: albedo_c D / N for c
+        std::size_t unit = kNone;      // a Unit slot's vector: D / N
+    };
+
+    VectorsOfHit(const FrameRequest& request, const std::vector<ReflectorSlot>& slots)
+        : request_(request), objects_(request.objects.size()) {
         for (std::size_t o = 0; o < request.objects.size(); ++o) {
-            const std::size_t materials = request.objects[o].mesh->materials.size();
-            with_ground_[o].assign(materials, kNone);
-            without_[o].assign(materials, kNone);
+            objects_[o].resize(request.objects[o].mesh->materials.size());
         }
-        for (std::size_t s = 0; s < slots.size(); ++s) {
-            if (slots[s].ground()) {
-                ground_ = s;
+        std::size_t vector = 0;
+        for (const ReflectorSlot& slot : slots) {
+            for (const std::uint32_t o : slot.objects) {
+                std::vector<Vectors>& materials = objects_[o];
+                switch (slot.kind) {
+                    case ReflectorSlot::Kind::Ground:
+                        break;
+                    case ReflectorSlot::Kind::Material:
+                        materials[slot.material].material = vector;
+                        break;
+                    case ReflectorSlot::Kind::Native:
+                        for (Vectors& material : materials) {
+                            material.native = vector;
+                        }
+                        break;
+                    case ReflectorSlot::Kind::Unit:
+                        for (Vectors& material : materials) {
+                            material.unit = vector;
+                        }
+                        break;
+                }
             }
-            for (const ReflectingSurface& surface : slots[s].surfaces) {
-                (slots[s].with_ground ? with_ground_ : without_)[surface.object][surface.material] =
-                    s;
+            if (slot.kind == ReflectorSlot::Kind::Ground) {
+                ground_ = vector;
             }
+            vector += std::size_t(slot.vectors());
         }
     }
-    static constexpr std::size_t kNone = std::size_t(-1);
     std::size_t ground() const { return ground_; }
-    std::size_t object(const SurfaceHit& hit, bool with_ground) const {
+    const Vectors& object(const SurfaceHit& hit) const {
         const int material = request_.objects[hit.object].mesh->primitives[hit.primitive].material;
-        return (with_ground ? with_ground_ : without_)[hit.object][std::size_t(material)];
+        return objects_[hit.object][std::size_t(material)];
     }
 
   private:
     const FrameRequest& request_;
-    std::vector<std::vector<std::size_t>> with_ground_, without_;
+    std::vector<std::vector<Vectors>> objects_;  // [object][material]
     std::size_t ground_ = kNone;
 };
 
@@ -506,23 +525,22 @@ class ReceiverTracer {
 
     // Phase 2, one bounce of interreflected transfer (Sloan et al. 2002, eq. 9, its first
     // pass), once every direct vector exists: a ray that hits a surface point q brings q's
-    // outgoing radiance rho(q) / pi * (D(q) . L), so per reflector slot s, at unit albedo,
-    //   bounce_s,i = (pi / N) sum over the rays that hit s of D_i(q) / pi
-    // (on the ground, D(q) less the open ground's, which the lighting already has:
-    // DirectAtHit), over the rays of phase 1 that met a surface, traced again to find what they
-    // hit rather than storing their hits. A hit on an object counts in its slot of each ground
-    // family: the plane lies below every object, so a ray meets the same object first with the
-    // plane or without it.
+    // outgoing radiance rho(q) / pi * (D(q) . L), so per bounce vector of the reflector slots
+    //   bounce_i = (pi / N) sum over the rays that hit the slot's surfaces of w(q) / pi D_i(q)
+    // with w(q) = 1 (Ground, Material and Unit slots: unit albedo) or the hit's albedo in one
+    // channel (a Native slot's three vectors); on the ground D(q) less the open ground's, which
+    // the lighting already has (DirectAtHit). Over the rays of phase 1 that met a surface,
+    // traced again to find what they hit rather than storing their hits.
     void trace_bounce(std::size_t r, const Receiver& receiver, const RaysMeetingSurfaces& meeting,
-                      const DirectAtHit& direct_at, const SlotOfHit& slot_of,
-                      std::size_t slots) const {
+                      const DirectAtHit& direct_at, const VectorsOfHit& vectors_of,
+                      std::size_t vectors) const {
         const glm::dvec3 origin = receiver.position + layout_.offset * receiver.normal;
-        std::vector<Coefficients> bounce(slots, Coefficients{});
+        std::vector<Coefficients> bounce(vectors, Coefficients{});
         // (pi / N) (1 / pi) = 1 / N.
         const double weight = 1.0 / layout_.rays;
-        const auto gather = [&](std::size_t slot, const Coefficients& reflected) {
+        const auto gather = [&](std::size_t vector, double scale, const Coefficients& reflected) {
             for (int i = 0; i < kCoefficients; ++i) {
-                bounce[slot][std::size_t(i)] += weight * reflected[std::size_t(i)];
+                bounce[vector][std::size_t(i)] += scale * reflected[std::size_t(i)];
             }
         };
         for_each_ray(r, layout_.strata, [&](int ray, double u1, double u2) {
@@ -536,20 +554,27 @@ class ReceiverTracer {
                 return;
             }
             if (hit->ground) {
-                if (slot_of.ground() != SlotOfHit::kNone) {
-                    gather(slot_of.ground(), direct_at.on_ground(hit->position));
+                if (vectors_of.ground() != VectorsOfHit::kNone) {
+                    gather(vectors_of.ground(), weight, direct_at.on_ground(hit->position));
                 }
                 return;
             }
-            for (const bool with_ground : {true, false}) {
-                const std::size_t slot = slot_of.object(*hit, with_ground);
-                if (slot != SlotOfHit::kNone) {
-                    gather(slot, direct_at.on_object(*hit, with_ground));
+            const Coefficients reflected = direct_at.on_object(*hit);
+            const VectorsOfHit::Vectors& to = vectors_of.object(*hit);
+            if (to.material != VectorsOfHit::kNone) {
+                gather(to.material, weight, reflected);
+            }
+            if (to.native != VectorsOfHit::kNone) {
+                for (std::size_t c = 0; c < 3; ++c) {
+                    gather(to.native + c, weight * hit->albedo[int(c)], reflected);
                 }
             }
+            if (to.unit != VectorsOfHit::kNone) {
+                gather(to.unit, weight, reflected);
+            }
         });
-        for (std::size_t s = 0; s < slots; ++s) {
-            std::copy(bounce[s].begin(), bounce[s].end(), receiver.bounce + s * kCoefficients);
+        for (std::size_t v = 0; v < vectors; ++v) {
+            std::copy(bounce[v].begin(), bounce[v].end(), receiver.bounce + v * kCoefficients);
         }
     }
 
@@ -581,73 +606,73 @@ class ReceiverTracer {
     bool ground_;
 };
 
-// The (object, material) pairs request's objects draw, in object order, each object's materials
-// in the order its primitives first use them.
-std::vector<ReflectingSurface> reflecting_surfaces(const FrameRequest& request) {
-    std::vector<ReflectingSurface> surfaces;
-    for (std::size_t o = 0; o < request.objects.size(); ++o) {
-        const std::size_t first = surfaces.size();
-        for (const Primitive& primitive : request.objects[o].mesh->primitives) {
-            const ReflectingSurface surface{std::uint32_t(o), std::uint32_t(primitive.material)};
-            if (std::find(surfaces.begin() + std::ptrdiff_t(first), surfaces.end(), surface) ==
-                surfaces.end()) {
-                surfaces.push_back(surface);
-            }
+// The materials a mesh's primitives draw, in the order they first use them.
+std::vector<std::uint32_t> drawn_materials(const Mesh& mesh) {
+    std::vector<std::uint32_t> materials;
+    for (const Primitive& primitive : mesh.primitives) {
+        const auto material = std::uint32_t(primitive.material);
+        if (std::find(materials.begin(), materials.end(), material) == materials.end()) {
+            materials.push_back(material);
         }
     }
-    return surfaces;
+    return materials;
 }
 
-// The albedo a material has as its mesh gives it (ReflectorSlot::albedo).
-glm::vec3 material_albedo(const Mesh& mesh, std::size_t material_index) {
-    const Material& material = mesh.materials.at(material_index);
-    glm::dvec3 albedo(glm::vec3(material.base_color));
-    if (material.base_color_texture.present()) {
-        albedo *= reference::mean_texture_color(
-            mesh.textures.at(std::size_t(material.base_color_texture.texture)));
+bool any_textured(const Mesh& mesh, const std::vector<std::uint32_t>& materials) {
+    return std::any_of(materials.begin(), materials.end(), [&](std::uint32_t material) {
+        return mesh.materials.at(material).base_color_texture.present();
+    });
+}
+
+// The groups of objects that share their slots: each object alone, or past
+// kMaxSeparateReflectors objects those of one mesh and one colour.
+std::vector<std::vector<std::uint32_t>> reflector_groups(const FrameRequest& request) {
+    const bool merge = request.objects.size() > kMaxSeparateReflectors;
+    std::vector<std::vector<std::uint32_t>> groups;
+    for (std::uint32_t o = 0; o < request.objects.size(); ++o) {
+        const SceneObject& object = request.objects[o];
+        const auto same = [&](const std::vector<std::uint32_t>& group) {
+            const SceneObject& first = request.objects[group.front()];
+            return first.mesh == object.mesh && first.base_color == object.base_color;
+        };
+        const auto group = merge ? std::find_if(groups.begin(), groups.end(), same) : groups.end();
+        if (group != groups.end()) {
+            group->push_back(o);
+        } else {
+            groups.push_back({o});
+        }
     }
-    return glm::vec3(albedo);
+    return groups;
 }
 
 }  // namespace
 
-std::size_t reflector_slot_count(std::size_t surface_slots, bool ground) {
-    return ground ? 1 + 2 * surface_slots : surface_slots;
+std::size_t group_bounce_vectors(std::size_t materials, bool textured) {
+    return materials <= kMaxMaterialSlots && !textured ? materials : 4;
 }
 
 bool reflectors_follow_colours(const FrameRequest& request) {
-    return reflecting_surfaces(request).size() > kMaxReflectingSurfaces;
+    return request.objects.size() > kMaxSeparateReflectors;
 }
 
 std::vector<ReflectorSlot> reflector_slots(const FrameRequest& request) {
-    const std::vector<ReflectingSurface> surfaces = reflecting_surfaces(request);
-    // Each pair alone, or grouped with those of the same mesh, material and colour.
-    std::vector<ReflectorSlot> groups;
-    for (const ReflectingSurface& surface : surfaces) {
-        const SceneObject& object = request.objects[surface.object];
-        const auto same_group = [&](const ReflectorSlot& group) {
-            const ReflectingSurface& first = group.surfaces.front();
-            const SceneObject& other = request.objects[first.object];
-            return other.mesh == object.mesh && first.material == surface.material &&
-                   other.base_color == object.base_color;
-        };
-        const auto group = surfaces.size() > kMaxReflectingSurfaces
-                               ? std::find_if(groups.begin(), groups.end(), same_group)
-                               : groups.end();
-        if (group != groups.end()) {
-            group->surfaces.push_back(surface);
-        } else {
-            groups.push_back({true, {surface}, material_albedo(*object.mesh, surface.material)});
-        }
-    }
+    using Kind = ReflectorSlot::Kind;
     std::vector<ReflectorSlot> slots;
     if (request.ground) {
-        slots.push_back({true, {}, glm::vec3(kGroundAlbedo)});
-        slots.insert(slots.end(), groups.begin(), groups.end());
+        slots.push_back({Kind::Ground, {}, 0, glm::vec3(kGroundAlbedo)});
     }
-    for (ReflectorSlot& group : groups) {
-        group.with_ground = false;
-        slots.push_back(std::move(group));
+    for (const std::vector<std::uint32_t>& group : reflector_groups(request)) {
+        const Mesh& mesh = *request.objects[group.front()].mesh;
+        const std::vector<std::uint32_t> materials = drawn_materials(mesh);
+        if (materials.size() <= kMaxMaterialSlots && !any_textured(mesh, materials)) {
+            for (const std::uint32_t material : materials) {
+                slots.push_back({Kind::Material, group, material,
+                                 glm::vec3(mesh.materials.at(material).base_color)});
+            }
+        } else {
+            slots.push_back({Kind::Native, group, 0, glm::vec3(0.0f)});
+            slots.push_back({Kind::Unit, group, 0, glm::vec3(0.0f)});
+        }
     }
     return slots;
 }
@@ -692,12 +717,12 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
                  [&](std::size_t r) { tracer.trace_direct(r, receivers[r], meeting); });
     if (options.bounce == Bounce::One) {
         const DirectAtHit direct_at(request, transfer, sky_direct);
-        const SlotOfHit slot_of(request, transfer.reflectors);
-        parallel_for(receivers.size(), layout.threads, options.stop, options.progress,
-                     [&](std::size_t r) {
-                         tracer.trace_bounce(r, receivers[r], meeting, direct_at, slot_of,
-                                             transfer.reflectors.size());
-                     });
+        const VectorsOfHit vectors_of(request, transfer.reflectors);
+        const std::size_t vectors = bounce_vectors(transfer.reflectors);
+        parallel_for(
+            receivers.size(), layout.threads, options.stop, options.progress, [&](std::size_t r) {
+                tracer.trace_bounce(r, receivers[r], meeting, direct_at, vectors_of, vectors);
+            });
     }
     transfer.bake_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

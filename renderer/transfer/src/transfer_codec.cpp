@@ -12,7 +12,7 @@ namespace oer {
 namespace {
 
 constexpr char kMagic[] = "OERPRT";
-constexpr char kVersion = '2';
+constexpr char kVersion = '3';
 constexpr std::size_t kMagicBytes = 6;
 constexpr int kMaxRays = 1 << 20;
 constexpr int kMaxGroundResolution = 4096;
@@ -97,54 +97,55 @@ class Reader {
 void put_reflectors(std::string& out, const std::vector<ReflectorSlot>& reflectors) {
     put_u32(out, std::uint32_t(reflectors.size()));
     for (const ReflectorSlot& slot : reflectors) {
-        put_u32(out, slot.with_ground ? 1u : 0u);
+        put_u32(out, std::uint32_t(slot.kind));
+        put_u32(out, slot.material);
         put_f32(out, slot.albedo.r);
         put_f32(out, slot.albedo.g);
         put_f32(out, slot.albedo.b);
-        put_u32(out, std::uint32_t(slot.surfaces.size()));
-        for (const ReflectingSurface& surface : slot.surfaces) {
-            put_u32(out, surface.object);
-            put_u32(out, surface.material);
+        put_u32(out, std::uint32_t(slot.objects.size()));
+        for (const std::uint32_t object : slot.objects) {
+            put_u32(out, object);
         }
     }
 }
 
-// Each slot takes at least 20 bytes and each surface 8: their counts are bounded by the bytes
-// before anything is sized. Whether the objects and materials exist is the frame's to check
-// (transfer_misfit), which knows the meshes.
+// Each slot takes at least 24 bytes and each of its objects 4: their counts are bounded by the
+// bytes before anything is sized. Whether the objects and materials exist is the frame's to
+// check (transfer_misfit), which knows the meshes.
 std::vector<ReflectorSlot> read_reflectors(Reader& in, Bounce bounce) {
     const std::uint32_t count = in.u32("reflector count");
     if ((count == 0) != (bounce == Bounce::None)) {
         invalid_transfer(std::to_string(count) + " reflector slots for bounce " +
                          (bounce == Bounce::One ? "one" : "none"));
     }
-    if (count > in.remaining() / 20) {
+    if (count > in.remaining() / 24) {
         invalid_transfer(std::to_string(count) + " reflector slots cannot fit the " +
                          std::to_string(in.remaining()) + " bytes left");
     }
     std::vector<ReflectorSlot> reflectors(count);
     for (ReflectorSlot& slot : reflectors) {
-        const std::uint32_t with_ground = in.u32("reflector ground flag");
-        if (with_ground > 1) {
-            invalid_transfer("reflector ground flag " + std::to_string(with_ground) +
-                             " is neither 0 nor 1");
+        const std::uint32_t kind = in.u32("reflector kind");
+        if (kind > std::uint32_t(ReflectorSlot::Kind::Unit)) {
+            invalid_transfer("reflector kind " + std::to_string(kind) + " is not one of 0 to 3");
         }
-        slot.with_ground = with_ground == 1;
+        slot.kind = ReflectorSlot::Kind(kind);
+        slot.material = in.u32("reflector material");
         for (int c = 0; c < 3; ++c) {
             slot.albedo[c] = in.f32("reflector albedo");
         }
-        const std::uint32_t surfaces = in.u32("reflector surface count");
-        if (surfaces > in.remaining() / 8) {
-            invalid_transfer(std::to_string(surfaces) + " reflecting surfaces cannot fit the " +
+        const std::uint32_t objects = in.u32("reflector object count");
+        if (objects > in.remaining() / 4) {
+            invalid_transfer(std::to_string(objects) + " reflecting objects cannot fit the " +
                              std::to_string(in.remaining()) + " bytes left");
         }
-        if (surfaces == 0 && !slot.with_ground) {
-            invalid_transfer("a ground reflector slot is marked for frames without the ground");
+        if ((slot.kind == ReflectorSlot::Kind::Ground) != (objects == 0)) {
+            invalid_transfer(slot.kind == ReflectorSlot::Kind::Ground
+                                 ? "the ground's reflector slot names objects"
+                                 : "a reflector slot of objects names none");
         }
-        slot.surfaces.resize(surfaces);
-        for (ReflectingSurface& surface : slot.surfaces) {
-            surface.object = in.u32("reflecting surface");
-            surface.material = in.u32("reflecting surface");
+        slot.objects.resize(objects);
+        for (std::uint32_t& object : slot.objects) {
+            object = in.u32("reflecting object");
         }
     }
     return reflectors;
@@ -157,7 +158,7 @@ void put_points(std::string& out, const TransferPoints& points) {
     put_floats(out, points.bounce);
 }
 
-TransferPoints read_points(Reader& in, int coefficients, Bounce bounce, std::size_t slots,
+TransferPoints read_points(Reader& in, int coefficients, Bounce bounce, std::size_t vectors,
                            const char* what) {
     TransferPoints points;
     points.count = std::size_t(in.u64(what));
@@ -177,7 +178,7 @@ TransferPoints read_points(Reader& in, int coefficients, Bounce bounce, std::siz
     points.direct = in.floats(std::uint64_t(points.count) * std::uint64_t(coefficients), what);
     if (has_bounce) {
         points.bounce =
-            in.floats(std::uint64_t(points.count) * slots * std::uint64_t(coefficients), what);
+            in.floats(std::uint64_t(points.count) * vectors * std::uint64_t(coefficients), what);
     }
     return points;
 }
@@ -241,7 +242,7 @@ SceneTransfer decode_transfer(std::string_view bytes) {
     transfer.rays = int(rays);
     transfer.bake_ms = in.f32("bake_ms");
     transfer.reflectors = read_reflectors(in, transfer.bounce);
-    const std::size_t slots = transfer.reflectors.size();
+    const std::size_t vectors = bounce_vectors(transfer.reflectors);
     const int coefficients = transfer.coefficients();
     // Every object and primitive takes at least 4 and 12 bytes: their counts are bounded by the
     // bytes before the vectors of them are sized.
@@ -260,7 +261,7 @@ SceneTransfer decode_transfer(std::string_view bytes) {
         object.reserve(primitives);
         for (std::uint32_t p = 0; p < primitives; ++p) {
             object.push_back(
-                read_points(in, coefficients, transfer.bounce, slots, "an object's points"));
+                read_points(in, coefficients, transfer.bounce, vectors, "an object's points"));
         }
     }
     const std::uint32_t has_ground = in.u32("ground flag");
@@ -284,7 +285,7 @@ SceneTransfer decode_transfer(std::string_view bytes) {
         }
         ground.resolution = int(resolution);
         ground.points =
-            read_points(in, coefficients, transfer.bounce, slots, "the ground's points");
+            read_points(in, coefficients, transfer.bounce, vectors, "the ground's points");
         if (ground.points.count != std::size_t(resolution) * resolution) {
             invalid_transfer("the ground has " + std::to_string(ground.points.count) +
                              " points, not resolution^2 = " +

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -107,25 +108,37 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
     return {turned_by_yaw(residual, yaw_degrees), turned_by_yaw(whole, yaw_degrees)};
 }
 
-std::vector<glm::vec3> reflector_albedos(const SceneTransfer& transfer,
-                                         const FrameRequest& request) {
-    std::vector<glm::vec3> albedos;
+std::vector<glm::vec3> bounce_weights(const SceneTransfer& transfer, const FrameRequest& request) {
+    std::vector<glm::vec3> weights;
     for (const ReflectorSlot& slot : transfer.reflectors) {
-        if (slot.with_ground != request.ground) {
-            albedos.emplace_back(0.0f);
-        } else if (slot.ground()) {
-            albedos.push_back(slot.albedo);
-        } else {
-            const SceneObject& object = request.objects.at(slot.surfaces.front().object);
-            albedos.push_back(object.base_color.value_or(slot.albedo));
+        const std::optional<glm::vec3> colour =
+            slot.objects.empty() ? std::nullopt
+                                 : request.objects.at(slot.objects.front()).base_color;
+        switch (slot.kind) {
+            case ReflectorSlot::Kind::Ground:
+                weights.push_back(slot.albedo);
+                break;
+            case ReflectorSlot::Kind::Material:
+                weights.push_back(colour.value_or(slot.albedo));
+                break;
+            case ReflectorSlot::Kind::Native:
+                for (int c = 0; c < 3; ++c) {
+                    glm::vec3 channel(0.0f);
+                    channel[c] = colour ? 0.0f : 1.0f;
+                    weights.push_back(channel);
+                }
+                break;
+            case ReflectorSlot::Kind::Unit:
+                weights.push_back(colour.value_or(glm::vec3(0.0f)));
+                break;
         }
     }
-    return albedos;
+    return weights;
 }
 
 std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int stored_order,
                                               const TransferLighting& lighting,
-                                              std::span<const glm::vec3> albedos) {
+                                              std::span<const glm::vec3> weights) {
     const int order = lighting.residual.order;
     if (order > stored_order || lighting.whole.order != order) {
         invalid_lighting("lighting of order " + std::to_string(order) +
@@ -133,13 +146,13 @@ std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int 
     }
     const std::size_t stored = std::size_t(stored_order) * std::size_t(stored_order);
     const std::size_t used = std::size_t(order) * std::size_t(order);
-    const std::size_t slots = points.bounce.empty() ? 0 : albedos.size();
+    const std::size_t vectors = points.bounce.empty() ? 0 : weights.size();
     if (points.direct.size() != points.count * stored ||
-        points.bounce.size() != points.count * slots * stored) {
+        points.bounce.size() != points.count * vectors * stored) {
         invalid_lighting("transfer vectors of " + std::to_string(points.direct.size()) +
                          " direct and " + std::to_string(points.bounce.size()) +
                          " bounce values for " + std::to_string(points.count) + " points and " +
-                         std::to_string(albedos.size()) + " reflector slots");
+                         std::to_string(weights.size()) + " bounce vectors' weights");
     }
     // Float copies, channel-major, so that each dot product below is a contiguous loop.
     std::vector<float> residual(3 * used), whole(3 * used);
@@ -163,13 +176,12 @@ std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int 
         for (int c = 0; c < 3; ++c) {
             e[c] = dot(direct, residual.data() + std::size_t(c) * used);
         }
-        for (std::size_t s = 0; s < slots; ++s) {
-            if (albedos[s] == glm::vec3(0.0f)) {
-                continue;
-            }
-            const float* reflected = points.bounce.data() + (p * slots + s) * stored;
+        for (std::size_t v = 0; v < vectors; ++v) {
+            const float* reflected = points.bounce.data() + (p * vectors + v) * stored;
             for (int c = 0; c < 3; ++c) {
-                e[c] += albedos[s][c] * dot(reflected, whole.data() + std::size_t(c) * used);
+                if (weights[v][c] != 0.0f) {
+                    e[c] += weights[v][c] * dot(reflected, whole.data() + std::size_t(c) * used);
+                }
             }
         }
         irradiance[p] = e;

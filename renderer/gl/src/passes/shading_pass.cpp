@@ -55,7 +55,7 @@ FrameLightingBuffers upload_irradiance_sets(const FrameContext& frame, RendererS
         frame.transferred_vertices.data(), GL_STREAM_DRAW);
     buffers.transferred_vertices = state.transferred_vertex_buffer.get();
     const std::optional<GroundTransfer>& ground = frame.request.transfer->ground;
-    if (!ground || !frame.request.ground) {
+    if (!ground) {
         return buffers;
     }
     if (state.ground_transfer_resolution != ground->resolution) {

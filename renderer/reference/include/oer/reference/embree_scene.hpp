@@ -39,10 +39,6 @@ struct SurfaceHit {
     double v = 0.0;
 };
 
-// The mean linear colour of a base-colour texture's texels (sRGB decoded, as the renderer and
-// sample_texture decode them).
-glm::dvec3 mean_texture_color(const Texture& texture);
-
 // How far the ground plane reaches for a ray: as drawn (the renderer's square, for the rays of
 // the camera), or infinite (for rays that leave a surface towards a light or the map: above an
 // infinite plane every direction below the horizon sees the plane, never the map, docs/design.md

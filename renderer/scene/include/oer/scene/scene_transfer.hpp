@@ -15,9 +15,10 @@
 // Without occluders direct_i(x) = A_l Y_i(n(x)), so direct . R is plain SH irradiance.
 //
 // The bounce is linear in the albedo of what reflects, so it is baked per reflector slot s (the
-// ground, or the surfaces of one material of one object) at unit albedo, and each frame weighs
-// the slots by the albedos it draws them with, rho(s): a colour change, which re-weights, never
-// re-bakes (docs/design.md section 9, "what invalidates what").
+// ground; an object's untextured material at unit albedo; or an object's surfaces as coloured
+// and at unit albedo) and each frame weighs the slots by the albedos it draws them with,
+// rho(s): a colour change, which re-weights, never re-bakes (docs/design.md section 9, "what
+// invalidates what").
 //
 // Plain data: the frame renderer reads it (FrameRequest::transfer), the bake
 // (oer/transfer/transfer_bake.hpp) writes it, the codec (oer/transfer/transfer_codec.hpp)
@@ -46,37 +47,50 @@ constexpr float kGroundAlbedo = 0.8f;
 constexpr int kTransferBakeOrder = 7;
 
 // One receiver set: count points, each `coefficients` direct values and, under Bounce::One,
-// `coefficients` bounce values per reflector slot (SceneTransfer::reflectors), point-major:
-// direct[p * coefficients + i], bounce[(p * slots + s) * coefficients + i].
+// `coefficients` bounce values per vector of the reflector slots (SceneTransfer::reflectors, in
+// order, ReflectorSlot::vectors() each), point-major: direct[p * coefficients + i],
+// bounce[(p * vectors + v) * coefficients + i], vectors = bounce_vectors(reflectors).
 struct TransferPoints {
     std::size_t count = 0;
     std::vector<float> direct;
     std::vector<float> bounce;  // empty under Bounce::None
 };
 
-// A surface of the scene that reflects in the bounce: one material of one object's mesh.
-struct ReflectingSurface {
-    std::uint32_t object = 0;    // index into FrameRequest::objects
-    std::uint32_t material = 0;  // index into that object's Mesh::materials
-    bool operator==(const ReflectingSurface&) const = default;
+// What one bounce slot gathers, and how a frame weighs it (transfer_lighting.hpp's
+// bounce_weights).
+struct ReflectorSlot {
+    enum class Kind : std::uint8_t {
+        // The ground plane, at unit albedo; weighed by its albedo.
+        Ground,
+        // One material of the objects listed, at unit albedo (an untextured material, so that
+        // its albedo is one colour); weighed by the objects' colour, else the material's.
+        Material,
+        // Everything the objects listed reflect, at the albedos they had at the bake (their
+        // materials and textures), one vector per colour channel; weighed 1 when the objects
+        // have no colour of their own, else 0.
+        Native,
+        // The same surfaces at unit albedo; weighed by the objects' colour when they have one,
+        // else 0.
+        Unit,
+    };
+    Kind kind = Kind::Ground;
+    // The objects (indices into FrameRequest::objects) whose surfaces it gathers: of one mesh
+    // and one colour (transfer_bake.hpp's reflector_slots); empty for the ground.
+    std::vector<std::uint32_t> objects;
+    std::uint32_t material = 0;  // Material: its index in the objects' Mesh::materials
+    glm::vec3 albedo{0.0f};      // Ground: the ground's; Material: the material's base colour
+    int vectors() const { return kind == Kind::Native ? 3 : 1; }
+    bool operator==(const ReflectorSlot&) const = default;
 };
 
-// What one bounce slot gathers: the ground plane's reflection (surfaces empty), or the
-// objects' surfaces listed, which a frame always draws with one albedo (one surface, or several
-// of the same mesh, material and colour: transfer_bake.hpp's reflector_slots).
-struct ReflectorSlot {
-    // Frames with the ground plane use the slots with the ground; frames without it the others:
-    // with the plane, an object reflects the map above the horizon alone (the plane's own light
-    // below it is the ground's slot), without it the whole map.
-    bool with_ground = true;
-    std::vector<ReflectingSurface> surfaces;
-    // The albedo the slot's surfaces have as their mesh gives them (linear RGB): the ground's,
-    // or the material's base colour factor times its texture's mean colour. A textured surface
-    // reflects its texture's mean (the bounce gathers light over a whole hemisphere of hits,
-    // which averages the texels anyway).
-    glm::vec3 albedo{0.0f};
-    bool ground() const { return surfaces.empty(); }
-};
+// The bounce vectors a receiver point has for these slots.
+inline std::size_t bounce_vectors(const std::vector<ReflectorSlot>& reflectors) {
+    std::size_t vectors = 0;
+    for (const ReflectorSlot& slot : reflectors) {
+        vectors += std::size_t(slot.vectors());
+    }
+    return vectors;
+}
 
 // The ground plane's receivers: a resolution x resolution grid of texel centres over
 // [centre.x - half_size, centre.x + half_size] x [centre.y - half_size, ...] in world x and z,

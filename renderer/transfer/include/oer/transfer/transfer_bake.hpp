@@ -60,23 +60,23 @@ int transfer_ray_count(std::uint64_t object_points, double rays_per_phase = kTra
 // the ground's grid, which every scene's transfer holds.
 std::uint64_t transfer_point_count(std::uint64_t object_points);
 
-// The bounce's reflector slots (oer/scene/scene_transfer.hpp) of request's scene: with the
-// ground (request.ground), the ground's slot, then one slot per (object, material) its objects
-// draw, for frames with the ground, then the same for frames without it; without the ground,
-// the latter alone. A transfer baked with the ground thus serves frames with and without it, and
-// one baked for any colours serves every colour.
-// Past kMaxReflectingSurfaces (object, material) pairs, each slot's vectors would cost more
-// than the colour changes they save: the pairs of one mesh, material and request colour share a
-// slot, and such a transfer holds only for the objects' colours (reflectors_follow_colours).
-inline constexpr std::size_t kMaxReflectingSurfaces = 8;
+// The bounce's reflector slots (oer/scene/scene_transfer.hpp) of request's scene, so that a
+// colour change re-weighs them and bakes nothing: with the ground, the
+// ground's slot; then per group of objects (each object its own group, or past
+// kMaxSeparateReflectors objects, the objects of one mesh and one colour together), a Material
+// slot per material its primitives draw when they are at most kMaxMaterialSlots and none has a
+// base-colour texture (one vector each, exact), else a Native and a Unit slot (four vectors,
+// exact with textures).
+inline constexpr std::size_t kMaxMaterialSlots = 3;
+inline constexpr std::size_t kMaxSeparateReflectors = 4;
 std::vector<ReflectorSlot> reflector_slots(const FrameRequest& request);
-// Whether request's reflector slots depend on its objects' colours (more than
-// kMaxReflectingSurfaces pairs): a service keys its transfers by the colours then.
+// Whether request's reflector slots depend on its objects' colours (past kMaxSeparateReflectors
+// objects): a service keys its transfers by the colours then.
 bool reflectors_follow_colours(const FrameRequest& request);
-// The reflector slots of a transfer whose objects' surfaces make `surface_slots` slots per
-// ground family (the (object, material) pairs, or their merged groups): what one receiver point's
-// bounce vectors cost, for a service's estimate before the meshes are decoded.
-std::size_t reflector_slot_count(std::size_t surface_slots, bool ground);
+// The bounce vectors of one group of objects of a mesh whose primitives draw `materials`
+// materials, `textured` when one has a base-colour texture: for a service's estimate of a
+// transfer's size before the meshes are decoded.
+std::size_t group_bounce_vectors(std::size_t materials, bool textured);
 
 // The transfer of request.objects (with their transforms) and, when request.ground, of the
 // ground plane under them. Throws oer::Error (InvalidInput) for a request without objects,

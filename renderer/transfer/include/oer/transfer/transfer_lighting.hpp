@@ -56,21 +56,21 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
 // addition theorem).
 ShRgb below_horizon_indicator(int order);
 
-// The albedo each of transfer's reflector slots has in request's frame: the colour the request
-// gives its objects (SceneObject::base_color) or else the slot's own (ReflectorSlot::albedo),
-// and 0 for the slots of the other ground family (request.ground). The transfer must fit the
-// request (transfer_misfit, oer/scene/scene_rules.hpp).
-std::vector<glm::vec3> reflector_albedos(const SceneTransfer& transfer,
-                                         const FrameRequest& request);
+// The weight, per colour channel, of each of transfer's bounce vectors in request's frame, as
+// ReflectorSlot::Kind says: the ground's albedo; a Material slot's
+// objects' colour (SceneObject::base_color) or else its material's; a Native slot's vector c
+// 1 in channel c when its objects have no colour of their own; a Unit slot's their colour.
+// The transfer must fit the request (transfer_misfit, oer/scene/scene_rules.hpp).
+std::vector<glm::vec3> bounce_weights(const SceneTransfer& transfer, const FrameRequest& request);
 
-// The irradiance at every point of `points` (baked at stored_order) under `lighting`, the
-// reflector slots weighted by `albedos` (one per slot, reflector_albedos):
-// E_c(p) = sum_i direct_i(p) R_c,i + sum_s albedo_s,c sum_i bounce_s,i(p) L_c,i over the
+// The irradiance at every point of `points` (baked at stored_order) under `lighting`, its
+// bounce vectors weighted by `weights` (one per vector, bounce_weights):
+// E_c(p) = sum_i direct_i(p) R_c,i + sum_v weight_v,c sum_i bounce_v,i(p) L_c,i over the
 // lighting's order^2 coefficients. Throws oer::Error (InvalidInput) when the lighting's order
-// exceeds stored_order or the points' vectors do not have the sizes their count and the slots
-// say.
+// exceeds stored_order or the points' vectors do not have the sizes their count and the
+// weights say.
 std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int stored_order,
                                               const TransferLighting& lighting,
-                                              std::span<const glm::vec3> albedos);
+                                              std::span<const glm::vec3> weights);
 
 }  // namespace oer
