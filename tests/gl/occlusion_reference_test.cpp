@@ -70,6 +70,15 @@ HdrImage two_hemispheres(float sky, float below) {
 
 class OcclusionReferenceTest : public oer::testing::RendererSuite {
   protected:
+    // Into the open box of the tests below, from above its front edge.
+    static Camera looking_into_the_box() {
+        Camera camera;
+        camera.eye = {0.0f, 1.6f, 1.3f};
+        camera.target = {0.0f, 0.0f, 0.0f};
+        camera.fov_y = 45.0f;
+        return camera;
+    }
+
     static std::shared_ptr<const Rig> rig_without_lights(const HdrImage& map) {
         RigOptions options;
         options.light_count = 0;
@@ -150,10 +159,7 @@ TEST_F(OcclusionReferenceTest, TheGroundReplacesTheMapsLowerHemisphere) {
 // occlusion under a constant sky, against the reference's (its cosine sampling is exact there
 // when nothing occludes, and unbiased when something does).
 TEST_F(OcclusionReferenceTest, AnOpenBoxUnderAConstantSkyHasTheReferencesOcclusion) {
-    Camera camera;
-    camera.eye = {0.0f, 1.6f, 1.3f};
-    camera.target = {0.0f, 0.0f, 0.0f};
-    camera.fov_y = 45.0f;
+    const Camera camera = looking_into_the_box();
     const auto map =
         std::make_shared<const HdrImage>(oer::testing::constant_map(64, 32, glm::vec3(1.0f)));
     FrameRequest request =
@@ -173,10 +179,7 @@ TEST_F(OcclusionReferenceTest, AnOpenBoxUnderAConstantSkyHasTheReferencesOcclusi
 // its mesh colours it (grey), then drawn red with that same transfer, has the one-bounce
 // reference's light of the red box, inside (where it reflects onto itself) and on the ground.
 TEST_F(OcclusionReferenceTest, ARecolouredObjectReflectsItsNewColourWithoutANewBake) {
-    Camera camera;
-    camera.eye = {0.0f, 1.6f, 1.3f};
-    camera.target = {0.0f, 0.0f, 0.0f};
-    camera.fov_y = 45.0f;
+    const Camera camera = looking_into_the_box();
     const auto map =
         std::make_shared<const HdrImage>(oer::testing::constant_map(64, 32, glm::vec3(1.0f)));
     FrameRequest request =
@@ -218,10 +221,7 @@ TEST_F(OcclusionReferenceTest, ARecolouredObjectReflectsItsNewColourWithoutANewB
 // materials' own colours reflect; recoloured, the colour replaces them all. Both against the
 // one-bounce reference, from one bake.
 TEST_F(OcclusionReferenceTest, AManyMaterialObjectReflectsItsColoursAsBakedAndAsRecoloured) {
-    Camera camera;
-    camera.eye = {0.0f, 1.6f, 1.3f};
-    camera.target = {0.0f, 0.0f, 0.0f};
-    camera.fov_y = 45.0f;
+    const Camera camera = looking_into_the_box();
     const auto map =
         std::make_shared<const HdrImage>(oer::testing::constant_map(64, 32, glm::vec3(1.0f)));
     // The inside red, the outside and rim green; two more materials on two tiny triangles
