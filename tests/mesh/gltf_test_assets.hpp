@@ -188,7 +188,9 @@ class GltfBuilder {
         json d = with_scene(roots);
         d["buffers"] = {{{"byteLength", bin.size()},
                          {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
-        d["buffers"].insert(d["buffers"].end(), extra_buffers.begin(), extra_buffers.end());
+        for (const json& buffer : extra_buffers) {
+            d["buffers"].push_back(buffer);
+        }
         return d.dump();
     }
 
@@ -196,7 +198,9 @@ class GltfBuilder {
     std::vector<std::uint8_t> glb(std::vector<int> roots = {0}) {
         json d = with_scene(roots);
         d["buffers"] = {{{"byteLength", bin.size()}}};
-        d["buffers"].insert(d["buffers"].end(), extra_buffers.begin(), extra_buffers.end());
+        for (const json& buffer : extra_buffers) {
+            d["buffers"].push_back(buffer);
+        }
         std::string text = d.dump();
         while (text.size() % 4 != 0) {
             text += ' ';

@@ -331,7 +331,8 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
     const TinygltfWorkarounds workarounds = work_around_tinygltf(root);
     std::vector<std::byte> rewritten;
     if (!workarounds.empty()) {
-        std::string text = root.dump();
+        // Strings were UTF-8 checked by the parser; replace keeps dump from ever throwing.
+        std::string text = root.dump(-1, ' ', false, checked_json::Json::error_handler_t::replace);
         if (binary) {
             rewritten = replace_glb_json(bytes, json, std::move(text));
         } else {
