@@ -299,3 +299,15 @@ TEST_F(CompressedGltfToolsSlow, GltfpackDefaults) {
     check(gltfpack("", "gltfpack.glb"), "gltfpack.glb",
           {{"KHR_mesh_quantization"}, 12.0f, 3.0f, Degenerate::RepeatedIndicesDropped});
 }
+
+// With instancing (-mi): the instances' translations and scales through meshopt's EXPONENTIAL
+// filter, their rotations as normalized SHORTs through QUATERNION: every filter of the extension.
+// Rotations of 16 bits (-ar 16): gltfpack's default 12 bits turn the instances by up to 1e-3
+// radians, which moves the vertices of this model (quantized over its 800 units) by up to 0.7.
+TEST_F(CompressedGltfToolsSlow, GltfpackInstancedCompressed) {
+    check(gltfpack("-cc -mi -ar 16", "gltfpack-cc-mi.glb"), "gltfpack-cc-mi.glb",
+          {{"EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing"},
+           12.0f,
+           3.0f,
+           Degenerate::RepeatedIndicesDropped});
+}
