@@ -10,7 +10,7 @@ build_packages=(
     build-essential cmake ninja-build ccache lld pkg-config git clang-format
     libopenimageio-dev openimageio-tools libopenexr-dev
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
-    libmeshoptimizer-dev libembree-dev
+    libmeshoptimizer-dev libdraco-dev libembree-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev
     libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
     libssl-dev libcli11-dev
@@ -25,12 +25,13 @@ build_packages=(
 # The sanitizer build of scripts/test.sh and the fuzzers (scripts/fuzz.sh, tests/fuzz) build with
 # clang, whose libFuzzer and sanitizer runtimes are in libclang-rt-14-dev; llvm gives
 # llvm-symbolizer, for their stack traces.
+# gltfpack compresses the compressed-geometry tests' models (tests/mesh/compressed_gltf_test.cpp).
 # nginx is the balancer of the multi-replica test (tests/process/replicas_test.cpp), which runs
 # the deployment's docker/nginx/nginx.conf with Debian's /usr/sbin/nginx, in the foreground on a
 # loopback port; it needs no nginx service (on a machine with systemd, Debian's package starts
 # one on port 80: `systemctl disable --now nginx` stops it for good).
 test_packages=(blender-data glmark2-data assimp-testmodels chromium assimp-utils
-    python3-matplotlib clang libclang-rt-14-dev llvm nginx)
+    python3-matplotlib clang libclang-rt-14-dev llvm nginx gltfpack)
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 with_test_data=false
@@ -50,9 +51,10 @@ fi
 
 # The tests' node modules, each folder pinned by its package-lock.json (npm, not Debian: Debian
 # has none of them): playwright-core in web/tests (the browser test), Redocly's and Spectral's
-# linters in api/lint (the api_lint test). Installed when missing or older than the lock file,
-# without install scripts, as cmake/npm_modules.cmake does when a test runs.
-npm_test_folders=(web/tests api/lint)
+# linters in api/lint (the api_lint test), glTF-Transform's CLI in tests/mesh/gltf_tools (the
+# compressed-geometry tests, with Debian's gltfpack above). Installed when missing or older than
+# the lock file, without install scripts, as cmake/npm_modules.cmake does when a test runs.
+npm_test_folders=(web/tests api/lint tests/mesh/gltf_tools)
 install_npm_test_modules() {
     if ! $with_test_data; then
         return

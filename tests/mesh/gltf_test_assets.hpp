@@ -188,6 +188,9 @@ class GltfBuilder {
         json d = with_scene(roots);
         d["buffers"] = {{{"byteLength", bin.size()},
                          {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
+        for (const json& buffer : extra_buffers) {
+            d["buffers"].push_back(buffer);
+        }
         return d.dump();
     }
 
@@ -195,6 +198,9 @@ class GltfBuilder {
     std::vector<std::uint8_t> glb(std::vector<int> roots = {0}) {
         json d = with_scene(roots);
         d["buffers"] = {{{"byteLength", bin.size()}}};
+        for (const json& buffer : extra_buffers) {
+            d["buffers"].push_back(buffer);
+        }
         std::string text = d.dump();
         while (text.size() % 4 != 0) {
             text += ' ';
@@ -223,6 +229,9 @@ class GltfBuilder {
 
     json doc;
     std::vector<std::uint8_t> bin;
+    // Buffers after buffer 0 (the one `bin` fills), as JSON: EXT_meshopt_compression's fallback
+    // buffers, for example.
+    std::vector<json> extra_buffers;
 
   private:
     json with_scene(const std::vector<int>& roots) const {

@@ -2,8 +2,10 @@
 // an oer::Mesh. The scene's node graph is walked (gltf_node_walk.hpp); each mesh a node
 // instantiates has its primitives read (gltf_primitives.hpp), the node's transform baked into
 // them (gltf_baking.hpp), and the materials they use converted (gltf_materials.hpp, with their
-// textures: gltf_textures.hpp, gltf_samplers.hpp, gltf_texture_images.hpp). TANGENT is read only
-// where a normal texture needs it; finish_mesh generates it where the file has none.
+// textures: gltf_textures.hpp, gltf_samplers.hpp, gltf_texture_images.hpp). Compressed geometry
+// is decoded first (EXT_meshopt_compression: gltf_meshopt.hpp; KHR_draco_mesh_compression:
+// gltf_draco.hpp), and instanced nodes are placed once per instance (gltf_instancing.hpp). TANGENT
+// is read only where a normal texture needs it; finish_mesh generates it where the file has none.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -13,7 +15,10 @@
 #include <glm/mat4x4.hpp>
 
 #include "gltf_baking.hpp"
+#include "gltf_draco.hpp"
+#include "gltf_instancing.hpp"
 #include "gltf_materials.hpp"
+#include "gltf_meshopt.hpp"
 #include "gltf_node_walk.hpp"
 #include "gltf_parsing.hpp"
 #include "gltf_primitives.hpp"
@@ -59,7 +64,8 @@ class GltfConverter {
     }
 
   private:
-    // Every primitive of mesh `mesh_index`, placed by `world`, the transform of node `node`.
+    // Every primitive of mesh `mesh_index`, placed by `world`, the transform of node `node`,
+    // once per instance where the node has EXT_mesh_gpu_instancing.
     void instantiate(int mesh_index, int node, const glm::dmat4& world) {
         if (std::size_t(mesh_index) >= model_.meshes.size()) {
             fail(ErrorKind::InvalidInput, asset_,
@@ -72,6 +78,19 @@ class GltfConverter {
         if (mesh.primitives.empty()) {
             fail(ErrorKind::InvalidInput, asset_, mesh_name + " has no primitives");
         }
+        const InstanceBudget budget{primitives_.triangle_budget(), primitives_.vertex_budget(),
+                                    limits_.max_primitives - mesh_.primitives.size()};
+        const std::vector<glm::dmat4> instances =
+            instance_transforms(model_, node, mesh, mesh_name, asset_, budget);
+        for (std::size_t i = 0; i < instances.size(); ++i) {
+            const std::string instance_name =
+                instances.size() == 1 ? mesh_name : mesh_name + " instance " + std::to_string(i);
+            place(mesh, instance_name, world * instances[i]);
+        }
+    }
+
+    // Every primitive of `mesh` (named `mesh_name`), placed by `world`.
+    void place(const tinygltf::Mesh& mesh, const std::string& mesh_name, const glm::dmat4& world) {
         for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
             const std::string name = mesh_name + " primitive " + std::to_string(p);
             if (mesh_.primitives.size() >= limits_.max_primitives) {
@@ -128,7 +147,11 @@ Mesh load_gltf(std::span<const std::byte> bytes, const std::string& name, bool b
                const MeshLimits& limits, const std::optional<std::filesystem::path>& folder) {
     ParseContext context;
     context.folder = folder;
-    const tinygltf::Model model = parse_gltf(bytes, name, binary, limits, context);
+    tinygltf::Model model = parse_gltf(bytes, name, binary, limits, context);
+    // Compressed geometry decoded into plain buffers and accessors first, so that the rest
+    // reads them as any other.
+    decode_meshopt_views(model, name, limits);
+    decode_draco_primitives(model, name, limits);
     Mesh mesh = GltfConverter(model, context, limits).convert();
     finish_mesh(mesh, name, limits);
     return mesh;

@@ -2,6 +2,7 @@
 #include "gltf_parsing.hpp"
 
 #include <algorithm>
+#include <cstddef>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -9,9 +10,13 @@
 #include <limits>
 #include <new>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "gltf_schema.hpp"
 #include "mesh_errors.hpp"
+#include "oer/core/checked_json.hpp"
 #include "texture_decoding.hpp"
 
 namespace oer::mesh_detail {
@@ -194,6 +199,86 @@ std::span<const std::byte> check_glb(std::span<const std::byte> bytes, const std
     return bytes.subspan(20, std::size_t(json_length));
 }
 
+// What tinygltf 2.7 cannot parse, rewritten in the JSON before it does, and undone after.
+struct TinygltfWorkarounds {
+    // EXT_meshopt_compression's fallback buffers ("fallback": true, no uri): tinygltf takes a
+    // .glb's buffer without a uri for the BIN chunk (and refuses one longer than it), and
+    // refuses it in a .gltf. Each is given one byte as a data: URI, emptied after parsing.
+    std::vector<std::size_t> fallback_buffers;
+    // Index accessors without a bufferView (KHR_draco_mesh_compression's, whose data is in the
+    // Draco stream; sparse ones on zeros): tinygltf refuses them as "invalid bufferView". Each is
+    // given bufferView 0 to parse, and none again after parsing.
+    std::vector<std::size_t> viewless_indices;
+
+    bool empty() const { return fallback_buffers.empty() && viewless_indices.empty(); }
+};
+
+TinygltfWorkarounds work_around_tinygltf(checked_json::Json& root) {
+    TinygltfWorkarounds workarounds;
+    if (const auto buffers = root.find("buffers"); buffers != root.end()) {
+        for (std::size_t b = 0; b < buffers->size(); ++b) {
+            checked_json::Json& buffer = (*buffers)[b];
+            const checked_json::Json* extensions = checked_json::find(buffer, "extensions");
+            const checked_json::Json* meshopt =
+                extensions == nullptr ? nullptr
+                                      : checked_json::find(*extensions, "EXT_meshopt_compression");
+            const checked_json::Json* fallback =
+                meshopt == nullptr ? nullptr : checked_json::find(*meshopt, "fallback");
+            if (fallback != nullptr && *fallback == true && !buffer.contains("uri")) {
+                buffer["uri"] = "data:application/octet-stream;base64,AA==";
+                buffer["byteLength"] = 1;
+                workarounds.fallback_buffers.push_back(b);
+            }
+        }
+    }
+    const auto accessors = root.find("accessors");
+    const checked_json::Json* meshes = checked_json::find(root, "meshes");
+    const checked_json::Json* views = checked_json::find(root, "bufferViews");
+    if (accessors == root.end() || meshes == nullptr || views == nullptr || views->empty()) {
+        return workarounds;
+    }
+    for (const auto& mesh : *meshes) {
+        for (const auto& primitive : mesh["primitives"]) {  // checked by the schema
+            const checked_json::Json* indices = checked_json::find(primitive, "indices");
+            if (indices == nullptr || indices->get<std::uint64_t>() >= accessors->size()) {
+                continue;
+            }
+            const auto index = std::size_t(indices->get<std::uint64_t>());
+            checked_json::Json& accessor = (*accessors)[index];
+            if (accessor.is_object() && !accessor.contains("bufferView")) {
+                accessor["bufferView"] = 0;
+                workarounds.viewless_indices.push_back(index);
+            }
+        }
+    }
+    return workarounds;
+}
+
+// The .glb `bytes` with the JSON chunk `json` instead of its own.
+std::vector<std::byte> replace_glb_json(std::span<const std::byte> bytes,
+                                        std::span<const std::byte> old_json, std::string json) {
+    while (json.size() % 4 != 0) {
+        json += ' ';  // chunks are 4-byte aligned; JSON pads with spaces
+    }
+    const std::size_t rest = 20 + old_json.size();
+    const std::size_t total = 20 + json.size() + (bytes.size() - rest);
+    std::vector<std::byte> out;
+    out.reserve(total);
+    const auto u32 = [&out](std::size_t value) {
+        for (int i = 0; i < 4; ++i) {
+            out.push_back(std::byte((value >> (8 * i)) & 0xff));
+        }
+    };
+    out.insert(out.end(), bytes.begin(), bytes.begin() + 8);  // magic, version
+    u32(total);
+    u32(json.size());
+    out.insert(out.end(), bytes.begin() + 16, bytes.begin() + 20);  // "JSON"
+    const auto* text = reinterpret_cast<const std::byte*>(json.data());
+    out.insert(out.end(), text, text + json.size());
+    out.insert(out.end(), bytes.begin() + std::ptrdiff_t(rest), bytes.end());
+    return out;
+}
+
 // The error for a local asset's file that is not read: tinygltf names it as the folder joined
 // with the URI, which the message gives back as the URI.
 [[noreturn]] void refuse_outside_file(const std::string& path, const std::filesystem::path& folder,
@@ -225,7 +310,14 @@ std::string image_label(const std::string& asset, int index, const std::string& 
 }
 
 bool supported_extension(const std::string& name) {
-    return name == "KHR_texture_transform" || name == "KHR_materials_emissive_strength";
+    for (const char* supported :
+         {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
+          "EXT_meshopt_compression", "KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing"}) {
+        if (name == supported) {
+            return true;
+        }
+    }
+    return false;
 }
 
 tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& asset, bool binary,
@@ -234,7 +326,21 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
         fail(ErrorKind::LimitExceeded, asset, "glTF files of 4 GiB or more are not supported");
     }
     const std::span<const std::byte> json = binary ? check_glb(bytes, asset) : bytes;
-    check_gltf_schema(json, asset);  // parses it within bounds: tinygltf never sees more
+    // Parsed within bounds: tinygltf never sees more.
+    checked_json::Json root = check_gltf_schema(json, asset);
+    const TinygltfWorkarounds workarounds = work_around_tinygltf(root);
+    std::vector<std::byte> rewritten;
+    if (!workarounds.empty()) {
+        // Strings were UTF-8 checked by the parser; replace keeps dump from ever throwing.
+        std::string text = root.dump(-1, ' ', false, checked_json::Json::error_handler_t::replace);
+        if (binary) {
+            rewritten = replace_glb_json(bytes, json, std::move(text));
+        } else {
+            const auto* first = reinterpret_cast<const std::byte*>(text.data());
+            rewritten.assign(first, first + text.size());
+        }
+        bytes = rewritten;
+    }
 
     tinygltf::Model model;
     context.asset = asset;
@@ -295,6 +401,12 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
         fail(
             ErrorKind::Unsupported, asset,
             "glTF version '" + one_line(model.asset.version, 40) + "' is not supported (only 2.0)");
+    }
+    for (const std::size_t buffer : workarounds.fallback_buffers) {
+        model.buffers[buffer].data.clear();
+    }
+    for (const std::size_t accessor : workarounds.viewless_indices) {
+        model.accessors[accessor].bufferView = -1;
     }
     for (const std::string& extension : model.extensionsRequired) {
         if (!supported_extension(extension)) {

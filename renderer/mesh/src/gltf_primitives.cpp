@@ -47,14 +47,6 @@ void check_triangle_mode(int mode, const std::string& name, const std::string& a
     }
 }
 
-// How many triangles `count` vertices (or indices) make in `mode`.
-std::uint64_t triangles_of(int mode, std::uint64_t count) {
-    if (mode == TINYGLTF_MODE_TRIANGLES) {
-        return count / 3;
-    }
-    return count >= 3 ? count - 2 : 0;
-}
-
 // A strip or a fan as a list, in the order of the glTF 2.0 specification (Meshes), which keeps
 // every triangle's winding: strip triangle i is (i, i + 1 + i % 2, i + 2 - i % 2), fan
 // triangle i is (i + 1, i + 2, 0).
@@ -88,6 +80,13 @@ std::uint64_t index_budget_of(std::uint64_t triangle_budget) {
 
 }  // namespace
 
+std::uint64_t triangles_of(int mode, std::uint64_t count) {
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        return count / 3;
+    }
+    return count >= 3 ? count - 2 : 0;
+}
+
 Primitive PrimitiveReader::read(const tinygltf::Primitive& source, const std::string& name,
                                 std::uint64_t vertex_budget) {
     check_triangle_mode(source.mode, name, asset_);
@@ -110,8 +109,8 @@ void PrimitiveReader::read_attributes(const tinygltf::Primitive& source, const s
     if (position == source.attributes.end()) {
         fail(ErrorKind::InvalidInput, asset_, name + ": no POSITION attribute");
     }
-    primitive.positions =
-        accessors_.vec3(position->second, name + ": POSITION", vertex_budget, "vertices");
+    primitive.positions = accessors_.vec3(position->second, name + ": POSITION", kPositionFormat,
+                                          vertex_budget, "vertices");
     const std::size_t n = primitive.positions.size();
     const auto check_count = [&](std::size_t count, const char* attribute) {
         if (count != n) {
@@ -121,14 +120,22 @@ void PrimitiveReader::read_attributes(const tinygltf::Primitive& source, const s
         }
     };
     if (const auto normal = source.attributes.find("NORMAL"); normal != source.attributes.end()) {
-        primitive.normals =
-            accessors_.vec3(normal->second, name + ": NORMAL", vertex_budget, "vertices");
+        primitive.normals = accessors_.vec3(normal->second, name + ": NORMAL", kNormalFormat,
+                                            vertex_budget, "vertices");
         check_count(primitive.normals.size(), "NORMAL");
+        if (accessors_.quantized(normal->second)) {
+            // Quantized normals are unit only to their precision (KHR_mesh_quantization):
+            // made unit here, not counted as the file's repairs.
+            for (glm::vec3& n : primitive.normals) {
+                const float length = glm::length(n);
+                n = length > 0.0f ? n / length : n;
+            }
+        }
     }
     if (const auto texcoord = source.attributes.find("TEXCOORD_0");
         texcoord != source.attributes.end()) {
-        primitive.texcoords = accessors_.texcoords(texcoord->second, name + ": TEXCOORD_0",
-                                                   vertex_budget, "vertices");
+        primitive.texcoords = accessors_.vec2(texcoord->second, name + ": TEXCOORD_0",
+                                              kTexcoordFormat, vertex_budget, "vertices");
         check_count(primitive.texcoords.size(), "TEXCOORD_0");
     }
 }
@@ -186,7 +193,7 @@ std::vector<glm::vec4> PrimitiveReader::tangents(int accessor, const std::string
                                                  std::size_t vertex_count,
                                                  std::uint64_t vertex_budget) const {
     std::vector<glm::vec4> tangents =
-        accessors_.vec4(accessor, name + ": TANGENT", vertex_budget, "vertices");
+        accessors_.vec4(accessor, name + ": TANGENT", kTangentFormat, vertex_budget, "vertices");
     if (tangents.size() != vertex_count) {
         fail(ErrorKind::InvalidInput, asset_,
              name + ": TANGENT has " + std::to_string(tangents.size()) + " elements, POSITION " +

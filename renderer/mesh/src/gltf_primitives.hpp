@@ -19,6 +19,9 @@
 
 namespace oer::mesh_detail {
 
+// How many triangles `count` vertices (or indices) make in `mode` (a triangle mode).
+std::uint64_t triangles_of(int mode, std::uint64_t count);
+
 class PrimitiveReader {
   public:
     PrimitiveReader(const tinygltf::Model& model, const std::string& asset,
@@ -27,6 +30,8 @@ class PrimitiveReader {
 
     // The vertices the next primitive may have within limits.max_vertices.
     std::uint64_t vertex_budget() const { return limits_.max_vertices - vertices_; }
+    // Likewise the triangles within limits.max_triangles.
+    std::uint64_t triangle_budget() const { return limits_.max_triangles - triangles_; }
 
     // The primitive `name` ("mesh 'Box' primitive 0") as in the file (positions, normals and
     // texture coordinates, indices as a triangle list; no material, no tangents), each

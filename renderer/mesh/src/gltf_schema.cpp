@@ -128,7 +128,18 @@ class SchemaChecker {
             optional_index(accessor, "componentType", path);
             optional_index(accessor, "count", path);
             optional_string(accessor, "type", path);
-            optional_object(accessor, "sparse", path);
+            if (const Json* sparse = optional_object(accessor, "sparse", path)) {
+                const std::string at = path + ".sparse";
+                read_.index(read_.member(*sparse, at, "count"), at + ".count");
+                for (const char* part : {"indices", "values"}) {
+                    const std::string part_path = at + "." + part;
+                    const Json& object = read_.member(*sparse, at, part);
+                    read_.index(read_.member(object, part_path, "bufferView"),
+                                part_path + ".bufferView");
+                    optional_index(object, "byteOffset", part_path);
+                    optional_index(object, "componentType", part_path);
+                }
+            }
             optional_boolean(accessor, "normalized", path);
         });
         each(root, "bufferViews", [&](const Json& view, const std::string& path) {
@@ -277,7 +288,7 @@ class SchemaChecker {
 
 }  // namespace
 
-void check_gltf_schema(std::span<const std::byte> text, const std::string& asset) {
+Json check_gltf_schema(std::span<const std::byte> text, const std::string& asset) {
     Json root;
     try {
         root = checked_json::parse_bounded(
@@ -296,6 +307,7 @@ void check_gltf_schema(std::span<const std::byte> text, const std::string& asset
         }
     }
     SchemaChecker(asset).check(root);
+    return root;
 }
 
 }  // namespace oer::mesh_detail

@@ -50,4 +50,49 @@ glm::vec2 finite_vec2(const std::string& asset, const tinygltf::Value& value,
                      finite_float(asset, value.Get(1).GetNumberAsDouble(), what));
 }
 
+namespace {
+
+// Member `key` of `object`, or null when it is absent and `optional`.
+const tinygltf::Value* member(const std::string& asset, const tinygltf::Value& object,
+                              const char* key, const std::string& what, bool optional) {
+    if (!object.IsObject()) {
+        fail(ErrorKind::InvalidInput, asset, what + " must be an object");
+    }
+    if (!object.Has(key)) {
+        if (!optional) {
+            fail(ErrorKind::InvalidInput, asset, what + "." + key + " is required");
+        }
+        return nullptr;
+    }
+    return &object.Get(key);
+}
+
+}  // namespace
+
+std::uint64_t integer_member(const std::string& asset, const tinygltf::Value& object,
+                             const char* key, const std::string& what,
+                             std::optional<std::uint64_t> fallback) {
+    const tinygltf::Value* value = member(asset, object, key, what, fallback.has_value());
+    if (value == nullptr) {
+        return *fallback;
+    }
+    const double number = value->IsNumber() ? value->GetNumberAsDouble() : -1.0;
+    if (!(number >= 0.0 && number < 9007199254740992.0) || std::floor(number) != number) {
+        fail(ErrorKind::InvalidInput, asset, what + "." + key + " must be a non-negative integer");
+    }
+    return std::uint64_t(number);
+}
+
+std::string string_member(const std::string& asset, const tinygltf::Value& object, const char* key,
+                          const std::string& what, std::optional<std::string> fallback) {
+    const tinygltf::Value* value = member(asset, object, key, what, fallback.has_value());
+    if (value == nullptr) {
+        return *fallback;
+    }
+    if (!value->IsString()) {
+        fail(ErrorKind::InvalidInput, asset, what + "." + key + " must be a string");
+    }
+    return value->Get<std::string>();
+}
+
 }  // namespace oer::mesh_detail

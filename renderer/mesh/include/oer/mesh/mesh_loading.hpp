@@ -17,8 +17,12 @@ MeshFormat mesh_format_from_name(const std::string& name);
 
 // Checked before the memory they bound is allocated where the format allows (an OBJ's
 // triangles and 'v' lines are counted before parsing; accessors before reading; images on
-// their headers). Vertices are counted after baking, every node's instance of a mesh apart.
+// their headers; compressed glTF data on its declared counts before it is decoded). Vertices are
+// counted after baking, every node's instance of a mesh apart, and every instance of an
+// EXT_mesh_gpu_instancing node apart.
 struct MeshLimits {
+    // The asset's bytes (a .gltf's files together), and apart the bytes its
+    // EXT_meshopt_compression views decode to, together.
     std::uint64_t max_bytes = 256ull << 20;
     std::uint64_t max_triangles = 5'000'000;
     std::uint64_t max_vertices = 5'000'000;
