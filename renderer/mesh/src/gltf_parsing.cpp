@@ -225,7 +225,8 @@ std::string image_label(const std::string& asset, int index, const std::string& 
 }
 
 bool supported_extension(const std::string& name) {
-    return name == "KHR_texture_transform" || name == "KHR_materials_emissive_strength";
+    return name == "KHR_texture_transform" || name == "KHR_materials_emissive_strength" ||
+           name == "EXT_texture_webp" || name == "EXT_texture_avif";
 }
 
 tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& asset, bool binary,
@@ -269,7 +270,8 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
         fail(ErrorKind::Unsupported, asset,
              "unsupported data: URI '" + one_line(context.refused_uris.front(), 60) +
                  "': buffers must be application/octet-stream or application/gltf-buffer, images "
-                 "image/png or image/jpeg, all base64");
+                 "image/png or image/jpeg, all base64 (tinygltf decodes no other data: URI: a "
+                 "WebP, AVIF or KTX2 image goes in a bufferView or a file)");
     }
     if (context.oversized_file) {
         fail(ErrorKind::LimitExceeded, asset,
