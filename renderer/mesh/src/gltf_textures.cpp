@@ -40,9 +40,10 @@ TextureReference TextureReferences::reference(const TextureUse& use, TextureEnco
 // The image a texture shows: EXT_texture_webp's source when it has one, else
 // EXT_texture_avif's, else the core source. Both extensions let the core source be a PNG or
 // JPEG fallback for viewers without the format, so their image, the one the asset was made to
-// show, wins; WebP before AVIF when a texture has both, as it decodes several times faster.
-// KHR_texture_basisu's KTX2 source is never decoded (texture_decoding.hpp): its fallback is
-// used, or the texture is ignored, with a warning either way.
+// show, wins; WebP before AVIF when a texture has both: it decodes about twice as fast
+// (renderer/mesh/README.md). KHR_texture_basisu's KTX2 source is never decoded
+// (texture_decoding.hpp): its fallback is used, or the texture is ignored, with a warning either
+// way.
 int TextureReferences::source_image(const tinygltf::Texture& texture, int index,
                                     const std::string& use) {
     const std::string what = use + ": texture " + std::to_string(index);
