@@ -22,15 +22,17 @@ hostile="$root/tests/data/hostile"
 declare -A seed_dir=([fuzz_image]=image [fuzz_gltf]=gltf [fuzz_gltf_meshopt]=gltf_meshopt
     [fuzz_gltf_draco]=gltf_draco [fuzz_obj]=obj
     [fuzz_render_json]=render_json [fuzz_render_query]=render_query
-    [fuzz_stored_rig]=stored_rig)
+    [fuzz_stored_rig]=stored_rig [fuzz_texture_webp]=texture_webp
+    [fuzz_texture_avif]=texture_avif [fuzz_texture_ktx2]=texture_ktx2)
 declare -A hostile_files=([fuzz_image]="*.hdr *.exr *.png *.jpg" [fuzz_gltf]="*.gltf")
 declare -A max_len=([fuzz_image]=16384 [fuzz_gltf]=16384 [fuzz_gltf_meshopt]=16384
     [fuzz_gltf_draco]=16384 [fuzz_obj]=8192
-    [fuzz_render_json]=8192 [fuzz_render_query]=2048 [fuzz_stored_rig]=16384)
+    [fuzz_render_json]=8192 [fuzz_render_query]=2048 [fuzz_stored_rig]=16384
+    [fuzz_texture_webp]=4096 [fuzz_texture_avif]=4096 [fuzz_texture_ktx2]=4096)
 targets=("$@")
 if ((${#targets[@]} == 0)); then
     targets=(fuzz_image fuzz_gltf fuzz_gltf_meshopt fuzz_gltf_draco fuzz_obj fuzz_render_json
-        fuzz_render_query fuzz_stored_rig)
+        fuzz_render_query fuzz_stored_rig fuzz_texture_webp fuzz_texture_avif fuzz_texture_ktx2)
 fi
 
 # -O1 without debug info, as the sanitizer build of scripts/test.sh: the sanitizers need frame

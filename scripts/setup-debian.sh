@@ -6,11 +6,13 @@ set -euo pipefail
 # ninja-build and ccache: the generator of scripts/build.sh and the compiler cache of
 # cmake/compiler_cache.cmake, which make a rebuild on the same machine cost hashes, not compiles;
 # lld, the linker of cmake/linker.cmake, several times faster than GNU ld over the tests.
+# libwebp-dev, libavif-dev: glTF's WebP and AVIF textures (EXT_texture_webp, EXT_texture_avif,
+# renderer/mesh/src/texture_webp.cpp, texture_avif.cpp).
 build_packages=(
     build-essential cmake ninja-build ccache lld pkg-config git clang-format
     libopenimageio-dev openimageio-tools libopenexr-dev
     libglm-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libtinyobjloader-dev
-    libmeshoptimizer-dev libdraco-dev libembree-dev
+    libmeshoptimizer-dev libdraco-dev libembree-dev libwebp-dev libavif-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev
     libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
     libssl-dev libcli11-dev

@@ -65,4 +65,4 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print
 
 # The fuzzers (tests/fuzz, built with clang into build-fuzz): each parser of untrusted input for
 # 15 s from its seeds, one per core at a time; a finding fails the run. Longer runs by hand: tests/fuzz/README.md.
-phase "fuzzers (build and 15 s each)" "$root/scripts/fuzz.sh" 15
+phase "fuzzers (build and 10 s each)" "$root/scripts/fuzz.sh" 10

@@ -1,8 +1,9 @@
 // glTF uploads, binary (.glb) and JSON (.gltf with data: URIs): oer::load_mesh_memory
 // (renderer/mesh/include/oer/mesh/mesh_loading.hpp: tinygltf behind the project's own schema
-// and accessor checks, textures decoded by stb) and oer::api::mesh_to_json, as
-// server/src/mesh_registry.cpp reads an upload (mesh_upload.hpp). Bytes that start with the
-// binary container's magic are read as .glb, others as .gltf, so one corpus covers both.
+// and accessor checks, textures decoded by stb, libwebp and libavif) and
+// oer::api::mesh_to_json, as server/src/mesh_registry.cpp reads an upload (mesh_upload.hpp).
+// Bytes that start with the binary container's magic are read as .glb, others as .gltf, so one
+// corpus covers both.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>

@@ -272,8 +272,8 @@ TEST(GltfMaterials, MissingTexturesAndImagesAreRejectedNamingMaterialAndProperty
     EXPECT_FALSE(material_of(mesh).emissive_texture.present());
     ASSERT_EQ(mesh.warnings.size(), 1u);
     EXPECT_EQ(mesh.warnings[0],
-              "material 'M': emissiveTexture (texture 0) has no PNG or JPEG source: texture "
-              "ignored");
+              "material 'M': emissiveTexture (texture 0) has no PNG, JPEG, WebP or AVIF "
+              "source: texture ignored");
 }
 
 TEST(GltfMaterials, OtherTexCoordSetsAreDroppedWithAWarning) {

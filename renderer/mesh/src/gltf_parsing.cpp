@@ -312,7 +312,8 @@ std::string image_label(const std::string& asset, int index, const std::string& 
 bool supported_extension(const std::string& name) {
     for (const char* supported :
          {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
-          "EXT_meshopt_compression", "KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing"}) {
+          "EXT_meshopt_compression", "KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing",
+          "EXT_texture_webp", "EXT_texture_avif"}) {
         if (name == supported) {
             return true;
         }
@@ -375,7 +376,8 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
         fail(ErrorKind::Unsupported, asset,
              "unsupported data: URI '" + one_line(context.refused_uris.front(), 60) +
                  "': buffers must be application/octet-stream or application/gltf-buffer, images "
-                 "image/png or image/jpeg, all base64");
+                 "image/png or image/jpeg, all base64 (tinygltf decodes no other data: URI: a "
+                 "WebP, AVIF or KTX2 image goes in a bufferView or a file)");
     }
     if (context.oversized_file) {
         fail(ErrorKind::LimitExceeded, asset,

@@ -35,7 +35,7 @@ struct ParseContext {
     std::uint64_t file_bytes_read = 0;          // by every file read, against limits->max_bytes
     std::optional<std::string> oversized_file;  // the URI that would have passed that limit
     std::optional<Error> image_error;
-    std::map<int, std::vector<std::byte>> encoded_images;  // image index -> PNG or JPEG bytes
+    std::map<int, std::vector<std::byte>> encoded_images;  // image index -> its encoded bytes
     std::string warnings;                                  // tinygltf's
 };
 
@@ -45,8 +45,9 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
                            const MeshLimits& limits, ParseContext& context);
 
 // Whether the loader implements the extension (KHR_texture_transform,
-// KHR_materials_emissive_strength): one it does not is refused when the asset requires it and
-// ignored with a warning when the asset only uses it (glTF 2.0, section 3.12).
+// KHR_materials_emissive_strength, EXT_texture_webp, EXT_texture_avif): one it does not is refused
+// when the asset requires it and ignored with a warning when the asset only uses it (glTF 2.0,
+// section 3.12).
 bool supported_extension(const std::string& name);
 
 // "asset: image 3 'name'", for messages.

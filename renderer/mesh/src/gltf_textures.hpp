@@ -2,7 +2,9 @@
 // Private to the glTF loader: a material's textureInfo (glTF 2.0, section 5.22) as an
 // oer::TextureReference: the texture and image it names, checked; its sampler
 // (gltf_samplers.hpp); KHR_texture_transform's offset, rotation, scale and texCoord; the image
-// decoded through TextureImages. A texture on a texCoord other than 0, or without a PNG or JPEG
+// decoded through TextureImages; its image: EXT_texture_webp's or EXT_texture_avif's source
+// first, else the core one (KHR_texture_basisu's KTX2 source is not decoded: the core source is
+// its fallback). A texture on a texCoord other than 0, or without a PNG, JPEG, WebP or AVIF
 // source, is ignored with a warning.
 #include <tiny_gltf.h>
 
@@ -48,6 +50,12 @@ class TextureReferences {
 
     TexCoordSet read_transform(const TextureUse& use, const std::string& what,
                                TextureReference& reference) const;
+    // The image texture `index` shows for `use` ("material 'M': normalTexture"), or -1 (a
+    // warning said why).
+    int source_image(const tinygltf::Texture& texture, int index, const std::string& use);
+    int extension_source(const tinygltf::Texture& texture, const char* name,
+                         const std::string& what) const;
+    void check_image_index(int image, const std::string& what) const;
 
     const tinygltf::Model& model_;
     const std::string& asset_;
