@@ -39,7 +39,7 @@ std::vector<std::uint8_t> data_file(const std::string& name) {
     return bytes;
 }
 
-Mesh load_glb(const std::vector<std::uint8_t>& bytes, const MeshLimits& limits = {}) {
+Mesh load_textured_glb(const std::vector<std::uint8_t>& bytes, const MeshLimits& limits = {}) {
     return load_mesh_memory(as_bytes(bytes), "test.glb", MeshFormat::Glb, limits);
 }
 
@@ -158,8 +158,8 @@ double seconds_per_call(const std::function<void()>& body, int calls = 20, int r
 // channels. Lossy coding with 4:2:0 chroma errs little on the source's gradients, more only on
 // the hard edges of its discs, stripes and checker.
 void expect_close_to_source(const char* glb, const char* extension, double mean, double over_32) {
-    const Mesh compressed = load_glb(data_file(glb));
-    const Mesh png = load_glb(data_file("source.glb"));
+    const Mesh compressed = load_textured_glb(data_file(glb));
+    const Mesh png = load_textured_glb(data_file("source.glb"));
     EXPECT_TRUE(compressed.warnings.empty()) << glb << ": " << compressed.warnings.front();
     ASSERT_EQ(compressed.textures.size(), 1u) << glb;
     const std::vector<std::uint8_t> bytes = data_file(glb);
@@ -196,15 +196,15 @@ TEST(GltfCompressedTextures, AvifFromGltfTransformDecodesCloseToItsSourcePng) {
 }
 
 TEST(GltfCompressedTextures, WebpAndAvifSourcesArePreferredOverTheFallback) {
-    const Mesh png = load_glb(data_file("source.glb"));
+    const Mesh png = load_textured_glb(data_file("source.glb"));
     for (const auto& [glb, extension] :
          {std::pair{"webp.glb", "EXT_texture_webp"}, std::pair{"avif.glb", "EXT_texture_avif"}}) {
-        const Mesh compressed = load_glb(data_file(glb));
+        const Mesh compressed = load_textured_glb(data_file(glb));
         // The compressed image as image 1, the PNG it was made from as the core source (the
         // fallback): the lossy image's pixels differ from the PNG's, so they tell which was used.
         const json texture = {{"source", 0}, {"extensions", {{extension, {{"source", 1}}}}}};
-        const Mesh mesh =
-            load_glb(quad_with({data_file("source.png"), glb_image(data_file(glb), 0)}, texture));
+        const Mesh mesh = load_textured_glb(
+            quad_with({data_file("source.png"), glb_image(data_file(glb), 0)}, texture));
         ASSERT_NE(base_colour_texture(compressed).rgba, base_colour_texture(png).rgba) << glb;
         EXPECT_EQ(base_colour_texture(mesh).rgba, base_colour_texture(compressed).rgba) << glb;
         EXPECT_TRUE(mesh.warnings.empty()) << mesh.warnings.front();
@@ -213,10 +213,10 @@ TEST(GltfCompressedTextures, WebpAndAvifSourcesArePreferredOverTheFallback) {
     const json both = {
         {"extensions",
          {{"EXT_texture_avif", {{"source", 1}}}, {"EXT_texture_webp", {{"source", 0}}}}}};
-    const Mesh mesh = load_glb(quad_with(
+    const Mesh mesh = load_textured_glb(quad_with(
         {glb_image(data_file("webp.glb"), 0), glb_image(data_file("avif.glb"), 0)}, both));
     EXPECT_EQ(base_colour_texture(mesh).rgba,
-              base_colour_texture(load_glb(data_file("webp.glb"))).rgba);
+              base_colour_texture(load_textured_glb(data_file("webp.glb"))).rgba);
 }
 
 TEST(GltfCompressedTextures, BadExtensionSourcesAreRejectedNamingTheExtension) {
@@ -225,7 +225,8 @@ TEST(GltfCompressedTextures, BadExtensionSourcesAreRejectedNamingTheExtension) {
         for (const json& source : {json(3), json(-1), json("0"), json(0.5)}) {
             const json texture = {{"source", 0},
                                   {"extensions", {{extension, {{"source", source}}}}}};
-            expect_error([&] { load_glb(quad_with({png}, texture)); }, ErrorKind::InvalidInput,
+            expect_error([&] { load_textured_glb(quad_with({png}, texture)); },
+                         ErrorKind::InvalidInput,
                          {std::string("texture 0: extensions.") + extension + ".source"});
         }
     }
@@ -276,11 +277,11 @@ TEST(GltfCompressedTextures, Ktx2HeadersOfBasisuAreReadAndTheirPayloadNamed) {
 
 TEST(GltfCompressedTextures, Ktx2TextureWithAFallbackShowsTheFallbackAndSaysSo) {
     const std::vector<std::uint8_t> png = data_file("source.png");
-    const Mesh reference = load_glb(data_file("source.glb"));
+    const Mesh reference = load_textured_glb(data_file("source.glb"));
     for (const char* name : {"etc1s.ktx2", "uastc-zstd.ktx2"}) {
         const json texture = {{"source", 0},
                               {"extensions", {{"KHR_texture_basisu", {{"source", 1}}}}}};
-        const Mesh mesh = load_glb(quad_with({png, data_file(name)}, texture));
+        const Mesh mesh = load_textured_glb(quad_with({png, data_file(name)}, texture));
         EXPECT_EQ(base_colour_texture(mesh).rgba, base_colour_texture(reference).rgba) << name;
         EXPECT_TRUE(has_warning(mesh,
                                 "baseColorTexture (texture 0): its KTX2 source "
@@ -297,15 +298,16 @@ TEST(GltfCompressedTextures, Ktx2TextureWithAFallbackShowsTheFallbackAndSaysSo) 
 TEST(GltfCompressedTextures, Ktx2TextureWithoutFallbackIsIgnoredOrRefusedWhenRequired) {
     const std::vector<std::uint8_t> ktx2 = data_file("etc1s.ktx2");
     const json texture = {{"extensions", {{"KHR_texture_basisu", {{"source", 0}}}}}};
-    const Mesh mesh = load_glb(quad_with({ktx2}, texture));
+    const Mesh mesh = load_textured_glb(quad_with({ktx2}, texture));
     EXPECT_FALSE(mesh.materials.at(0).base_color_texture.present());
     EXPECT_TRUE(has_warning(mesh,
                             "baseColorTexture (texture 0) has only a KTX2 source "
                             "(KHR_texture_basisu)"));
-    expect_error([&] { load_glb(quad_with({ktx2}, texture, json::array({"KHR_texture_basisu"}))); },
-                 ErrorKind::Unsupported,
-                 {"test.glb: the asset requires the extension KHR_texture_basisu, which is not "
-                  "supported"});
+    expect_error(
+        [&] { load_textured_glb(quad_with({ktx2}, texture, json::array({"KHR_texture_basisu"}))); },
+        ErrorKind::Unsupported,
+        {"test.glb: the asset requires the extension KHR_texture_basisu, which is not "
+         "supported"});
 }
 
 TEST(GltfCompressedTextures, OtherFormatsAreRefusedByName) {
@@ -401,7 +403,7 @@ void expect_refused(const std::string& what, const std::vector<std::uint8_t>& im
     EXPECT_TRUE(oer::testing::reset_peak_resident());
     const long before = oer::testing::resident_kib();
     const auto start = std::chrono::steady_clock::now();
-    expect_error([&] { load_glb(glb); }, kind, parts);
+    expect_error([&] { load_textured_glb(glb); }, kind, parts);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const long grown = oer::testing::peak_resident_kib() - before;
