@@ -524,23 +524,38 @@ TEST(TransferPreparation, ABakeReportsItsProgressSlow) {
     EXPECT_TRUE(partway) << "no progress was seen between 0 and 1 in " << seen.size() << " answers";
 }
 
+namespace {
+
+// A service whose bakes take long enough to see frames drawn meanwhile: 1024 rays a point, so
+// that the box of upload_box on the ground (4,120 points) bakes for about half a second to a
+// second, with an occlusion that shows (its contact shadow).
+server::ServiceConfig slow_bake_config(const TempRoot& root) {
+    server::ServiceConfig config = test_config(root.data());
+    config.transfer_ray_budget = 1'000'000'000;
+    return config;
+}
+
+// A small frame of the box, with occlusion (the default).
+std::string box_frame(const std::string& mesh) {
+    return "/v1/render?environment=default&mesh=" + mesh +
+           "&width=64&height=64&samples=1&format=png&yaw=40";
+}
+
+}  // namespace
+
 // A client that prefers not to wait (Prefer: wait=1, RFC 7240) gets, while its scene's
 // transfer is baked, the frame drawn without it at once: marked preliminary, kept by nobody,
 // without an ETag, the same pixels as the frame with occlusion off. Asked again once the bake
 // is done, the same request gets the whole frame, the one a client without the preference gets.
 TEST(TransferPreliminarySlow, AFrameThatPrefersNotToWaitIsDrawnWithoutItsTransferMeanwhile) {
     TempRoot root;
-    server::ServiceConfig config = test_config(root.data());
-    config.transfer_ray_budget = 1'000'000'000;  // 1024 rays a point: a bake of about a second
+    server::ServiceConfig config = slow_bake_config(root);
     config.frame_cache_bytes = 0;
     TestServer server(config);
     auto client = server.client();
-    // A box on the ground: 4,120 points at 1024 rays, about half a second of baking, and an
-    // occlusion that shows (its contact shadow).
     const std::string mesh = upload_box(*client);
     ASSERT_FALSE(mesh.empty());
-    const std::string frame = "/v1/render?environment=default&mesh=" + mesh +
-                              "&width=64&height=64&samples=1&format=png&yaw=40";
+    const std::string frame = box_frame(mesh);
     const httplib::Headers prefer{{"Prefer", "wait=1"}};
     const auto start = std::chrono::steady_clock::now();
     const auto preliminary = client->Get(frame.c_str(), prefer);
@@ -579,14 +594,11 @@ TEST(TransferPreliminarySlow, AFrameThatPrefersNotToWaitIsDrawnWithoutItsTransfe
 // served from memory, not drawn again: the bake keeps the cores.
 TEST(TransferPreliminarySlow, APreliminaryFrameAskedAgainIsServedFromMemory) {
     TempRoot root;
-    server::ServiceConfig config = test_config(root.data());
-    config.transfer_ray_budget = 1'000'000'000;  // 1024 rays a point: a bake of about a second
-    TestServer server(config);
+    TestServer server(slow_bake_config(root));
     auto client = server.client();
     const std::string mesh = upload_box(*client);
     ASSERT_FALSE(mesh.empty());
-    const std::string frame = "/v1/render?environment=default&mesh=" + mesh +
-                              "&width=64&height=64&samples=1&format=png&yaw=40";
+    const std::string frame = box_frame(mesh);
     const httplib::Headers prefer{{"Prefer", "wait=0"}};
     const auto first = client->Get(frame.c_str(), prefer);
     const auto again = client->Get(frame.c_str(), prefer);
