@@ -61,12 +61,12 @@ FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& mesh
       log_(std::move(log)),
       bake_lane_(kBakeLaneNice, kMaxQueuedBakes) {}
 
-FrameRequest FrameService::standard_scene(std::shared_ptr<const Mesh> mesh) {
+FrameRequest FrameService::standard_scene(std::shared_ptr<const Mesh> mesh, bool ground) {
     FrameRequest request;
     request.objects.push_back({std::move(mesh), glm::mat4(1.0f), std::nullopt});
     request.occlusion = true;
     request.bounce = Bounce::One;
-    request.ground = true;
+    request.ground = ground;
     return request;
 }
 
@@ -92,8 +92,10 @@ void FrameService::prepare(const std::string& mesh_id) {
     if (!mesh) {
         return;
     }
-    bake_ahead(std::make_shared<FrameRequest>(standard_scene(mesh->mesh)), {mesh_id},
+    bake_ahead(std::make_shared<FrameRequest>(standard_scene(mesh->mesh, true)), {mesh_id},
                "mesh " + mesh_id);
+    bake_ahead(std::make_shared<FrameRequest>(standard_scene(mesh->mesh, false)), {mesh_id},
+               "mesh " + mesh_id + " without the floor");
 }
 
 void FrameService::bake_ahead(std::shared_ptr<const FrameRequest> request,
@@ -130,16 +132,22 @@ std::optional<MeshPreparation> FrameService::preparation(const std::string& mesh
     if (!summary) {
         return std::nullopt;
     }
-    const std::string id = transfers_.id_for(standard_scene(nullptr), {mesh_id}, summary->vertices);
-    MeshPreparation answer;
-    const TransferPreparation transfer = transfers_.preparation(id);
+    const auto id_of = [&](bool ground) {
+        return transfers_.id_for(standard_scene(nullptr, ground), {mesh_id}, summary->vertices);
+    };
+    return MeshPreparation{scene_preparation(id_of(true)), scene_preparation(id_of(false))};
+}
+
+ScenePreparation FrameService::scene_preparation(const std::string& transfer_id) {
+    ScenePreparation answer;
+    const TransferPreparation transfer = transfers_.preparation(transfer_id);
     switch (transfer.state) {
         case TransferPreparation::State::Ready:
-            answer.state = MeshPreparation::State::Ready;
+            answer.state = ScenePreparation::State::Ready;
             answer.fraction = 1.0;
             return answer;
         case TransferPreparation::State::Baking:
-            answer.state = MeshPreparation::State::Baking;
+            answer.state = ScenePreparation::State::Baking;
             answer.fraction = transfer.fraction;
             if (transfer.fraction > 0.0) {
                 answer.seconds_left =
@@ -150,8 +158,8 @@ std::optional<MeshPreparation> FrameService::preparation(const std::string& mesh
             break;
     }
     const std::lock_guard lock(queued_mutex_);
-    if (queued_.contains(id)) {
-        answer.state = MeshPreparation::State::Queued;
+    if (queued_.contains(transfer_id)) {
+        answer.state = ScenePreparation::State::Queued;
     }
     return answer;
 }

@@ -22,7 +22,9 @@
 //                        |                                       | transfer
 //   environment's yaw    | shadow maps, transferred irradiance   | transfer, rig
 //   colour               | transferred irradiance (slot weights) | transfer, shadow maps
-//   floor                | transfer (the other floor state, once)| shadow maps
+//   floor                | nothing for the standard scene (both  | shadow maps
+//                        | baked ahead); else the other state's  |
+//                        | transfer, once                        |
 //   shadow settings      | shadow maps of that setting           | transfer
 //   bounce, transform    | transfer                              | rig, meshes
 //   product              | transfer (baked ahead), shadow maps   | rig
@@ -76,14 +78,21 @@ struct ResolvedRender {
     Camera camera;
 };
 
-// Where the preparation of a mesh's first frames stands (GET /v1/meshes/{id}/preparation): its
-// standard scene's transfer (FrameService::prepare) queued, baking, ready, or not prepared
+// Where the bake ahead of one scene's transfer stands: queued, baking, ready, or not prepared
 // (over the budgets, refused by a full queue, failed, or removed since).
-struct MeshPreparation {
+struct ScenePreparation {
     enum class State { NotPrepared, Queued, Baking, Ready };
     State state = State::NotPrepared;
     double fraction = 0.0;
     std::optional<double> seconds_left;  // Baking, once a part is done: at the rate so far
+};
+
+// Where the preparation of a mesh stands (GET /v1/meshes/{id}/preparation): the transfers of
+// its standard scene (FrameService::prepare), on the floor (its first frames) and without it
+// (the floor's toggle).
+struct MeshPreparation {
+    ScenePreparation first_frames;
+    ScenePreparation without_floor;
 };
 
 // How the request named its members, for the `parameter` of a 404.
@@ -118,8 +127,10 @@ class FrameService {
 
     // Bakes ahead, on the bake lane (bake_lane.hpp), the transfer of mesh_id's standard scene (the
     // mesh alone, untransformed, on the ground, one bounce: the scene of a product's first frames),
-    // so that they find it ready instead of baking it. Skipped (logged) when its cost is over
-    // the budgets, or when the lane's queue is full.
+    // so that they find it ready instead of baking it; then the same scene's without the floor,
+    // so that the floor's toggle finds it too (the bounce off the floor is not separable from the
+    // light the objects reflect onto each other from below the horizon: docs/design.md section
+    // 9). Skipped (logged) when its cost is over the budgets, or when the lane's queue is full.
     void prepare(const std::string& mesh_id);
     // Where that preparation stands; nullopt when no mesh has that id.
     std::optional<MeshPreparation> preparation(const std::string& mesh_id);
@@ -131,9 +142,11 @@ class FrameService {
     // outcome logged, naming `what`), unless it is queued already.
     void bake_ahead(std::shared_ptr<const FrameRequest> request, std::vector<std::string> mesh_ids,
                     const std::string& what);
-    // The standard scene of mesh_id (prepare's), its objects' meshes left empty: enough for
+    // The standard scene of mesh (prepare's), on the floor or not; with mesh empty, enough for
     // its transfer's id.
-    static FrameRequest standard_scene(std::shared_ptr<const Mesh> mesh);
+    static FrameRequest standard_scene(std::shared_ptr<const Mesh> mesh, bool ground);
+    // Where the bake ahead of the transfer with that id stands.
+    ScenePreparation scene_preparation(const std::string& transfer_id);
 
     // The environment the spec names, then its cost estimated from its meshes' summaries and
     // checked against the budgets (413), then the meshes, decoded, and its camera; 404 for an

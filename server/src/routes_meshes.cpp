@@ -66,28 +66,35 @@ nlohmann::json listed_mesh(const ListedAsset& entry) {
             {"bytes", entry.source->bytes}};
 }
 
-// GET /v1/meshes/{id}/preparation's answer.
-nlohmann::json preparation_json(const MeshPreparation& preparation) {
+// Where one scene's bake ahead stands, as GET /v1/meshes/{id}/preparation says it.
+nlohmann::json scene_preparation_json(const ScenePreparation& preparation) {
     const auto state = [&] {
         switch (preparation.state) {
-            case MeshPreparation::State::Queued:
+            case ScenePreparation::State::Queued:
                 return "queued";
-            case MeshPreparation::State::Baking:
+            case ScenePreparation::State::Baking:
                 return "baking";
-            case MeshPreparation::State::Ready:
+            case ScenePreparation::State::Ready:
                 return "ready";
-            case MeshPreparation::State::NotPrepared:
+            case ScenePreparation::State::NotPrepared:
                 break;
         }
         return "not_prepared";
     }();
-    nlohmann::json answer = {{"stage", "transfer"},
-                             {"state", state},
-                             {"progress", preparation.fraction},
-                             {"seconds_left", nullptr}};
+    nlohmann::json answer = {
+        {"state", state}, {"progress", preparation.fraction}, {"seconds_left", nullptr}};
     if (preparation.seconds_left) {
         answer["seconds_left"] = *preparation.seconds_left;
     }
+    return answer;
+}
+
+// GET /v1/meshes/{id}/preparation's answer: the first frames' scene at the top, the floorless
+// one beside it.
+nlohmann::json preparation_json(const MeshPreparation& preparation) {
+    nlohmann::json answer = scene_preparation_json(preparation.first_frames);
+    answer["stage"] = "transfer";
+    answer["without_floor"] = scene_preparation_json(preparation.without_floor);
     return answer;
 }
 

@@ -756,13 +756,22 @@ Json upload_mesh(httplib::Client& client, const std::string& bytes,
 
 std::string wait_for_preparation(httplib::Client& client, const std::string& mesh_id) {
     const std::string path = "/v1/meshes/" + mesh_id + "/preparation";
+    const auto under_way = [](const std::string& state) {
+        return state == "queued" || state == "baking";
+    };
     std::string state;
     const bool ended = eventually(
         [&] {
             const auto answer = client.Get(path.c_str());
-            state =
-                answer && answer->status == 200 ? Json::parse(answer->body).value("state", "") : "";
-            return state != "queued" && state != "baking";
+            if (!answer || answer->status != 200) {
+                state.clear();
+                return true;
+            }
+            const Json preparation = Json::parse(answer->body);
+            state = preparation.value("state", "");
+            const std::string without_floor =
+                preparation.value("without_floor", Json::object()).value("state", "");
+            return !under_way(state) && !under_way(without_floor);
         },
         std::chrono::seconds(120));
     EXPECT_TRUE(ended) << "the preparation of mesh " << mesh_id << " did not end";

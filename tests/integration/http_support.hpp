@@ -179,9 +179,10 @@ Json upload_environment(httplib::Client& client, const std::string& bytes,
                         const std::string& content_type, const std::string& query = "");
 Json upload_mesh(httplib::Client& client, const std::string& bytes,
                  const std::string& content_type);
-// Waits (up to 2 minutes) until the bake an upload of mesh_id started has ended
-// (GET /v1/meshes/{id}/preparation neither queued nor baking), so that its CPU is not taken for
-// what a test measures next; returns the state it ended in.
+// Waits (up to 2 minutes) until the bakes an upload of mesh_id started have ended (GET
+// /v1/meshes/{id}/preparation neither queued nor baking, on the floor nor without it), so that
+// their CPU is not taken for what a test measures next; returns the state the first frames'
+// bake ended in.
 std::string wait_for_preparation(httplib::Client& client, const std::string& mesh_id);
 httplib::Result post_json(httplib::Client& client, const std::string& path, const Json& body,
                           const httplib::Headers& headers = {});

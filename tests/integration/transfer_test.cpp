@@ -164,26 +164,33 @@ TEST(Transfer, AFrameWithOcclusionBakesItsSceneOnce) {
     frame_of(client->Get("/v1/render?environment=default&mesh=default&width=40&height=30"));
     EXPECT_EQ(transfers_computed(*client), at_start);
 
-    // The upload bakes its standard scene's transfer (the box alone, on the ground) ahead; its
-    // first frame reads it and bakes nothing.
+    // The upload bakes its standard scene's transfer (the box alone, on the ground) ahead, then
+    // the same scene's without the floor; its first frame reads the first and bakes nothing.
     const std::string mesh = upload_box(*client);
     ASSERT_FALSE(mesh.empty());
     EXPECT_EQ(wait_for_preparation(*client, mesh), "ready");
     const Metrics before = scrape(*client);
+    EXPECT_EQ(before.sum("oer_transfers_computed_total") - at_start, 2.0);
+    const std::set<std::string> prepared_entries = transfer_entries(root);
+    EXPECT_EQ(prepared_entries.size(), 3u);
+    for (const std::string& entry : prepared_entries) {
+        if (start_entries.contains(entry)) {
+            continue;
+        }
+        ASSERT_EQ(entry.size(), 64u + std::string(".sealed").size()) << entry;
+        EXPECT_TRUE(logged(
+            server, "transfers: transfer " + entry.substr(0, 64) + " of 1 object(s) computed in "));
+    }
     frame_of(render(*client, box_scene(mesh)));
     const Metrics baked = scrape(*client);
-    EXPECT_EQ(baked.sum("oer_transfers_computed_total") - at_start, 1.0);
+    EXPECT_EQ(baked.sum("oer_transfers_computed_total") - at_start, 2.0);
     EXPECT_EQ(baked.sum("oer_transfer_seconds_count") - before.sum("oer_transfer_seconds_count"),
               0.0);
-    const std::string entry = new_entry(start_entries, transfer_entries(root));
-    ASSERT_EQ(entry.size(), 64u + std::string(".sealed").size()) << entry;
-    EXPECT_TRUE(logged(
-        server, "transfers: transfer " + entry.substr(0, 64) + " of 1 object(s) computed in "));
 
     // Another frame of the same scene (another size, so not a cached frame): from memory.
     frame_of(render(*client, box_scene(mesh, 64)));
     const Metrics again = scrape(*client);
-    EXPECT_EQ(again.sum("oer_transfers_computed_total") - at_start, 1.0);
+    EXPECT_EQ(again.sum("oer_transfers_computed_total") - at_start, 2.0);
     EXPECT_GE(again.sum("oer_cache_hits_total", {{"cache", "transfer"}}) -
                   baked.sum("oer_cache_hits_total", {{"cache", "transfer"}}),
               1.0);
@@ -191,28 +198,33 @@ TEST(Transfer, AFrameWithOcclusionBakesItsSceneOnce) {
     Json off = box_scene(mesh);
     off["occlusion"] = false;
     frame_of(render(*client, off));
-    EXPECT_EQ(transfers_computed(*client) - at_start, 1.0);
+    EXPECT_EQ(transfers_computed(*client) - at_start, 2.0);
     Json direct = box_scene(mesh);
     direct["bounce"] = "none";
     frame_of(render(*client, direct));
-    EXPECT_EQ(transfers_computed(*client) - at_start, 2.0);
+    EXPECT_EQ(transfers_computed(*client) - at_start, 3.0);
     Json moved = box_scene(mesh);
     moved["objects"][0]["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.25, 0, 0, 1};
     frame_of(render(*client, moved));
-    EXPECT_EQ(transfers_computed(*client) - at_start, 3.0);
-    EXPECT_EQ(transfer_entries(root).size(), 4u);
+    EXPECT_EQ(transfers_computed(*client) - at_start, 4.0);
+    EXPECT_EQ(transfer_entries(root).size(), 5u);
 }
 
 // What invalidates what (docs/design.md section 9): a colour only weighs the bounce's reflector
 // slots, so it bakes nothing: every colour takes the transfer of the upload's bake from memory,
-// and is still another frame. The floor's toggle is another scene: baked once, then kept.
-TEST(Transfer, AColourChangeBakesNothingAndTheFloorsToggleBakesOnce) {
+// and is still another frame. The floor's toggle is another scene, which the upload baked
+// ahead after the first frames' (GET .../preparation's without_floor): it bakes nothing either.
+TEST(Transfer, AColourChangeOrTheFloorsToggleBakesNothing) {
     TempRoot root;
     TestServer server(test_config(root.data()));
     auto client = server.client();
     const std::string mesh = upload_box(*client);
     ASSERT_FALSE(mesh.empty());
     EXPECT_EQ(wait_for_preparation(*client, mesh), "ready");
+    const Json preparation =
+        Json::parse(client->Get(("/v1/meshes/" + mesh + "/preparation").c_str())->body);
+    EXPECT_EQ(preparation.at("without_floor").at("state"), "ready");
+    EXPECT_EQ(preparation.at("without_floor").at("progress"), 1.0);
     const double prepared = transfers_computed(*client);
     const std::string plain = frame_of(render(*client, box_scene(mesh)));
     const Metrics before = scrape(*client);
@@ -234,11 +246,12 @@ TEST(Transfer, AColourChangeBakesNothingAndTheFloorsToggleBakesOnce) {
     Json no_floor = red;
     no_floor["ground"] = false;
     EXPECT_NE(frame_of(render(*client, no_floor)), red_frame);
-    EXPECT_EQ(transfers_computed(*client), prepared + 1);
     no_floor["objects"][0]["base_color"] = {0.05, 0.05, 0.8};
     frame_of(render(*client, no_floor));
     frame_of(render(*client, green));
-    EXPECT_EQ(transfers_computed(*client), prepared + 1);
+    EXPECT_EQ(transfers_computed(*client), prepared);
+    EXPECT_EQ(scrape(*client).sum("oer_transfer_seconds_count"),
+              before.sum("oer_transfer_seconds_count"));
 }
 
 TEST(Transfer, ConcurrentFramesBakeTheSceneOnce) {
@@ -266,7 +279,10 @@ TEST(Transfer, ConcurrentFramesBakeTheSceneOnce) {
     for (const int status : statuses) {
         EXPECT_EQ(status, 200);
     }
-    EXPECT_EQ(transfers_computed(*client) - at_start, 1.0);
+    // The four frames' scene once, however they met the upload's bake of it; then the floorless
+    // scene, baked ahead.
+    EXPECT_EQ(wait_for_preparation(*client, mesh), "ready");
+    EXPECT_EQ(transfers_computed(*client) - at_start, 2.0);
 }
 
 TEST(Transfer, AnUploadedMeshsTransferSurvivesARestartWithoutRecomputation) {
@@ -279,6 +295,7 @@ TEST(Transfer, AnUploadedMeshsTransferSurvivesARestartWithoutRecomputation) {
         mesh = upload_box(*client);
         ASSERT_FALSE(mesh.empty());
         first_frame = frame_of(render(*client, box_scene(mesh)));
+        wait_for_preparation(*client, mesh);
         entries = transfer_entries(root);
     }
     TestServer second(test_config(root.data()));
@@ -291,16 +308,33 @@ TEST(Transfer, AnUploadedMeshsTransferSurvivesARestartWithoutRecomputation) {
     EXPECT_EQ(transfer_entries(root), entries);
 }
 
+namespace {
+
+// box_scene with the box moved x along the x axis: another scene, another transfer of the same
+// size.
+Json moved_box_scene(const std::string& mesh, double x) {
+    Json scene = box_scene(mesh);
+    scene["objects"][0]["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, x, 0, 0, 1};
+    return scene;
+}
+
+double stored_transfer_bytes(httplib::Client& client) {
+    return scrape(client).sum("oer_transfer_store_bytes");
+}
+
+}  // namespace
+
 TEST(Transfer, ADamagedEntryIsBakedAgainNeverServed) {
     TempRoot root;
     std::string mesh, first_frame, entry;
     {
         TestServer first(test_config(root.data()));
         auto client = first.client();
-        const std::set<std::string> before = transfer_entries(root);
         mesh = upload_box(*client);
         ASSERT_FALSE(mesh.empty());
-        first_frame = frame_of(render(*client, box_scene(mesh)));
+        wait_for_preparation(*client, mesh);
+        const std::set<std::string> before = transfer_entries(root);
+        first_frame = frame_of(render(*client, moved_box_scene(mesh, 0.5)));
         entry = new_entry(before, transfer_entries(root));
         ASSERT_FALSE(entry.empty());
     }
@@ -321,7 +355,7 @@ TEST(Transfer, ADamagedEntryIsBakedAgainNeverServed) {
     }
     TestServer second(test_config(root.data()));
     auto client = second.client();
-    const std::string frame = frame_of(render(*client, box_scene(mesh)));
+    const std::string frame = frame_of(render(*client, moved_box_scene(mesh, 0.5)));
     EXPECT_EQ(transfers_computed(*client), 1.0);
     EXPECT_TRUE(frame == first_frame) << "the frame differs from the one of the undamaged transfer";
     EXPECT_TRUE(logged(second, "transfers: transfer " + entry.substr(0, 64) +
@@ -344,8 +378,10 @@ TEST(Transfer, AnEntryOfAnotherSceneIsBakedAgainNeverServed) {
         default_entry = *at_start.begin();
         mesh = upload_box(*client);
         ASSERT_FALSE(mesh.empty());
-        first_frame = frame_of(render(*client, box_scene(mesh)));
-        box_entry = new_entry(at_start, transfer_entries(root));
+        wait_for_preparation(*client, mesh);
+        const std::set<std::string> prepared = transfer_entries(root);
+        first_frame = frame_of(render(*client, moved_box_scene(mesh, 0.5)));
+        box_entry = new_entry(prepared, transfer_entries(root));
         ASSERT_FALSE(box_entry.empty());
     }
     std::filesystem::copy_file(root.data() / "transfer" / default_entry,
@@ -353,60 +389,43 @@ TEST(Transfer, AnEntryOfAnotherSceneIsBakedAgainNeverServed) {
                                std::filesystem::copy_options::overwrite_existing);
     TestServer second(test_config(root.data()));
     auto client = second.client();
-    const std::string frame = frame_of(render(*client, box_scene(mesh)));
+    const std::string frame = frame_of(render(*client, moved_box_scene(mesh, 0.5)));
     EXPECT_EQ(transfers_computed(*client), 1.0);
     EXPECT_TRUE(frame == first_frame);
     EXPECT_TRUE(logged(second, "does not fit its scene"));
 }
-
-namespace {
-
-// box_scene with the box moved x along the x axis: another scene, another transfer of the same
-// size.
-Json moved_box_scene(const std::string& mesh, double x) {
-    Json scene = box_scene(mesh);
-    scene["objects"][0]["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, x, 0, 0, 1};
-    return scene;
-}
-
-double stored_transfer_bytes(httplib::Client& client) {
-    return scrape(client).sum("oer_transfer_store_bytes");
-}
-
-}  // namespace
 
 // The stored transfers stay within --transfer-store-bytes: past it the least recently used go
 // (from the store and from memory), and are baked again when a frame needs one; those used
 // since are kept. The order survives a restart (by when each was written).
 TEST(TransferStore, OverItsQuotaTheLeastRecentlyUsedAreRemoved) {
     TempRoot root;
-    std::string mesh;
-    double default_bytes = 0.0, box_bytes = 0.0;
+    // The built-in mesh, moved: no upload, whose bakes ahead would be stored too.
+    const std::string mesh = "default";
+    double default_bytes = 0.0, moved_bytes = 0.0;
     {
         TestServer first(test_config(root.data()));
         auto client = first.client();
         default_bytes = stored_transfer_bytes(*client);
         ASSERT_GT(default_bytes, 0.0) << "the default scene's transfer is stored at start-up";
-        mesh = upload_box(*client);
-        ASSERT_FALSE(mesh.empty());
-        frame_of(render(*client, moved_box_scene(mesh, 0.0)));  // A
-        box_bytes = stored_transfer_bytes(*client) - default_bytes;
-        ASSERT_GT(box_bytes, 0.0);
+        frame_of(render(*client, moved_box_scene(mesh, 0.5)));  // A
+        moved_bytes = stored_transfer_bytes(*client) - default_bytes;
+        ASSERT_GT(moved_bytes, 0.0);
     }
-    // Room for the default scene's and two boxes', not three.
+    // Room for the default scene's and two moved ones', not three.
     server::ServiceConfig config = test_config(root.data());
-    config.transfer_store_bytes = std::uint64_t(default_bytes + 2.5 * box_bytes);
+    config.transfer_store_bytes = std::uint64_t(default_bytes + 2.5 * moved_bytes);
     config.frame_cache_bytes = 0;  // every frame uses its transfer
     TestServer second(config);
     auto client = second.client();
-    EXPECT_EQ(stored_transfer_bytes(*client), default_bytes + box_bytes);
+    EXPECT_EQ(stored_transfer_bytes(*client), default_bytes + moved_bytes);
     // Uses, oldest first: the default scene's and A's as written in the first run; then the
     // default scene's (its start-up frame), B, A, the default scene's again; then C overflows
     // the store. The least recently used is B, although the default scene's was written first.
     frame_of(render(*client, box_scene("default")));
     EXPECT_EQ(transfers_computed(*client), 0.0) << "the default scene's transfer was not stored";
     frame_of(render(*client, moved_box_scene(mesh, 1.0)));  // B, baked
-    frame_of(render(*client, moved_box_scene(mesh, 0.0)));  // A, read back
+    frame_of(render(*client, moved_box_scene(mesh, 0.5)));  // A, read back
     frame_of(render(*client, box_scene("default")));
     EXPECT_EQ(transfers_computed(*client), 1.0);
     frame_of(render(*client, moved_box_scene(mesh, 2.0)));  // C, baked: over the quota
@@ -417,7 +436,7 @@ TEST(TransferStore, OverItsQuotaTheLeastRecentlyUsedAreRemoved) {
                                    " of --transfer-store-bytes"));
     // C, A and the default scene's are kept: rendered without a bake.
     frame_of(render(*client, moved_box_scene(mesh, 2.0)));
-    frame_of(render(*client, moved_box_scene(mesh, 0.0)));
+    frame_of(render(*client, moved_box_scene(mesh, 0.5)));
     frame_of(render(*client, box_scene("default")));
     EXPECT_EQ(transfers_computed(*client), 2.0) << "a transfer used since was removed";
     // B, the least recently used, went (from the store and from memory): baked again.
@@ -434,9 +453,11 @@ TEST(TransferStore, DeletingAMeshDeletesItsScenesTransfers) {
     const double default_bytes = stored_transfer_bytes(*client);
     const std::string mesh = upload_box(*client);
     ASSERT_FALSE(mesh.empty());
-    frame_of(render(*client, moved_box_scene(mesh, 0.0)));
+    // Its two scenes baked ahead (on the floor and without it), two more.
+    EXPECT_EQ(wait_for_preparation(*client, mesh), "ready");
+    frame_of(render(*client, moved_box_scene(mesh, 0.5)));
     frame_of(render(*client, moved_box_scene(mesh, 1.0)));
-    EXPECT_EQ(transfer_entries(root).size(), at_start.size() + 2);
+    EXPECT_EQ(transfer_entries(root).size(), at_start.size() + 4);
     const auto deleted = client->Delete(("/v1/meshes/" + mesh).c_str());
     ASSERT_TRUE(deleted);
     EXPECT_EQ(deleted->status, 204);
@@ -445,7 +466,7 @@ TEST(TransferStore, DeletingAMeshDeletesItsScenesTransfers) {
                 std::distance(std::filesystem::directory_iterator(root.data() / "transfer-meshes"),
                               std::filesystem::directory_iterator()) == long(at_start.size()));
     EXPECT_EQ(stored_transfer_bytes(*client), default_bytes);
-    EXPECT_TRUE(logged(server, "removed 2 stored transfer(s) of scenes holding mesh " + mesh));
+    EXPECT_TRUE(logged(server, "removed 4 stored transfer(s) of scenes holding mesh " + mesh));
 }
 
 // A stored transfer without the record of its meshes (stored by an older version) could never
@@ -472,20 +493,18 @@ TEST(TransferPreparation, AnUploadBakesItsFirstFramesTransferAhead) {
     const std::string mesh = upload_box(*client);
     ASSERT_FALSE(mesh.empty());
     const std::string path = "/v1/meshes/" + mesh + "/preparation";
-    Json preparation;
-    EXPECT_TRUE(eventually(
-        [&] {
-            preparation =
-                expect_conforms("GET", "/v1/meshes/{id}/preparation", client->Get(path.c_str()));
-            return preparation.value("state", "") == "ready";
-        },
-        std::chrono::seconds(30)))
-        << "the upload did not prepare its first frames: " << preparation.dump();
+    EXPECT_EQ(wait_for_preparation(*client, mesh), "ready");
+    const Json preparation =
+        expect_conforms("GET", "/v1/meshes/{id}/preparation", client->Get(path.c_str()));
     EXPECT_EQ(preparation.value("progress", 0.0), 1.0);
-    EXPECT_EQ(transfers_computed(*client), at_start + 1.0);
+    EXPECT_EQ(preparation.at("without_floor").value("state", ""), "ready");
+    EXPECT_EQ(transfers_computed(*client), at_start + 2.0);
     frame_of(render(*client, box_scene(mesh)));
-    EXPECT_EQ(transfers_computed(*client), at_start + 1.0)
-        << "the first frame baked its transfer again";
+    Json without_floor = box_scene(mesh);
+    without_floor["ground"] = false;
+    frame_of(render(*client, without_floor));
+    EXPECT_EQ(transfers_computed(*client), at_start + 2.0)
+        << "a first frame, on the floor or not, baked its transfer again";
     expect_problem("GET", "/v1/meshes/{id}/preparation",
                    client->Get(("/v1/meshes/" + std::string(64, 'f') + "/preparation").c_str()),
                    ProblemKind::UnknownId);

@@ -227,6 +227,8 @@ TEST(FullDisk, UploadsAre507NothingIsLeftAndFreedSpaceBringsThemBack) {
     const auto first_frame = post_json(*client, "/v1/render", render_body(rig_id, mesh_id, 64));
     ASSERT_TRUE(first_frame);
     ASSERT_EQ(first_frame->status, 200) << first_frame->body;
+    // The upload's bakes ahead stored too, before the disk fills.
+    wait_for_preparation(*client, mesh_id);
 
     // What is uploaded while the disk is full.
     const std::string map = exr_bytes(three_disc_environment(160, 80).image);
