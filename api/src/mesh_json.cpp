@@ -1,8 +1,12 @@
 #include "oer/api/mesh_json.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
+#include <map>
+#include <set>
 #include <utility>
+#include <vector>
 
 #include "oer/core/enum_names.hpp"
 
@@ -35,6 +39,39 @@ nlohmann::json floats_json(const Vector& v) {
         list.push_back(shortest(v[i]));
     }
     return list;
+}
+
+// The product's variants as a configurator shows them: each variant's name, the materials it
+// draws, and the base colour of its swatch: the material it draws on the most triangles among
+// those it changes (on the most triangles overall when it changes none).
+nlohmann::json variants_json(const Mesh& mesh) {
+    nlohmann::json variants = nlohmann::json::array();
+    for (std::size_t v = 0; v < mesh.variants.size(); ++v) {
+        std::set<int> drawn;
+        std::map<int, std::size_t> changed_triangles, all_triangles;
+        for (const Primitive& primitive : mesh.primitives) {
+            const int material = primitive.material_under(std::uint32_t(v));
+            drawn.insert(material);
+            all_triangles[material] += primitive.indices.size() / 3;
+            if (material != primitive.material) {
+                changed_triangles[material] += primitive.indices.size() / 3;
+            }
+        }
+        const auto& counted = changed_triangles.empty() ? all_triangles : changed_triangles;
+        const auto swatch =
+            std::max_element(counted.begin(), counted.end(),
+                             [](const auto& a, const auto& b) { return a.second < b.second; });
+        nlohmann::json entry = {{"name", mesh.variants[v]},
+                                {"materials", std::vector<int>(drawn.begin(), drawn.end())}};
+        if (swatch != counted.end()) {
+            const Material& material = mesh.materials.at(std::size_t(swatch->first));
+            entry["swatch"] = {{"material", swatch->first},
+                               {"base_color", floats_json(material.base_color)},
+                               {"has_texture", material.base_color_texture.present()}};
+        }
+        variants.push_back(std::move(entry));
+    }
+    return variants;
 }
 
 }  // namespace
@@ -83,6 +120,7 @@ nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
           {"textures", mesh.textures.size()}}},
         {"bounds", {{"min", floats_json(mesh.bounds.min)}, {"max", floats_json(mesh.bounds.max)}}},
         {"materials", std::move(materials)},
+        {"variants", variants_json(mesh)},
         {"repairs",
          {{"normals_replaced", mesh.repairs.normals_replaced},
           {"normals_renormalised", mesh.repairs.normals_renormalised}}},

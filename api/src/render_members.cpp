@@ -1,5 +1,6 @@
 #include "render_members.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/matrix.hpp>
@@ -8,6 +9,7 @@
 #include "oer/api/light_switches.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "oer/api/render_parameters.hpp"
+#include "oer/core/one_line.hpp"
 
 namespace oer::api::render_members {
 
@@ -45,6 +47,26 @@ glm::dmat4 json_transform(const Json& value, const std::string& path) {
     return transform;
 }
 
+// A variant's name as a request gives it: 1 to kMaxVariantNameBytes bytes of UTF-8 (the mesh
+// then says whether it has it: variant_index).
+constexpr std::size_t kMaxVariantNameBytes = 256;
+std::string checked_variant_name(const std::string& parameter, const std::string& name) {
+    if (name.empty() || name.size() > kMaxVariantNameBytes) {
+        throw InvalidParameter(parameter, "a variant's name is 1 to " +
+                                              std::to_string(kMaxVariantNameBytes) +
+                                              " bytes, got " + std::to_string(name.size()));
+    }
+    const bool control = std::any_of(name.begin(), name.end(), [](char c) {
+        return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+    });
+    if (control || detail::valid_utf8(name) != name) {
+        throw InvalidParameter(parameter,
+                               "a variant's name is one line of UTF-8 text, without control "
+                               "characters");
+    }
+    return name;
+}
+
 ObjectSpec json_object_spec(const Json& value, const std::string& path) {
     require_object(value, path, render_member_names("objects/*"));
     ObjectSpec object;
@@ -55,6 +77,10 @@ ObjectSpec json_object_spec(const Json& value, const std::string& path) {
     }
     if (const Json* color = find(value, "base_color")) {
         object.base_color = json_vector3(*color, child(path, "base_color"), kColor);
+    }
+    if (const Json* variant = find(value, "variant")) {
+        object.variant = checked_variant_name(child(path, "variant"),
+                                              json_string(*variant, child(path, "variant")));
     }
     return object;
 }
@@ -164,9 +190,20 @@ void read_query_objects(RenderSpec& spec, const RenderQuery& query, const Render
         }
         base_color = parse_vector3("base_color", *color, kColor.low, kColor.high);
     }
+    // Likewise one variant: the product's colourway.
+    std::optional<std::string> variant;
+    if (const std::string* name = query_value(query, "variant")) {
+        if (query.count("mesh") == 0) {
+            throw InvalidParameter("variant",
+                                   "needs a mesh: it chooses the variant of every mesh of the "
+                                   "query, and there is none");
+        }
+        variant = checked_variant_name("variant", *name);
+    }
     const auto [first_mesh, last_mesh] = query.equal_range("mesh");
     for (auto mesh = first_mesh; mesh != last_mesh; ++mesh) {
-        spec.objects.push_back({checked_id("mesh", mesh->second), glm::dmat4(1.0), base_color});
+        spec.objects.push_back(
+            {checked_id("mesh", mesh->second), glm::dmat4(1.0), base_color, variant});
     }
 }
 
@@ -180,6 +217,9 @@ Json objects_json(const std::vector<ObjectSpec>& objects) {
         Json json = {{"mesh", object.mesh}, {"transform", std::move(transform)}};
         if (object.base_color) {
             json["base_color"] = vector_json(*object.base_color);
+        }
+        if (object.variant) {
+            json["variant"] = *object.variant;
         }
         list.push_back(std::move(json));
     }

@@ -12,6 +12,7 @@
 #include "oer/api/version.hpp"
 #include "oer/core/checked_json.hpp"
 #include "oer/core/enum_names.hpp"
+#include "oer/core/one_line.hpp"
 #include "oer/scene/scene_bounds.hpp"
 #include "render_members.hpp"
 
@@ -253,6 +254,28 @@ FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig>
                             std::move(environment_map), meshes);
 }
 
+std::optional<std::uint32_t> variant_index(const ObjectSpec& object, const Mesh& mesh,
+                                           const std::string& parameter) {
+    if (!object.variant) {
+        return std::nullopt;
+    }
+    const auto found = std::find(mesh.variants.begin(), mesh.variants.end(), *object.variant);
+    if (found != mesh.variants.end()) {
+        return std::uint32_t(found - mesh.variants.begin());
+    }
+    if (mesh.variants.empty()) {
+        throw InvalidParameter(
+            parameter, "mesh '" + object.mesh + "' has no variants (no KHR_materials_variants)");
+    }
+    std::string names;
+    for (const std::string& name : mesh.variants) {
+        names += (names.empty() ? "'" : ", '") + detail::one_line(name, 60) + "'";
+    }
+    throw InvalidParameter(parameter, "mesh '" + object.mesh + "' has no variant '" +
+                                          detail::one_line(*object.variant, 60) +
+                                          "' (its variants: " + names + ")");
+}
+
 FrameRequest to_frame_request(const RenderSpec& spec, const Camera& camera,
                               std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,
@@ -278,10 +301,11 @@ FrameRequest to_frame_request(const RenderSpec& spec, const Camera& camera,
     request.environment_map = std::move(environment_map);
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const ObjectSpec& object = spec.objects[i];
-        request.objects.push_back({meshes[i], glm::mat4(object.transform),
-                                   object.base_color
-                                       ? std::optional<glm::vec3>(glm::vec3(*object.base_color))
-                                       : std::nullopt});
+        request.objects.push_back(
+            {meshes[i], glm::mat4(object.transform),
+             object.base_color ? std::optional<glm::vec3>(glm::vec3(*object.base_color))
+                               : std::nullopt,
+             variant_index(object, *meshes[i], "objects/" + std::to_string(i) + "/variant")});
     }
     request.camera = camera;
     for (const RenderParameter& row : render_parameters()) {

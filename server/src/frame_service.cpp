@@ -195,6 +195,10 @@ ResolvedRender FrameService::resolve(const api::RenderSpec& spec, RequestForm fo
         if (!mesh) {
             throw unknown_mesh(i);
         }
+        // A variant the mesh lacks is the request's error, named as the request gave it.
+        api::variant_index(
+            spec.objects[i], *mesh->mesh,
+            form == RequestForm::Json ? "objects/" + std::to_string(i) + "/variant" : "variant");
         resolved.meshes.push_back(mesh->mesh);
         resolved.mesh_ids.push_back(mesh->id);
     }

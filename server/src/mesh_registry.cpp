@@ -1,5 +1,7 @@
 #include "mesh_registry.hpp"
 
+#include "oer/transfer/transfer_bake.hpp"
+
 #include <set>
 #include <span>
 
@@ -33,25 +35,20 @@ std::size_t charge_of(const Mesh& mesh) {
 }
 
 MeshSummary summary_of(const Mesh& mesh) {
-    MeshSummary summary{mesh.triangle_count, mesh.vertex_count, 0, charge_of(mesh), 0, 0};
+    MeshSummary summary{mesh.triangle_count, mesh.vertex_count, 0, charge_of(mesh),
+                        object_bounce_vectors(mesh)};
     for (const Texture& texture : mesh.textures) {
         summary.texture_bytes += texture.rgba.size();
     }
-    std::set<int> materials;
-    for (const Primitive& primitive : mesh.primitives) {
-        materials.insert(primitive.material);
-        summary.textured |=
-            mesh.materials.at(std::size_t(primitive.material)).base_color_texture.present() ? 1 : 0;
-    }
-    summary.materials = materials.size();
     return summary;
 }
 
 std::string summary_record(const MeshSummary& summary) {
-    return nlohmann::json{
-        {"triangles", summary.triangles},         {"vertices", summary.vertices},
-        {"texture_bytes", summary.texture_bytes}, {"resident_bytes", summary.resident_bytes},
-        {"materials", summary.materials},         {"textured", summary.textured}}
+    return nlohmann::json{{"triangles", summary.triangles},
+                          {"vertices", summary.vertices},
+                          {"texture_bytes", summary.texture_bytes},
+                          {"resident_bytes", summary.resident_bytes},
+                          {"bounce_vectors", summary.bounce_vectors}}
         .dump();
 }
 
@@ -69,13 +66,11 @@ std::optional<MeshSummary> parse_summary_record(const std::string& text) {
     const auto vertices = count("vertices");
     const auto texture_bytes = count("texture_bytes");
     const auto resident_bytes = count("resident_bytes");
-    const auto materials = count("materials");
-    const auto textured = count("textured");
-    if (!triangles || !vertices || !texture_bytes || !resident_bytes || !materials || !textured) {
+    const auto bounce_vectors = count("bounce_vectors");
+    if (!triangles || !vertices || !texture_bytes || !resident_bytes || !bounce_vectors) {
         return std::nullopt;
     }
-    return MeshSummary{*triangles,      *vertices,  *texture_bytes,
-                       *resident_bytes, *materials, *textured};
+    return MeshSummary{*triangles, *vertices, *texture_bytes, *resident_bytes, *bounce_vectors};
 }
 
 }  // namespace

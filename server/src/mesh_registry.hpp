@@ -28,8 +28,7 @@ struct MeshSummary {
     std::uint64_t vertices = 0;        // also the receiver points of its transfer
     std::uint64_t texture_bytes = 0;   // every texture decoded (RGBA, 8 bits a channel)
     std::uint64_t resident_bytes = 0;  // what the decoded mesh holds, textures included
-    std::uint64_t materials = 0;       // that its primitives draw (its transfer's reflector slots)
-    std::uint64_t textured = 0;        // 1 when one of them has a base-colour texture, else 0
+    std::uint64_t bounce_vectors = 0;  // of an object of it in a transfer (object_bounce_vectors)
 };
 
 struct StoredMesh {

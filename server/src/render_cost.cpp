@@ -37,7 +37,7 @@ std::string seconds_text(double seconds) {
 
 // The bounce vectors of the reflector slots that reflector_slots (transfer_bake.hpp) makes for
 // these objects and the ground: each object's group alone, or past kMaxSeparateReflectors
-// objects one group per mesh and colour.
+// objects one group per mesh, colour and variant.
 std::size_t bounce_vector_count(const api::RenderSpec& spec,
                                 const std::vector<MeshSummary>& object_meshes,
                                 const std::vector<std::string>& mesh_ids) {
@@ -46,13 +46,13 @@ std::size_t bounce_vector_count(const api::RenderSpec& spec,
     std::size_t vectors = 1;  // the ground's
     for (std::size_t i = 0; i < object_meshes.size(); ++i) {
         const auto& colour = spec.objects[i].base_color;
-        const std::string colour_key = colour ? std::to_string(colour->r) + " " +
-                                                    std::to_string(colour->g) + " " +
-                                                    std::to_string(colour->b)
-                                              : "";
+        const std::string colour_key =
+            (colour ? std::to_string(colour->r) + " " + std::to_string(colour->g) + " " +
+                          std::to_string(colour->b)
+                    : "") +
+            "/" + spec.objects[i].variant.value_or("");
         if (!merge || groups.emplace(mesh_ids[i], colour_key).second) {
-            vectors +=
-                group_bounce_vectors(object_meshes[i].materials, object_meshes[i].textured != 0);
+            vectors += object_meshes[i].bounce_vectors;
         }
     }
     return vectors;

@@ -100,8 +100,8 @@ std::string transfer_id(const FrameRequest& request, const std::vector<std::stri
                 transform.push_back(canonical(object.transform[column][row]));
             }
         }
-        // Colours are weights of the bounce's reflector slots, not part of the bake, unless the
-        // scene has so many surfaces that the slots merge them by colour.
+        // Colours and variants are weights of the bounce's reflector slots, not part of the
+        // bake, unless the scene has so many surfaces that the slots merge them by both.
         nlohmann::json base_color = nullptr;
         if (object.base_color && reflectors_follow_colours(request)) {
             base_color = {canonical(object.base_color->r), canonical(object.base_color->g),
@@ -109,6 +109,9 @@ std::string transfer_id(const FrameRequest& request, const std::vector<std::stri
         }
         objects.push_back(
             {{"mesh", mesh_ids[i]}, {"transform", transform}, {"base_color", base_color}});
+        if (object.variant && reflectors_follow_colours(request)) {
+            objects.back()["variant"] = *object.variant;
+        }
     }
     const nlohmann::json bake = {{"objects", objects},
                                  {"ground", request.ground},

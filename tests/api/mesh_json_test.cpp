@@ -97,6 +97,7 @@ TEST(MeshJson, DescribesCountsBoundsMaterialsAndRepairs) {
              {"occlusion", false},
              {"emissive", false}}},
            {"specular", true}}}},
+        {"variants", Json::array()},
         {"repairs", {{"normals_replaced", 3}, {"normals_renormalised", 1}}},
         {"warnings", {"mtllib ignored"}}};
     EXPECT_EQ(json, expected) << json.dump(2);
@@ -128,6 +129,36 @@ TEST(MeshJson, EveryTextureKindAndAlphaModeIsNamed) {
     EXPECT_FALSE(material.at("has_texture"));
     EXPECT_EQ(material.at("alpha_mode"), "blend");
     EXPECT_FALSE(material.contains("alpha_cutoff"));  // mask only
+    EXPECT_EQ(oer::testing::openapi_schema_errors(json, "#/components/schemas/Mesh"),
+              std::vector<std::string>{});
+}
+
+// A variant lists the materials it draws, and its swatch is the material it draws on the most
+// triangles among those it changes; one that changes nothing takes the most drawn overall.
+TEST(MeshJson, ListsTheVariantsWithTheirMaterialsAndSwatches) {
+    Mesh mesh = two_material_mesh();
+    Material red = mesh.materials[0];
+    red.name = "red";
+    red.base_color = {0.9f, 0.1f, 0.1f, 1.0f};
+    mesh.materials.push_back(red);
+    Primitive big = mesh.primitives[0];
+    big.indices = {0, 1, 2, 0, 2, 1};
+    mesh.primitives.push_back(big);
+    mesh.variants = {"Red label", "As filed"};
+    mesh.primitives[0].variant_materials = {0, 0};
+    mesh.primitives[1].variant_materials = {2, 1};  // the label, 1 triangle
+    mesh.primitives[2].variant_materials = {0, 0};  // plain, 2 triangles
+    const Json json = api::mesh_to_json(mesh, "default");
+    ASSERT_EQ(json.at("variants").size(), 2u);
+    const Json& changed = json.at("variants").at(0);
+    EXPECT_EQ(changed.at("name"), "Red label");
+    EXPECT_EQ(changed.at("materials"), (Json{0, 2}));
+    EXPECT_EQ(changed.at("swatch").at("material"), 2);
+    EXPECT_EQ(changed.at("swatch").at("base_color"), (Json{0.9, 0.1, 0.1, 1.0}));
+    EXPECT_FALSE(changed.at("swatch").at("has_texture"));
+    const Json& unchanged = json.at("variants").at(1);
+    EXPECT_EQ(unchanged.at("materials"), (Json{0, 1}));
+    EXPECT_EQ(unchanged.at("swatch").at("material"), 0);  // plain: 3 triangles against 1
     EXPECT_EQ(oer::testing::openapi_schema_errors(json, "#/components/schemas/Mesh"),
               std::vector<std::string>{});
 }

@@ -245,9 +245,65 @@ TEST(RenderRequest, GetAndPostFormsOfOneRequestShareTheEtag) {
     EXPECT_NE(
         api::render_etag(api::parse_render_query(variant_query)),
         api::render_etag(api::parse_render_query({{"environment", "default"}, {"mesh", kMeshA}})));
+    // The product's own variant: the query's is each object's too, and named in the canonical
+    // document.
+    const Json red_body = {{"environment", "default"},
+                           {"objects", {{{"mesh", kMeshA}, {"variant", "Red"}}}}};
+    const Query red_query = {{"environment", "default"}, {"mesh", kMeshA}, {"variant", "Red"}};
+    EXPECT_EQ(api::render_etag(api::parse_render_query(red_query)), etag_of_json(red_body));
+    EXPECT_EQ(api::normalised_render_json(api::parse_render_query(red_query))
+                  .at("objects")[0]
+                  .at("variant"),
+              "Red");
+    EXPECT_FALSE(api::normalised_render_json(api::parse_render_query(variant_query))
+                     .at("objects")[0]
+                     .contains("variant"));
     // Integers and their float spellings are one number.
     EXPECT_EQ(etag_of_json({{"environment", "default"}, {"width", 512.0}}),
               api::render_etag(api::parse_render_query({{"environment", "default"}})));
+}
+
+// A variant's name is one line of 1 to 256 bytes of UTF-8; the query's needs a mesh; a name the
+// mesh lacks is refused once the mesh is known, listing the ones it has.
+TEST(RenderRequest, VariantNamesAreCheckedAsTextThenAgainstTheMesh) {
+    const auto body = [](const Json& name) {
+        return Json{{"environment", "default"},
+                    {"objects", {{{"mesh", kMeshA}, {"variant", name}}}}}
+            .dump();
+    };
+    for (const Json& bad : {Json(""), Json(std::string(257, 'a')), Json("a\nb"), Json(3)}) {
+        EXPECT_THROW(api::parse_render_json(body(bad)), api::InvalidParameter) << bad.dump();
+    }
+    EXPECT_NO_THROW(api::parse_render_json(body("Velvet – Forest Green ")));
+    EXPECT_EQ(rejected_parameter({{"environment", "default"}, {"variant", "Red"}}), "variant");
+    EXPECT_EQ(
+        rejected_parameter({{"environment", "default"}, {"mesh", kMeshA}, {"variant", "\xff"}}),
+        "variant");
+    EXPECT_EQ(
+        rejected_parameter(
+            {{"environment", "default"}, {"mesh", kMeshA}, {"variant", std::string(300, 'x')}}),
+        "variant");
+
+    Mesh mesh;
+    mesh.variants = {"Red", "Blue"};
+    api::ObjectSpec object;
+    object.mesh = kMeshA;
+    EXPECT_EQ(api::variant_index(object, mesh, "variant"), std::nullopt);
+    object.variant = "Blue";
+    EXPECT_EQ(api::variant_index(object, mesh, "variant"), 1u);
+    object.variant = "Green";
+    try {
+        api::variant_index(object, mesh, "objects/0/variant");
+        ADD_FAILURE() << "an unknown variant was accepted";
+    } catch (const api::InvalidParameter& error) {
+        EXPECT_EQ(error.parameter(), "objects/0/variant");
+        EXPECT_NE(
+            std::string(error.what()).find("has no variant 'Green' (its variants: 'Red', 'Blue')"),
+            std::string::npos)
+            << error.what();
+    }
+    mesh.variants.clear();
+    EXPECT_THROW(api::variant_index(object, mesh, "variant"), api::InvalidParameter);
 }
 
 TEST(RenderRequest, TheEtagIsAQuotedDigestOfTheCanonicalDocumentAndVersion) {
@@ -276,6 +332,7 @@ TEST(RenderRequest, ChangingAnyOneMemberChangesTheEtag) {
     vary("/objects/0/mesh"_json_pointer, kMeshB);
     vary("/objects/0/transform"_json_pointer, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0.001, 0, 1});
     vary("/objects/0/base_color"_json_pointer, {1, 1, 1});
+    vary("/objects/0/variant"_json_pointer, "Red");
     vary("/objects/1"_json_pointer, {{"mesh", kMeshA}});
     vary("/ground"_json_pointer, false);
     vary("/occlusion"_json_pointer, false);
@@ -728,12 +785,13 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
                              "camera/orbit/distance", "shadows/filter", "environment_yaw"}) {
         EXPECT_NE(std::find(members.begin(), members.end(), path), members.end()) << path;
     }
-    EXPECT_EQ(members.size(), 17u + 3u + 5u + 4u + 3u);
+    EXPECT_EQ(members.size(), 17u + 4u + 5u + 4u + 3u);
     // Every query parameter is accepted with a valid value (and the ones it needs).
     const std::map<std::string, Query> valid = {
         {"environment", {}},
         {"mesh", {{"mesh", "default"}}},
         {"base_color", {{"mesh", "default"}, {"base_color", "0.5,0.1,0.1"}}},
+        {"variant", {{"mesh", "default"}, {"variant", "Red"}}},
         {"eye", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
         {"target", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
         {"up", {{"eye", "0,0,3"}, {"target", "0,0,0"}, {"up", "1,0,0"}}},
@@ -763,7 +821,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         query.insert({"environment", "default"});
         EXPECT_EQ(rejected_parameter(query), "") << parameter;
     }
-    EXPECT_EQ(api::render_query_parameters().size(), 26u);
+    EXPECT_EQ(api::render_query_parameters().size(), 27u);
 }
 
 TEST(RenderRequest, BackgroundsReadAndPrintCanonically) {

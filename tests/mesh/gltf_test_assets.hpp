@@ -11,8 +11,10 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -255,6 +257,72 @@ inline std::string single_primitive(const std::vector<glm::vec3>& positions, jso
     b.mesh(json::array({primitive}), mesh_name);
     b.node({{"mesh", 0}});
     return b.gltf();
+}
+
+// A product of two parts with KHR_materials_variants: a body (a box over x in [-0.9, -0.1]) and
+// a stand (a box over x in [0.1, 0.9]), both on y = 0, in materials "Stand" (0, grey) and
+// "Body" (1, white); variants "Red" and "Blue" draw the body in materials 2 (red) and 3
+// (blue), "Unchanged" maps nothing. With `baked_body` the same asset without variants, its body
+// drawn in that material: what a variant must look like. Primitive 0 is the body's.
+inline GltfBuilder variants_product(std::optional<int> baked_body = std::nullopt) {
+    GltfBuilder b;
+    const auto box = [&b](float x0, float x1, float height) {
+        const glm::vec3 low(x0, 0.0f, -0.4f), high(x1, height, 0.4f);
+        std::vector<glm::vec3> positions, normals;
+        std::vector<std::uint32_t> indices;
+        for (int axis = 0; axis < 3; ++axis) {
+            for (const float side : {-1.0f, 1.0f}) {
+                glm::vec3 normal(0.0f);
+                normal[axis] = side;
+                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                const auto first = std::uint32_t(positions.size());
+                for (const auto& [du, dv] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
+                    glm::vec3 corner;
+                    corner[axis] = side < 0.0f ? low[axis] : high[axis];
+                    corner[u] = du == 0 ? low[u] : high[u];
+                    corner[v] = dv == 0 ? low[v] : high[v];
+                    positions.push_back(corner);
+                    normals.push_back(normal);
+                }
+                // Counter-clockwise seen from outside: u x v is +axis.
+                if (side > 0.0f) {
+                    indices.insert(indices.end(),
+                                   {first, first + 1, first + 2, first, first + 2, first + 3});
+                } else {
+                    indices.insert(indices.end(),
+                                   {first, first + 2, first + 1, first, first + 3, first + 2});
+                }
+            }
+        }
+        return json{{"attributes",
+                     {{"POSITION", b.positions(positions)},
+                      {"NORMAL", b.accessor(b.view(normals.data(), normals.size() * 12), kFloat,
+                                            normals.size(), "VEC3")}}},
+                    {"indices", b.indices(indices, kUnsignedInt)}};
+    };
+    json body = box(-0.9f, -0.1f, 0.8f);
+    json stand = box(0.1f, 0.9f, 0.5f);
+    stand["material"] = 0;
+    body["material"] = baked_body.value_or(1);
+    const auto material = [](const std::string& name, float r, float g, float b_) {
+        return json{{"name", name},
+                    {"pbrMetallicRoughness",
+                     {{"baseColorFactor", {r, g, b_, 1.0}},
+                      {"metallicFactor", 0.0},
+                      {"roughnessFactor", 1.0}}}};
+    };
+    b.doc["materials"] = {material("Stand", 0.5f, 0.5f, 0.5f), material("Body", 0.8f, 0.8f, 0.8f),
+                          material("Red", 0.8f, 0.05f, 0.05f), material("Blue", 0.05f, 0.1f, 0.8f)};
+    if (!baked_body) {
+        b.doc["extensionsUsed"] = {"KHR_materials_variants"};
+        b.doc["extensions"]["KHR_materials_variants"]["variants"] = {
+            {{"name", "Red"}}, {{"name", "Blue"}}, {{"name", "Unchanged"}}};
+        body["extensions"]["KHR_materials_variants"]["mappings"] = {
+            {{"material", 2}, {"variants", {0}}}, {{"material", 3}, {"variants", {1}}}};
+    }
+    b.mesh(json::array({body, stand}), "Product");
+    b.node({{"mesh", 0}});
+    return b;
 }
 
 // A 2x2 RGBA PNG: red, green / blue, white at alpha 128.

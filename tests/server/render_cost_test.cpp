@@ -25,8 +25,8 @@ api::RenderSpec spec_of(int objects) {
     return spec;
 }
 
-constexpr MeshSummary kTexturedMesh{1000, 600, 3 << 20, 5 << 20, 2, 1};
-constexpr MeshSummary kPlainMesh{20000, 10000, 0, 1 << 20, 1, 0};
+constexpr MeshSummary kTexturedMesh{1000, 600, 3 << 20, 5 << 20, 4};
+constexpr MeshSummary kPlainMesh{20000, 10000, 0, 1 << 20, 1};
 
 }  // namespace
 

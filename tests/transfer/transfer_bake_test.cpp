@@ -529,8 +529,8 @@ TEST(TransferBakeReflectors, SlotsPerObjectWeighedByItsColourMergedPastTheirLimi
     weights = bounce_weights(transfer, request);
     EXPECT_EQ(weights[3], glm::vec3(0.0f));
     EXPECT_EQ(weights[6], glm::vec3(0.5f, 0.25f, 0.0f));
-    EXPECT_EQ(group_bounce_vectors(3, false), 3u);
-    EXPECT_EQ(group_bounce_vectors(1, true), 4u);
+    EXPECT_EQ(object_bounce_vectors(*sphere), 1u);
+    EXPECT_EQ(object_bounce_vectors(many), 4u);
 
     request.objects.clear();
     for (std::size_t i = 0; i <= kMaxSeparateReflectors; ++i) {

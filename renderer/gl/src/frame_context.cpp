@@ -180,7 +180,8 @@ template <typename Predicate>
 bool any_primitive_material(const FrameRequest& request, Predicate predicate) {
     for (const SceneObject& object : request.objects) {
         for (const Primitive& primitive : object.mesh->primitives) {
-            if (predicate(object.mesh->materials.at(std::size_t(primitive.material)))) {
+            const int material = primitive.material_under(object.variant);
+            if (predicate(object.mesh->materials.at(std::size_t(material)))) {
                 return true;
             }
         }

@@ -100,7 +100,6 @@ GpuMesh upload_mesh(const Mesh& mesh) {
         out.buffers.push_back(upload_buffer(lods.indices));
         glVertexArrayElementBuffer(vao, out.buffers.back().get());
         out.lods = std::move(lods.levels);
-        out.material = primitive.material;
         gpu.primitives.push_back(std::move(out));
     }
     for (const Texture& texture : mesh.textures) {

@@ -19,8 +19,7 @@ struct GpuPrimitive {
     gl::Object vertex_array;
     std::vector<gl::Object> buffers;
     std::vector<LodLevel> lods;  // finest first; their indices share one element buffer
-    int material = 0;
-    glm::vec3 centre{0.0f};  // of the primitive's bounds, in the mesh's space: the blend order
+    glm::vec3 centre{0.0f};      // of the primitive's bounds, in the mesh's space: the blend order
 };
 
 // The per-vertex transferred irradiance of an occlusion frame at attribute location 4

@@ -4,7 +4,8 @@
 // them (gltf_baking.hpp), and the materials they use converted (gltf_materials.hpp, with their
 // textures: gltf_textures.hpp, gltf_samplers.hpp, gltf_texture_images.hpp). Compressed geometry
 // is decoded first (EXT_meshopt_compression: gltf_meshopt.hpp; KHR_draco_mesh_compression:
-// gltf_draco.hpp), and instanced nodes are placed once per instance (gltf_instancing.hpp). TANGENT
+// gltf_draco.hpp), instanced nodes are placed once per instance (gltf_instancing.hpp), and the
+// materials of KHR_materials_variants are read beside the default ones (gltf_variants.hpp). TANGENT
 // is read only where a normal texture needs it; finish_mesh generates it where the file has none.
 #include <cstddef>
 #include <cstdint>
@@ -24,6 +25,7 @@
 #include "gltf_primitives.hpp"
 #include "gltf_texture_images.hpp"
 #include "gltf_textures.hpp"
+#include "gltf_variants.hpp"
 #include "mesh_errors.hpp"
 #include "mesh_finishing.hpp"
 #include "mesh_loaders.hpp"
@@ -46,6 +48,7 @@ class GltfConverter {
           materials_(model, context.asset, textures_, mesh_.materials, mesh_.warnings) {}
 
     Mesh convert() {
+        mesh_.variants = read_variants(model_, asset_);
         walk_nodes(model_, asset_, limits_.max_node_depth,
                    [this](int mesh, int node, const glm::dmat4& world) {
                        instantiate(mesh, node, world);
@@ -107,27 +110,50 @@ class GltfConverter {
         }
     }
 
-    // The primitive read, baked by `world`, with its material and, where its normal texture
-    // needs them, the file's tangents (a primitive without TEXCOORD_0 gets the material without
-    // its normal texture instead).
+    // The primitive read, baked by `world`, with its material and its variants' (a primitive
+    // without TEXCOORD_0 gets each material without its normal texture instead) and, where a
+    // normal texture needs them, the file's tangents.
     Primitive build(const tinygltf::Primitive& source, const std::string& name,
                     const glm::dmat4& world) {
         const std::uint64_t vertex_budget = primitives_.vertex_budget();
         Primitive primitive = primitives_.read(source, name, vertex_budget);
         mesh_.repairs.normals_renormalised += bake_transform(primitive, world);
-        primitive.material = materials_.slot(source.material, name);
-        if (mesh_.materials[std::size_t(primitive.material)].normal_texture.present()) {
-            const auto tangent = source.attributes.find("TANGENT");
-            if (primitive.texcoords.empty()) {
-                primitive.material =
-                    materials_.without_normal_texture(source.material, primitive.material, name);
-            } else if (tangent != source.attributes.end()) {
-                primitive.tangents = primitives_.tangents(
-                    tangent->second, name, primitive.positions.size(), vertex_budget);
-                bake_tangents(primitive.tangents, world);
-            }
+        primitive.material = material_of(source.material, primitive, name);
+        for (const int index : variant_material_indices(source, mesh_.variants.size(),
+                                                        model_.materials.size(), asset_, name)) {
+            primitive.variant_materials.push_back(index == kUnmappedVariant
+                                                      ? primitive.material
+                                                      : material_of(index, primitive, name));
+        }
+        const auto tangent = source.attributes.find("TANGENT");
+        if (tangent != source.attributes.end() && !primitive.texcoords.empty() &&
+            needs_tangents(primitive)) {
+            primitive.tangents = primitives_.tangents(tangent->second, name,
+                                                      primitive.positions.size(), vertex_budget);
+            bake_tangents(primitive.tangents, world);
         }
         return primitive;
+    }
+
+    // The index in mesh_.materials of glTF material `index` (-1: the default) as `primitive`
+    // draws it: without its normal texture when it has no TEXCOORD_0 to map it with.
+    int material_of(int index, const Primitive& primitive, const std::string& name) {
+        const int slot = materials_.slot(index, name);
+        if (mesh_.materials[std::size_t(slot)].normal_texture.present() &&
+            primitive.texcoords.empty()) {
+            return materials_.without_normal_texture(index, slot, name);
+        }
+        return slot;
+    }
+
+    // Whether a material the primitive may be drawn with has a normal texture.
+    bool needs_tangents(const Primitive& primitive) const {
+        for (const int material : primitive.materials_drawn()) {
+            if (mesh_.materials[std::size_t(material)].normal_texture.present()) {
+                return true;
+            }
+        }
+        return false;
     }
 
     const tinygltf::Model& model_;

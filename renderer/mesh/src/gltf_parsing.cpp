@@ -313,7 +313,7 @@ bool supported_extension(const std::string& name) {
     for (const char* supported :
          {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
           "EXT_meshopt_compression", "KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing",
-          "EXT_texture_webp", "EXT_texture_avif"}) {
+          "EXT_texture_webp", "EXT_texture_avif", "KHR_materials_variants"}) {
         if (name == supported) {
             return true;
         }

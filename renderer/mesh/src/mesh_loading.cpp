@@ -57,6 +57,10 @@ bool uses_a_texture(const Material& material) {
     return false;
 }
 
+bool has_a_normal_texture(const Material& material) {
+    return material.normal_texture.present();
+}
+
 std::string describe(const glm::vec3& v) {
     std::string text = "(";
     text += std::to_string(v.x);
@@ -74,7 +78,7 @@ float angle_between(const glm::vec3& a, const glm::vec3& b) {
 }
 
 void check_primitive(const Primitive& primitive, std::size_t material_count,
-                     const std::string& asset) {
+                     std::size_t variant_count, const std::string& asset) {
     const std::string& p = primitive.name;
     const std::size_t n = primitive.positions.size();
     if (primitive.indices.size() % 3 != 0) {
@@ -124,10 +128,27 @@ void check_primitive(const Primitive& primitive, std::size_t material_count,
             }
         }
     }
-    if (primitive.material < 0 || std::size_t(primitive.material) >= material_count) {
+    if (!primitive.variant_materials.empty() &&
+        primitive.variant_materials.size() != variant_count) {
         fail(ErrorKind::Internal, asset,
-             p + ": material " + std::to_string(primitive.material) + " does not exist");
+             p + ": materials for " + std::to_string(primitive.variant_materials.size()) +
+                 " variants, not the mesh's " + std::to_string(variant_count));
     }
+    for (const int material : primitive.materials_drawn()) {
+        if (material < 0 || std::size_t(material) >= material_count) {
+            fail(ErrorKind::Internal, asset,
+                 p + ": material " + std::to_string(material) + " does not exist");
+        }
+    }
+}
+
+// Whether any material the primitive may be drawn with satisfies `predicate`.
+template <typename Predicate>
+bool any_material_drawn(const Mesh& mesh, const Primitive& primitive, Predicate predicate) {
+    const std::vector<int> drawn = primitive.materials_drawn();
+    return std::any_of(drawn.begin(), drawn.end(), [&](int material) {
+        return predicate(mesh.materials[std::size_t(material)]);
+    });
 }
 
 // Missing normals computed; zero or non-finite ones replaced by computed ones (counted).
@@ -235,10 +256,9 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
     glm::vec3 low(std::numeric_limits<float>::infinity());
     glm::vec3 high(-std::numeric_limits<float>::infinity());
     for (Primitive& primitive : mesh.primitives) {
-        check_primitive(primitive, mesh.materials.size(), asset);
+        check_primitive(primitive, mesh.materials.size(), mesh.variants.size(), asset);
         complete_normals(primitive, mesh.repairs);
-        const Material& material = mesh.materials[std::size_t(primitive.material)];
-        if (uses_a_texture(material) && primitive.texcoords.empty()) {
+        if (any_material_drawn(mesh, primitive, uses_a_texture) && primitive.texcoords.empty()) {
             primitive.texcoords.assign(primitive.positions.size(), glm::vec2(0.0f));
         }
         for (const glm::vec3& position : primitive.positions) {
@@ -257,9 +277,9 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
     std::uint64_t vertices = 0;
     std::uint64_t split_for_tangents = 0;
     for (Primitive& primitive : mesh.primitives) {
-        const Material& material = mesh.materials[std::size_t(primitive.material)];
         // After baking (the loaders' transforms are applied) and before any level of detail.
-        if (material.normal_texture.present() && primitive.tangents.empty()) {
+        if (any_material_drawn(mesh, primitive, has_a_normal_texture) &&
+            primitive.tangents.empty()) {
             split_for_tangents += generate_tangents(primitive, asset);
         }
         triangles += primitive.indices.size() / 3;

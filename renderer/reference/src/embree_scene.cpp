@@ -79,7 +79,8 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
         const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(object.transform)));
         for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
             const Primitive& primitive = mesh.primitives[p];
-            const Material& material = mesh.materials.at(std::size_t(primitive.material));
+            const Material& material =
+                mesh.materials.at(std::size_t(primitive.material_under(object.variant)));
             Geometry geometry;
             geometry.object = o;
             geometry.primitive = p;

@@ -11,7 +11,8 @@ bool needs_specular(const FrameRequest& request) {
     }
     for (const SceneObject& object : request.objects) {
         for (const Primitive& primitive : object.mesh->primitives) {
-            if (object.mesh->materials.at(std::size_t(primitive.material)).glossy()) {
+            const int material = primitive.material_under(object.variant);
+            if (object.mesh->materials.at(std::size_t(material)).glossy()) {
                 return true;
             }
         }
@@ -43,7 +44,8 @@ std::string reflectors_misfit(const SceneTransfer& transfer, const FrameRequest&
             }
             const SceneObject& first = request.objects[slot.objects.front()];
             if (request.objects[o].mesh != first.mesh ||
-                request.objects[o].base_color != first.base_color) {
+                request.objects[o].base_color != first.base_color ||
+                request.objects[o].variant != first.variant) {
                 return name + " holds objects that the frame draws differently";
             }
         }

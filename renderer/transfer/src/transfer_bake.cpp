@@ -12,7 +12,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -606,7 +608,7 @@ class ReceiverTracer {
     bool ground_;
 };
 
-// The materials a mesh's primitives draw, in the order they first use them.
+// The materials a mesh's primitives draw by default, in the order they first use them.
 std::vector<std::uint32_t> drawn_materials(const Mesh& mesh) {
     std::vector<std::uint32_t> materials;
     for (const Primitive& primitive : mesh.primitives) {
@@ -618,14 +620,40 @@ std::vector<std::uint32_t> drawn_materials(const Mesh& mesh) {
     return materials;
 }
 
-bool any_textured(const Mesh& mesh, const std::vector<std::uint32_t>& materials) {
-    return std::any_of(materials.begin(), materials.end(), [&](std::uint32_t material) {
-        return mesh.materials.at(material).base_color_texture.present();
-    });
+// Per variant, per material drawn by default, the one material the variant draws in its place;
+// nullopt when a variant draws two materials where the default draws one (its slots could not
+// be weighed by one albedo).
+std::optional<std::vector<std::map<int, int>>> variant_replacements(const Mesh& mesh) {
+    std::vector<std::map<int, int>> replacements(mesh.variants.size());
+    for (std::size_t v = 0; v < mesh.variants.size(); ++v) {
+        for (const Primitive& primitive : mesh.primitives) {
+            const int drawn = primitive.material_under(std::uint32_t(v));
+            const auto [placed, inserted] = replacements[v].emplace(primitive.material, drawn);
+            if (!inserted && placed->second != drawn) {
+                return std::nullopt;
+            }
+        }
+    }
+    return replacements;
+}
+
+// Whether `mesh` reflects through one Material slot per material it draws (object_bounce_vectors).
+bool reflects_per_material(const Mesh& mesh) {
+    if (drawn_materials(mesh).size() > kMaxMaterialSlots || !variant_replacements(mesh)) {
+        return false;
+    }
+    for (const Primitive& primitive : mesh.primitives) {
+        for (const int material : primitive.materials_drawn()) {
+            if (mesh.materials.at(std::size_t(material)).base_color_texture.present()) {
+                return false;
+            }
+        }
+    }
+    return true;
 }
 
 // The groups of objects that share their slots: each object alone, or past
-// kMaxSeparateReflectors objects those of one mesh and one colour.
+// kMaxSeparateReflectors objects those of one mesh, one colour and one variant.
 std::vector<std::vector<std::uint32_t>> reflector_groups(const FrameRequest& request) {
     const bool merge = request.objects.size() > kMaxSeparateReflectors;
     std::vector<std::vector<std::uint32_t>> groups;
@@ -633,7 +661,8 @@ std::vector<std::vector<std::uint32_t>> reflector_groups(const FrameRequest& req
         const SceneObject& object = request.objects[o];
         const auto same = [&](const std::vector<std::uint32_t>& group) {
             const SceneObject& first = request.objects[group.front()];
-            return first.mesh == object.mesh && first.base_color == object.base_color;
+            return first.mesh == object.mesh && first.base_color == object.base_color &&
+                   first.variant == object.variant;
         };
         const auto group = merge ? std::find_if(groups.begin(), groups.end(), same) : groups.end();
         if (group != groups.end()) {
@@ -647,8 +676,8 @@ std::vector<std::vector<std::uint32_t>> reflector_groups(const FrameRequest& req
 
 }  // namespace
 
-std::size_t group_bounce_vectors(std::size_t materials, bool textured) {
-    return materials <= kMaxMaterialSlots && !textured ? materials : 4;
+std::size_t object_bounce_vectors(const Mesh& mesh) {
+    return reflects_per_material(mesh) ? drawn_materials(mesh).size() : 4;
 }
 
 bool reflectors_follow_colours(const FrameRequest& request) {
@@ -663,9 +692,8 @@ std::vector<ReflectorSlot> reflector_slots(const FrameRequest& request) {
     }
     for (const std::vector<std::uint32_t>& group : reflector_groups(request)) {
         const Mesh& mesh = *request.objects[group.front()].mesh;
-        const std::vector<std::uint32_t> materials = drawn_materials(mesh);
-        if (materials.size() <= kMaxMaterialSlots && !any_textured(mesh, materials)) {
-            for (const std::uint32_t material : materials) {
+        if (reflects_per_material(mesh)) {
+            for (const std::uint32_t material : drawn_materials(mesh)) {
                 slots.push_back({Kind::Material, group, material,
                                  glm::vec3(mesh.materials.at(material).base_color)});
             }
@@ -698,10 +726,18 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     validate(request, options);
     const auto start = std::chrono::steady_clock::now();
     const SceneBounds frame = scene_bounds(request.objects);
+    // The surfaces as their files draw them: a Native slot holds the file's albedos, whatever
+    // colour or variant the frame that asked for the bake drew (the transfer's id leaves them
+    // out, and bounce_weights re-weighs the slots for each frame's).
+    FrameRequest as_filed = request;
+    for (SceneObject& object : as_filed.objects) {
+        object.base_color.reset();
+        object.variant.reset();
+    }
     // The ground as the infinite plane alone: a face of an object lying on the plane is hit
     // before it, and a ray that leaves a vertex on the plane is not stopped by it at t = 0, so
     // the objects block the same rays with the ground as without it.
-    const EmbreeScene scene(request, frame, reference::GroundTracing::PlaneOnly);
+    const EmbreeScene scene(as_filed, frame, reference::GroundTracing::PlaneOnly);
     const RayLayout layout = ray_layout(request, options, frame);
     SceneTransfer transfer = sized_transfer(request, frame, options.bounce, layout.rays);
     SkyDirect sky_direct = sky_direct_slots(request, transfer, options.bounce);

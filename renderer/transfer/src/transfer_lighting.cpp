@@ -108,18 +108,73 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
     return {turned_by_yaw(residual, yaw_degrees), turned_by_yaw(whole, yaw_degrees)};
 }
 
+namespace {
+
+// The linear base colour factor of the material `object` draws where its file draws
+// `material` (the first primitive that does; reflector_slots makes Material slots only where
+// every one of them draws the same under each variant).
+glm::vec3 albedo_drawn(const SceneObject& object, std::uint32_t material) {
+    const Mesh& mesh = *object.mesh;
+    for (const Primitive& primitive : mesh.primitives) {
+        if (std::uint32_t(primitive.material) == material) {
+            return glm::vec3(
+                mesh.materials.at(std::size_t(primitive.material_under(object.variant)))
+                    .base_color);
+        }
+    }
+    return glm::vec3(mesh.materials.at(material).base_color);
+}
+
+// Whether `object`'s variant draws a primitive with another material than its file's default.
+bool variant_changes_materials(const SceneObject& object) {
+    if (!object.variant) {
+        return false;
+    }
+    return std::any_of(object.mesh->primitives.begin(), object.mesh->primitives.end(),
+                       [&](const Primitive& primitive) {
+                           return primitive.material_under(object.variant) != primitive.material;
+                       });
+}
+
+// The vertex-weighted mean base colour factor of what `object` draws under its variant: a
+// Unit slot's weight for a variant of a textured or many-material object, whose Native slot
+// holds the default materials' albedos (the variant's textures are left out: an approximation
+// the design notes state).
+glm::vec3 mean_albedo_drawn(const SceneObject& object) {
+    glm::vec3 sum(0.0f);
+    double vertices = 0.0;
+    for (const Primitive& primitive : object.mesh->primitives) {
+        const Material& material =
+            object.mesh->materials.at(std::size_t(primitive.material_under(object.variant)));
+        sum += float(primitive.positions.size()) * glm::vec3(material.base_color);
+        vertices += double(primitive.positions.size());
+    }
+    return vertices > 0.0 ? sum / float(vertices) : sum;
+}
+
+}  // namespace
+
 std::vector<glm::vec3> bounce_weights(const SceneTransfer& transfer, const FrameRequest& request) {
     std::vector<glm::vec3> weights;
     for (const ReflectorSlot& slot : transfer.reflectors) {
-        const std::optional<glm::vec3> colour =
-            slot.objects.empty() ? std::nullopt
-                                 : request.objects.at(slot.objects.front()).base_color;
+        if (slot.kind == ReflectorSlot::Kind::Ground) {
+            weights.push_back(slot.albedo);
+            continue;
+        }
+        const SceneObject& object = request.objects.at(slot.objects.front());
+        // The colour the frame draws the object in, over every material; else, for the Native
+        // and Unit slots of an object under a variant that changes its materials, its mean
+        // albedo, through the Unit slot.
+        std::optional<glm::vec3> colour = object.base_color;
+        if (!colour && slot.kind != ReflectorSlot::Kind::Material &&
+            variant_changes_materials(object)) {
+            colour = mean_albedo_drawn(object);
+        }
         switch (slot.kind) {
             case ReflectorSlot::Kind::Ground:
-                weights.push_back(slot.albedo);
                 break;
             case ReflectorSlot::Kind::Material:
-                weights.push_back(colour.value_or(slot.albedo));
+                weights.push_back(colour.value_or(albedo_drawn(object, slot.material)));
                 break;
             case ReflectorSlot::Kind::Native:
                 for (int c = 0; c < 3; ++c) {

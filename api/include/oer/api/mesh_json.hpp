@@ -20,7 +20,9 @@ MeshFormat mesh_format_from_string(const std::string& name);  // throws oer::Err
 // older clients), metallic, roughness, emissive (linear RGB, times the emissive strength),
 // alpha_mode ("opaque", "mask", "blend"), alpha_cutoff (mask only), double_sided, textures
 // {base_color, metallic_roughness, normal, occlusion, emissive} (whether it has each), specular
-// (whether it has a specular term)}], repairs {normals_replaced, normals_renormalised},
+// (whether it has a specular term)}], variants [{name, materials (the indices it draws),
+// swatch {material, base_color, has_texture}}] (KHR_materials_variants, in the file's order;
+// a render chooses one by name), repairs {normals_replaced, normals_renormalised},
 // warnings [...] }. Floats appear as their shortest decimal form.
 nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
                             std::optional<MeshFormat> format = std::nullopt);

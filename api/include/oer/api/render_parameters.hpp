@@ -30,6 +30,7 @@ enum class ParameterKind {
     Integer,     // a number with no fraction
     Number,      // a finite number
     Name,        // a string among a fixed set (an enum's names, or a background's forms)
+    Text,        // a string the asset defines (a variant's name)
     Vector3,     // JSON [x, y, z]; query "x,y,z"
     Matrix,      // JSON 16 numbers, column-major (no query form)
     Weights,     // JSON [w, ...] (true and false are 1 and 0); query "w,w,..."

@@ -19,7 +19,27 @@ namespace oer {
 
 namespace {
 
-// The part of every shadow map's key that the scene decides: each object's mesh and transform.
+// The object's variant where it changes what the shadow pass alpha tests (a primitive drawn
+// with another material, alpha tested under one of the two), else -1: a variant that only
+// recolours casts the default's shadows, and shares its maps.
+std::int64_t shadow_variant(const SceneObject& object) {
+    if (!object.variant) {
+        return -1;
+    }
+    const Mesh& mesh = *object.mesh;
+    for (const Primitive& primitive : mesh.primitives) {
+        const int drawn = primitive.material_under(object.variant);
+        if (drawn != primitive.material &&
+            (alpha_tested(mesh.materials.at(std::size_t(drawn))) ||
+             alpha_tested(mesh.materials.at(std::size_t(primitive.material))))) {
+            return std::int64_t(*object.variant);
+        }
+    }
+    return -1;
+}
+
+// The part of every shadow map's key that the scene decides: each object's mesh, transform and
+// shadow_variant.
 std::string scene_key(const FrameContext& frame, RendererState& state) {
     std::string key;
     for (const SceneObject& object : frame.request.objects) {
@@ -27,6 +47,8 @@ std::string scene_key(const FrameContext& frame, RendererState& state) {
         key.append(reinterpret_cast<const char*>(&id), sizeof id);
         key.append(reinterpret_cast<const char*>(glm::value_ptr(object.transform)),
                    16 * sizeof(float));
+        const std::int64_t variant = shadow_variant(object);
+        key.append(reinterpret_cast<const char*>(&variant), sizeof variant);
     }
     return key;
 }
@@ -72,9 +94,10 @@ ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state,
                 for (const SceneObject& object : request.objects) {
                     const float max_error = 0.5f * texel / largest_scale(object.transform);
                     const GpuMesh& gpu = state.mesh(object.mesh).gpu;
-                    for (const GpuPrimitive& primitive : gpu.primitives) {
-                        const Material& material =
-                            object.mesh->materials.at(std::size_t(primitive.material));
+                    for (std::size_t p = 0; p < gpu.primitives.size(); ++p) {
+                        const GpuPrimitive& primitive = gpu.primitives[p];
+                        const Material& material = object.mesh->materials.at(
+                            std::size_t(object.mesh->primitives[p].material_under(object.variant)));
                         const bool alpha_test = alpha_tested(material);
                         gl::Program& program =
                             alpha_test ? state.program("depth", "#define ALPHA_TEST 1\n") : depth;

@@ -40,8 +40,8 @@ GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLighting
         const GpuMesh& gpu = state.mesh(object.mesh).gpu;
         for (std::size_t p = 0; p < gpu.primitives.size(); ++p) {
             const GpuPrimitive& primitive = gpu.primitives[p];
-            if (object.mesh->materials.at(std::size_t(primitive.material)).alpha_mode !=
-                AlphaMode::Blend) {
+            const int material = object.mesh->primitives[p].material_under(object.variant);
+            if (object.mesh->materials.at(std::size_t(material)).alpha_mode != AlphaMode::Blend) {
                 continue;
             }
             const glm::vec3 centre =
@@ -71,7 +71,8 @@ GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLighting
     for (const Transparent& surface : surfaces) {
         const SceneObject& object = *surface.object;
         const Mesh& mesh = *object.mesh;
-        const Material& material = mesh.materials.at(std::size_t(surface.primitive->material));
+        const Material& material = mesh.materials.at(
+            std::size_t(mesh.primitives[surface.primitive_index].material_under(object.variant)));
         glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE,
                            glm::value_ptr(object.transform));
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(object.transform));

@@ -4,6 +4,7 @@
 // list, with the materials and textures they use. Produced by the loaders (mesh_loading.hpp)
 // and by code (default_product.hpp); validated before anything reaches GL.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -115,6 +116,18 @@ struct Primitive {
     std::vector<glm::vec4> tangents;
     std::vector<std::uint32_t> indices;  // triangle list, 3 per triangle, all < positions.size()
     int material = 0;                    // index into Mesh::materials
+    // KHR_materials_variants: per variant of Mesh::variants, in order, the index into
+    // Mesh::materials the primitive is drawn with under it (`material` where the file maps it
+    // to none); empty when the mesh has no variants.
+    std::vector<int> variant_materials;
+
+    // The material drawn under `variant` (an index into Mesh::variants; none: the file's
+    // default, `material`).
+    int material_under(std::optional<std::uint32_t> variant) const {
+        return variant ? variant_materials.at(*variant) : material;
+    }
+    // Every material the primitive may be drawn with, `material` first, each once.
+    std::vector<int> materials_drawn() const;
 };
 
 struct Bounds {
@@ -140,6 +153,9 @@ struct Mesh {
     std::uint64_t triangle_count = 0;
     std::uint64_t vertex_count = 0;
     MeshRepairs repairs;
+    // KHR_materials_variants: the names of the product's variants (unique), in the file's
+    // order; Primitive::variant_materials maps each to its materials.
+    std::vector<std::string> variants;
     // What was ignored (an OBJ's mtllib, a texture on a texCoord other than 0, ...), one line
     // each, for the API to pass on.
     std::vector<std::string> warnings;

@@ -24,6 +24,9 @@ struct SceneObject {
     std::shared_ptr<const Mesh> mesh;
     glm::mat4 transform{1.0f};
     std::optional<glm::vec3> base_color;  // linear RGB, replaces every material's base color
+    // KHR_materials_variants: the index into mesh->variants whose materials are drawn (none:
+    // the file's default materials; Primitive::material_under).
+    std::optional<std::uint32_t> variant = std::nullopt;
 };
 
 enum class BackgroundKind { Environment, Color, Transparent };

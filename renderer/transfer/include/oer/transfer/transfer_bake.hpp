@@ -73,10 +73,12 @@ std::vector<ReflectorSlot> reflector_slots(const FrameRequest& request);
 // Whether request's reflector slots depend on its objects' colours (past kMaxSeparateReflectors
 // objects): a service keys its transfers by the colours then.
 bool reflectors_follow_colours(const FrameRequest& request);
-// The bounce vectors of one group of objects of a mesh whose primitives draw `materials`
-// materials, `textured` when one has a base-colour texture: for a service's estimate of a
-// transfer's size before the meshes are decoded.
-std::size_t group_bounce_vectors(std::size_t materials, bool textured);
+// The bounce vectors of one group of objects of `mesh` (reflector_slots): one per material its
+// primitives draw when those are at most kMaxMaterialSlots, none has a base-colour texture,
+// and each variant draws one material wherever the default draws one (so that a variant only
+// re-weighs the slots); else a Native and a Unit slot, 4. For a service's estimate of a
+// transfer's size before the meshes are decoded (its mesh summary keeps this).
+std::size_t object_bounce_vectors(const Mesh& mesh);
 
 // The transfer of request.objects (with their transforms) and, when request.ground, of the
 // ground plane under them. Throws oer::Error (InvalidInput) for a request without objects,
