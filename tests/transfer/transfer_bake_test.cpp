@@ -545,6 +545,56 @@ TEST(TransferBakeReflectors, SlotsPerObjectWeighedByItsColourMergedPastTheirLimi
     EXPECT_EQ(merged[2].objects.size(), kMaxSeparateReflectors / 2);
 }
 
+// A variant only re-weighs the slots: where it draws one material in place of each default one,
+// a Material slot takes the albedo it draws; where it draws two in place of one, the object gets
+// Native and Unit slots, and under that variant the Unit slot carries the mean albedo it draws.
+TEST(TransferBakeReflectors, AVariantWeighsTheSlotsByTheMaterialsItDraws) {
+    using Kind = ReflectorSlot::Kind;
+    Mesh box = oer::testing::open_box(0.5f, 0.4f, 0.02f, 1, glm::vec3(0.5f));
+    ASSERT_EQ(box.primitives.size(), 2u);
+    box.materials.push_back(oer::testing::lambertian(glm::vec3(0.9f, 0.1f, 0.1f)));
+    box.materials.push_back(oer::testing::lambertian(glm::vec3(0.1f, 0.1f, 0.9f)));
+    box.variants = {"Red", "Blue"};
+    for (Primitive& primitive : box.primitives) {
+        primitive.variant_materials = {1, 2};
+    }
+    SceneObject object = object_of(box);
+    object.variant = 0;
+    FrameRequest request = request_of({object}, true);
+    SceneTransfer transfer;
+    transfer.reflectors = reflector_slots(request);
+    ASSERT_EQ(transfer.reflectors.size(), 2u);
+    EXPECT_EQ(transfer.reflectors[1].kind, Kind::Material);
+    EXPECT_EQ(object_bounce_vectors(box), 1u);
+    EXPECT_EQ(bounce_weights(transfer, request)[1], glm::vec3(0.9f, 0.1f, 0.1f));
+    request.objects[0].variant = 1;
+    EXPECT_EQ(bounce_weights(transfer, request)[1], glm::vec3(0.1f, 0.1f, 0.9f));
+    request.objects[0].variant.reset();
+    EXPECT_EQ(bounce_weights(transfer, request)[1], glm::vec3(0.5f));
+
+    // Blue draws the second wall in red: two materials where the default draws one.
+    Mesh split = box;
+    split.primitives[1].variant_materials = {1, 1};
+    request.objects[0] = object_of(split);
+    request.objects[0].variant = 1;
+    transfer.reflectors = reflector_slots(request);
+    ASSERT_EQ(transfer.reflectors.size(), 3u);
+    EXPECT_EQ(transfer.reflectors[1].kind, Kind::Native);
+    EXPECT_EQ(transfer.reflectors[2].kind, Kind::Unit);
+    EXPECT_EQ(object_bounce_vectors(split), 4u);
+    const std::vector<glm::vec3> weights = bounce_weights(transfer, request);
+    const float first = float(split.primitives[0].positions.size());
+    const float second = float(split.primitives[1].positions.size());
+    const glm::vec3 mean =
+        (first * glm::vec3(0.1f, 0.1f, 0.9f) + second * glm::vec3(0.9f, 0.1f, 0.1f)) /
+        (first + second);
+    EXPECT_EQ(weights[1], glm::vec3(0.0f));  // Native: the default's albedos, not drawn
+    EXPECT_NEAR(weights[4].r, mean.r, 1e-6f);
+    EXPECT_NEAR(weights[4].b, mean.b, 1e-6f);
+    request.objects[0].variant.reset();
+    EXPECT_EQ(bounce_weights(transfer, request)[1], glm::vec3(1.0f, 0.0f, 0.0f));  // as filed
+}
+
 TEST(TransferBakeDeterminism, SameVectorsOnOneAndTwoThreads) {
     // The box's two primitives in four materials: its slots are Native and Unit.
     Mesh box = oer::testing::open_box(0.5f, 0.4f, 0.02f, 4, glm::vec3(0.6f, 0.4f, 0.2f));
@@ -580,6 +630,26 @@ TEST(TransferBakeDeterminism, SameVectorsOnOneAndTwoThreads) {
     EXPECT_EQ(one.ground->points.bounce, two.ground->points.bounce);
     // Not an empty comparison: the box reflects light onto the ground.
     EXPECT_GT(max_abs(one.ground->points.bounce), 0.0);
+
+    // The transfer's id leaves colours and variants out, so the bake draws the file's
+    // materials whichever the frame that asked for it drew: the Native slot holds their albedos.
+    FrameRequest recoloured = request;
+    recoloured.objects[0].base_color = glm::vec3(0.9f, 0.0f, 0.0f);
+    Mesh with_variant = *request.objects[0].mesh;
+    with_variant.variants = {"Grey"};
+    for (Primitive& primitive : with_variant.primitives) {
+        primitive.variant_materials = {1};
+    }
+    FrameRequest varied = request;
+    varied.objects[0].mesh = std::make_shared<const Mesh>(std::move(with_variant));
+    varied.objects[0].variant = 0;
+    for (const FrameRequest* other : {&recoloured, &varied}) {
+        const SceneTransfer asked = bake_transfer(*other, options);
+        for (std::size_t p = 0; p < one.objects[0].size(); ++p) {
+            EXPECT_EQ(one.objects[0][p].bounce, asked.objects[0][p].bounce) << "primitive " << p;
+        }
+        EXPECT_EQ(one.ground->points.bounce, asked.ground->points.bounce);
+    }
 }
 
 TEST(TransferBakeRules, RaysFollowTheReceiverCount) {
