@@ -47,13 +47,12 @@ glm::dmat4 json_transform(const Json& value, const std::string& path) {
     return transform;
 }
 
-// A variant's name as a request gives it: 1 to kMaxVariantNameBytes bytes of UTF-8 (the mesh
-// then says whether it has it: variant_index).
-constexpr std::size_t kMaxVariantNameBytes = 256;
-std::string checked_variant_name(const std::string& parameter, const std::string& name) {
-    if (name.empty() || name.size() > kMaxVariantNameBytes) {
-        throw InvalidParameter(parameter, "a variant's name is 1 to " +
-                                              std::to_string(kMaxVariantNameBytes) +
+// A variant's or a material's name as a request gives it: 1 to kMaxNameBytes bytes of UTF-8
+// (the mesh then says whether it has it: variant_index, check_base_color_material).
+constexpr std::size_t kMaxNameBytes = 256;
+std::string checked_name(const std::string& parameter, const std::string& name) {
+    if (name.empty() || name.size() > kMaxNameBytes) {
+        throw InvalidParameter(parameter, "a name is 1 to " + std::to_string(kMaxNameBytes) +
                                               " bytes, got " + std::to_string(name.size()));
     }
     const bool control = std::any_of(name.begin(), name.end(), [](char c) {
@@ -61,8 +60,7 @@ std::string checked_variant_name(const std::string& parameter, const std::string
     });
     if (control || detail::valid_utf8(name) != name) {
         throw InvalidParameter(parameter,
-                               "a variant's name is one line of UTF-8 text, without control "
-                               "characters");
+                               "a name is one line of UTF-8 text, without control characters");
     }
     return name;
 }
@@ -79,8 +77,15 @@ ObjectSpec json_object_spec(const Json& value, const std::string& path) {
         object.base_color = json_vector3(*color, child(path, "base_color"), kColor);
     }
     if (const Json* variant = find(value, "variant")) {
-        object.variant = checked_variant_name(child(path, "variant"),
-                                              json_string(*variant, child(path, "variant")));
+        object.variant =
+            checked_name(child(path, "variant"), json_string(*variant, child(path, "variant")));
+    }
+    if (const Json* material = find(value, "base_color_material")) {
+        const std::string member = child(path, "base_color_material");
+        if (!object.base_color) {
+            reader().fail(member, "needs base_color: it names the material base_color recolours");
+        }
+        object.base_color_material = checked_name(member, json_string(*material, member));
     }
     return object;
 }
@@ -198,12 +203,20 @@ void read_query_objects(RenderSpec& spec, const RenderQuery& query, const Render
                                    "needs a mesh: it chooses the variant of every mesh of the "
                                    "query, and there is none");
         }
-        variant = checked_variant_name("variant", *name);
+        variant = checked_name("variant", *name);
+    }
+    std::optional<std::string> material;
+    if (const std::string* name = query_value(query, "base_color_material")) {
+        if (!base_color) {
+            throw InvalidParameter("base_color_material",
+                                   "needs base_color: it names the material base_color recolours");
+        }
+        material = checked_name("base_color_material", *name);
     }
     const auto [first_mesh, last_mesh] = query.equal_range("mesh");
     for (auto mesh = first_mesh; mesh != last_mesh; ++mesh) {
         spec.objects.push_back(
-            {checked_id("mesh", mesh->second), glm::dmat4(1.0), base_color, variant});
+            {checked_id("mesh", mesh->second), glm::dmat4(1.0), base_color, material, variant});
     }
 }
 
@@ -217,6 +230,9 @@ Json objects_json(const std::vector<ObjectSpec>& objects) {
         Json json = {{"mesh", object.mesh}, {"transform", std::move(transform)}};
         if (object.base_color) {
             json["base_color"] = vector_json(*object.base_color);
+        }
+        if (object.base_color_material) {
+            json["base_color_material"] = *object.base_color_material;
         }
         if (object.variant) {
             json["variant"] = *object.variant;

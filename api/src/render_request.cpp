@@ -276,6 +276,24 @@ std::optional<std::uint32_t> variant_index(const ObjectSpec& object, const Mesh&
                                           "' (its variants: " + names + ")");
 }
 
+std::optional<std::uint32_t> base_color_material_index(const ObjectSpec& object, const Mesh& mesh,
+                                                       const std::string& parameter) {
+    if (!object.base_color_material) {
+        return std::nullopt;
+    }
+    std::string names;
+    for (std::size_t m = 0; m < mesh.materials.size(); ++m) {
+        const Material& material = mesh.materials[m];
+        if (material.name == *object.base_color_material) {
+            return std::uint32_t(m);
+        }
+        names += (names.empty() ? "'" : ", '") + detail::one_line(material.name, 60) + "'";
+    }
+    throw InvalidParameter(parameter, "mesh '" + object.mesh + "' has no material named '" +
+                                          detail::one_line(*object.base_color_material, 60) +
+                                          "' (its materials: " + names + ")");
+}
+
 FrameRequest to_frame_request(const RenderSpec& spec, const Camera& camera,
                               std::shared_ptr<const Rig> rig,
                               std::shared_ptr<const HdrImage> environment_map,
@@ -301,11 +319,17 @@ FrameRequest to_frame_request(const RenderSpec& spec, const Camera& camera,
     request.environment_map = std::move(environment_map);
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const ObjectSpec& object = spec.objects[i];
-        request.objects.push_back(
-            {meshes[i], glm::mat4(object.transform),
-             object.base_color ? std::optional<glm::vec3>(glm::vec3(*object.base_color))
-                               : std::nullopt,
-             variant_index(object, *meshes[i], "objects/" + std::to_string(i) + "/variant")});
+        SceneObject drawn;
+        drawn.mesh = meshes[i];
+        drawn.transform = glm::mat4(object.transform);
+        if (object.base_color) {
+            drawn.base_color = glm::vec3(*object.base_color);
+        }
+        drawn.variant =
+            variant_index(object, *meshes[i], "objects/" + std::to_string(i) + "/variant");
+        drawn.base_color_material = base_color_material_index(
+            object, *meshes[i], "objects/" + std::to_string(i) + "/base_color_material");
+        request.objects.push_back(std::move(drawn));
     }
     request.camera = camera;
     for (const RenderParameter& row : render_parameters()) {

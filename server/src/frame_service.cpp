@@ -195,10 +195,14 @@ ResolvedRender FrameService::resolve(const api::RenderSpec& spec, RequestForm fo
         if (!mesh) {
             throw unknown_mesh(i);
         }
-        // A variant the mesh lacks is the request's error, named as the request gave it.
-        api::variant_index(
-            spec.objects[i], *mesh->mesh,
-            form == RequestForm::Json ? "objects/" + std::to_string(i) + "/variant" : "variant");
+        // A variant or a material the mesh lacks is the request's error, named as the request
+        // gave it.
+        const auto named = [&](const std::string& member) {
+            return form == RequestForm::Json ? "objects/" + std::to_string(i) + "/" + member
+                                             : member;
+        };
+        api::variant_index(spec.objects[i], *mesh->mesh, named("variant"));
+        api::base_color_material_index(spec.objects[i], *mesh->mesh, named("base_color_material"));
         resolved.meshes.push_back(mesh->mesh);
         resolved.mesh_ids.push_back(mesh->id);
     }

@@ -50,7 +50,8 @@ std::size_t bounce_vector_count(const api::RenderSpec& spec,
             (colour ? std::to_string(colour->r) + " " + std::to_string(colour->g) + " " +
                           std::to_string(colour->b)
                     : "") +
-            "/" + spec.objects[i].variant.value_or("");
+            "/" + spec.objects[i].base_color_material.value_or("") + "/" +
+            spec.objects[i].variant.value_or("");
         if (!merge || groups.emplace(mesh_ids[i], colour_key).second) {
             vectors += object_meshes[i].bounce_vectors;
         }

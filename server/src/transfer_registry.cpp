@@ -112,6 +112,9 @@ std::string transfer_id(const FrameRequest& request, const std::vector<std::stri
         if (object.variant && reflectors_follow_colours(request)) {
             objects.back()["variant"] = *object.variant;
         }
+        if (object.base_color && object.base_color_material && reflectors_follow_colours(request)) {
+            objects.back()["base_color_material"] = *object.base_color_material;
+        }
     }
     const nlohmann::json bake = {{"objects", objects},
                                  {"ground", request.ground},

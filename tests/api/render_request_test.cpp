@@ -304,6 +304,37 @@ TEST(RenderRequest, VariantNamesAreCheckedAsTextThenAgainstTheMesh) {
     }
     mesh.variants.clear();
     EXPECT_THROW(api::variant_index(object, mesh, "variant"), api::InvalidParameter);
+
+    // base_color_material: a name, needing base_color, then one of the mesh's materials.
+    EXPECT_EQ(rejected_parameter(
+                  {{"environment", "default"}, {"mesh", kMeshA}, {"base_color_material", "Body"}}),
+              "base_color_material");
+    EXPECT_THROW(api::parse_render_json(
+                     Json{{"environment", "default"},
+                          {"objects", {{{"mesh", kMeshA}, {"base_color_material", "Body"}}}}}
+                         .dump()),
+                 api::InvalidParameter);
+    mesh.materials.resize(3);
+    mesh.materials[0].name = "Stand";
+    mesh.materials[1].name = "Body";
+    mesh.materials[2].name = "Body";
+    api::ObjectSpec recoloured;
+    recoloured.mesh = kMeshA;
+    recoloured.base_color = glm::dvec3(1.0, 0.0, 0.0);
+    EXPECT_EQ(api::base_color_material_index(recoloured, mesh, "p"), std::nullopt);
+    recoloured.base_color_material = "Body";
+    EXPECT_EQ(api::base_color_material_index(recoloured, mesh, "p"), 1u);
+    recoloured.base_color_material = "Lid";
+    try {
+        api::base_color_material_index(recoloured, mesh, "objects/0/base_color_material");
+        ADD_FAILURE() << "an unknown material was accepted";
+    } catch (const api::InvalidParameter& error) {
+        EXPECT_EQ(error.parameter(), "objects/0/base_color_material");
+        EXPECT_NE(std::string(error.what())
+                      .find("has no material named 'Lid' (its materials: 'Stand', 'Body', 'Body')"),
+                  std::string::npos)
+            << error.what();
+    }
 }
 
 TEST(RenderRequest, TheEtagIsAQuotedDigestOfTheCanonicalDocumentAndVersion) {
@@ -333,6 +364,13 @@ TEST(RenderRequest, ChangingAnyOneMemberChangesTheEtag) {
     vary("/objects/0/transform"_json_pointer, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0.001, 0, 1});
     vary("/objects/0/base_color"_json_pointer, {1, 1, 1});
     vary("/objects/0/variant"_json_pointer, "Red");
+    {
+        Json recoloured = base;
+        // The base_color variation's colour, on one material only.
+        recoloured["objects"][0]["base_color"] = {1, 1, 1};
+        recoloured["objects"][0]["base_color_material"] = "Body";
+        variants.push_back(recoloured);
+    }
     vary("/objects/1"_json_pointer, {{"mesh", kMeshA}});
     vary("/ground"_json_pointer, false);
     vary("/occlusion"_json_pointer, false);
@@ -785,13 +823,15 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
                              "camera/orbit/distance", "shadows/filter", "environment_yaw"}) {
         EXPECT_NE(std::find(members.begin(), members.end(), path), members.end()) << path;
     }
-    EXPECT_EQ(members.size(), 17u + 4u + 5u + 4u + 3u);
+    EXPECT_EQ(members.size(), 17u + 5u + 5u + 4u + 3u);
     // Every query parameter is accepted with a valid value (and the ones it needs).
     const std::map<std::string, Query> valid = {
         {"environment", {}},
         {"mesh", {{"mesh", "default"}}},
         {"base_color", {{"mesh", "default"}, {"base_color", "0.5,0.1,0.1"}}},
         {"variant", {{"mesh", "default"}, {"variant", "Red"}}},
+        {"base_color_material",
+         {{"mesh", "default"}, {"base_color", "1,0,0"}, {"base_color_material", "Body"}}},
         {"eye", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
         {"target", {{"eye", "0,0,3"}, {"target", "0,0,0"}}},
         {"up", {{"eye", "0,0,3"}, {"target", "0,0,0"}, {"up", "1,0,0"}}},
@@ -821,7 +861,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         query.insert({"environment", "default"});
         EXPECT_EQ(rejected_parameter(query), "") << parameter;
     }
-    EXPECT_EQ(api::render_query_parameters().size(), 27u);
+    EXPECT_EQ(api::render_query_parameters().size(), 28u);
 }
 
 TEST(RenderRequest, BackgroundsReadAndPrintCanonically) {

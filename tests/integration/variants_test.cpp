@@ -158,3 +158,37 @@ TEST(Variants, EachVariantIsTheAssetWithItsMaterialsBakedInAndBakesNothing) {
     // The variants re-weighed the upload's transfer; only bounce=none baked (another scene).
     EXPECT_EQ(transfers_computed(*client), baked + 1.0);
 }
+
+// A colour for one named material (base_color_material): the Body recoloured red is the Red
+// variant (their materials differ in the base colour alone), the Stand keeps its own; without
+// the name, base_color recolours every material.
+TEST(Variants, AColourForOneNamedMaterialRecoloursThatMaterialOnly) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::string mesh = upload_prepared(*client, product_glb());
+    const double baked = transfers_computed(*client);
+    const Rgba8Image red_variant = get_frame(*client, frame_path(mesh, "&variant=Red"));
+    const std::string red = "&base_color=0.8,0.05,0.05";
+    const Rgba8Image body_red =
+        get_frame(*client, frame_path(mesh, red + "&base_color_material=Body"));
+    const Rgba8Image all_red = get_frame(*client, frame_path(mesh, red));
+    ASSERT_EQ(body_red.width, 96);
+    const int half = body_red.width / 2;
+    const Difference from_variant = difference(body_red, red_variant, 0, body_red.width);
+    std::printf("the Body recoloured red against the Red variant: largest %d/255\n",
+                from_variant.largest);
+    EXPECT_LE(from_variant.largest, 1);
+    const Difference stand = difference(body_red, all_red, half, body_red.width);
+    EXPECT_GT(stand.largest, 50) << "base_color without a material recolours the stand too";
+    EXPECT_EQ(transfers_computed(*client), baked) << "a colour baked a transfer";
+
+    const auto unknown = client->Get(frame_path(mesh, red + "&base_color_material=Lid").c_str());
+    expect_problem("GET", "/v1/render", unknown, server::ProblemKind::InvalidParameter);
+    ASSERT_TRUE(unknown);
+    EXPECT_NE(Json::parse(unknown->body)
+                  .value("detail", "")
+                  .find("its materials: 'Body', 'Red', 'Blue', 'Stand'"),
+              std::string::npos)
+        << unknown->body;
+}

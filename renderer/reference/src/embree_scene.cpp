@@ -92,8 +92,8 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
             geometry.indices = primitive.indices;
             // The geometry pass's albedo: the request's base colour replaces the material's
             // factor and texture; otherwise the factor times the texture (sRGB decoded).
-            if (object.base_color) {
-                geometry.base_color = glm::dvec3(*object.base_color);
+            if (const std::optional<glm::vec3> colour = base_color_override(object, material)) {
+                geometry.base_color = glm::dvec3(*colour);
             } else {
                 geometry.base_color = glm::dvec3(glm::vec3(material.base_color));
                 if (material.base_color_texture.present()) {

@@ -45,6 +45,7 @@ std::string reflectors_misfit(const SceneTransfer& transfer, const FrameRequest&
             const SceneObject& first = request.objects[slot.objects.front()];
             if (request.objects[o].mesh != first.mesh ||
                 request.objects[o].base_color != first.base_color ||
+                request.objects[o].base_color_material != first.base_color_material ||
                 request.objects[o].variant != first.variant) {
                 return name + " holds objects that the frame draws differently";
             }

@@ -662,6 +662,7 @@ std::vector<std::vector<std::uint32_t>> reflector_groups(const FrameRequest& req
         const auto same = [&](const std::vector<std::uint32_t>& group) {
             const SceneObject& first = request.objects[group.front()];
             return first.mesh == object.mesh && first.base_color == object.base_color &&
+                   first.base_color_material == object.base_color_material &&
                    first.variant == object.variant;
         };
         const auto group = merge ? std::find_if(groups.begin(), groups.end(), same) : groups.end();
@@ -732,6 +733,7 @@ SceneTransfer bake_transfer(const FrameRequest& request, const TransferBakeOptio
     FrameRequest as_filed = request;
     for (SceneObject& object : as_filed.objects) {
         object.base_color.reset();
+        object.base_color_material.reset();
         object.variant.reset();
     }
     // The ground as the infinite plane alone: a face of an object lying on the plane is hit

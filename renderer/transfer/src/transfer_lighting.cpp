@@ -110,43 +110,45 @@ TransferLighting transfer_lighting(const Rig& rig, std::span<const float> weight
 
 namespace {
 
-// The linear base colour factor of the material `object` draws where its file draws
-// `material` (the first primitive that does; reflector_slots makes Material slots only where
-// every one of them draws the same under each variant).
+// The linear base colour of the material `object` draws where its file draws `material`
+// (the first primitive that does; reflector_slots makes Material slots only where every one of
+// them draws the same under each variant), its override included.
 glm::vec3 albedo_drawn(const SceneObject& object, std::uint32_t material) {
     const Mesh& mesh = *object.mesh;
+    std::size_t drawn = material;
     for (const Primitive& primitive : mesh.primitives) {
         if (std::uint32_t(primitive.material) == material) {
-            return glm::vec3(
-                mesh.materials.at(std::size_t(primitive.material_under(object.variant)))
-                    .base_color);
+            drawn = std::size_t(primitive.material_under(object.variant));
+            break;
         }
     }
-    return glm::vec3(mesh.materials.at(material).base_color);
+    const Material& drawn_material = mesh.materials.at(drawn);
+    return base_color_override(object, drawn_material).value_or(glm::vec3(drawn_material.base_color));
 }
 
-// Whether `object`'s variant draws a primitive with another material than its file's default.
-bool variant_changes_materials(const SceneObject& object) {
-    if (!object.variant) {
-        return false;
-    }
-    return std::any_of(object.mesh->primitives.begin(), object.mesh->primitives.end(),
+// Whether the object draws some primitive with another albedo than its file's materials: under
+// a variant that changes its materials, or with a base colour of its own.
+bool draws_other_albedos(const SceneObject& object) {
+    return object.base_color ||
+           std::any_of(object.mesh->primitives.begin(), object.mesh->primitives.end(),
                        [&](const Primitive& primitive) {
                            return primitive.material_under(object.variant) != primitive.material;
                        });
 }
 
-// The vertex-weighted mean base colour factor of what `object` draws under its variant: a
-// Unit slot's weight for a variant of a textured or many-material object, whose Native slot
-// holds the default materials' albedos (the variant's textures are left out: an approximation
-// the design notes state).
+// The vertex-weighted mean base colour of what `object` draws (its variant's materials and
+// its override): a Unit slot's weight for a textured or many-material object drawn with other
+// albedos than its file's, whose Native slot holds the file's (textures are left out of the
+// mean: an approximation the design notes state). With one colour over every material, that
+// colour.
 glm::vec3 mean_albedo_drawn(const SceneObject& object) {
     glm::vec3 sum(0.0f);
     double vertices = 0.0;
     for (const Primitive& primitive : object.mesh->primitives) {
         const Material& material =
             object.mesh->materials.at(std::size_t(primitive.material_under(object.variant)));
-        sum += float(primitive.positions.size()) * glm::vec3(material.base_color);
+        sum += float(primitive.positions.size()) *
+               base_color_override(object, material).value_or(glm::vec3(material.base_color));
         vertices += double(primitive.positions.size());
     }
     return vertices > 0.0 ? sum / float(vertices) : sum;
@@ -162,29 +164,25 @@ std::vector<glm::vec3> bounce_weights(const SceneTransfer& transfer, const Frame
             continue;
         }
         const SceneObject& object = request.objects.at(slot.objects.front());
-        // The colour the frame draws the object in, over every material; else, for the Native
-        // and Unit slots of an object under a variant that changes its materials, its mean
-        // albedo, through the Unit slot.
-        std::optional<glm::vec3> colour = object.base_color;
-        if (!colour && slot.kind != ReflectorSlot::Kind::Material &&
-            variant_changes_materials(object)) {
-            colour = mean_albedo_drawn(object);
-        }
         switch (slot.kind) {
             case ReflectorSlot::Kind::Ground:
                 break;
             case ReflectorSlot::Kind::Material:
-                weights.push_back(colour.value_or(albedo_drawn(object, slot.material)));
+                weights.push_back(albedo_drawn(object, slot.material));
                 break;
-            case ReflectorSlot::Kind::Native:
+            case ReflectorSlot::Kind::Native: {
+                // The file's albedos, textures included, when the object draws them.
+                const float native = draws_other_albedos(object) ? 0.0f : 1.0f;
                 for (int c = 0; c < 3; ++c) {
                     glm::vec3 channel(0.0f);
-                    channel[c] = colour ? 0.0f : 1.0f;
+                    channel[c] = native;
                     weights.push_back(channel);
                 }
                 break;
+            }
             case ReflectorSlot::Kind::Unit:
-                weights.push_back(colour.value_or(glm::vec3(0.0f)));
+                weights.push_back(draws_other_albedos(object) ? mean_albedo_drawn(object)
+                                                              : glm::vec3(0.0f));
                 break;
         }
     }

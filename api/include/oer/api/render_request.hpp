@@ -11,6 +11,7 @@
 //   objects[i].mesh                            mesh (repeatable: one object each)
 //   objects[i].transform                       (JSON only; GET objects are untransformed)
 //   objects[i].base_color                      base_color  (one color for every mesh)
+//   objects[i].base_color_material             base_color_material  (the material recoloured)
 //   objects[i].variant                         variant  (one variant for every mesh)
 //   camera.eye, camera.target, camera.up       eye, target, up        (look-at camera)
 //   camera.orbit.{yaw,pitch,distance,target}   yaw, pitch, distance, target  (orbit camera)
@@ -90,6 +91,8 @@ struct ObjectSpec {
     std::string mesh;                      // a content id or kDefaultPresetId
     glm::dmat4 transform{1.0};             // world from mesh
     std::optional<glm::dvec3> base_color;  // linear RGB in [0, 1]; empty: the mesh's materials
+    // The name of the materials base_color recolours (needs base_color); empty: every one.
+    std::optional<std::string> base_color_material;
     // A variant's name among the mesh's KHR_materials_variants (Mesh::variants); empty: the
     // file's default materials.
     std::optional<std::string> variant;
@@ -100,6 +103,11 @@ struct ObjectSpec {
 // ones it has.
 std::optional<std::uint32_t> variant_index(const ObjectSpec& object, const Mesh& mesh,
                                            const std::string& parameter);
+// The index in mesh.materials of the first material named object.base_color_material (nullopt
+// when the object names none). Throws InvalidParameter naming `parameter` when no material of
+// the mesh has that name, listing their names.
+std::optional<std::uint32_t> base_color_material_index(const ObjectSpec& object, const Mesh& mesh,
+                                                       const std::string& parameter);
 
 struct LookAtSpec {
     glm::dvec3 eye{0.0};
@@ -181,7 +189,8 @@ Camera resolved_camera(const RenderSpec& spec,
 // (the image the rig was made from) may be null unless the background is the environment. Throws
 // InvalidParameter("lights") when the weights do not match the rig's lights, and oer::Error
 // (Internal) when the resolved assets do not match the spec (a caller's bug).
-// An object's variant that its mesh does not have: InvalidParameter("objects/<i>/variant").
+// An object's variant or base_color_material that its mesh does not have: InvalidParameter
+// ("objects/<i>/variant", "objects/<i>/base_color_material").
 // FrameRequest::occlusion is the spec's for a scene with objects (without, nothing occludes);
 // FrameRequest::transfer stays empty: with occlusion on, the caller bakes it
 // (oer::bake_transfer) or finds it cached (the service's transfer registry).

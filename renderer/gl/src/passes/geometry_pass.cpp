@@ -66,9 +66,9 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
     glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
     gl::Program* current = nullptr;
     // object: the index in request.objects, or none for the ground.
+    // drawn: the object (its variant and base colour), or none for the ground.
     const auto draw = [&](const Mesh& mesh, const GpuMesh& gpu, const glm::mat4& model,
-                          const std::optional<glm::vec3>& base_override,
-                          std::optional<std::uint32_t> variant, int surface_kind,
+                          const SceneObject* drawn, int surface_kind,
                           std::optional<std::size_t> object) {
         glStencilFunc(GL_ALWAYS, surface_kind, 0xff);
         const float max_error = sample_lod_error(frame, mesh, model);
@@ -78,8 +78,8 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
         glFrontFace(glm::determinant(glm::mat3(model)) < 0.0f ? GL_CW : GL_CCW);
         for (std::size_t p = 0; p < gpu.primitives.size(); ++p) {
             const GpuPrimitive& primitive = gpu.primitives[p];
-            const Material& material =
-                mesh.materials.at(std::size_t(mesh.primitives[p].material_under(variant)));
+            const Material& material = mesh.materials.at(std::size_t(
+                mesh.primitives[p].material_under(drawn ? drawn->variant : std::nullopt)));
             if (material.alpha_mode == AlphaMode::Blend) {
                 continue;
             }
@@ -100,7 +100,9 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
             glUniformMatrix4fv(geometry.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
             glUniformMatrix3fv(geometry.uniform("u_normal_matrix"), 1, GL_FALSE,
                                glm::value_ptr(normal_matrix));
-            set_material_uniforms(geometry, state, gpu, material, base_override);
+            set_material_uniforms(
+                geometry, state, gpu, material,
+                drawn ? base_color_override(*drawn, material) : std::nullopt);
             if (material.double_sided) {
                 glDisable(GL_CULL_FACE);
             } else {
@@ -118,8 +120,7 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
     for (std::size_t i = 0; i < request.objects.size(); ++i) {
         const SceneObject& object = request.objects[i];
         const RendererState::CachedMesh& cached = state.mesh(object.mesh);
-        draw(*object.mesh, cached.gpu, object.transform, object.base_color, object.variant,
-             kObjectSurface, i);
+        draw(*object.mesh, cached.gpu, object.transform, &object, kObjectSurface, i);
     }
     if (request.ground) {
         const SceneBounds& scene = frame.scene;
@@ -128,8 +129,8 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
                            glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
             glm::scale(glm::mat4(1.0f),
                        glm::vec3(frame.ground_half_size, 1.0f, frame.ground_half_size));
-        draw(state.ground_mesh, state.ground, ground_model, std::nullopt, std::nullopt,
-             kGroundSurface, std::nullopt);
+        draw(state.ground_mesh, state.ground, ground_model, nullptr, kGroundSurface,
+             std::nullopt);
     }
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);

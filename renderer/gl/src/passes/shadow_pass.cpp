@@ -110,7 +110,8 @@ ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state,
                         glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE,
                                            glm::value_ptr(object.transform));
                         if (alpha_test) {
-                            set_material_uniforms(program, state, gpu, material, object.base_color);
+                            set_material_uniforms(program, state, gpu, material,
+                                                  base_color_override(object, material));
                             // Cut-outs are cards, leaves, decals: thin, often one quad, which
                             // would cast nothing with its face to the light culled.
                             glDisable(GL_CULL_FACE);

@@ -78,7 +78,8 @@ GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLighting
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(object.transform));
         glUniformMatrix3fv(program.uniform("u_normal_matrix"), 1, GL_FALSE,
                            glm::value_ptr(normal_matrix));
-        set_material_uniforms(program, state, *surface.gpu, material, object.base_color);
+        set_material_uniforms(program, state, *surface.gpu, material,
+                              base_color_override(object, material));
         glFrontFace(glm::determinant(glm::mat3(object.transform)) < 0.0f ? GL_CW : GL_CCW);
         if (material.double_sided) {
             glDisable(GL_CULL_FACE);

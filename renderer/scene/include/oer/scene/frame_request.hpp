@@ -23,11 +23,25 @@ namespace oer {
 struct SceneObject {
     std::shared_ptr<const Mesh> mesh;
     glm::mat4 transform{1.0f};
-    std::optional<glm::vec3> base_color;  // linear RGB, replaces every material's base color
+    std::optional<glm::vec3> base_color;  // linear RGB, replaces the base color of
+                                          // base_color_material's materials, or of every one
     // KHR_materials_variants: the index into mesh->variants whose materials are drawn (none:
     // the file's default materials; Primitive::material_under).
     std::optional<std::uint32_t> variant = std::nullopt;
+    // The material base_color recolours, with every other of its name (a configurator's
+    // per-part colour), as an index into mesh->materials; none: every material.
+    std::optional<std::uint32_t> base_color_material = std::nullopt;
 };
+
+// The base colour that replaces `material`'s when `object` draws it, if any.
+inline std::optional<glm::vec3> base_color_override(const SceneObject& object,
+                                                    const Material& material) {
+    if (!object.base_color_material ||
+        material.name == object.mesh->materials.at(*object.base_color_material).name) {
+        return object.base_color;
+    }
+    return std::nullopt;
+}
 
 enum class BackgroundKind { Environment, Color, Transparent };
 struct Background {
