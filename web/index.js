@@ -414,7 +414,8 @@ async function upload(file) {
     endUpload();
     return;
   }
-  const url = `${viewer.server}${kind.route}`;
+  // The file's own name goes with it, so that the server's errors name it.
+  const url = `${viewer.server}${kind.route}?filename=${encodeURIComponent(file.name)}`;
   const request = new XMLHttpRequest();
   const finish = (text, options) => {
     say(text, options);

@@ -93,7 +93,8 @@ EnvironmentRegistry::EnvironmentRegistry(AssetStore& store, ServiceMetrics& metr
 
 EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
                                                         const std::string& extension,
-                                                        const RigOptions& options) {
+                                                        const RigOptions& options,
+                                                        const std::string& file_name) {
     const std::string source_id = api::sha256_hex(bytes);
     const std::string rig_id = api::rig_id(source_id, options);
     return rigs_.upload(
@@ -111,17 +112,14 @@ EnvironmentRegistry::Upload EnvironmentRegistry::upload(std::string_view bytes,
             }
             return known;
         },
-        [&] { return preprocess(bytes, extension, options, source_id, rig_id); });
+        [&] { return preprocess(bytes, extension, options, source_id, rig_id, file_name); });
 }
 
-std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(std::string_view bytes,
-                                                                   const std::string& extension,
-                                                                   const RigOptions& options,
-                                                                   const std::string& source_id,
-                                                                   const std::string& rig_id) {
+std::shared_ptr<const Environment> EnvironmentRegistry::preprocess(
+    std::string_view bytes, const std::string& extension, const RigOptions& options,
+    const std::string& source_id, const std::string& rig_id, const std::string& name) {
     // Decoded before it is stored, so that bytes that are not a map never enter the store; its
     // memory reserved first, from its header.
-    const std::string name = "upload." + extension;
     const ImageHeader header = probe_image_memory(as_bytes(bytes), name, limits_);
     const auto lease = budget_.acquire(
         header.decode_bytes +

@@ -51,7 +51,9 @@ class EnvironmentRegistry {
     // stored nor known, and the map, if it was stored, waits for the upload to be made again.
     // Concurrent uploads of the same bytes and options compute the rig once (AssetRegistry):
     // the later ones wait for it and answer as cached (or with the same error).
-    Upload upload(std::string_view bytes, const std::string& extension, const RigOptions& options);
+    // file_name: what the decoder's errors call the file (upload_file_name).
+    Upload upload(std::string_view bytes, const std::string& extension, const RigOptions& options,
+                  const std::string& file_name);
 
     // nullptr when no rig has that id (and none can be recomputed). id: a content id or the
     // preset's.
@@ -92,11 +94,9 @@ class EnvironmentRegistry {
     void remember(const std::shared_ptr<const Environment>& environment);
     std::shared_ptr<const PrefilteredCube> load_stored_specular(const std::string& id);
     std::shared_ptr<const PrefilteredCube> compute_specular(const Environment& environment);
-    std::shared_ptr<const Environment> preprocess(std::string_view bytes,
-                                                  const std::string& extension,
-                                                  const RigOptions& options,
-                                                  const std::string& source_id,
-                                                  const std::string& rig_id);
+    std::shared_ptr<const Environment> preprocess(
+        std::string_view bytes, const std::string& extension, const RigOptions& options,
+        const std::string& source_id, const std::string& rig_id, const std::string& file_name);
     // Whether the record of a rig other than rig_id names source_id as its map.
     bool map_used_by_another_rig(const std::string& source_id, const std::string& rig_id);
 

@@ -8,12 +8,31 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/parameter_text.hpp"
+#include "oer/core/one_line.hpp"
 
 namespace oer::server {
 
 void send_json(httplib::Response& response, int status, const nlohmann::json& body) {
     response.status = status;
     response.set_content(body.dump(), "application/json");
+}
+
+std::string upload_file_name(const std::map<std::string, std::string>& query,
+                             const std::string& extension) {
+    const auto given = query.find("filename");
+    if (given == query.end()) {
+        return "the uploaded ." + extension + " file";
+    }
+    const std::string& name = given->second;
+    const bool control = std::any_of(name.begin(), name.end(), [](char c) {
+        return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+    });
+    if (name.empty() || name.size() > 255 || control || detail::valid_utf8(name) != name) {
+        throw api::InvalidParameter("filename",
+                                    "the file's name as the user knows it: 1 to 255 bytes of "
+                                    "UTF-8 without control characters");
+    }
+    return name;
 }
 
 void send_upload(httplib::Response& response, nlohmann::json asset, bool cached,

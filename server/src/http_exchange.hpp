@@ -21,6 +21,13 @@ void send_problem(httplib::Response& response, const ErrorAnswer& answer);
 void send_upload(httplib::Response& response, nlohmann::json asset, bool cached,
                  const std::string& location);
 
+// What an upload's errors call the file: the name the client sent it by (?filename=, as the
+// user's file was named: 1 to 255 bytes of UTF-8 without control characters, else 422 naming
+// `filename`), or "the uploaded .<extension> file". Only messages use it: the store names
+// every file by its content.
+std::string upload_file_name(const std::map<std::string, std::string>& query,
+                             const std::string& extension);
+
 // The Content-Type's media type, lowercase, without parameters ("" when absent).
 std::string media_type(const httplib::Request& request);
 

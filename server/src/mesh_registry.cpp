@@ -89,7 +89,8 @@ MeshRegistry::MeshRegistry(AssetStore& store, ServiceMetrics& metrics, UploadBud
     summaries_.emplace(id, summary_of(*mesh));
 }
 
-MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat format) {
+MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat format,
+                                          const std::string& file_name) {
     const std::string id = api::sha256_hex(bytes);
     return meshes_.upload(
         id,
@@ -101,7 +102,7 @@ MeshRegistry::Upload MeshRegistry::upload(std::string_view bytes, MeshFormat for
             // store.
             const auto lease = budget_.acquire(kDecodeBytesPerUploadByte * bytes.size(),
                                                bytes.size(), "this mesh");
-            Mesh mesh = load(bytes, "upload." + api::to_string(format), format);
+            Mesh mesh = load(bytes, file_name, format);
             store_.put_source(SourceKind::Mesh, bytes, api::to_string(format));
             return remember(id, std::move(mesh), format);
         });

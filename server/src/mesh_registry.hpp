@@ -49,7 +49,8 @@ class MeshRegistry {
     // disk has no room for them (nothing is kept then).
     // Concurrent uploads of the same bytes load and store them once (AssetRegistry): the later
     // ones wait for the first and answer as cached (or with the same error).
-    Upload upload(std::string_view bytes, MeshFormat format);
+    // file_name: what the load's errors call the file (upload_file_name).
+    Upload upload(std::string_view bytes, MeshFormat format, const std::string& file_name);
 
     // nullptr when no mesh has that id.
     std::shared_ptr<const StoredMesh> find(const std::string& id);

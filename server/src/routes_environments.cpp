@@ -124,14 +124,21 @@ void add_environment_routes(Router& router, ServiceContext& context) {
                     throw api::InvalidParameter(name, "given more than once");
                 }
             }
+            // The file's name is for messages; the rest are the rig's options.
+            std::map<std::string, std::string> file_name;
+            if (const auto given = parameters.find("filename"); given != parameters.end()) {
+                file_name.insert(*given);
+                parameters.erase(given);
+            }
             const RigOptions options = api::parse_rig_options(parameters);
             if (body.empty()) {
                 throw api::InvalidParameter("body", "the body must be the map's bytes");
             }
             const ImageMediaType& declared = map_media_type(media_type(request));
             check_body_format(declared, body);
-            const auto upload =
-                context.environments.upload(body, std::string(declared.extension), options);
+            const std::string extension(declared.extension);
+            const auto upload = context.environments.upload(body, extension, options,
+                                                            upload_file_name(file_name, extension));
             send_upload(response, upload.asset->json, upload.cached,
                         "/v1/environments/" + upload.asset->id);
         });

@@ -25,7 +25,7 @@ constexpr MeshMediaType kMeshMediaTypes[] = {
 
 // The format from ?format= when given, else from the media type.
 MeshFormat format_of(const httplib::Request& request) {
-    const auto query = single_query(request, {"format"});
+    const auto query = single_query(request, {"format", "filename"});
     if (const auto format = query.find("format"); format != query.end()) {
         return api::parse_enum("format", format->second, api::mesh_format_from_string);
     }
@@ -110,7 +110,11 @@ void add_mesh_routes(Router& router, ServiceContext& context) {
             if (body.empty()) {
                 throw api::InvalidParameter("body", "the body must be the mesh file's bytes");
             }
-            const auto upload = context.meshes.upload(body, format_of(request));
+            const MeshFormat format = format_of(request);
+            const auto upload = context.meshes.upload(
+                body, format,
+                upload_file_name(single_query(request, {"format", "filename"}),
+                                 api::to_string(format)));
             // Its first frames' transfer, baked ahead (GET .../preparation tells how far).
             if (!upload.cached) {
                 context.frame_service.prepare(upload.asset->id);

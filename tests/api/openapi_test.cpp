@@ -381,8 +381,10 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
 
 TEST(OpenApi, EnvironmentUploadTakesExactlyTheRigOptions) {
     const std::vector<std::string> names = api::rig_option_names();
-    EXPECT_EQ(spec().query_parameters(environment_upload_parameters()),
-              std::set<std::string>(names.begin(), names.end()));
+    // And the file's name, for its errors (http_exchange.hpp, upload_file_name).
+    std::set<std::string> expected(names.begin(), names.end());
+    expected.insert("filename");
+    EXPECT_EQ(spec().query_parameters(environment_upload_parameters()), expected);
     const Json defaults = api::rig_options_to_json(RigOptions{});
     const std::vector<std::string> keys =
         spec().keys(spec().child(schema("RigOptions"), "properties"));

@@ -224,6 +224,48 @@ TEST_F(Errors, ABodyOfAnotherImageFormatThanDeclaredIs415NamingBoth) {
     EXPECT_TRUE(accepted->status == 201 || accepted->status == 200) << accepted->status;
 }
 
+// An upload's errors name the user's file as the page sent it (?filename=), never an internal
+// name; without one, "the uploaded .glb file". A name that is not one line of UTF-8 is 422.
+TEST_F(Errors, UploadErrorsNameTheUsersFile) {
+    const std::string broken = "glTF\x02\x00\x00\x00broken";
+    const auto named = client_->Post("/v1/meshes?filename=Sofa%20%E2%80%93%20velvet.glb", broken,
+                                     "model/gltf-binary");
+    expect_problem("POST", "/v1/meshes", named, server::ProblemKind::InvalidContent);
+    ASSERT_TRUE(named);
+    const std::string detail = Json::parse(named->body).value("detail", "");
+    EXPECT_EQ(detail.rfind("Sofa \u2013 velvet.glb: ", 0), 0u) << detail;
+    EXPECT_EQ(detail.find("upload."), std::string::npos) << detail;
+    const auto unnamed = client_->Post("/v1/meshes", broken, "model/gltf-binary");
+    ASSERT_TRUE(unnamed);
+    EXPECT_EQ(Json::parse(unnamed->body).value("detail", "").rfind("the uploaded .glb file: ", 0),
+              0u)
+        << unnamed->body;
+    const auto map = client_->Post("/v1/environments?filename=studio.exr&light_count=2",
+                                   std::string("v/1\x01 not an exr"), "image/x-exr");
+    ASSERT_TRUE(map);
+    EXPECT_NE(Json::parse(map->body).value("detail", "").find("studio.exr"), std::string::npos)
+        << map->body;
+    EXPECT_EQ(Json::parse(map->body).value("detail", "").find("upload."), std::string::npos)
+        << map->body;
+    const auto basisu = client_->Post(
+        "/v1/meshes?filename=chair.gltf",
+        R"({"asset": {"version": "2.0"}, "extensionsRequired": ["KHR_texture_basisu"]})",
+        "model/gltf+json");
+    ASSERT_TRUE(basisu);
+    const std::string advice = Json::parse(basisu->body).value("detail", "");
+    EXPECT_NE(advice.find("chair.gltf: the asset requires the extension KHR_texture_basisu"),
+              std::string::npos)
+        << advice;
+    EXPECT_NE(advice.find("export them as WebP"), std::string::npos) << advice;
+    for (const char* bad :
+         {"/v1/meshes?filename=", "/v1/meshes?filename=a%0Ab.glb", "/v1/meshes?filename=%FF.glb"}) {
+        const auto refused = client_->Post(bad, broken, "model/gltf-binary");
+        expect_problem("POST", "/v1/meshes", refused, server::ProblemKind::InvalidParameter);
+        ASSERT_TRUE(refused);
+        EXPECT_EQ(Json::parse(refused->body).value("parameter", ""), "filename") << bad;
+    }
+}
+
 TEST_F(Errors, InvalidMembersAre422NamingThem) {
     const std::vector<std::pair<Json, std::string>> cases = {
         {{{"environment", "default"}, {"width", 0}}, "width"},

@@ -691,7 +691,8 @@ TEST(MeshLoadingGltf, GarbageAndDeeplyNestedJsonAreRejected) {
                 "{\"asset\": {\"version\": \"2.0\"}, \"extensionsRequired\": "
                 "[\"KHR_texture_basisu\"]}");
         },
-        ErrorKind::Unsupported, {"requires the extension KHR_texture_basisu"});
+        ErrorKind::Unsupported,
+        {"requires the extension KHR_texture_basisu", "export them as WebP (glTF-Transform"});
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -103,7 +103,7 @@ class EnvironmentRegistryTest : public ::testing::Test {
 
 TEST_F(EnvironmentRegistryTest, RemoveTakesTheRigItsRecordItsCubeAndItsMap) {
     const std::string bytes = map_bytes(40.0f);
-    const auto uploaded = environments_->upload(bytes, "exr", lights(2)).asset;
+    const auto uploaded = environments_->upload(bytes, "exr", lights(2), "map.exr").asset;
     const std::string id = uploaded->id;
     const std::string map_id = api::sha256_hex(bytes);
     ASSERT_NE(environments_->specular(*uploaded), nullptr);
@@ -125,7 +125,7 @@ TEST_F(EnvironmentRegistryTest, RemoveTakesTheRigItsRecordItsCubeAndItsMap) {
     EXPECT_EQ(environments_->find(id), nullptr);
 
     // The same bytes and options make the same environment again.
-    const auto again = environments_->upload(bytes, "exr", lights(2));
+    const auto again = environments_->upload(bytes, "exr", lights(2), "map.exr");
     EXPECT_FALSE(again.cached);
     EXPECT_EQ(again.asset->id, id);
     EXPECT_NE(environments_->find(id), nullptr);
@@ -133,8 +133,8 @@ TEST_F(EnvironmentRegistryTest, RemoveTakesTheRigItsRecordItsCubeAndItsMap) {
 
 TEST_F(EnvironmentRegistryTest, AMapStaysWhileAnotherRigWasMadeFromIt) {
     const std::string bytes = map_bytes(40.0f);
-    const std::string one = environments_->upload(bytes, "exr", lights(1)).asset->id;
-    const std::string two = environments_->upload(bytes, "exr", lights(2)).asset->id;
+    const std::string one = environments_->upload(bytes, "exr", lights(1), "map.exr").asset->id;
+    const std::string two = environments_->upload(bytes, "exr", lights(2), "map.exr").asset->id;
     ASSERT_NE(one, two);
     const std::string map_file = "environments/" + api::sha256_hex(bytes) + ".exr";
 
@@ -160,7 +160,7 @@ TEST_F(EnvironmentRegistryTest, ThePresetIsNeitherListedNorRemoved) {
 // a frame needs it, recomputed); one after it, none, whatever files are left.
 TEST_F(EnvironmentRegistryTest, ACrashBeforeTheRecordWentLeavesTheEnvironmentWhole) {
     const std::string bytes = map_bytes(40.0f);
-    const auto uploaded = environments_->upload(bytes, "exr", lights(2)).asset;
+    const auto uploaded = environments_->upload(bytes, "exr", lights(2), "map.exr").asset;
     ASSERT_TRUE(store_.remove(DerivedKind::Rig, uploaded->id));
     restart();
     EXPECT_EQ(listed_ids(), std::vector<std::string>{uploaded->id});
@@ -174,7 +174,7 @@ TEST_F(EnvironmentRegistryTest, ACrashBeforeTheRecordWentLeavesTheEnvironmentWho
 
 TEST_F(EnvironmentRegistryTest, ACrashAfterTheRecordWentLeavesNoEnvironment) {
     const std::string bytes = map_bytes(40.0f);
-    const auto uploaded = environments_->upload(bytes, "exr", lights(2)).asset;
+    const auto uploaded = environments_->upload(bytes, "exr", lights(2), "map.exr").asset;
     ASSERT_TRUE(store_.remove(DerivedKind::RigSource, uploaded->id));
     restart();
     EXPECT_TRUE(listed_ids().empty());
@@ -192,7 +192,7 @@ TEST_F(EnvironmentRegistryTest, ListPagesByIdWithEachMapsSizeFormatAndTime) {
     for (const float brightness : {40.0f, 50.0f}) {
         const std::string bytes = map_bytes(brightness);
         for (const int count : {1, 2}) {
-            map_of[environments_->upload(bytes, "exr", lights(count)).asset->id] = bytes;
+            map_of[environments_->upload(bytes, "exr", lights(count), "map.exr").asset->id] = bytes;
         }
     }
     const auto after = std::chrono::system_clock::now() + std::chrono::seconds(2);
@@ -235,13 +235,13 @@ TEST_F(EnvironmentRegistryTest, ListPagesByIdWithEachMapsSizeFormatAndTime) {
 TEST_F(EnvironmentRegistryTest, RemovalsRacingUploadsLeaveMemoryAndStoreInAgreement) {
     const std::string bytes = map_bytes(40.0f);
     const auto start = std::chrono::steady_clock::now();
-    const std::string id = environments_->upload(bytes, "exr", lights(2)).asset->id;
+    const std::string id = environments_->upload(bytes, "exr", lights(2), "map.exr").asset->id;
     const auto upload_time = std::chrono::steady_clock::now() - start;
     constexpr int kRounds = 40;
     for (int round = 0; round < kRounds; ++round) {
         SCOPED_TRACE(round);
         environments_->remove(id);
-        std::thread upload([&] { environments_->upload(bytes, "exr", lights(2)); });
+        std::thread upload([&] { environments_->upload(bytes, "exr", lights(2), "map.exr"); });
         std::this_thread::sleep_for(upload_time * round / kRounds);
         environments_->remove(id);
         upload.join();

@@ -45,7 +45,7 @@ class MeshRegistryTest : public ::testing::Test {
 
 TEST_F(MeshRegistryTest, RemoveTakesTheFileAndForgetsTheMesh) {
     const std::string bytes = tetrahedron_obj(1);
-    const auto uploaded = meshes_.upload(bytes, MeshFormat::Obj).asset;
+    const auto uploaded = meshes_.upload(bytes, MeshFormat::Obj, "box.obj").asset;
     ASSERT_NE(meshes_.find(uploaded->id), nullptr);
     ASSERT_TRUE(store_.contains(SourceKind::Mesh, uploaded->id));
 
@@ -55,7 +55,8 @@ TEST_F(MeshRegistryTest, RemoveTakesTheFileAndForgetsTheMesh) {
     EXPECT_TRUE(meshes_.list("", 10).entries.empty());
     EXPECT_FALSE(meshes_.remove(uploaded->id));
     EXPECT_EQ(uploaded->mesh->primitives.size(), 1u) << "a frame that held it keeps it whole";
-    EXPECT_FALSE(meshes_.upload(bytes, MeshFormat::Obj).cached) << "uploaded again, loaded again";
+    EXPECT_FALSE(meshes_.upload(bytes, MeshFormat::Obj, "box.obj").cached)
+        << "uploaded again, loaded again";
 }
 
 TEST_F(MeshRegistryTest, ThePresetIsNeitherListedNorRemoved) {
@@ -68,7 +69,7 @@ TEST_F(MeshRegistryTest, ListPagesByIdWithEachFilesSizeAndFormat) {
     std::map<std::string, std::string> bytes_of;
     for (int size = 1; size <= 5; ++size) {
         const std::string bytes = tetrahedron_obj(size);
-        bytes_of[meshes_.upload(bytes, MeshFormat::Obj).asset->id] = bytes;
+        bytes_of[meshes_.upload(bytes, MeshFormat::Obj, "box.obj").asset->id] = bytes;
     }
     const ListedPage first = meshes_.list("", 3);
     ASSERT_EQ(first.entries.size(), 3u);

@@ -309,6 +309,19 @@ std::string image_label(const std::string& asset, int index, const std::string& 
     return asset + ": image " + std::to_string(index) + (name.empty() ? "" : " '" + name + "'");
 }
 
+std::string what_to_do_without(const std::string& extension) {
+    if (extension == "KHR_texture_basisu") {
+        return "its KTX2 (Basis Universal) textures have no PNG, JPEG or WebP fallback; export "
+               "them as WebP (glTF-Transform: gltf-transform webp in.glb out.glb) or with a "
+               "fallback image";
+    }
+    if (extension == "KHR_draco_mesh_compression" || extension == "EXT_meshopt_compression") {
+        return "export it uncompressed or with the other compression";
+    }
+    return "export it without the extension, or with it optional (listed in extensionsUsed "
+           "only, with a fallback)";
+}
+
 bool supported_extension(const std::string& name) {
     for (const char* supported :
          {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
@@ -414,7 +427,7 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
         if (!supported_extension(extension)) {
             fail(ErrorKind::Unsupported, asset,
                  "the asset requires the extension " + one_line(extension, 80) +
-                     ", which is not supported");
+                     ", which is not supported: " + what_to_do_without(extension));
         }
     }
     return model;

@@ -49,6 +49,8 @@ tinygltf::Model parse_gltf(std::span<const std::byte> bytes, const std::string& 
 // when the asset requires it and ignored with a warning when the asset only uses it (glTF 2.0,
 // section 3.12).
 bool supported_extension(const std::string& name);
+// What a user can do about an asset that requires `extension`, which oer does not support.
+std::string what_to_do_without(const std::string& extension);
 
 // "asset: image 3 'name'", for messages.
 std::string image_label(const std::string& asset, int index, const std::string& name);
