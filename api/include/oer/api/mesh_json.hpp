@@ -20,8 +20,11 @@ MeshFormat mesh_format_from_string(const std::string& name);  // throws oer::Err
 // older clients), metallic, roughness, emissive (linear RGB, times the emissive strength),
 // alpha_mode ("opaque", "mask", "blend"), alpha_cutoff (mask only), double_sided, textures
 // {base_color, metallic_roughness, normal, occlusion, emissive} (whether it has each), specular
-// (whether it has a specular term)}], repairs {normals_replaced, normals_renormalised},
-// warnings [...] }. Floats appear as their shortest decimal form.
+// (whether it has a specular term)}], cameras [{index, name, type ("perspective",
+// "orthographic"), eye, target, up, fov_y (degrees; perspective only), znear, and as the file
+// gives them aspect_ratio and zfar}] (the asset's own, Mesh::cameras: `camera=asset:N` in a
+// render), repairs {normals_replaced, normals_renormalised}, warnings [...] }. Floats appear as
+// their shortest decimal form.
 nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
                             std::optional<MeshFormat> format = std::nullopt);
 
