@@ -93,7 +93,7 @@ Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const Bounds& scene, 
                        aspect);
 }
 
-// "camera 0 'Front' (perspective), camera 1 'Top' (orthographic)": what a mesh offers, for the
+// "it has 2: 0 'Front' (perspective), 1 'Top' (orthographic)": what a mesh offers, for the
 // error that names a camera it does not have (the first 16; the mesh JSON lists them all).
 std::string listed_cameras(const std::vector<AssetCamera>& cameras) {
     if (cameras.empty()) {
@@ -159,6 +159,8 @@ Camera resolved_asset_camera(const AssetCameraSpec& asset, const RenderSpec& spe
     camera.eye = point(chosen->camera.eye);
     camera.target = point(chosen->camera.target);
     camera.up = glm::vec3(glm::normalize(glm::dmat3(transform) * glm::dvec3(chosen->camera.up)));
+    // A transform barely invertible (within the parser's determinant) may still flatten the
+    // view in float: eye and target one point, or up along the view.
     try {
         validate_camera(camera);
     } catch (const Error& error) {

@@ -58,7 +58,7 @@ void expect_vec3_near(const glm::vec3& got, const glm::vec3& expected, const std
     }
 }
 
-bool has_warning(const Mesh& mesh, const std::string& part) {
+bool warned(const Mesh& mesh, const std::string& part) {
     for (const std::string& warning : mesh.warnings) {
         if (warning.find(part) != std::string::npos) {
             return true;
@@ -156,12 +156,11 @@ TEST(GltfCameras, HostileCamerasAreLeftOutWithAWarning) {
     EXPECT_EQ(mesh.cameras[0].name, "camera 0");
     expect_vec3_near(mesh.cameras[0].camera.eye, {0, 0, 2}, "the one camera left");
     EXPECT_EQ(mesh.triangle_count, 1u);
-    EXPECT_TRUE(
-        has_warning(mesh, "camera 0 'Zero' of node 1 was left out: its yfov is not in (0, pi)"));
-    EXPECT_TRUE(has_warning(mesh, "camera 1 'Wide' of node 2 was left out: its yfov"));
-    EXPECT_TRUE(has_warning(mesh, "camera 2 'Flat' of node 3 was left out: its node's transform"));
-    EXPECT_TRUE(has_warning(mesh, "camera 7 of node 4 was left out: it does not exist"));
-    EXPECT_TRUE(has_warning(mesh, "camera 4 'Far' of node 6 was left out: its position is beyond"));
+    EXPECT_TRUE(warned(mesh, "camera 0 'Zero' of node 1 was left out: its yfov is not in (0, pi)"));
+    EXPECT_TRUE(warned(mesh, "camera 1 'Wide' of node 2 was left out: its yfov"));
+    EXPECT_TRUE(warned(mesh, "camera 2 'Flat' of node 3 was left out: its node's transform"));
+    EXPECT_TRUE(warned(mesh, "camera 7 of node 4 was left out: it does not exist"));
+    EXPECT_TRUE(warned(mesh, "camera 4 'Far' of node 6 was left out: its position is beyond"));
     EXPECT_EQ(mesh.warnings.size(), 5u);
 }
 
@@ -173,7 +172,7 @@ TEST(GltfCameras, CamerasBeyondTheLimitAreLeftOut) {
     limits.max_cameras = 2;
     const Mesh mesh = load_gltf_text(b.gltf({0, 1, 2, 3}), limits);
     EXPECT_EQ(mesh.cameras.size(), 2u);
-    EXPECT_TRUE(has_warning(mesh, "1 camera(s) beyond the limit of 2 were left out"));
+    EXPECT_TRUE(warned(mesh, "1 camera(s) beyond the limit of 2 were left out"));
     EXPECT_EQ(load_gltf_text(b.gltf({0, 1, 2, 3})).cameras.size(), 3u)
         << "a camera used by three nodes is three views";
 }

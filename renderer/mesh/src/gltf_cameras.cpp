@@ -18,7 +18,7 @@ namespace {
 // two as parallel (a sheared transform): the camera has no orientation to draw from.
 constexpr double kDegenerate = 1e-9;
 
-bool finite(const glm::vec3& v) {
+bool representable(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
@@ -93,7 +93,7 @@ void GltfCameras::place(int node, const glm::dmat4& world) {
     const double ahead = std::max(1.0, glm::length(eye));
     camera.camera.target = glm::vec3(eye + ahead * forward / forward_length);
     camera.camera.up = glm::vec3(up / up_length);
-    if (!finite(camera.camera.eye) || !finite(camera.camera.target)) {
+    if (!representable(camera.camera.eye) || !representable(camera.camera.target)) {
         leave_out(node, "its position is beyond the range of a float");
         return;
     }
