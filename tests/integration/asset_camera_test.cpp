@@ -198,3 +198,32 @@ TEST(AssetCamera, ACameraTheMeshCannotDrawIsAnInvalidParameter) {
                    client->Get("/v1/render?environment=default&mesh=default&camera=asset:0"),
                    ProblemKind::InvalidParameter, "camera");
 }
+
+// The mesh JSON is made from the decoded mesh whenever it is read back from the store, so a
+// restarted service lists the same cameras and draws from them.
+TEST(AssetCamera, TheCamerasAreListedAndDrawnAfterARestart) {
+    TempRoot root;
+    Json before;
+    std::string id;
+    {
+        TestServer server(test_config(root.data()));
+        auto client = server.client();
+        const Json uploaded = upload_mesh(*client, box_with_cameras(), "model/gltf-binary");
+        ASSERT_FALSE(::testing::Test::HasFatalFailure());
+        id = uploaded.at("id");
+        before =
+            expect_conforms("GET", "/v1/meshes/{id}", client->Get(("/v1/meshes/" + id).c_str()));
+    }
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const Json after =
+        expect_conforms("GET", "/v1/meshes/{id}", client->Get(("/v1/meshes/" + id).c_str()));
+    ASSERT_EQ(after.at("cameras").size(), 3u);
+    EXPECT_EQ(after.at("cameras"), before.at("cameras"));
+    const auto frame = client->Get(
+        ("/v1/render?environment=default&width=32&height=32&occlusion=off&camera=asset:Side&mesh=" +
+         id)
+            .c_str());
+    ASSERT_TRUE(frame);
+    EXPECT_EQ(frame->status, 200) << frame->body;
+}
