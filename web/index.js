@@ -313,6 +313,10 @@ const show = (attribute, id) => {
   if (attribute === 'environment') {
     viewer.removeAttribute('lights');
   }
+  // An asset camera belongs to the previous product.
+  if (attribute === 'mesh') {
+    viewer.removeAttribute('camera-asset');
+  }
   viewer.setAttribute(attribute, id);
 };
 meshPicker.addEventListener('change', () => show('mesh', meshPicker.value));
@@ -336,6 +340,57 @@ fetchJson('/v1/presets').then((answer) => {
   presets.environment = answer.environments;
   showPickers();
 }, (error) => say(`The presets did not load: ${error.message}`, { error: true }));
+// The product's own cameras as views (its first mesh's `cameras`, GET /v1/meshes/{id}):
+// "Orbit", then each perspective camera by name; an orthographic one is listed but disabled
+// (the server draws perspective cameras only). Hidden for a product without cameras. A drag
+// removes camera-asset, which sets the picker back to Orbit.
+const viewGroup = document.getElementById('view-group');
+const viewPicker = document.getElementById('view-picker');
+let viewsFor = null;  // the mesh id the picker's cameras are of
+// camera-asset holds an index (what the picker sets) or a name (a link may hold either).
+const showView = () => {
+  const asset = viewer.getAttribute('camera-asset') ?? '';
+  const shown = [...viewPicker.options].find(
+    (option) => option.value === asset || (asset !== '' && option.textContent === asset));
+  viewPicker.value = shown?.value ?? '';
+};
+const loadViews = async () => {
+  const mesh = viewer.mesh.split(/\s+/).find(Boolean) ?? 'default';
+  if (mesh === viewsFor) {
+    return;
+  }
+  viewsFor = mesh;
+  let cameras = [];
+  try {
+    cameras = (await fetchJson(`/v1/meshes/${encodeURIComponent(mesh)}`)).cameras ?? [];
+  } catch (error) {
+    say(`The product's cameras did not load: ${error.message}`, { error: true });
+  }
+  if (mesh !== viewsFor) {
+    return;  // another product was picked meanwhile
+  }
+  viewPicker.replaceChildren(new Option('Orbit', ''), ...cameras.map((camera) => {
+    const option = new Option(camera.name, String(camera.index));
+    option.disabled = camera.type !== 'perspective';
+    if (option.disabled) {
+      option.textContent += ' (orthographic: not drawn)';
+    }
+    return option;
+  }));
+  viewGroup.hidden = cameras.length === 0;
+  showView();
+};
+viewPicker.addEventListener('change', () => {
+  if (viewPicker.value === '') {
+    viewer.removeAttribute('camera-asset');
+  } else {
+    viewer.setAttribute('camera-asset', viewPicker.value);
+  }
+});
+new MutationObserver(showView).observe(viewer, { attributeFilter: ['camera-asset'] });
+new MutationObserver(loadViews).observe(viewer, { attributeFilter: ['mesh'] });
+loadViews();
+
 // The server's upload limit, to refuse a larger file before sending it; null when unknown
 // (GET /v1/info failed, which the status says: the server's 413 then refuses it).
 const uploadLimit = fetchJson('/v1/info').then(

@@ -91,8 +91,8 @@ const STYLE = `
 
 export class OerViewer extends HTMLElement {
   static observedAttributes = [
-    'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'exposure',
-    'background', 'ground', 'shadows', 'environment-yaw', 'base-color', 'auto-rotate',
+    'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'camera-asset',
+    'exposure', 'background', 'ground', 'shadows', 'environment-yaw', 'base-color', 'auto-rotate',
   ];
 
   #image;
@@ -111,7 +111,7 @@ export class OerViewer extends HTMLElement {
   #pointers = new Map();  // the pointers down on the element, by id: their latest positions
   #pinch = null;  // two pointers down: the span between them and the distance at its start
   #turntable = { frame: 0, last: 0, heldUntil: 0 };
-  #shownDistance = null;  // the shown frame's orbit distance, from its X-Oer-Camera
+  #shownDistance = null;  // the shown orbit's distance, from its frame's X-Oer-Camera
   #dragging = false;
   #previewing = false;  // previews are being asked for, until the change rests
   #settingState = false;  // an attribute is being set by an interaction that asks for its own frames
@@ -254,6 +254,7 @@ export class OerViewer extends HTMLElement {
 
   // Back to the server's own framing.
   resetView() {
+    this.removeAttribute('camera-asset');
     this.removeAttribute('camera-orbit');
     this.removeAttribute('camera-target');
   }
@@ -277,7 +278,13 @@ export class OerViewer extends HTMLElement {
     }
     query.set('width', side(rect.width));
     query.set('height', side(rect.height));
-    const orbit = this.orbit;
+    // One of the asset's own cameras (the mesh's `cameras`) replaces the orbit, which is kept
+    // for when the view turns again.
+    const asset = this.getAttribute('camera-asset');
+    const orbit = asset ? null : this.orbit;
+    if (asset) {
+      query.set('camera', `asset:${asset.trim()}`);
+    }
     if (orbit) {
       query.set('yaw', orbit.yaw);
       query.set('pitch', orbit.pitch);
@@ -286,7 +293,7 @@ export class OerViewer extends HTMLElement {
       }
     }
     const target = this.getAttribute('camera-target');
-    if (target) {
+    if (target && !asset) {
       query.set('target', target.trim().split(/[\s,]+/).join(','));
     }
     // base-color: '#rrggbb' (sRGB) or the API's linear 'r,g,b', which the server validates.
@@ -424,7 +431,10 @@ export class OerViewer extends HTMLElement {
         URL.revokeObjectURL(this.#objectUrl);
       }
       this.#objectUrl = objectUrl;
-      this.#shownDistance = cameraDistance(response.headers.get('X-Oer-Camera')) ?? this.#shownDistance;
+      // An asset camera's distance is none of the orbit's, which turning returns to.
+      if (!new URL(url, location.href).searchParams.has('camera')) {
+        this.#shownDistance = cameraDistance(response.headers.get('X-Oer-Camera')) ?? this.#shownDistance;
+      }
       const preliminary = response.headers.get('X-Oer-Preliminary') !== null;
       // A preliminary frame is still a wait: for the frame with its transfer.
       this.#showingPreliminary = preliminary;
@@ -504,9 +514,13 @@ export class OerViewer extends HTMLElement {
     }
   }
 
+  // Every turn and zoom goes through here: it leaves an asset camera for the orbit.
   #moveCamera(change) {
     const orbit = this.orbit ?? { ...DEFAULT_ORBIT, distance: null };
-    this.#setState(() => { this.orbit = change(orbit); });
+    this.#setState(() => {
+      this.removeAttribute('camera-asset');
+      this.orbit = change(orbit);
+    });
   }
 
   // The orbit's distance, or while camera-orbit gives none the server's own (the automatic

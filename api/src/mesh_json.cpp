@@ -21,6 +21,9 @@ constexpr EnumNames<ShadingModel, 2> kShadingModelNames = {
      {ShadingModel::MetallicRoughness, "metallic_roughness"}}};
 constexpr EnumNames<AlphaMode, 3> kAlphaModeNames = {
     {{AlphaMode::Opaque, "opaque"}, {AlphaMode::Mask, "mask"}, {AlphaMode::Blend, "blend"}}};
+constexpr EnumNames<CameraProjection, 2> kProjectionNames = {
+    {{CameraProjection::Perspective, "perspective"},
+     {CameraProjection::Orthographic, "orthographic"}}};
 
 // A float as the double with its shortest decimal text: 0.8f shows as 0.8, not as
 // 0.800000011920929 (the double nearest the float).
@@ -72,6 +75,29 @@ nlohmann::json variants_json(const Mesh& mesh) {
         variants.push_back(std::move(entry));
     }
     return variants;
+nlohmann::json cameras_json(const std::vector<AssetCamera>& cameras) {
+    nlohmann::json list = nlohmann::json::array();
+    for (std::size_t i = 0; i < cameras.size(); ++i) {
+        const AssetCamera& camera = cameras[i];
+        nlohmann::json entry = {{"index", i},
+                                {"name", camera.name},
+                                {"type", name_of(camera.projection, kProjectionNames)},
+                                {"eye", floats_json(camera.camera.eye)},
+                                {"target", floats_json(camera.camera.target)},
+                                {"up", floats_json(camera.camera.up)},
+                                {"znear", shortest(camera.znear)}};
+        if (camera.projection == CameraProjection::Perspective) {
+            entry["fov_y"] = shortest(camera.camera.fov_y);
+        }
+        if (camera.aspect_ratio > 0.0f) {
+            entry["aspect_ratio"] = shortest(camera.aspect_ratio);
+        }
+        if (camera.zfar > 0.0f) {
+            entry["zfar"] = shortest(camera.zfar);
+        }
+        list.push_back(std::move(entry));
+    }
+    return list;
 }
 
 }  // namespace
@@ -121,6 +147,7 @@ nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
         {"bounds", {{"min", floats_json(mesh.bounds.min)}, {"max", floats_json(mesh.bounds.max)}}},
         {"materials", std::move(materials)},
         {"variants", variants_json(mesh)},
+        {"cameras", cameras_json(mesh.cameras)},
         {"repairs",
          {{"normals_replaced", mesh.repairs.normals_replaced},
           {"normals_renormalised", mesh.repairs.normals_renormalised}}},

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include <glm/matrix.hpp>
 
@@ -160,6 +161,33 @@ LookAtSpec query_look_at(const RenderQuery& query, double fov_y) {
     return look_at;
 }
 
+// An asset camera's index (digits) or name, as the query's `camera=asset:...` and the body's
+// `camera.asset` give it.
+constexpr std::string_view kAssetPrefix = "asset:";
+constexpr long long kMaxAssetCameraIndex = 1 << 20;  // far beyond any mesh's cameras
+
+AssetCameraSpec json_asset_camera(const Json& value, const std::string& path) {
+    if (value.is_number_integer()) {
+        return {std::size_t(json_integer(value, path, 0, kMaxAssetCameraIndex))};
+    }
+    if (!value.is_string() || value.get<std::string>().empty()) {
+        reader().fail(path, "expected an asset camera's index (an integer) or name (a string)");
+    }
+    return {value.get<std::string>()};
+}
+
+AssetCameraSpec query_asset_camera(const std::string& text) {
+    if (!text.starts_with(kAssetPrefix) || text.size() == kAssetPrefix.size()) {
+        throw InvalidParameter(
+            "camera", "expected asset:N (an index) or asset:NAME, got '" + excerpt(text) + "'");
+    }
+    const std::string which = text.substr(kAssetPrefix.size());
+    if (which.find_first_not_of("0123456789") != std::string::npos) {
+        return {which};
+    }
+    return {std::size_t(parse_integer("camera", which, 0, kMaxAssetCameraIndex))};
+}
+
 // A light's weight (docs/design.md section 2, dimmable lights): true and false, the on/off
 // form, are 1 and 0.
 double json_light_weight(const Json& value, const std::string& path) {
@@ -245,6 +273,17 @@ Json objects_json(const std::vector<ObjectSpec>& objects) {
 CameraSpec json_camera(const Json& value, const std::string& path) {
     require_object(value, path, render_member_names("camera"));
     CameraSpec camera;
+    if (const Json* asset = find(value, "asset")) {
+        for (const std::string_view name : {"eye", "target", "up", "orbit", "fov_y"}) {
+            if (find(value, name)) {
+                reader().fail(child(path, name),
+                              "an asset camera has its own placement and field of view: not "
+                              "with asset");
+            }
+        }
+        camera.placement = json_asset_camera(*asset, child(path, "asset"));
+        return camera;
+    }
     if (const Json* fov_y = find(value, "fov_y")) {
         camera.fov_y = json_number(*fov_y, child(path, "fov_y"), kFovY);
     }
@@ -263,6 +302,18 @@ CameraSpec json_camera(const Json& value, const std::string& path) {
 
 std::optional<CameraSpec> query_camera(const RenderQuery& query) {
     const auto given = [&query](std::string_view name) { return query_value(query, name); };
+    if (const std::string* asset = given("camera")) {
+        for (const std::string_view name :
+             {"eye", "target", "up", "yaw", "pitch", "distance", "fov_y"}) {
+            if (given(name)) {
+                throw InvalidParameter(std::string(name),
+                                       "camera=asset:... places the camera and gives its field "
+                                       "of view: not with " +
+                                           std::string(name));
+            }
+        }
+        return CameraSpec{query_asset_camera(*asset)};
+    }
     const bool orbit = given("yaw") || given("pitch") || given("distance");
     if (orbit && (given("eye") || given("up"))) {
         throw InvalidParameter(given("eye") ? "eye" : "up",
@@ -290,6 +341,12 @@ std::optional<CameraSpec> query_camera(const RenderQuery& query) {
 
 Json camera_json(const CameraSpec& camera) {
     Json json;
+    if (const auto* asset = std::get_if<AssetCameraSpec>(&camera.placement)) {
+        // Its own field of view, from the mesh the document names by id: none written.
+        std::visit([&json](const auto& index_or_name) { json["asset"] = index_or_name; },
+                   asset->index_or_name);
+        return json;
+    }
     if (const auto* look_at = std::get_if<LookAtSpec>(&camera.placement)) {
         json = {{"eye", vector_json(look_at->eye)},
                 {"target", vector_json(look_at->target)},

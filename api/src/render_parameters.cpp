@@ -315,6 +315,11 @@ std::vector<RenderParameter> camera_rows() {
     rows.push_back(vector({"camera/orbit/target", "target", "",
                            "the orbit's centre; default: the automatic framing's"},
                           Presence::Optional));
+    rows.push_back(member_row({"camera/asset", "camera", "camera",
+                               "one of the asset's own cameras, of the first object's mesh: "
+                               "asset:N (its index in the mesh's cameras) or asset:NAME"},
+                              ParameterKind::AssetCamera, Presence::Optional,
+                              "asset:N|asset:NAME"));
     return rows;
 }
 

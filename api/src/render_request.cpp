@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <type_traits>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 
 #include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
@@ -88,6 +92,83 @@ Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const Bounds& scene, 
         orbit.distance ? std::optional<float>(float(*orbit.distance)) : std::nullopt;
     return frame_orbit(float(orbit.yaw), float(orbit.pitch), target, distance, scene, fov_y,
                        aspect);
+}
+
+// "it has 2: 0 'Front' (perspective), 1 'Top' (orthographic)": what a mesh offers, for the
+// error that names a camera it does not have (the first 16; the mesh JSON lists them all).
+std::string listed_cameras(const std::vector<AssetCamera>& cameras) {
+    if (cameras.empty()) {
+        return "it has no cameras";
+    }
+    constexpr std::size_t kListed = 16;
+    std::string list = "it has " + std::to_string(cameras.size()) + ": ";
+    for (std::size_t i = 0; i < std::min(cameras.size(), kListed); ++i) {
+        list += (i > 0 ? ", " : "") + std::to_string(i) + " '" + excerpt(cameras[i].name) + "' (" +
+                (cameras[i].projection == CameraProjection::Perspective ? "perspective"
+                                                                        : "orthographic") +
+                ")";
+    }
+    return list + (cameras.size() > kListed ? ", ..." : "");
+}
+
+// The asset camera of the first object's mesh, placed by that object's transform.
+Camera resolved_asset_camera(const AssetCameraSpec& asset, const RenderSpec& spec,
+                             const std::vector<std::shared_ptr<const Mesh>>& meshes) {
+    if (spec.objects.empty()) {
+        throw InvalidParameter("camera",
+                               "an asset camera is one of the first object's mesh's cameras, "
+                               "and the request has no object");
+    }
+    const std::vector<AssetCamera>& cameras = meshes.front()->cameras;
+    const auto chosen = std::visit(
+        [&cameras](const auto& index_or_name) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(index_or_name)>, std::size_t>) {
+                return index_or_name < cameras.size()
+                           ? cameras.begin() + std::ptrdiff_t(index_or_name)
+                           : cameras.end();
+            } else {
+                return std::find_if(cameras.begin(), cameras.end(),
+                                    [&](const AssetCamera& c) { return c.name == index_or_name; });
+            }
+        },
+        asset.index_or_name);
+    if (chosen == cameras.end()) {
+        const std::string wanted = std::visit(
+            [](const auto& index_or_name) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(index_or_name)>, std::size_t>) {
+                    return "no camera " + std::to_string(index_or_name);
+                } else {
+                    return "no camera named '" + excerpt(index_or_name) + "'";
+                }
+            },
+            asset.index_or_name);
+        throw InvalidParameter(
+            "camera", "the first object's mesh has " + wanted + "; " + listed_cameras(cameras));
+    }
+    const std::string name =
+        "camera " + std::to_string(chosen - cameras.begin()) + " '" + excerpt(chosen->name) + "'";
+    if (chosen->projection != CameraProjection::Perspective) {
+        throw InvalidParameter("camera", name +
+                                             " is orthographic: oer renders perspective "
+                                             "cameras only");
+    }
+    const glm::dmat4& transform = spec.objects.front().transform;
+    const auto point = [&transform](const glm::vec3& p) {
+        return glm::vec3(transform * glm::dvec4(glm::dvec3(p), 1.0));
+    };
+    Camera camera = chosen->camera;
+    camera.eye = point(chosen->camera.eye);
+    camera.target = point(chosen->camera.target);
+    camera.up = glm::vec3(glm::normalize(glm::dmat3(transform) * glm::dvec3(chosen->camera.up)));
+    // A transform barely invertible (within the parser's determinant) may still flatten the
+    // view in float: eye and target one point, or up along the view.
+    try {
+        validate_camera(camera);
+    } catch (const Error& error) {
+        throw InvalidParameter("camera",
+                               name + " placed by the first object's transform: " + error.what());
+    }
+    return camera;
 }
 
 }  // namespace
@@ -242,6 +323,9 @@ Camera resolved_camera(const RenderSpec& spec,
     }
     if (const auto* look_at = std::get_if<LookAtSpec>(&spec.camera->placement)) {
         return render_members::to_camera(*look_at, spec.camera->fov_y);
+    }
+    if (const auto* asset = std::get_if<AssetCameraSpec>(&spec.camera->placement)) {
+        return resolved_asset_camera(*asset, spec, meshes);
     }
     return resolved_orbit(std::get<OrbitSpec>(spec.camera->placement), float(spec.camera->fov_y),
                           scene, aspect);

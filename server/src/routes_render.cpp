@@ -17,16 +17,18 @@ namespace {
 constexpr const char* kFrameCacheControl = "public, max-age=86400";
 
 // X-Oer-Camera: the camera the frame is seen from, in the query's notation, so that a client
-// can continue from the automatic framing (zoom from its distance, say) without a jump:
-// `eye=0,1.2,3.4; target=0,0.8,0; up=0,1,0; fov_y=45`.
+// can continue from the automatic framing (zoom from its distance, say) without a jump, or draw
+// an asset camera's frame again explicitly:
+// `eye=0,1.2,3.4; target=0,0.8,0; up=0,1,0; fov_y=45`. Nine significant digits: every float
+// reads back as itself, so the same camera given explicitly draws the same pixels.
 std::string camera_header(const Camera& camera) {
     const auto vector = [](const glm::vec3& v) {
-        char text[64];
-        std::snprintf(text, sizeof text, "%.6g,%.6g,%.6g", double(v.x), double(v.y), double(v.z));
+        char text[96];
+        std::snprintf(text, sizeof text, "%.9g,%.9g,%.9g", double(v.x), double(v.y), double(v.z));
         return std::string(text);
     };
     char fov_y[32];
-    std::snprintf(fov_y, sizeof fov_y, "%.6g", double(camera.fov_y));
+    std::snprintf(fov_y, sizeof fov_y, "%.9g", double(camera.fov_y));
     return "eye=" + vector(camera.eye) + "; target=" + vector(camera.target) +
            "; up=" + vector(camera.up) + "; fov_y=" + fov_y;
 }

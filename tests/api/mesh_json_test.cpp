@@ -98,6 +98,7 @@ TEST(MeshJson, DescribesCountsBoundsMaterialsAndRepairs) {
              {"emissive", false}}},
            {"specular", true}}}},
         {"variants", Json::array()},
+        {"cameras", Json::array()},
         {"repairs", {{"normals_replaced", 3}, {"normals_renormalised", 1}}},
         {"warnings", {"mtllib ignored"}}};
     EXPECT_EQ(json, expected) << json.dump(2);
@@ -159,6 +160,41 @@ TEST(MeshJson, ListsTheVariantsWithTheirMaterialsAndSwatches) {
     const Json& unchanged = json.at("variants").at(1);
     EXPECT_EQ(unchanged.at("materials"), (Json{0, 1}));
     EXPECT_EQ(unchanged.at("swatch").at("material"), 0);  // plain: 3 triangles against 1
+// The asset's cameras, in their order: index, name, type, placement; fov_y for a perspective
+// camera only, aspect_ratio and zfar only where the file gives them.
+TEST(MeshJson, ListsTheAssetsCameras) {
+    Mesh mesh = two_material_mesh();
+    AssetCamera front;
+    front.name = "Front";
+    front.camera = {{1.0f, 2.0f, 3.0f}, {0.5f, 2.0f, 3.0f}, {0.0f, 1.0f, 0.0f}, 45.5f};
+    front.aspect_ratio = 1.5f;
+    front.znear = 0.01f;
+    front.zfar = 100.0f;
+    AssetCamera top;
+    top.name = "Top";
+    top.projection = CameraProjection::Orthographic;
+    top.camera = {{0.0f, 2.0f, 5.0f}, {0.0f, 0.5f, 5.0f}, {0.0f, 0.0f, -1.0f}, 0.0f};
+    top.znear = 0.1f;
+    mesh.cameras = {front, top};
+    const Json json = api::mesh_to_json(mesh, "default");
+    EXPECT_EQ(json.at("cameras"), (Json{{{"index", 0},
+                                         {"name", "Front"},
+                                         {"type", "perspective"},
+                                         {"eye", {1.0, 2.0, 3.0}},
+                                         {"target", {0.5, 2.0, 3.0}},
+                                         {"up", {0.0, 1.0, 0.0}},
+                                         {"fov_y", 45.5},
+                                         {"aspect_ratio", 1.5},
+                                         {"znear", 0.01},
+                                         {"zfar", 100.0}},
+                                        {{"index", 1},
+                                         {"name", "Top"},
+                                         {"type", "orthographic"},
+                                         {"eye", {0.0, 2.0, 5.0}},
+                                         {"target", {0.0, 0.5, 5.0}},
+                                         {"up", {0.0, 0.0, -1.0}},
+                                         {"znear", 0.1}}}))
+        << json.at("cameras").dump(2);
     EXPECT_EQ(oer::testing::openapi_schema_errors(json, "#/components/schemas/Mesh"),
               std::vector<std::string>{});
 }

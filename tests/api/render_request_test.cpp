@@ -823,7 +823,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
                              "camera/orbit/distance", "shadows/filter", "environment_yaw"}) {
         EXPECT_NE(std::find(members.begin(), members.end(), path), members.end()) << path;
     }
-    EXPECT_EQ(members.size(), 17u + 5u + 5u + 4u + 3u);
+    EXPECT_EQ(members.size(), 17u + 5u + 6u + 4u + 3u);
     // Every query parameter is accepted with a valid value (and the ones it needs).
     const std::map<std::string, Query> valid = {
         {"environment", {}},
@@ -839,6 +839,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         {"yaw", {{"yaw", "0"}}},
         {"pitch", {{"pitch", "0"}}},
         {"distance", {{"distance", "2"}}},
+        {"camera", {{"mesh", "default"}, {"camera", "asset:0"}}},
         {"lights", {{"lights", "1"}}},
         {"width", {{"width", "64"}}},
         {"height", {{"height", "64"}}},
@@ -861,7 +862,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         query.insert({"environment", "default"});
         EXPECT_EQ(rejected_parameter(query), "") << parameter;
     }
-    EXPECT_EQ(api::render_query_parameters().size(), 28u);
+    EXPECT_EQ(api::render_query_parameters().size(), 29u);
 }
 
 TEST(RenderRequest, BackgroundsReadAndPrintCanonically) {

@@ -706,6 +706,7 @@ TEST(RenderCamera, TheHeaderNamesTheAutomaticFramingSoAnOrbitFromItDrawsTheSameF
     for (std::size_t i = 0; i < a.pixels.size(); ++i) {
         largest = std::max(largest, std::abs(int(a.pixels[i]) - int(b.pixels[i])));
     }
-    // The header's six significant digits move the camera by far less than a pixel.
+    // The orbit from the header (printed here to six decimals) moves the camera by far less than
+    // a pixel.
     EXPECT_LE(largest, 2) << "the orbit from X-Oer-Camera draws another frame";
 }

@@ -9,6 +9,12 @@
 #include <string>
 #include <vector>
 
+#include <cstdio>
+#include <fstream>
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include "base64.hpp"
 #include "cli_process.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/render_request.hpp"
@@ -97,6 +103,8 @@ std::vector<Case> cases() {
         {"--eye 0,1,3 --target 0,0.5,0 --up 0,0,1 --fov 30",
          {{"eye", "0,1,3"}, {"target", "0,0.5,0"}, {"up", "0,0,1"}, {"fov_y", "30"}},
          "eye"},
+        {"--camera front", {{"camera", "front"}}, "camera"},
+        {"--camera asset:0 --eye 0,1,3", {{"camera", "asset:0"}, {"eye", "0,1,3"}}, "eye"},
     };
 }
 
@@ -195,4 +203,76 @@ TEST_F(RenderFlags, OcclusionBakesTheTransferAndSaysSoOnStderrOnly) {
     EXPECT_NE(render("").find(", transfer "), std::string::npos);
     EXPECT_NE(render("--bounce none").find(", transfer "), std::string::npos);
     EXPECT_EQ(render("--occlusion off").find(", transfer "), std::string::npos);
+}
+
+namespace {
+
+// A triangle (bounds centre (0.5, 0.5, 0)) as a .gltf, with camera 0 "Front" at (0, 0.5, 3)
+// looking down -Z and camera 1 "Back" at (0, 0.5, -3) turned half about +Y (looking down +Z),
+// both with a yfov of kBackYfov radians.
+constexpr double kBackYfov = 0.6;
+
+std::string triangle_with_cameras() {
+    const std::vector<glm::vec3> positions{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(positions.data());
+    const std::vector<std::uint8_t> data(bytes, bytes + positions.size() * sizeof(glm::vec3));
+    const nlohmann::json camera = {{"type", "perspective"},
+                                   {"perspective", {{"yfov", kBackYfov}, {"znear", 0.01}}}};
+    nlohmann::json front = camera, back = camera;
+    front["name"] = "Front";
+    back["name"] = "Back";
+    const nlohmann::json gltf = {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0, 1, 2}}}}},
+        {"nodes",
+         {{{"mesh", 0}},
+          {{"camera", 0}, {"translation", {0.0, 0.5, 3.0}}},
+          {{"camera", 1}, {"translation", {0.0, 0.5, -3.0}}, {"rotation", {0.0, 1.0, 0.0, 0.0}}}}},
+        {"cameras", {front, back}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
+        {"accessors",
+         {{{"bufferView", 0},
+           {"componentType", 5126},
+           {"count", 3},
+           {"type", "VEC3"},
+           {"min", {0, 0, 0}},
+           {"max", {1, 1, 0}}}}},
+        {"bufferViews", {{{"buffer", 0}, {"byteLength", data.size()}}}},
+        {"buffers",
+         {{{"byteLength", data.size()},
+           {"uri", "data:application/octet-stream;base64," + oer::testing::base64(data)}}}}};
+    return gltf.dump();
+}
+
+}  // namespace
+
+// --camera asset:N is the query's camera: `oer render` draws the mesh's own camera, the same
+// frame as that camera given by --eye, --target and --fov; one the mesh does not have is a
+// usage error listing those it has.
+TEST_F(RenderFlags, CameraDrawsTheMeshsOwnCamera) {
+    std::ofstream(dir_ / "triangle.gltf") << triangle_with_cameras();
+    const auto render = [this](const std::string& flags) {
+        return run("render --env default --mesh " + (dir_ / "triangle.gltf").string() +
+                   " --size 48x32 --samples 1 --occlusion off -o " + (dir_ / "frame.png").string() +
+                   " " + flags);
+    };
+    const ProcessResult asset = render("--camera asset:1");
+    ASSERT_EQ(asset.status, 0) << asset.err;
+    const std::string from_asset = slurp(dir_ / "frame.png");
+    // The loader's float of the yfov in degrees, to every digit.
+    char fov[32];
+    std::snprintf(fov, sizeof fov, "%.9g",
+                  double(float(kBackYfov * 180.0 / 3.14159265358979323846)));
+    const ProcessResult given = render(std::string("--eye 0,0.5,-3 --target 0,0.5,0 --fov ") + fov);
+    ASSERT_EQ(given.status, 0) << given.err;
+    EXPECT_EQ(slurp(dir_ / "frame.png"), from_asset) << "the explicit camera draws another frame";
+    ASSERT_EQ(render("--camera asset:Front").status, 0);
+    EXPECT_NE(slurp(dir_ / "frame.png"), from_asset) << "camera 0 draws camera 1's frame";
+
+    const ProcessResult missing = render("--camera asset:Side");
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_EQ(missing.err,
+              "oer render: --camera: the first object's mesh has no camera named 'Side'; it has "
+              "2: 0 'Front' (perspective), 1 'Back' (perspective)\n");
 }

@@ -7,6 +7,8 @@
 // gltf_draco.hpp), instanced nodes are placed once per instance (gltf_instancing.hpp), and the
 // materials of KHR_materials_variants are read beside the default ones (gltf_variants.hpp). TANGENT
 // is read only where a normal texture needs it; finish_mesh generates it where the file has none.
+// The cameras the nodes hold are placed by the same walk (gltf_cameras.hpp) and aimed at the
+// finished mesh's bounds.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -16,6 +18,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "gltf_baking.hpp"
+#include "gltf_cameras.hpp"
 #include "gltf_draco.hpp"
 #include "gltf_instancing.hpp"
 #include "gltf_materials.hpp"
@@ -45,14 +48,20 @@ class GltfConverter {
           primitives_(model, context.asset, limits),
           images_(model, context, limits, mesh_.textures),
           textures_(model, context.asset, images_, mesh_.warnings),
-          materials_(model, context.asset, textures_, mesh_.materials, mesh_.warnings) {}
+          materials_(model, context.asset, textures_, mesh_.materials, mesh_.warnings),
+          cameras_(model, limits.max_cameras, mesh_.cameras, mesh_.warnings) {}
 
     Mesh convert() {
         mesh_.variants = read_variants(model_, asset_);
         walk_nodes(model_, asset_, limits_.max_node_depth,
-                   [this](int mesh, int node, const glm::dmat4& world) {
-                       instantiate(mesh, node, world);
+                   [this](int node, const glm::dmat4& world) {
+                       const int mesh = model_.nodes[std::size_t(node)].mesh;
+                       if (mesh >= 0) {
+                           instantiate(mesh, node, world);
+                       }
+                       cameras_.place(node, world);
                    });
+        cameras_.finish();
         materials_.ensure_one();
         for (const std::string& extension : model_.extensionsUsed) {
             if (!supported_extension(extension)) {
@@ -165,6 +174,7 @@ class GltfConverter {
     TextureImages images_;
     TextureReferences textures_;
     GltfMaterials materials_;
+    GltfCameras cameras_;
 };
 
 }  // namespace
@@ -180,6 +190,7 @@ Mesh load_gltf(std::span<const std::byte> bytes, const std::string& name, bool b
     decode_draco_primitives(model, name, limits);
     Mesh mesh = GltfConverter(model, context, limits).convert();
     finish_mesh(mesh, name, limits);
+    aim_asset_cameras(mesh.cameras, mesh.bounds);
     return mesh;
 }
 

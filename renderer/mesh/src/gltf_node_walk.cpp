@@ -101,7 +101,7 @@ glm::dmat4 local_transform(const tinygltf::Model& model, int index, const std::s
 class NodeWalk {
   public:
     NodeWalk(const tinygltf::Model& model, const std::string& asset, int max_node_depth,
-             const MeshInstanceVisitor& visit)
+             const NodeVisitor& visit)
         : model_(model),
           asset_(asset),
           max_node_depth_(max_node_depth),
@@ -196,10 +196,7 @@ class NodeWalk {
         }
         marks_[std::size_t(node)] = Mark::Active;
         const glm::dmat4 world = parent * local_transform(model_, node, asset_);
-        const int mesh = model_.nodes[std::size_t(node)].mesh;
-        if (mesh >= 0) {
-            visit_(mesh, node, world);
-        }
+        visit_(node, world);
         stack.push_back(Frame{node, world, depth, 0});
     }
 
@@ -219,14 +216,14 @@ class NodeWalk {
     const tinygltf::Model& model_;
     const std::string& asset_;
     const int max_node_depth_;
-    const MeshInstanceVisitor& visit_;
+    const NodeVisitor& visit_;
     std::vector<Mark> marks_;
 };
 
 }  // namespace
 
 void walk_nodes(const tinygltf::Model& model, const std::string& asset, int max_node_depth,
-                const MeshInstanceVisitor& visit) {
+                const NodeVisitor& visit) {
     NodeWalk(model, asset, max_node_depth, visit).run();
 }
 

@@ -14,11 +14,12 @@
 
 namespace oer::mesh_detail {
 
-// Called, in depth-first pre-order, for each node that has a mesh, as the node is entered:
-// the mesh's index (not checked), the node's and the node's world transform.
-using MeshInstanceVisitor = std::function<void(int mesh, int node, const glm::dmat4& world)>;
+// Called, in depth-first pre-order, for every node of the scene as it is entered: the node's
+// index and world transform. The loader places the node's mesh and its camera by the same
+// transform, so that both are walked one way.
+using NodeVisitor = std::function<void(int node, const glm::dmat4& world)>;
 
 void walk_nodes(const tinygltf::Model& model, const std::string& asset, int max_node_depth,
-                const MeshInstanceVisitor& visit);
+                const NodeVisitor& visit);
 
 }  // namespace oer::mesh_detail

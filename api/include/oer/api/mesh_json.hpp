@@ -22,8 +22,11 @@ MeshFormat mesh_format_from_string(const std::string& name);  // throws oer::Err
 // {base_color, metallic_roughness, normal, occlusion, emissive} (whether it has each), specular
 // (whether it has a specular term)}], variants [{name, materials (the indices it draws),
 // swatch {material, base_color, has_texture}}] (KHR_materials_variants, in the file's order;
-// a render chooses one by name), repairs {normals_replaced, normals_renormalised},
-// warnings [...] }. Floats appear as their shortest decimal form.
+// a render chooses one by name), cameras [{index, name, type ("perspective", "orthographic"),
+// eye, target, up, fov_y (degrees; perspective only), znear, and as the file gives them
+// aspect_ratio and zfar}] (the asset's own, Mesh::cameras: `camera=asset:N` in a render),
+// repairs {normals_replaced, normals_renormalised}, warnings [...] }. Floats appear as their
+// shortest decimal form.
 nlohmann::json mesh_to_json(const Mesh& mesh, const std::string& id,
                             std::optional<MeshFormat> format = std::nullopt);
 

@@ -7,8 +7,8 @@
 // scalar parameter is adding a row (render_parameters.cpp).
 //
 // Structured members (objects with their mesh, transform and base color, the camera's look-at
-// or orbit, the lights' weights) are rows too, naming themselves in each form; their row's
-// readers are small dedicated ones, and the rows of their members carry names only.
+// or orbit or asset camera, the lights' weights) are rows too, naming themselves in each form;
+// their row's readers are small dedicated ones, and the rows of their members carry names only.
 #include <functional>
 #include <map>
 #include <string>
@@ -25,17 +25,18 @@ using RenderQuery = std::multimap<std::string, std::string>;
 
 // How a value is spelled: in JSON, and as query text (the CLI's flags take the query's text).
 enum class ParameterKind {
-    ContentId,   // a string: a content id or "default"
-    Boolean,     // JSON true or false; query on or off
-    Integer,     // a number with no fraction
-    Number,      // a finite number
-    Name,        // a string among a fixed set (an enum's names, or a background's forms)
-    Text,        // a string the asset defines (a variant's name)
-    Vector3,     // JSON [x, y, z]; query "x,y,z"
-    Matrix,      // JSON 16 numbers, column-major (no query form)
-    Weights,     // JSON [w, ...] (true and false are 1 and 0); query "w,w,..."
-    Object,      // a JSON object whose members are rows of their own
-    ObjectArray  // a JSON array of such objects
+    ContentId,    // a string: a content id or "default"
+    Boolean,      // JSON true or false; query on or off
+    Integer,      // a number with no fraction
+    Number,       // a finite number
+    Name,         // a string among a fixed set (an enum's names, or a background's forms)
+    Text,         // a string the asset defines (a variant's name)
+    Vector3,      // JSON [x, y, z]; query "x,y,z"
+    Matrix,       // JSON 16 numbers, column-major (no query form)
+    Weights,      // JSON [w, ...] (true and false are 1 and 0); query "w,w,..."
+    AssetCamera,  // JSON an index or a name; query "asset:N" or "asset:NAME"
+    Object,       // a JSON object whose members are rows of their own
+    ObjectArray   // a JSON array of such objects
 };
 
 // When the request does not give it.

@@ -16,6 +16,7 @@
 //   camera.eye, camera.target, camera.up       eye, target, up        (look-at camera)
 //   camera.orbit.{yaw,pitch,distance,target}   yaw, pitch, distance, target  (orbit camera)
 //   camera.fov_y                               fov_y
+//   camera.asset: N | "NAME"                   camera=asset:N | camera=asset:NAME
 //   lights: [1, 0.5, false]                    lights=1,0.5,0  (weights; true/false: 1/0)
 //   ground: true | false                       ground=on|off
 //   occlusion: true | false                    occlusion=on|off
@@ -29,7 +30,8 @@
 // `environment_yaw` in both forms. In the GET form, any of yaw, pitch, distance makes an orbit
 // camera (target is then the orbit's), otherwise eye and target make a look-at camera; with
 // neither, the scene is framed automatically. An orbit without target or distance takes them
-// from that automatic framing.
+// from that automatic framing. `camera=asset:N` (N digits: an index, anything else a name) is
+// one of the asset's own cameras, and takes none of the other camera parameters.
 //
 // Errors: MalformedRequest when the body is not readable JSON or nests more than 16 levels
 // (HTTP 400); oer::Error (LimitExceeded) for a body over RenderLimits::max_body_bytes, or
@@ -39,6 +41,7 @@
 // "body" for the document itself) or, in the GET form, the query parameter (422). Unknown
 // members and parameters are errors, so that a typo is never silently ignored.
 #include <array>
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <optional>
@@ -126,9 +129,16 @@ struct OrbitSpec {
     std::optional<glm::dvec3> target;
 };
 
+// One of the asset's own cameras (Mesh::cameras, the mesh JSON's `cameras`): of the first
+// object's mesh, placed by that object's transform, by its index in that list or by its name
+// (the first camera of that name). It has its own field of view.
+struct AssetCameraSpec {
+    std::variant<std::size_t, std::string> index_or_name;
+};
+
 struct CameraSpec {
-    std::variant<LookAtSpec, OrbitSpec> placement;
-    double fov_y = Camera{}.fov_y;
+    std::variant<LookAtSpec, OrbitSpec, AssetCameraSpec> placement;
+    double fov_y = Camera{}.fov_y;  // look-at and orbit only
 };
 
 struct RenderSpec {
@@ -177,9 +187,12 @@ std::string render_etag(const RenderSpec& spec);
 
 // The camera the frame is seen from, once the spec's meshes are resolved (one per object, in
 // order): its look-at camera, its orbit with a missing target or distance from the automatic
-// framing, or without a camera the automatic framing itself (oer::frame_bounds of the objects'
-// transformed bounds, as the renderer frames a FrameRequest without one). Throws oer::Error
-// (Internal) when the meshes do not match the objects.
+// framing, its asset camera placed by the first object's transform, or without a camera the
+// automatic framing itself (oer::frame_bounds of the objects' transformed bounds, as the
+// renderer frames a FrameRequest without one). Throws InvalidParameter("camera") for an asset
+// camera the first object's mesh does not have (listing those it has), an orthographic one (oer
+// draws perspective only) or one without an object; oer::Error (Internal) when the meshes do
+// not match the objects.
 Camera resolved_camera(const RenderSpec& spec,
                        const std::vector<std::shared_ptr<const Mesh>>& meshes);
 

@@ -7,16 +7,10 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "oer/mesh/look_at_camera.hpp"
 #include "oer/mesh/mesh.hpp"
 
 namespace oer {
-
-struct Camera {
-    glm::vec3 eye{0.0f, 0.0f, 3.0f};
-    glm::vec3 target{0.0f};
-    glm::vec3 up{0.0f, 1.0f, 0.0f};
-    float fov_y = 45.0f;
-};
 
 // Orbit around target: yaw 0 looks from +Z, positive yaw turns the eye towards +X; positive
 // pitch raises it.

@@ -12,6 +12,8 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "oer/mesh/look_at_camera.hpp"
+
 namespace oer {
 
 // How a texture's 8-bit values map to shading values: sRGB-encoded colour (base colour,
@@ -145,6 +147,27 @@ struct MeshRepairs {
     std::uint64_t normals_renormalised = 0;
 };
 
+// glTF 2.0 camera projections (section 5.12).
+enum class CameraProjection { Perspective, Orthographic };
+
+// A camera the asset brings (glTF 2.0 section 3.10), placed by its node's world transform: the
+// eye at the node's origin, looking down the node's -Z with the node's +Y up. The target lies
+// on that view direction at the depth of the mesh's bounds' centre (max(1, |eye|) ahead when
+// the centre is not in front of the camera), so that an orbit or zoom continuing from the view
+// turns about the product. Only a perspective camera can be drawn: oer renders perspective
+// alone; an orthographic one is listed so that the API can say so.
+struct AssetCamera {
+    std::string name;  // the glTF camera's name, else its node's, else "camera N"
+    CameraProjection projection = CameraProjection::Perspective;
+    // eye, target, up; fov_y (degrees, the file's yfov) for a perspective camera only.
+    Camera camera;
+    // Informative, as the file gives them: the aspect ratio (perspective; 0: none, the frame's)
+    // and the clip planes (zfar 0: infinite). The renderer keeps its own planes.
+    float aspect_ratio = 0.0f;
+    float znear = 0.0f;
+    float zfar = 0.0f;
+};
+
 struct Mesh {
     std::vector<Primitive> primitives;
     std::vector<Material> materials;  // at least one
@@ -156,6 +179,9 @@ struct Mesh {
     // KHR_materials_variants: the names of the product's variants (unique), in the file's
     // order; Primitive::variant_materials maps each to its materials.
     std::vector<std::string> variants;
+    // The asset's own cameras, in the order the scene's node walk meets them (a camera used by
+    // two nodes is two views); empty for an OBJ and the built-in product.
+    std::vector<AssetCamera> cameras;
     // What was ignored (an OBJ's mtllib, a texture on a texCoord other than 0, ...), one line
     // each, for the API to pass on.
     std::vector<std::string> warnings;

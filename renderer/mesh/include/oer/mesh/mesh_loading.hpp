@@ -36,6 +36,8 @@ struct MeshLimits {
     std::uint64_t max_texture_pixels = 16ull << 20;        // per image, checked on its header
     std::uint64_t max_total_texture_pixels = 64ull << 20;  // every decoded texture together
     int max_node_depth = 64;
+    // The asset's cameras listed (Mesh::cameras): the rest are left out with a warning.
+    std::size_t max_cameras = 64;
 };
 
 // The bytes are checked against limits.max_bytes first; `name` (a file name or an upload's
