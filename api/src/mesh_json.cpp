@@ -75,6 +75,8 @@ nlohmann::json variants_json(const Mesh& mesh) {
         variants.push_back(std::move(entry));
     }
     return variants;
+}
+
 nlohmann::json cameras_json(const std::vector<AssetCamera>& cameras) {
     nlohmann::json list = nlohmann::json::array();
     for (std::size_t i = 0; i < cameras.size(); ++i) {

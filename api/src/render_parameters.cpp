@@ -224,11 +224,11 @@ std::vector<RenderParameter> scene_rows() {
                     "linear RGB of every mesh, each in [" + number_text(kColor.low) + ", " +
                         number_text(kColor.high) + "]; default: the meshes' materials"},
                    ParameterKind::Vector3, Presence::Optional, "R,G,B"));
-    rows.push_back(member_row({"objects/*/base_color_material", "base_color_material",
-                               "base-color-material",
-                               "the name of the materials base_color recolours, in every mesh; "
-                               "default: every material"},
-                              ParameterKind::Text, Presence::Optional, "NAME"));
+    rows.push_back(
+        member_row({"objects/*/base_color_material", "base_color_material", "base-color-material",
+                    "the name of the materials base_color recolours, in every mesh; "
+                    "default: every material"},
+                   ParameterKind::Text, Presence::Optional, "NAME"));
     rows.push_back(member_row({"objects/*/variant", "variant", "variant",
                                "the name of one of the mesh's KHR_materials_variants, for every "
                                "mesh; default: the file's default materials"},

@@ -160,6 +160,10 @@ TEST(MeshJson, ListsTheVariantsWithTheirMaterialsAndSwatches) {
     const Json& unchanged = json.at("variants").at(1);
     EXPECT_EQ(unchanged.at("materials"), (Json{0, 1}));
     EXPECT_EQ(unchanged.at("swatch").at("material"), 0);  // plain: 3 triangles against 1
+    EXPECT_EQ(oer::testing::openapi_schema_errors(json, "#/components/schemas/Mesh"),
+              std::vector<std::string>{});
+}
+
 // The asset's cameras, in their order: index, name, type, placement; fov_y for a perspective
 // camera only, aspect_ratio and zfar only where the file gives them.
 TEST(MeshJson, ListsTheAssetsCameras) {

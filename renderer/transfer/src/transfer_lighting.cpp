@@ -123,7 +123,8 @@ glm::vec3 albedo_drawn(const SceneObject& object, std::uint32_t material) {
         }
     }
     const Material& drawn_material = mesh.materials.at(drawn);
-    return base_color_override(object, drawn_material).value_or(glm::vec3(drawn_material.base_color));
+    return base_color_override(object, drawn_material)
+        .value_or(glm::vec3(drawn_material.base_color));
 }
 
 // Whether the object draws some primitive with another albedo than its file's materials: under

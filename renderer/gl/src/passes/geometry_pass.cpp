@@ -100,9 +100,8 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
             glUniformMatrix4fv(geometry.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
             glUniformMatrix3fv(geometry.uniform("u_normal_matrix"), 1, GL_FALSE,
                                glm::value_ptr(normal_matrix));
-            set_material_uniforms(
-                geometry, state, gpu, material,
-                drawn ? base_color_override(*drawn, material) : std::nullopt);
+            set_material_uniforms(geometry, state, gpu, material,
+                                  drawn ? base_color_override(*drawn, material) : std::nullopt);
             if (material.double_sided) {
                 glDisable(GL_CULL_FACE);
             } else {
@@ -129,8 +128,7 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
                            glm::vec3(scene.centre.x, scene.box.min.y, scene.centre.z)) *
             glm::scale(glm::mat4(1.0f),
                        glm::vec3(frame.ground_half_size, 1.0f, frame.ground_half_size));
-        draw(state.ground_mesh, state.ground, ground_model, nullptr, kGroundSurface,
-             std::nullopt);
+        draw(state.ground_mesh, state.ground, ground_model, nullptr, kGroundSurface, std::nullopt);
     }
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
