@@ -81,25 +81,101 @@ environmentYaw.addEventListener('input', () => {
 const turntable = document.getElementById('turntable');
 turntable.addEventListener('change', () => viewer.toggleAttribute('auto-rotate', turntable.checked));
 
-// Color variants: base-color as #rrggbb (sRGB), absent for the product's own materials.
-const variants = [...document.querySelectorAll('input[name=variant]')];
-const showVariant = () => {
+// Colors: base-color as #rrggbb (sRGB), absent for the product's own materials; on one part
+// (base-color-material, a material's name) or on the whole product.
+const colors = [...document.querySelectorAll('input[name=color]')];
+const colorPart = document.getElementById('color-part');
+const colorPartGroup = document.getElementById('color-part-group');
+const showColor = () => {
   const value = (viewer.getAttribute('base-color') ?? '').toLowerCase();
-  for (const variant of variants) {
-    variant.checked = variant.value === value;
+  for (const color of colors) {
+    color.checked = color.value === value;
   }
+  colorPart.value = viewer.getAttribute('base-color-material') ?? '';
 };
-for (const variant of variants) {
-  variant.addEventListener('change', () => {
-    if (variant.value) {
-      viewer.setAttribute('base-color', variant.value);
+for (const color of colors) {
+  color.addEventListener('change', () => {
+    if (color.value) {
+      if (colorPart.value) {
+        viewer.setAttribute('base-color-material', colorPart.value);
+      }
+      viewer.setAttribute('base-color', color.value);
     } else {
+      viewer.removeAttribute('base-color-material');
       viewer.removeAttribute('base-color');
     }
   });
 }
-showVariant();
-new MutationObserver(showVariant).observe(viewer, { attributeFilter: ['base-color'] });
+colorPart.addEventListener('change', () => {
+  if (!viewer.hasAttribute('base-color')) {
+    return;  // the part waits for a color
+  }
+  if (colorPart.value) {
+    viewer.setAttribute('base-color-material', colorPart.value);
+  } else {
+    viewer.removeAttribute('base-color-material');
+  }
+});
+showColor();
+new MutationObserver(showColor)
+  .observe(viewer, { attributeFilter: ['base-color', 'base-color-material'] });
+
+// The parts a color can go to: the product's materials, by name, each once; hidden for a
+// product of one material.
+const showParts = (materials) => {
+  const names = [...new Set(materials.map((material) => material.name).filter(Boolean))];
+  colorPart.replaceChildren(new Option('the whole product', ''),
+                            ...names.map((name) => new Option(name, name)));
+  colorPartGroup.hidden = names.length < 2;
+  showColor();
+};
+
+// The product's own variants (KHR_materials_variants) as swatches, each colored from its
+// swatch material's base color; hidden for a product without variants.
+const productVariants = document.getElementById('product-variants');
+const productVariantChoices = document.getElementById('product-variant-choices');
+const srgbHex = (linear) => `#${linear.slice(0, 3).map((value) => {
+  const v = Math.min(1, Math.max(0, value));
+  const encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * v ** (1 / 2.4) - 0.055;
+  return Math.round(255 * encoded).toString(16).padStart(2, '0');
+}).join('')}`;
+const showProductVariant = () => {
+  const value = viewer.getAttribute('variant') ?? '';
+  for (const input of productVariantChoices.querySelectorAll('input')) {
+    input.checked = input.value === value;
+  }
+};
+const showProductVariants = (variants) => {
+  const choice = (name, label, swatch) => {
+    const input = document.createElement('input');
+    input.type = 'radio';
+    input.name = 'product-variant';
+    input.value = name;
+    input.addEventListener('change', () => {
+      if (name) {
+        viewer.setAttribute('variant', name);
+      } else {
+        viewer.removeAttribute('variant');
+      }
+    });
+    const element = document.createElement('label');
+    element.append(input);
+    if (swatch) {
+      const span = document.createElement('span');
+      span.className = 'swatch';
+      span.style.background = srgbHex(swatch.base_color);
+      element.append(span);
+    }
+    element.append(` ${label}`);
+    return element;
+  };
+  productVariantChoices.replaceChildren(
+    choice('', 'As shipped', null),
+    ...variants.map((variant) => choice(variant.name, variant.name, variant.swatch)));
+  productVariants.hidden = variants.length === 0;
+  showProductVariant();
+};
+new MutationObserver(showProductVariant).observe(viewer, { attributeFilter: ['variant'] });
 
 // The environment's preview with each light's position marked by its number, in its color;
 // a light switched off is marked hollow.
@@ -313,9 +389,11 @@ const show = (attribute, id) => {
   if (attribute === 'environment') {
     viewer.removeAttribute('lights');
   }
-  // An asset camera belongs to the previous product.
+  // An asset camera, a variant and a part belong to the previous product.
   if (attribute === 'mesh') {
-    viewer.removeAttribute('camera-asset');
+    for (const name of ['camera-asset', 'variant', 'base-color-material']) {
+      viewer.removeAttribute(name);
+    }
   }
   viewer.setAttribute(attribute, id);
 };
@@ -346,7 +424,6 @@ fetchJson('/v1/presets').then((answer) => {
 // removes camera-asset, which sets the picker back to Orbit.
 const viewGroup = document.getElementById('view-group');
 const viewPicker = document.getElementById('view-picker');
-let viewsFor = null;  // the mesh id the picker's cameras are of
 // camera-asset holds an index (what the picker sets) or a name (a link may hold either).
 const showView = () => {
   const asset = viewer.getAttribute('camera-asset') ?? '';
@@ -354,21 +431,7 @@ const showView = () => {
     (option) => option.value === asset || (asset !== '' && option.textContent === asset));
   viewPicker.value = shown?.value ?? '';
 };
-const loadViews = async () => {
-  const mesh = viewer.mesh.split(/\s+/).find(Boolean) ?? 'default';
-  if (mesh === viewsFor) {
-    return;
-  }
-  viewsFor = mesh;
-  let cameras = [];
-  try {
-    cameras = (await fetchJson(`/v1/meshes/${encodeURIComponent(mesh)}`)).cameras ?? [];
-  } catch (error) {
-    say(`The product's cameras did not load: ${error.message}`, { error: true });
-  }
-  if (mesh !== viewsFor) {
-    return;  // another product was picked meanwhile
-  }
+const showViews = (cameras) => {
   viewPicker.replaceChildren(new Option('Orbit', ''), ...cameras.map((camera) => {
     const option = new Option(camera.name, String(camera.index));
     option.disabled = camera.type !== 'perspective';
@@ -380,6 +443,28 @@ const loadViews = async () => {
   viewGroup.hidden = cameras.length === 0;
   showView();
 };
+// The product's own choices, from its first mesh's JSON (GET /v1/meshes/{id}): its cameras as
+// views, its variants as swatches, its materials as the parts a color can go to.
+let productFor = null;  // the mesh id they are of
+const loadProduct = async () => {
+  const mesh = viewer.mesh.split(/\s+/).find(Boolean) ?? 'default';
+  if (mesh === productFor) {
+    return;
+  }
+  productFor = mesh;
+  let product = {};
+  try {
+    product = await fetchJson(`/v1/meshes/${encodeURIComponent(mesh)}`);
+  } catch (error) {
+    say(`The product's views, variants and parts did not load: ${error.message}`, { error: true });
+  }
+  if (mesh !== productFor) {
+    return;  // another product was picked meanwhile
+  }
+  showViews(product.cameras ?? []);
+  showProductVariants(product.variants ?? []);
+  showParts(product.materials ?? []);
+};
 viewPicker.addEventListener('change', () => {
   if (viewPicker.value === '') {
     viewer.removeAttribute('camera-asset');
@@ -388,8 +473,8 @@ viewPicker.addEventListener('change', () => {
   }
 });
 new MutationObserver(showView).observe(viewer, { attributeFilter: ['camera-asset'] });
-new MutationObserver(loadViews).observe(viewer, { attributeFilter: ['mesh'] });
-loadViews();
+new MutationObserver(loadProduct).observe(viewer, { attributeFilter: ['mesh'] });
+loadProduct();
 
 // The server's upload limit, to refuse a larger file before sending it; null when unknown
 // (GET /v1/info failed, which the status says: the server's 413 then refuses it).

@@ -92,7 +92,8 @@ const STYLE = `
 export class OerViewer extends HTMLElement {
   static observedAttributes = [
     'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'camera-asset',
-    'exposure', 'background', 'ground', 'shadows', 'environment-yaw', 'base-color', 'auto-rotate',
+    'exposure', 'background', 'ground', 'shadows', 'environment-yaw', 'base-color',
+    'base-color-material', 'variant', 'auto-rotate',
   ];
 
   #image;
@@ -302,6 +303,16 @@ export class OerViewer extends HTMLElement {
       const linear = linearFromHex(baseColorText);
       query.set('base_color',
                 linear ? linear.map((value) => value.toFixed(4)).join(',') : baseColorText.replace(/\s+/g, ''));
+      // base-color-material: the one material (by name) the colour goes to, else every one.
+      const material = this.getAttribute('base-color-material');
+      if (material) {
+        query.set('base_color_material', material);
+      }
+    }
+    // variant: one of the product's own variants (KHR_materials_variants), by name.
+    const variant = this.getAttribute('variant');
+    if (variant) {
+      query.set('variant', variant);
     }
     for (const [attribute, parameter] of [['lights', 'lights'], ['exposure', 'exposure'],
                                           ['background', 'background'], ['ground', 'ground'], ['shadows', 'shadows'],

@@ -360,7 +360,7 @@ try {
   await check('a color variant recolors the product, in the request and the link', async () => {
     const frames = await page.evaluate(() => window.oerFrames.length);
     const original = await shownImage(page);
-    await page.locator('input[name=variant][value="#b3262d"]').check();
+    await page.locator('input[name=color][value="#b3262d"]').check();
     const red = await fullFrame(page, frames);
     // #b3262d in linear RGB (sRGB transfer function): 0.4508, 0.0194, 0.0262.
     assert.match(red.url, /[?&]base_color=0\.4508%2C0\.0194%2C0\.0262(&|$)/, red.url);
@@ -371,10 +371,28 @@ try {
     assert.ok(recolored.redOverGreen > original.redOverGreen + 5,
               `red - green ${original.redOverGreen} -> ${recolored.redOverGreen}`);
     const beforeOriginal = await page.evaluate(() => window.oerFrames.length);
-    await page.locator('input[name=variant][value=""]').check();
+    await page.locator('input[name=color][value=""]').check();
     const back = await fullFrame(page, beforeOriginal);
     assert.doesNotMatch(back.url, /base_color/);
     assert.equal(await page.locator('oer-viewer').getAttribute('base-color'), null);
+  });
+
+  await check('a color on one part recolors that material only, in the request and the link',
+              async () => {
+    const part = page.locator('#color-part');
+    assert.equal(await page.locator('#color-part-group').isVisible(), true,
+                 'the built-in product has two parts');
+    await part.selectOption('dress form stand');
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('input[name=color][value="#2b3a67"]').check();
+    const navy = await fullFrame(page, frames);
+    assert.match(navy.url, /[?&]base_color_material=dress\+form\+stand(&|$)/, navy.url);
+    assert.match(page.url(), /[?&]base-color-material=dress\+form\+stand(&|$)/);
+    const back = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('input[name=color][value=""]').check();
+    assert.doesNotMatch((await fullFrame(page, back)).url, /base_color/);
+    assert.equal(await page.locator('oer-viewer').getAttribute('base-color-material'), null);
+    await part.selectOption('');
   });
 
   await check('a frame slower than half a second shows the waiting bar (aria-busy) until it comes',
@@ -578,9 +596,12 @@ try {
   await check('a file the server rejects shows its problem+json detail verbatim; the view stays',
               async () => {
     const garbage = Buffer.from('not a Radiance file');
-    // The server's own answer to the same bytes.
-    const answer = await postAsset('/v1/environments', 'image/vnd.radiance', garbage);
+    // The server's own answer to the same bytes under the same name, which the page sends and
+    // the problem names the file by.
+    const answer = await postAsset('/v1/environments?filename=broken.hdr', 'image/vnd.radiance',
+                                   garbage);
     assert.equal(answer.status, 422);
+    assert.match(answer.body.detail, /^broken\.hdr: /);
     const environment = await viewerAttribute('environment');
     const frames = await page.evaluate(() => window.oerFrames.length);
     await page.locator('#upload-file').setInputFiles({ name: 'broken.hdr', mimeType: 'image/vnd.radiance',
@@ -689,6 +710,62 @@ try {
       ([count, id]) => window.oerFrames.slice(count).find((frame) => !frame.preview &&
         frame.url.includes(`mesh=${id}`)) ?? false, [frames, mesh.id], { timeout: 30000 });
     assert.match((await handle.jsonValue()).url, new RegExp(`[?&]environment=${uploadedEnvironment}(&|$)`));
+  });
+
+  await check('a product\'s own variants and cameras are offered; each is drawn', async () => {
+    // One triangle in two materials' worth of variants (KHR_materials_variants), and a camera.
+    const positions = Buffer.from(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]).buffer);
+    const material = (name, color) => ({
+      name, pbrMetallicRoughness: { baseColorFactor: [...color, 1], metallicFactor: 0 },
+    });
+    const gltf = {
+      asset: { version: '2.0' },
+      extensionsUsed: ['KHR_materials_variants'],
+      extensions: { KHR_materials_variants: { variants: [{ name: 'Ruby' }, { name: 'Sky' }] } },
+      buffers: [{ byteLength: 36, uri: `data:application/octet-stream;base64,${positions.toString('base64')}` }],
+      bufferViews: [{ buffer: 0, byteLength: 36 }],
+      accessors: [{ bufferView: 0, componentType: 5126, count: 3, type: 'VEC3',
+                    min: [0, 0, 0], max: [1, 1, 0] }],
+      materials: [material('Plain', [0.8, 0.8, 0.8]), material('Ruby', [0.6, 0.02, 0.05]),
+                  material('Sky', [0.1, 0.3, 0.8])],
+      meshes: [{ primitives: [{ attributes: { POSITION: 0 }, material: 0, extensions: {
+        KHR_materials_variants: { mappings: [{ material: 1, variants: [0] },
+                                             { material: 2, variants: [1] }] } } }] }],
+      cameras: [{ type: 'perspective', name: 'Front', perspective: { yfov: 0.6, znear: 0.01 } }],
+      nodes: [{ mesh: 0 }, { camera: 0, translation: [0.3, 0.3, 2] }],
+      scenes: [{ nodes: [0, 1] }],
+      scene: 0,
+    };
+    const { status, body: mesh } =
+      await postAsset('/v1/meshes', 'model/gltf+json', Buffer.from(JSON.stringify(gltf)));
+    assert.equal(status, 201, JSON.stringify(mesh));
+    assert.deepEqual(mesh.variants.map((variant) => variant.name), ['Ruby', 'Sky']);
+    const previous = await viewerAttribute('mesh');
+    await page.evaluate((id) => document.querySelector('oer-viewer').setAttribute('mesh', id),
+                        mesh.id);
+    const choices = page.locator('#product-variants input[name=product-variant]');
+    await page.waitForFunction(() => !document.getElementById('product-variants').hidden);
+    assert.equal(await choices.count(), 3, 'as shipped, Ruby, Sky');
+    // The swatch is the variant's base color, in sRGB: 0.6 linear is 0xcb.
+    assert.equal(await page.locator('#product-variants .swatch').first()
+      .evaluate((swatch) => getComputedStyle(swatch).backgroundColor), 'rgb(203, 39, 63)');
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#product-variants input[value="Sky"]').check();
+    const sky = await fullFrame(page, frames);
+    assert.match(sky.url, /[?&]variant=Sky(&|$)/, sky.url);
+    assert.match(page.url(), /[?&]variant=Sky(&|$)/);
+    // Its camera, as a view.
+    assert.equal(await page.locator('#view-group').isVisible(), true);
+    assert.deepEqual(await page.locator('#view-picker option').allTextContents(), ['Orbit', 'Front']);
+    const viewed = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#view-picker').selectOption('0');
+    const front = await fullFrame(page, viewed);
+    assert.match(front.url, /[?&]camera=asset%3A0(&|$)/, front.url);
+    assert.doesNotMatch(front.url, /[?&]yaw=/);
+    // Another product: its variant goes, and so do the swatches.
+    await page.locator('#mesh-picker').selectOption(previous);
+    await page.waitForFunction(() => document.getElementById('product-variants').hidden);
+    assert.equal(await page.locator('oer-viewer').getAttribute('variant'), null);
   });
 
   await check('the pickers list the presets and the uploads, and choosing one changes the request',
