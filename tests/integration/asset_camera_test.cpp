@@ -96,23 +96,6 @@ void expect_near(const glm::dvec3& got, const glm::dvec3& expected, const std::s
         << what << ": (" << got.x << ", " << got.y << ", " << got.z << ")";
 }
 
-// How many pixels differ, and by how much at most.
-struct PixelDifference {
-    std::size_t differing = 0;
-    int largest = 0;
-};
-
-PixelDifference difference(const Rgba8Image& a, const Rgba8Image& b) {
-    PixelDifference result;
-    EXPECT_EQ(a.pixels.size(), b.pixels.size());
-    for (std::size_t i = 0; i < std::min(a.pixels.size(), b.pixels.size()); ++i) {
-        const int delta = std::abs(int(a.pixels[i]) - int(b.pixels[i]));
-        result.differing += delta > 0 ? 1 : 0;
-        result.largest = std::max(result.largest, delta);
-    }
-    return result;
-}
-
 }  // namespace
 
 TEST(AssetCamera, AFrameFromAnAssetCameraEqualsTheSameCameraGivenExplicitly) {
@@ -162,19 +145,19 @@ TEST(AssetCamera, AFrameFromAnAssetCameraEqualsTheSameCameraGivenExplicitly) {
     EXPECT_NE(explicit_camera->get_header_value("ETag"), from_asset->get_header_value("ETag"))
         << "another request, drawn again";
     const Rgba8Image asset_frame = decode_image(from_asset);
-    const PixelDifference explicit_difference =
-        difference(asset_frame, decode_image(explicit_camera));
+    const FrameDifference explicit_difference =
+        frame_difference(asset_frame, decode_image(explicit_camera));
     EXPECT_EQ(explicit_difference.differing, 0u) << "largest " << explicit_difference.largest;
 
     // By name, the same camera; camera 0 is another view.
     const auto by_name = client->Get((common + "&camera=asset:Side").c_str());
     ASSERT_TRUE(by_name);
     ASSERT_EQ(by_name->status, 200) << by_name->body;
-    EXPECT_EQ(difference(asset_frame, decode_image(by_name)).differing, 0u);
+    EXPECT_EQ(frame_difference(asset_frame, decode_image(by_name)).differing, 0u);
     const auto front = client->Get((common + "&camera=asset:0").c_str());
     ASSERT_TRUE(front);
     ASSERT_EQ(front->status, 200) << front->body;
-    EXPECT_GT(difference(asset_frame, decode_image(front)).differing,
+    EXPECT_GT(frame_difference(asset_frame, decode_image(front)).differing,
               asset_frame.pixels.size() / 10)
         << "camera 0 draws the same frame as camera 1";
 }

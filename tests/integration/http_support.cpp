@@ -404,12 +404,45 @@ Metrics scrape(httplib::Client& client) {
     return parse_prometheus(result->body);
 }
 
+double transfers_computed(httplib::Client& client) {
+    return scrape(client).sum("oer_transfers_computed_total");
+}
+
 std::vector<std::uint8_t> bytes_of(const httplib::Result& result) {
     return std::vector<std::uint8_t>(result->body.begin(), result->body.end());
 }
 
 Rgba8Image decode_image(const httplib::Result& result) {
     return decode_8bit(bytes_of(result));
+}
+
+FrameDifference frame_difference(const Rgba8Image& a, const Rgba8Image& b, int first_column,
+                                 int last_column) {
+    FrameDifference result;
+    if (a.width != b.width || a.height != b.height || a.pixels.size() != b.pixels.size()) {
+        ADD_FAILURE() << "frames of " << a.width << "x" << a.height << " and " << b.width << "x"
+                      << b.height;
+        result.largest = 255;
+        return result;
+    }
+    const int last = last_column < 0 ? a.width : std::min(last_column, a.width);
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (int y = 0; y < a.height; ++y) {
+        for (int x = std::max(first_column, 0); x < last; ++x) {
+            for (std::size_t c = 0; c < 4; ++c) {
+                const std::size_t i =
+                    4 * (std::size_t(y) * std::size_t(a.width) + std::size_t(x)) + c;
+                const int delta = std::abs(int(a.pixels[i]) - int(b.pixels[i]));
+                result.differing += delta > 0 ? 1 : 0;
+                result.largest = std::max(result.largest, delta);
+                sum += delta;
+                ++count;
+            }
+        }
+    }
+    result.mean = count > 0 ? sum / double(count) : 0.0;
+    return result;
 }
 
 RawSocket::RawSocket(int port, const char* source) {

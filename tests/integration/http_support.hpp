@@ -109,10 +109,22 @@ struct Metrics {
 };
 Metrics parse_prometheus(const std::string& text);  // fails the test on a malformed line
 Metrics scrape(httplib::Client& client);
+// The transfers the server has baked so far (oer_transfers_computed_total).
+double transfers_computed(httplib::Client& client);
 
 // The body of an answer as bytes, and images decoded from it.
 std::vector<std::uint8_t> bytes_of(const httplib::Result& result);
 Rgba8Image decode_image(const httplib::Result& result);
+
+// How two frames of one size differ over the columns [first_column, last_column) (every column
+// by default), channel by channel (RGB and alpha), in 8-bit steps.
+struct FrameDifference {
+    std::size_t differing = 0;  // channel values that differ
+    int largest = 0;            // 0 to 255
+    double mean = 0.0;          // per channel value
+};
+FrameDifference frame_difference(const Rgba8Image& a, const Rgba8Image& b, int first_column = 0,
+                                 int last_column = -1);
 
 // Raw TCP to the loopback port, for clients that httplib would not let us be.
 class RawSocket {

@@ -54,10 +54,6 @@ std::string frame_of(const httplib::Result& result) {
     return result->body;
 }
 
-double transfers_computed(httplib::Client& client) {
-    return scrape(client).sum("oer_transfers_computed_total");
-}
-
 std::string upload_box(httplib::Client& client) {
     const Json mesh = upload_mesh(client, box_obj({-0.4, 0.0, -0.3}, {0.4, 0.6, 0.3}), "model/obj");
     EXPECT_TRUE(mesh.is_object());

@@ -37,35 +37,6 @@ std::string frame_path(const std::string& mesh, const std::string& extra = "") {
            "&width=96&height=64&format=png&samples=1&eye=0,1.2,3&target=0,0.4,0" + extra;
 }
 
-struct Difference {
-    int largest = 0;    // of any channel, 0 to 255
-    double mean = 0.0;  // per channel
-};
-
-// How a and b differ over the columns [first, last) of every row.
-Difference difference(const Rgba8Image& a, const Rgba8Image& b, int first, int last) {
-    Difference result;
-    long sum = 0, count = 0;
-    for (int y = 0; y < a.height; ++y) {
-        for (int x = first; x < last; ++x) {
-            for (int c = 0; c < 3; ++c) {
-                const std::size_t i =
-                    4 * (std::size_t(y) * std::size_t(a.width) + std::size_t(x)) + std::size_t(c);
-                const int d = std::abs(int(a.pixels[i]) - int(b.pixels[i]));
-                result.largest = std::max(result.largest, d);
-                sum += d;
-                ++count;
-            }
-        }
-    }
-    result.mean = count > 0 ? double(sum) / double(count) : 0.0;
-    return result;
-}
-
-double transfers_computed(httplib::Client& client) {
-    return scrape(client).sum("oer_transfers_computed_total");
-}
-
 }  // namespace
 
 TEST(Variants, AreListedWithTheMeshAndRefusedByNameWhenUnknown) {
@@ -130,18 +101,18 @@ TEST(Variants, EachVariantIsTheAssetWithItsMaterialsBakedInAndBakesNothing) {
     for (const auto& [name, variant, baked_in] :
          {std::tuple{"Red", &red_frame, red}, std::tuple{"Blue", &blue_frame, blue},
           std::tuple{"Unchanged", &unchanged_frame, plain}}) {
-        const Difference from_baked =
-            difference(*variant, get_frame(*client, frame_path(baked_in)), 0, red_frame.width);
+        const FrameDifference from_baked = frame_difference(
+            *variant, get_frame(*client, frame_path(baked_in)), 0, red_frame.width);
         std::printf(
             "variant %s against the asset with its material baked in: largest %d/255, "
             "mean %.4f\n",
             name, from_baked.largest, from_baked.mean);
         EXPECT_LE(from_baked.largest, 1) << name;
     }
-    EXPECT_EQ(difference(unchanged_frame, default_frame, 0, red_frame.width).largest, 0);
+    EXPECT_EQ(frame_difference(unchanged_frame, default_frame, 0, red_frame.width).largest, 0);
 
-    const Difference body = difference(red_frame, blue_frame, 0, half);
-    const Difference stand = difference(red_frame, blue_frame, half, red_frame.width);
+    const FrameDifference body = frame_difference(red_frame, blue_frame, 0, half);
+    const FrameDifference stand = frame_difference(red_frame, blue_frame, half, red_frame.width);
     std::printf(
         "Red against Blue: body's half largest %d/255 mean %.3f; stand's half largest "
         "%d/255 mean %.3f (the body's reflected light)\n",
@@ -150,7 +121,7 @@ TEST(Variants, EachVariantIsTheAssetWithItsMaterialsBakedInAndBakesNothing) {
     EXPECT_GT(body.mean, 10.0);
     EXPECT_LE(stand.mean, 1.0);
     const std::string direct_only = "&bounce=none";
-    const Difference stand_direct = difference(
+    const FrameDifference stand_direct = frame_difference(
         get_frame(*client, frame_path(mesh, "&variant=Red" + direct_only)),
         get_frame(*client, frame_path(mesh, "&variant=Blue" + direct_only)), half, red_frame.width);
     EXPECT_EQ(stand_direct.largest, 0) << "without the bounce, the stand's half must not change";
@@ -175,11 +146,11 @@ TEST(Variants, AColourForOneNamedMaterialRecoloursThatMaterialOnly) {
     const Rgba8Image all_red = get_frame(*client, frame_path(mesh, red));
     ASSERT_EQ(body_red.width, 96);
     const int half = body_red.width / 2;
-    const Difference from_variant = difference(body_red, red_variant, 0, body_red.width);
+    const FrameDifference from_variant = frame_difference(body_red, red_variant, 0, body_red.width);
     std::printf("the Body recoloured red against the Red variant: largest %d/255\n",
                 from_variant.largest);
     EXPECT_LE(from_variant.largest, 1);
-    const Difference stand = difference(body_red, all_red, half, body_red.width);
+    const FrameDifference stand = frame_difference(body_red, all_red, half, body_red.width);
     EXPECT_GT(stand.largest, 50) << "base_color without a material recolours the stand too";
     EXPECT_EQ(transfers_computed(*client), baked) << "a colour baked a transfer";
 

@@ -40,7 +40,11 @@ std::vector<std::string> read_variants(const tinygltf::Model& model, const std::
     std::set<std::string> seen;
     for (std::size_t i = 0; i < list.ArrayLen(); ++i) {
         const std::string variant = what + ".variants[" + std::to_string(i) + "]";
-        std::string name = string_member(asset, list.Get(int(i)), "name", variant);
+        const tinygltf::Value& entry = list.Get(int(i));
+        if (!entry.IsObject() || !entry.Has("name") || !entry.Get("name").IsString()) {
+            fail(ErrorKind::InvalidInput, asset, variant + ".name must be a string");
+        }
+        std::string name = entry.Get("name").Get<std::string>();
         if (name.empty()) {
             fail(ErrorKind::InvalidInput, asset, variant + ".name is empty");
         }
