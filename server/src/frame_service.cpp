@@ -111,14 +111,16 @@ void FrameService::bake_ahead(std::shared_ptr<const FrameRequest> request,
         const std::lock_guard lock(queued_mutex_);
         queued_.erase(id);
     };
+    // Kept until the bake has ended, not only until it starts: between the two the registry
+    // may not say Baking yet, and a preparation must never read as not prepared meanwhile.
     const bool queued = bake_lane_.submit([this, request, ids = std::move(mesh_ids), what,
                                            dequeue](const std::stop_token& stop) {
-        dequeue();
         try {
             transfers_.transfer(*request, ids, stop, false);
         } catch (const std::exception& error) {
             log_("preparation: the transfer of " + what + " was not baked ahead: " + error.what());
         }
+        dequeue();
     });
     if (!queued) {
         dequeue();

@@ -139,7 +139,7 @@ class FrameService {
     // Bakes waiting for the bake lane at most; beyond, bake_ahead queues nothing.
     static constexpr std::size_t kMaxQueuedBakes = 16;
     // Queues the bake of request's transfer on the bake lane, nobody waiting for it (its
-    // outcome logged, naming `what`), unless it is queued already.
+    // outcome logged, naming `what`), unless it is queued or under way already.
     void bake_ahead(std::shared_ptr<const FrameRequest> request, std::vector<std::string> mesh_ids,
                     const std::string& what);
     // The standard scene of mesh (prepare's), on the floor or not; with mesh empty, enough for
@@ -172,7 +172,7 @@ class FrameService {
     ClientWorkBudget& client_work_;
     const std::function<void(std::string_view)> log_;
     std::mutex queued_mutex_;
-    std::set<std::string> queued_;  // transfer ids of preparations not started yet
+    std::set<std::string> queued_;  // transfer ids of preparations queued or under way
     // Last: destroyed first, stopping its bake before what the bake uses goes.
     BakeLane bake_lane_;
 };
