@@ -189,6 +189,24 @@ void PrimitiveReader::check_positions_finite(const Primitive& primitive,
     }
 }
 
+std::vector<glm::vec2> PrimitiveReader::texcoords1(const tinygltf::Primitive& source,
+                                                   const std::string& name,
+                                                   std::size_t vertex_count,
+                                                   std::uint64_t vertex_budget) const {
+    const auto texcoord = source.attributes.find("TEXCOORD_1");
+    if (texcoord == source.attributes.end()) {
+        return {};
+    }
+    std::vector<glm::vec2> texcoords = accessors_.vec2(texcoord->second, name + ": TEXCOORD_1",
+                                                       kTexcoordFormat, vertex_budget, "vertices");
+    if (texcoords.size() != vertex_count) {
+        fail(ErrorKind::InvalidInput, asset_,
+             name + ": TEXCOORD_1 has " + std::to_string(texcoords.size()) +
+                 " elements, POSITION " + std::to_string(vertex_count));
+    }
+    return texcoords;
+}
+
 std::vector<glm::vec4> PrimitiveReader::tangents(int accessor, const std::string& name,
                                                  std::size_t vertex_count,
                                                  std::uint64_t vertex_budget) const {

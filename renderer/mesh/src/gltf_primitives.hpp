@@ -2,8 +2,8 @@
 // Private to the glTF loader: one primitive's geometry read from its accessors (gltf_accessors.hpp)
 // and checked: its mode (triangles, strips and fans, the last two made lists; lines and points
 // refused), POSITION, NORMAL and TEXCOORD_0 of one count, indices in range, finite positions,
-// and the limits on vertices and triangles counted over every primitive read. TANGENT is read
-// apart, only where a normal texture needs it.
+// and the limits on vertices and triangles counted over every primitive read. TANGENT and
+// TEXCOORD_1 are read apart, only where a material needs them.
 #include <tiny_gltf.h>
 
 #include <cstddef>
@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
 #include "gltf_accessors.hpp"
@@ -44,6 +45,12 @@ class PrimitiveReader {
     // within `vertex_budget`, the one the primitive's POSITION was read within.
     std::vector<glm::vec4> tangents(int accessor, const std::string& name, std::size_t vertex_count,
                                     std::uint64_t vertex_budget) const;
+
+    // TEXCOORD_1, as TEXCOORD_0 is read (accessor formats, finite values are checked later),
+    // `vertex_count` of them; empty when the primitive has none. Read apart, only where a
+    // material the primitive may be drawn with has a texture on set 1.
+    std::vector<glm::vec2> texcoords1(const tinygltf::Primitive& source, const std::string& name,
+                                      std::size_t vertex_count, std::uint64_t vertex_budget) const;
 
   private:
     void read_attributes(const tinygltf::Primitive& source, const std::string& name,

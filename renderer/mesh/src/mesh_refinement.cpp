@@ -119,6 +119,9 @@ void add_midpoint_vertex(Primitive& primitive, const Edge& edge) {
     if (!primitive.texcoords.empty()) {
         primitive.texcoords.push_back(midpoint(primitive.texcoords[a], primitive.texcoords[b]));
     }
+    if (!primitive.texcoords1.empty()) {
+        primitive.texcoords1.push_back(midpoint(primitive.texcoords1[a], primitive.texcoords1[b]));
+    }
     if (!primitive.tangents.empty()) {
         const glm::vec4& ta = primitive.tangents[a];
         const glm::vec4& tb = primitive.tangents[b];

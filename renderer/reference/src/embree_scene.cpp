@@ -99,7 +99,9 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
                 if (material.base_color_texture.present()) {
                     geometry.texture =
                         &mesh.textures.at(std::size_t(material.base_color_texture.texture));
-                    geometry.texcoords = primitive.texcoords;
+                    geometry.texcoords = material.base_color_texture.texcoord == 1
+                                             ? primitive.texcoords1
+                                             : primitive.texcoords;
                 }
             }
             add(std::move(geometry));
