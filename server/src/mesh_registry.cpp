@@ -26,6 +26,7 @@ std::size_t charge_of(const Mesh& mesh) {
     for (const Primitive& primitive : mesh.primitives) {
         bytes += primitive.positions.size() * sizeof(glm::vec3) * 2 +
                  (primitive.texcoords.size() + primitive.texcoords1.size()) * sizeof(glm::vec2) +
+                 primitive.colors.size() * sizeof(glm::vec4) +
                  primitive.indices.size() * sizeof(std::uint32_t);
     }
     for (const Texture& texture : mesh.textures) {

@@ -1204,3 +1204,46 @@ TEST_F(MaterialShadingTest, ATextureOnTheSecondUvSetRendersAsOnTheFirst) {
     EXPECT_GT(without, 0.1);
     EXPECT_GT(other_set, 0.1);
 }
+
+// COLOR_0: vertex colours multiply the base colour; a white quad whose vertices are red renders
+// as the same quad without colours in a red base colour, and its alpha multiplies too (a BLEND
+// quad at half alpha by its vertices as by its factor).
+TEST_F(MaterialShadingTest, VertexColoursMultiplyTheBaseColourAndAlpha) {
+    const glm::vec3 radiance{1.0f};
+    const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);
+    const Camera camera = front_camera();
+    const int size = 64;
+    const auto frame_of = [&](glm::vec4 base, std::optional<glm::vec4> vertex_colour,
+                              AlphaMode mode) {
+        Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
+        mesh.materials[0] = oer::testing::metallic_roughness(glm::vec3(base), 0.0f, 0.8f);
+        mesh.materials[0].base_color.a = base.a;
+        mesh.materials[0].alpha_mode = mode;
+        if (vertex_colour) {
+            mesh.primitives[0].colors.assign(mesh.primitives[0].positions.size(), *vertex_colour);
+        }
+        FrameRequest request = linear_request(rig, camera, size);
+        request.objects.push_back({shared(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
+        request.specular = oer::testing::constant_cube(radiance);
+        return render(request);
+    };
+    const glm::vec4 red(1.0f, 0.0f, 0.0f, 1.0f), white(1.0f);
+    const Frame coloured = frame_of(white, red, AlphaMode::Opaque);
+    const Frame factor = frame_of(red, std::nullopt, AlphaMode::Opaque);
+    const Frame plain = frame_of(white, std::nullopt, AlphaMode::Opaque);
+    const glm::vec4 half(1.0f, 1.0f, 1.0f, 0.5f);
+    const Frame blended_by_vertices = frame_of(white, half, AlphaMode::Blend);
+    const Frame blended_by_factor = frame_of(half, std::nullopt, AlphaMode::Blend);
+    const double same = largest_channel_difference(coloured, factor);
+    const double from_white = largest_channel_difference(coloured, plain);
+    const double alpha = largest_channel_difference(blended_by_vertices, blended_by_factor);
+    const double from_opaque = largest_channel_difference(blended_by_vertices, plain);
+    std::printf(
+        "[ measured ] red vertices: %.5f from a red factor, %.3f from white; half-alpha "
+        "vertices: %.5f from a half-alpha factor, %.3f from opaque\n",
+        same, from_white, alpha, from_opaque);
+    EXPECT_LE(same, 1.0 / 255.0);
+    EXPECT_GT(from_white, 0.1);
+    EXPECT_LE(alpha, 1.0 / 255.0);
+    EXPECT_GT(from_opaque, 0.1);
+}

@@ -946,3 +946,75 @@ TEST(GltfMaterialsSamples, TwoCylinderEngineHasTheFilesCountsAndMaterials) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Vertex colours (COLOR_0)
+
+namespace {
+
+// kTriangle with COLOR_0 of `type` ("VEC3", "VEC4") in `component_type`, from `bytes`.
+std::string coloured_triangle(const void* bytes, std::size_t size, int component_type,
+                              const std::string& type, bool normalized) {
+    GltfBuilder b;
+    const int color = b.accessor(b.view(bytes, size), component_type, 3, type);
+    if (normalized) {
+        b.doc["accessors"][std::size_t(color)]["normalized"] = true;
+    }
+    json primitive = {{"attributes", {{"POSITION", b.positions(kTriangle)}, {"COLOR_0", color}}}};
+    b.mesh(json::array({primitive}));
+    b.node({{"mesh", 0}});
+    return b.gltf();
+}
+
+}  // namespace
+
+TEST(GltfMaterials, VertexColoursAreReadAsLinearRgba) {
+    // RGB floats: alpha 1; beyond [0, 1] clamped.
+    const std::vector<float> rgb{1.0f, 0.5f, 0.0f, 0.25f, 2.0f, -1.0f, 0.0f, 0.0f, 1.0f};
+    const Mesh floats = load_gltf_text(
+        coloured_triangle(rgb.data(), rgb.size() * 4, kFloat, "VEC3", false), kUnrefined);
+    expect_valid(floats);
+    EXPECT_EQ(floats.primitives[0].colors,
+              (std::vector<glm::vec4>{
+                  {1.0f, 0.5f, 0.0f, 1.0f}, {0.25f, 1.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f, 1.0f}}));
+    // RGBA normalized unsigned bytes and shorts.
+    const std::vector<std::uint8_t> bytes{255, 0, 0, 255, 0, 51, 0, 0, 0, 0, 255, 102};
+    const Mesh from_bytes = load_gltf_text(
+        coloured_triangle(bytes.data(), bytes.size(), kUnsignedByte, "VEC4", true), kUnrefined);
+    const std::vector<std::uint16_t> shorts{65535, 0, 0, 65535, 0, 13107, 0, 0, 0, 0, 65535, 26214};
+    const Mesh from_shorts = load_gltf_text(
+        coloured_triangle(shorts.data(), shorts.size() * 2, kUnsignedShort, "VEC4", true),
+        kUnrefined);
+    const std::vector<glm::vec4> expected{{1, 0, 0, 1}, {0, 0.2f, 0, 0}, {0, 0, 1, 0.4f}};
+    for (const Mesh* mesh : {&from_bytes, &from_shorts}) {
+        ASSERT_EQ(mesh->primitives[0].colors.size(), 3u);
+        for (std::size_t i = 0; i < 3; ++i) {
+            EXPECT_NEAR(glm::distance(mesh->primitives[0].colors[i], expected[i]), 0.0f, 1e-6f)
+                << "vertex " << i;
+        }
+    }
+    // Without COLOR_0: none.
+    EXPECT_TRUE(load_gltf_text(quad_asset({{"name", "M"}})).primitives[0].colors.empty());
+}
+
+TEST(GltfMaterials, VertexColoursMustBeNormalizedAndFinite) {
+    const std::vector<std::uint8_t> bytes(12, 255);
+    expect_error(
+        [&] {
+            load_gltf_text(
+                coloured_triangle(bytes.data(), bytes.size(), kUnsignedByte, "VEC4", false));
+        },
+        ErrorKind::InvalidInput, {"COLOR_0", "must be normalized"});
+    const std::vector<float> nan{0.0f, std::nanf(""), 0.0f, 0, 0, 0, 0, 0, 0};
+    expect_error(
+        [&] {
+            load_gltf_text(coloured_triangle(nan.data(), nan.size() * 4, kFloat, "VEC3", false));
+        },
+        ErrorKind::InvalidInput, {"vertex 0 has a non-finite COLOR_0"});
+    const std::vector<float> two(6, 0.5f);
+    expect_error(
+        [&] {
+            load_gltf_text(coloured_triangle(two.data(), two.size() * 4, kFloat, "VEC2", false));
+        },
+        ErrorKind::Unsupported, {"COLOR_0", "is VEC2 of FLOAT"});
+}

@@ -513,3 +513,26 @@ TEST(ReferenceRendererAlbedo, TheBaseColourTextureReadsTheUvSetItNames) {
     }
     EXPECT_EQ(differing, 4);
 }
+
+// COLOR_0: the reference's albedo is the base colour times the interpolated vertex colour
+// (times the texture), and the object's colour replaces both.
+TEST(ReferenceRendererAlbedo, VertexColoursMultiplyTheAlbedo) {
+    Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(0.5f));
+    // Corners (-1, 1), (1, 1), (1, -1), (-1, -1): red, green, blue, white.
+    mesh.primitives[0].colors = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}};
+    const glm::dvec3 base(glm::vec3(mesh.materials[0].base_color));
+    const glm::dvec3 at_red = quad_albedo(mesh, -0.999, 0.999);
+    EXPECT_NEAR(glm::distance(at_red, base * glm::dvec3(1, 0, 0)), 0.0, 2e-3);
+    // The middle of the diagonal from (-1, 1) to (1, -1), which both triangles share: half red,
+    // half blue.
+    const glm::dvec3 centre = quad_albedo(mesh, 0.0, 0.0);
+    EXPECT_NEAR(glm::distance(centre, base * glm::dvec3(0.5, 0, 0.5)), 0.0, 1e-3);
+    FrameRequest request;
+    request.objects.push_back(
+        {std::make_shared<const Mesh>(mesh), glm::mat4(1.0f), glm::vec3(0.2f, 0.3f, 0.4f)});
+    const reference::EmbreeScene scene(request, scene_bounds(request.objects));
+    const auto hit =
+        scene.intersect({-0.9, 0.9, 2.0}, {0.0, 0.0, -1.0}, 0.0, reference::GroundReach::Drawn);
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_NEAR(glm::distance(hit->albedo, glm::dvec3(glm::vec3(0.2f, 0.3f, 0.4f))), 0.0, 1e-9);
+}

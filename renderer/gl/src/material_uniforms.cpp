@@ -86,4 +86,13 @@ bool alpha_tested(const Material& material) {
            (material.base_color_texture.present() || material.base_color.a < 1.0f);
 }
 
+bool alpha_tested(const Material& material, const Primitive& primitive) {
+    return alpha_tested(material) ||
+           (material.alpha_mode != AlphaMode::Opaque && !primitive.colors.empty());
+}
+
+bool reads_textures_or_colors(const Material& material, const Primitive& primitive) {
+    return has_textures(material) || !primitive.colors.empty();
+}
+
 }  // namespace oer

@@ -124,6 +124,9 @@ void check_primitive(const Primitive& primitive, std::size_t material_count,
             }
         }
     }
+    if (!primitive.colors.empty() && primitive.colors.size() != n) {
+        fail(ErrorKind::Internal, asset, p + ": colours and positions differ in number");
+    }
     if (!primitive.tangents.empty()) {
         if (primitive.tangents.size() != n) {
             fail(ErrorKind::Internal, asset, p + ": tangents and positions differ in number");

@@ -130,6 +130,9 @@ struct Primitive {
     // The second uv set (TEXCOORD_1): empty, or one per position; never empty when a material
     // the primitive may be drawn with has a texture on set 1 (zeros where the file has none).
     std::vector<glm::vec2> texcoords1;
+    // Vertex colours (glTF COLOR_0, linear RGBA in [0, 1], RGB given alpha 1): empty, or one per
+    // position; they multiply the material's base colour and alpha.
+    std::vector<glm::vec4> colors;
     // Empty, or one per position: xyz the unit tangent (the direction of increasing u), w the
     // bitangent's sign (bitangent = w * cross(normal, tangent)), as glTF's TANGENT. Never empty
     // when the material has a normal texture: read from the file, or generated with MikkTSpace
