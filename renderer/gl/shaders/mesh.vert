@@ -1,5 +1,6 @@
 #version 450 core
-// Mesh vertices to clip space, with their world position, world normal, both uv sets, colour and world tangent.
+// Mesh vertices to clip space, with their world position, world normal, both uv sets, colour
+// and world tangent.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
