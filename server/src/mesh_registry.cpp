@@ -25,7 +25,8 @@ std::size_t charge_of(const Mesh& mesh) {
     std::size_t bytes = 0;
     for (const Primitive& primitive : mesh.primitives) {
         bytes += primitive.positions.size() * sizeof(glm::vec3) * 2 +
-                 primitive.texcoords.size() * sizeof(glm::vec2) +
+                 (primitive.texcoords.size() + primitive.texcoords1.size()) * sizeof(glm::vec2) +
+                 primitive.colors.size() * sizeof(glm::vec4) +
                  primitive.indices.size() * sizeof(std::uint32_t);
     }
     for (const Texture& texture : mesh.textures) {

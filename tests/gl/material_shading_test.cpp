@@ -15,6 +15,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -1121,4 +1122,128 @@ TEST_F(MaterialShadingTest, TextureTransformsAndSamplersPlaceTheTexels) {
         EXPECT_GT(checked, 2000);
         EXPECT_EQ(wrong, 0);
     }
+}
+
+namespace {
+
+// The quad (white dielectric, roughness 0.9) with a base-colour texture (2 x 2, four colours)
+// on uv set 0 and an occlusion texture (2 x 2, four levels; `occlusion_set` -1: none) on
+// `occlusion_set`, both nearest; set 0 the quad's uv, set 1 the same turned a quarter,
+// (u, v) -> (v, 1 - u). `swapped`: the same picture with the two sets and the references'
+// sets exchanged.
+Mesh quad_on_two_uv_sets(int occlusion_set, bool swapped) {
+    Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
+    Primitive& p = mesh.primitives[0];
+    for (const glm::vec2& uv : p.texcoords) {
+        p.texcoords1.emplace_back(uv.y, 1.0f - uv.x);
+    }
+    Material& m = mesh.materials[0];
+    m = oer::testing::metallic_roughness(glm::vec3(1.0f), 0.0f, 0.9f);
+    for (TextureReference* reference : {&m.base_color_texture, &m.occlusion_texture}) {
+        reference->sampler.mag_filter = TextureFilter::Nearest;
+        reference->sampler.min_filter = TextureFilter::Nearest;
+    }
+    m.base_color_texture.texture = 0;
+    mesh.textures.push_back(texture_of(
+        2, 2, {{255, 64, 64, 255}, {64, 255, 64, 255}, {64, 64, 255, 255}, {255, 255, 255, 255}},
+        TextureEncoding::Srgb));
+    if (occlusion_set >= 0) {
+        m.occlusion_texture.texture = 1;
+        m.occlusion_texture.texcoord = occlusion_set;
+        mesh.textures.push_back(
+            texture_of(2, 2, {{255, 0, 0, 255}, {64, 0, 0, 255}, {160, 0, 0, 255}, {16, 0, 0, 255}},
+                       TextureEncoding::Linear));
+    }
+    if (swapped) {
+        std::swap(p.texcoords, p.texcoords1);
+        m.base_color_texture.texcoord = 1 - m.base_color_texture.texcoord;
+        m.occlusion_texture.texcoord = 1 - m.occlusion_texture.texcoord;
+    }
+    return mesh;
+}
+
+// The largest difference of two linear frames of one size, over every channel.
+double largest_channel_difference(const Frame& a, const Frame& b) {
+    double largest = 0.0;
+    for (std::size_t i = 0; i < a.linear.size(); ++i) {
+        largest = std::max(largest, double(std::abs(a.linear[i] - b.linear[i])));
+    }
+    return largest;
+}
+
+}  // namespace
+
+// TEXCOORD_1: the occlusion texture on set 1 (the 3D Commerce layout) renders as the same
+// texture on set 0 of the asset whose set 0 is the other's set 1 (the sets and the references
+// swapped), and differs from the occlusion texture ignored and from it read on set 0.
+TEST_F(MaterialShadingTest, ATextureOnTheSecondUvSetRendersAsOnTheFirst) {
+    const glm::vec3 radiance{1.0f};
+    const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);
+    const Camera camera = front_camera();
+    const int size = 96;
+    const auto frame_of = [&](int occlusion_set, bool swapped) {
+        FrameRequest request = linear_request(rig, camera, size);
+        request.objects.push_back(
+            {shared(quad_on_two_uv_sets(occlusion_set, swapped)), glm::mat4(1.0f), std::nullopt});
+        request.specular = oer::testing::constant_cube(radiance);
+        return render(request);
+    };
+    const Frame on_set_1 = frame_of(1, false);
+    const Frame swapped = frame_of(1, true);
+    const Frame ignored = frame_of(-1, false);
+    const Frame on_set_0 = frame_of(0, false);
+    ASSERT_EQ(on_set_1.linear.size(), swapped.linear.size());
+    const double same = largest_channel_difference(on_set_1, swapped);
+    const double without = largest_channel_difference(on_set_1, ignored);
+    const double other_set = largest_channel_difference(on_set_1, on_set_0);
+    std::printf(
+        "[ measured ] occlusion on TEXCOORD_1: %.5f from the sets swapped, %.3f from none, "
+        "%.3f from TEXCOORD_0\n",
+        same, without, other_set);
+    EXPECT_LE(same, 1.0 / 255.0);
+    EXPECT_GT(without, 0.1);
+    EXPECT_GT(other_set, 0.1);
+}
+
+// COLOR_0: vertex colours multiply the base colour; a white quad whose vertices are red renders
+// as the same quad without colours in a red base colour, and its alpha multiplies too (a BLEND
+// quad at half alpha by its vertices as by its factor).
+TEST_F(MaterialShadingTest, VertexColoursMultiplyTheBaseColourAndAlpha) {
+    const glm::vec3 radiance{1.0f};
+    const auto rig = make_rig(oer::testing::constant_map(256, 128, radiance), 0, 3);
+    const Camera camera = front_camera();
+    const int size = 64;
+    const auto frame_of = [&](glm::vec4 base, std::optional<glm::vec4> vertex_colour,
+                              AlphaMode mode) {
+        Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
+        mesh.materials[0] = oer::testing::metallic_roughness(glm::vec3(base), 0.0f, 0.8f);
+        mesh.materials[0].base_color.a = base.a;
+        mesh.materials[0].alpha_mode = mode;
+        if (vertex_colour) {
+            mesh.primitives[0].colors.assign(mesh.primitives[0].positions.size(), *vertex_colour);
+        }
+        FrameRequest request = linear_request(rig, camera, size);
+        request.objects.push_back({shared(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
+        request.specular = oer::testing::constant_cube(radiance);
+        return render(request);
+    };
+    const glm::vec4 red(1.0f, 0.0f, 0.0f, 1.0f), white(1.0f);
+    const Frame coloured = frame_of(white, red, AlphaMode::Opaque);
+    const Frame factor = frame_of(red, std::nullopt, AlphaMode::Opaque);
+    const Frame plain = frame_of(white, std::nullopt, AlphaMode::Opaque);
+    const glm::vec4 half(1.0f, 1.0f, 1.0f, 0.5f);
+    const Frame blended_by_vertices = frame_of(white, half, AlphaMode::Blend);
+    const Frame blended_by_factor = frame_of(half, std::nullopt, AlphaMode::Blend);
+    const double same = largest_channel_difference(coloured, factor);
+    const double from_white = largest_channel_difference(coloured, plain);
+    const double alpha = largest_channel_difference(blended_by_vertices, blended_by_factor);
+    const double from_opaque = largest_channel_difference(blended_by_vertices, plain);
+    std::printf(
+        "[ measured ] red vertices: %.5f from a red factor, %.3f from white; half-alpha "
+        "vertices: %.5f from a half-alpha factor, %.3f from opaque\n",
+        same, from_white, alpha, from_opaque);
+    EXPECT_LE(same, 1.0 / 255.0);
+    EXPECT_GT(from_white, 0.1);
+    EXPECT_LE(alpha, 1.0 / 255.0);
+    EXPECT_GT(from_opaque, 0.1);
 }

@@ -279,7 +279,7 @@ TEST(GltfMaterials, MissingTexturesAndImagesAreRejectedNamingMaterialAndProperty
 TEST(GltfMaterials, OtherTexCoordSetsAreDroppedWithAWarning) {
     const Mesh mesh = load_gltf_text(quad_asset(
         {{"name", "M"},
-         {"occlusionTexture", {{"index", 0}, {"texCoord", 1}}},
+         {"occlusionTexture", {{"index", 0}, {"texCoord", 2}}},
          {"emissiveTexture",
           {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 2}}}}}}},
          // KHR_texture_transform's texCoord overrides the textureInfo's.
@@ -291,15 +291,134 @@ TEST(GltfMaterials, OtherTexCoordSetsAreDroppedWithAWarning) {
     EXPECT_FALSE(m.occlusion_texture.present());
     EXPECT_FALSE(m.emissive_texture.present());
     EXPECT_TRUE(m.normal_texture.present());
+    EXPECT_EQ(m.normal_texture.texcoord, 0);
     EXPECT_EQ(mesh.warnings, (std::vector<std::string>{
-                                 "material 'M': occlusionTexture uses TEXCOORD_1, only TEXCOORD_0 "
-                                 "is supported: texture ignored",
+                                 "material 'M': occlusionTexture uses TEXCOORD_2, only TEXCOORD_0 "
+                                 "and TEXCOORD_1 are supported: texture ignored",
                                  "material 'M': emissiveTexture uses TEXCOORD_2 "
-                                 "(KHR_texture_transform's texCoord), only TEXCOORD_0 is "
-                                 "supported: texture ignored"}));
+                                 "(KHR_texture_transform's texCoord), only TEXCOORD_0 and "
+                                 "TEXCOORD_1 are supported: texture ignored"}));
     // Only the normal texture's image was decoded.
     ASSERT_EQ(mesh.textures.size(), 1u);
     EXPECT_EQ(mesh.textures[0].encoding, TextureEncoding::Linear);
+    EXPECT_TRUE(mesh.primitives[0].texcoords1.empty());
+}
+
+TEST(GltfMaterials, ANormalTextureOnTheSecondUvSetIsDroppedWithAWarning) {
+    // Its tangent frame follows TEXCOORD_0.
+    const Mesh mesh = load_gltf_text(quad_asset(
+        {{"name", "M"},
+         {"normalTexture",
+          {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}}}}));
+    EXPECT_FALSE(material_of(mesh).normal_texture.present());
+    EXPECT_EQ(mesh.warnings,
+              (std::vector<std::string>{"material 'M': normalTexture uses TEXCOORD_1 "
+                                        "(KHR_texture_transform's texCoord), only TEXCOORD_0 is "
+                                        "supported for a normal texture: texture ignored"}));
+}
+
+// The quad with a TEXCOORD_1 of another layout than its TEXCOORD_0 (u and v swapped, halved
+// and moved), under `material`: as floats, or as normalized unsigned bytes (255 steps).
+std::string second_uv_set_asset(const json& material, bool normalized_bytes = false) {
+    GltfBuilder b;
+    const Quad quad;
+    json primitive = quad_primitive(b, quad);
+    if (normalized_bytes) {
+        const std::vector<std::uint8_t> bytes{0, 255, 0, 51, 255, 51, 255, 255};
+        primitive["attributes"]["TEXCOORD_1"] =
+            b.accessor(b.view(bytes.data(), bytes.size()), kUnsignedByte, 4, "VEC2");
+        b.doc["accessors"].back()["normalized"] = true;
+    } else {
+        std::vector<glm::vec2> uv1;
+        for (const glm::vec2& uv : quad.uv) {
+            uv1.push_back(glm::vec2(uv.y, uv.x) * 0.5f + glm::vec2(0.25f, 0.125f));
+        }
+        primitive["attributes"]["TEXCOORD_1"] = attribute(b, uv1, "VEC2");
+    }
+    b.mesh(json::array({primitive}));
+    b.node({{"mesh", 0}});
+    b.doc["materials"] = json::array({material});
+    b.doc["images"] = json::array({{{"uri", kPngUri}}});
+    b.doc["textures"] = json::array({{{"source", 0}}});
+    return b.gltf();
+}
+
+TEST(GltfMaterials, ATextureOnTheSecondUvSetKeepsItAndTheSet) {
+    // The 3D Commerce certification's layout: the occlusion map on TEXCOORD_1, the base colour
+    // on TEXCOORD_0.
+    const json material = {{"name", "M"},
+                           {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}},
+                           {"occlusionTexture", {{"index", 0}, {"texCoord", 1}}}};
+    const Mesh mesh = load_gltf_text(second_uv_set_asset(material), kUnrefined);
+    expect_valid(mesh);
+    EXPECT_TRUE(mesh.warnings.empty());
+    const Material& m = material_of(mesh);
+    ASSERT_TRUE(m.occlusion_texture.present());
+    EXPECT_EQ(m.occlusion_texture.texcoord, 1);
+    ASSERT_TRUE(m.base_color_texture.present());
+    EXPECT_EQ(m.base_color_texture.texcoord, 0);
+    const Primitive& p = mesh.primitives[0];
+    const Quad quad;
+    ASSERT_EQ(p.texcoords.size(), p.positions.size());
+    ASSERT_EQ(p.texcoords1.size(), p.positions.size());
+    for (std::size_t i = 0; i < quad.positions.size(); ++i) {
+        EXPECT_EQ(p.texcoords[i], quad.uv[i]) << "vertex " << i;
+        EXPECT_EQ(p.texcoords1[i],
+                  glm::vec2(quad.uv[i].y, quad.uv[i].x) * 0.5f + glm::vec2(0.25f, 0.125f))
+            << "vertex " << i;
+    }
+    // KHR_texture_transform's texCoord names the set too.
+    const json transformed = {
+        {"name", "M"},
+        {"emissiveTexture",
+         {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}}}};
+    const Mesh by_transform = load_gltf_text(second_uv_set_asset(transformed), kUnrefined);
+    EXPECT_EQ(material_of(by_transform).emissive_texture.texcoord, 1);
+    EXPECT_EQ(by_transform.primitives[0].texcoords1.size(), 4u);
+}
+
+TEST(GltfMaterials, TheSecondUvSetIsReadAsTheFirstNormalizedBytesIncluded) {
+    const json material = {{"occlusionTexture", {{"index", 0}, {"texCoord", 1}}}};
+    const Mesh mesh = load_gltf_text(second_uv_set_asset(material, true), kUnrefined);
+    const std::vector<glm::vec2> expected{{0, 1}, {0, 0.2f}, {1, 0.2f}, {1, 1}};
+    ASSERT_EQ(mesh.primitives[0].texcoords1.size(), 4u);
+    for (std::size_t i = 0; i < 4; ++i) {
+        EXPECT_NEAR(glm::distance(mesh.primitives[0].texcoords1[i], expected[i]), 0.0f, 1e-6f)
+            << "vertex " << i;
+    }
+}
+
+TEST(GltfMaterials, TheSecondUvSetIsReadForAVariantsMaterial) {
+    // The body's default material has no texture; its variant "Red" has an occlusion texture on
+    // TEXCOORD_1: the body keeps the set, the stand (never drawn with it) has none.
+    GltfBuilder b = variants_product();
+    std::vector<glm::vec2> uv1;
+    for (int i = 0; i < 24; ++i) {
+        uv1.emplace_back(float(i) / 24.0f, 0.5f);
+    }
+    for (json& primitive : b.doc["meshes"][0]["primitives"]) {
+        primitive["attributes"]["TEXCOORD_1"] = attribute(b, uv1, "VEC2");
+    }
+    b.doc["materials"][2]["occlusionTexture"] = {{"index", 0}, {"texCoord", 1}};
+    b.doc["images"] = json::array({{{"uri", kPngUri}}});
+    b.doc["textures"] = json::array({{{"source", 0}}});
+    const Mesh mesh = load_gltf_text(b.gltf(), kUnrefined);
+    expect_valid(mesh);
+    ASSERT_EQ(mesh.primitives.size(), 2u);
+    EXPECT_EQ(mesh.primitives[0].texcoords1, uv1);
+    EXPECT_TRUE(mesh.primitives[1].texcoords1.empty());
+}
+
+TEST(GltfMaterials, TheSecondUvSetIsReadOnlyWhereAMaterialUsesIt) {
+    // No texture on set 1: TEXCOORD_1 is not kept.
+    const Mesh unused = load_gltf_text(
+        second_uv_set_asset({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}));
+    EXPECT_TRUE(unused.primitives[0].texcoords1.empty());
+    // A texture on set 1 of a primitive without TEXCOORD_1: zeros, as for set 0.
+    const Mesh missing =
+        load_gltf_text(quad_asset({{"occlusionTexture", {{"index", 0}, {"texCoord", 1}}}}));
+    EXPECT_EQ(missing.primitives[0].texcoords1,
+              std::vector<glm::vec2>(missing.primitives[0].positions.size(), glm::vec2(0.0f)));
 }
 
 TEST(GltfMaterials, TextureTransformIsReadOnEveryTextureInfo) {
@@ -827,3 +946,75 @@ TEST(GltfMaterialsSamples, TwoCylinderEngineHasTheFilesCountsAndMaterials) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Vertex colours (COLOR_0)
+
+namespace {
+
+// kTriangle with COLOR_0 of `type` ("VEC3", "VEC4") in `component_type`, from `bytes`.
+std::string coloured_triangle(const void* bytes, std::size_t size, int component_type,
+                              const std::string& type, bool normalized) {
+    GltfBuilder b;
+    const int color = b.accessor(b.view(bytes, size), component_type, 3, type);
+    if (normalized) {
+        b.doc["accessors"][std::size_t(color)]["normalized"] = true;
+    }
+    json primitive = {{"attributes", {{"POSITION", b.positions(kTriangle)}, {"COLOR_0", color}}}};
+    b.mesh(json::array({primitive}));
+    b.node({{"mesh", 0}});
+    return b.gltf();
+}
+
+}  // namespace
+
+TEST(GltfMaterials, VertexColoursAreReadAsLinearRgba) {
+    // RGB floats: alpha 1; beyond [0, 1] clamped.
+    const std::vector<float> rgb{1.0f, 0.5f, 0.0f, 0.25f, 2.0f, -1.0f, 0.0f, 0.0f, 1.0f};
+    const Mesh floats = load_gltf_text(
+        coloured_triangle(rgb.data(), rgb.size() * 4, kFloat, "VEC3", false), kUnrefined);
+    expect_valid(floats);
+    EXPECT_EQ(floats.primitives[0].colors,
+              (std::vector<glm::vec4>{
+                  {1.0f, 0.5f, 0.0f, 1.0f}, {0.25f, 1.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f, 1.0f}}));
+    // RGBA normalized unsigned bytes and shorts.
+    const std::vector<std::uint8_t> bytes{255, 0, 0, 255, 0, 51, 0, 0, 0, 0, 255, 102};
+    const Mesh from_bytes = load_gltf_text(
+        coloured_triangle(bytes.data(), bytes.size(), kUnsignedByte, "VEC4", true), kUnrefined);
+    const std::vector<std::uint16_t> shorts{65535, 0, 0, 65535, 0, 13107, 0, 0, 0, 0, 65535, 26214};
+    const Mesh from_shorts = load_gltf_text(
+        coloured_triangle(shorts.data(), shorts.size() * 2, kUnsignedShort, "VEC4", true),
+        kUnrefined);
+    const std::vector<glm::vec4> expected{{1, 0, 0, 1}, {0, 0.2f, 0, 0}, {0, 0, 1, 0.4f}};
+    for (const Mesh* mesh : {&from_bytes, &from_shorts}) {
+        ASSERT_EQ(mesh->primitives[0].colors.size(), 3u);
+        for (std::size_t i = 0; i < 3; ++i) {
+            EXPECT_NEAR(glm::distance(mesh->primitives[0].colors[i], expected[i]), 0.0f, 1e-6f)
+                << "vertex " << i;
+        }
+    }
+    // Without COLOR_0: none.
+    EXPECT_TRUE(load_gltf_text(quad_asset({{"name", "M"}})).primitives[0].colors.empty());
+}
+
+TEST(GltfMaterials, VertexColoursMustBeNormalizedAndFinite) {
+    const std::vector<std::uint8_t> bytes(12, 255);
+    expect_error(
+        [&] {
+            load_gltf_text(
+                coloured_triangle(bytes.data(), bytes.size(), kUnsignedByte, "VEC4", false));
+        },
+        ErrorKind::InvalidInput, {"COLOR_0", "must be normalized"});
+    const std::vector<float> nan{0.0f, std::nanf(""), 0.0f, 0, 0, 0, 0, 0, 0};
+    expect_error(
+        [&] {
+            load_gltf_text(coloured_triangle(nan.data(), nan.size() * 4, kFloat, "VEC3", false));
+        },
+        ErrorKind::InvalidInput, {"vertex 0 has a non-finite COLOR_0"});
+    const std::vector<float> two(6, 0.5f);
+    expect_error(
+        [&] {
+            load_gltf_text(coloured_triangle(two.data(), two.size() * 4, kFloat, "VEC2", false));
+        },
+        ErrorKind::Unsupported, {"COLOR_0", "is VEC2 of FLOAT"});
+}

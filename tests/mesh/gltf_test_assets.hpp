@@ -95,6 +95,8 @@ inline void expect_valid(const Mesh& mesh) {
     for (const Primitive& p : mesh.primitives) {
         ASSERT_EQ(p.normals.size(), p.positions.size()) << p.name;
         ASSERT_TRUE(p.texcoords.empty() || p.texcoords.size() == p.positions.size()) << p.name;
+        ASSERT_TRUE(p.texcoords1.empty() || p.texcoords1.size() == p.positions.size()) << p.name;
+        ASSERT_TRUE(p.colors.empty() || p.colors.size() == p.positions.size()) << p.name;
         ASSERT_EQ(p.indices.size() % 3, 0u) << p.name;
         ASSERT_GE(p.material, 0);
         ASSERT_LT(std::size_t(p.material), mesh.materials.size());

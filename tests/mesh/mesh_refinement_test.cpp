@@ -334,6 +334,8 @@ TEST(MeshRefinement, MidpointsInterpolateEveryAttribute) {
     Mesh quad = oer::testing::quad({0, 0, 0}, 1.0f, kGrey);
     Primitive& p = quad.primitives[0];
     p.texcoords = {{0.1f, 0.7f}, {0.33f, 0.2f}, {0.9f, 0.45f}, {0.05f, 0.61f}};
+    p.texcoords1 = {{0.5f, 0.25f}, {0.75f, 0.125f}, {0.0f, 1.0f}, {0.375f, 0.5f}};
+    p.colors = {{1, 0, 0, 1}, {0, 0.5f, 0, 0.25f}, {0, 0, 1, 0.5f}, {0.25f, 0.75f, 0.5f, 1}};
     p.normals = {glm::normalize(glm::vec3(0.1f, 0, 1)), glm::normalize(glm::vec3(0, 0.2f, 1)),
                  glm::vec3(0, 0, 1), glm::normalize(glm::vec3(-0.3f, 0.1f, 1))};
     p.tangents = {{1, 0, 0, 1}, {0, 1, 0, 1}, {1, 0, 0, -1}, {1, 0, 0, 1}};
@@ -343,6 +345,8 @@ TEST(MeshRefinement, MidpointsInterpolateEveryAttribute) {
     ASSERT_EQ(p.positions.size(), 4u + 5u);
     ASSERT_EQ(p.normals.size(), 9u);
     ASSERT_EQ(p.texcoords.size(), 9u);
+    ASSERT_EQ(p.texcoords1.size(), 9u);
+    ASSERT_EQ(p.colors.size(), 9u);
     ASSERT_EQ(p.tangents.size(), 9u);
     for (std::size_t i = 4; i < 9; ++i) {
         // Its ends: the original edge whose midpoint it is.
@@ -355,6 +359,8 @@ TEST(MeshRefinement, MidpointsInterpolateEveryAttribute) {
             ++found;
             SCOPED_TRACE("midpoint of " + std::to_string(a) + " and " + std::to_string(b));
             EXPECT_EQ(p.texcoords[i], (original.texcoords[a] + original.texcoords[b]) * 0.5f);
+            EXPECT_EQ(p.texcoords1[i], (original.texcoords1[a] + original.texcoords1[b]) * 0.5f);
+            EXPECT_EQ(p.colors[i], (original.colors[a] + original.colors[b]) * 0.5f);
             const glm::vec3 normal = glm::normalize(original.normals[a] + original.normals[b]);
             EXPECT_NEAR(glm::distance(p.normals[i], normal), 0.0f, 1e-6f);
             const glm::vec3 tangent =

@@ -100,6 +100,9 @@ TEST(TangentGeneration, AMirrorSeamSplitsItsVerticesOnePerSide) {
         for (float x : {0.0f, 1.0f, 2.0f}) {
             p.positions.push_back({x, 0, z});
             p.texcoords.push_back({1 - std::abs(x - 1), z});
+            // A second uv set of its own layout, copied with the rest.
+            p.texcoords1.push_back({0.25f * x, 1 - 0.5f * z + 0.1f * x});
+            p.colors.push_back({0.5f * x, z, 0.25f, 1.0f - 0.25f * x});
         }
     }
     p.normals.assign(6, glm::vec3(0, 1, 0));
@@ -110,6 +113,8 @@ TEST(TangentGeneration, AMirrorSeamSplitsItsVerticesOnePerSide) {
     EXPECT_EQ(mesh_detail::generate_tangents(p, "test"), 2u);
     ASSERT_EQ(p.positions.size(), 8u);
     ASSERT_EQ(p.tangents.size(), 8u);
+    ASSERT_EQ(p.texcoords1.size(), 8u);
+    ASSERT_EQ(p.colors.size(), 8u);
     for (std::size_t t = 0; t < 4; ++t) {
         const Frame frame = analytic_frame(before, t, glm::vec3(0, 1, 0));
         EXPECT_EQ(frame.tangent, t < 2 ? glm::vec3(1, 0, 0) : glm::vec3(-1, 0, 0));
@@ -121,6 +126,8 @@ TEST(TangentGeneration, AMirrorSeamSplitsItsVerticesOnePerSide) {
             EXPECT_EQ(p.positions[vertex], before.positions[original]);
             EXPECT_EQ(p.normals[vertex], before.normals[original]);
             EXPECT_EQ(p.texcoords[vertex], before.texcoords[original]);
+            EXPECT_EQ(p.texcoords1[vertex], before.texcoords1[original]);
+            EXPECT_EQ(p.colors[vertex], before.colors[original]);
         }
     }
     // The copies are of the seam's vertices.

@@ -9,6 +9,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -19,7 +20,9 @@
 #include "oer/lighting/light_location.hpp"
 #include "oer/lighting/reference_irradiance.hpp"
 #include "oer/lighting/rig.hpp"
+#include "oer/reference/embree_scene.hpp"
 #include "oer/reference/reference_renderer.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "synthetic_maps.hpp"
 #include "test_meshes.hpp"
 
@@ -452,3 +455,84 @@ TEST(ReferenceRendererBounce, OneBounceAddsTheLitGroundBelow) {
 }
 
 }  // namespace
+
+namespace {
+
+// The quad of oer::testing::quad (x, y in [-1, 1] at z = 0, facing +z) with a 2 x 2 base-colour
+// texture (nearest) on uv set `set`; set 0 the quad's uv, set 1 the same turned a quarter,
+// (u, v) -> (v, 1 - u). `swapped`: the same picture with the two sets and the reference's set
+// exchanged.
+Mesh textured_quad_on_set(int set, bool swapped) {
+    Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(1.0f));
+    Primitive& p = mesh.primitives[0];
+    for (const glm::vec2& uv : p.texcoords) {
+        p.texcoords1.emplace_back(uv.y, 1.0f - uv.x);
+    }
+    TextureReference& reference = mesh.materials[0].base_color_texture;
+    reference.texture = 0;
+    reference.texcoord = set;
+    reference.sampler.mag_filter = reference.sampler.min_filter = TextureFilter::Nearest;
+    Texture texture;
+    texture.width = texture.height = 2;
+    texture.rgba = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
+    mesh.textures.push_back(std::move(texture));
+    if (swapped) {
+        std::swap(p.texcoords, p.texcoords1);
+        reference.texcoord = 1 - set;
+    }
+    return mesh;
+}
+
+// The albedo the reference finds on the quad at (x, y), seen from +z.
+glm::dvec3 quad_albedo(const Mesh& mesh, double x, double y) {
+    FrameRequest request;
+    request.objects.push_back({std::make_shared<const Mesh>(mesh), glm::mat4(1.0f), std::nullopt});
+    request.ground = false;
+    const reference::EmbreeScene scene(request, scene_bounds(request.objects));
+    const auto hit =
+        scene.intersect({x, y, 2.0}, {0.0, 0.0, -1.0}, 0.0, reference::GroundReach::Drawn);
+    EXPECT_TRUE(hit.has_value());
+    return hit ? hit->albedo : glm::dvec3(-1.0);
+}
+
+}  // namespace
+
+// TEXCOORD_1: the reference's albedo reads the base-colour texture on the set its reference
+// names: on set 1 as on set 0 of the asset whose set 0 is the other's set 1, and not as set 0.
+TEST(ReferenceRendererAlbedo, TheBaseColourTextureReadsTheUvSetItNames) {
+    const Mesh on_set_1 = textured_quad_on_set(1, false);
+    const Mesh swapped = textured_quad_on_set(1, true);
+    const Mesh on_set_0 = textured_quad_on_set(0, false);
+    int differing = 0;
+    for (const double x : {-0.5, 0.5}) {
+        for (const double y : {-0.5, 0.5}) {
+            const glm::dvec3 albedo = quad_albedo(on_set_1, x, y);
+            EXPECT_EQ(albedo, quad_albedo(swapped, x, y)) << x << ", " << y;
+            differing += albedo != quad_albedo(on_set_0, x, y);
+        }
+    }
+    EXPECT_EQ(differing, 4);
+}
+
+// COLOR_0: the reference's albedo is the base colour times the interpolated vertex colour
+// (times the texture), and the object's colour replaces both.
+TEST(ReferenceRendererAlbedo, VertexColoursMultiplyTheAlbedo) {
+    Mesh mesh = oer::testing::quad({0, 0, 0}, 1.0f, glm::vec3(0.5f));
+    // Corners (-1, 1), (1, 1), (1, -1), (-1, -1): red, green, blue, white.
+    mesh.primitives[0].colors = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}};
+    const glm::dvec3 base(glm::vec3(mesh.materials[0].base_color));
+    const glm::dvec3 at_red = quad_albedo(mesh, -0.999, 0.999);
+    EXPECT_NEAR(glm::distance(at_red, base * glm::dvec3(1, 0, 0)), 0.0, 2e-3);
+    // The middle of the diagonal from (-1, 1) to (1, -1), which both triangles share: half red,
+    // half blue.
+    const glm::dvec3 centre = quad_albedo(mesh, 0.0, 0.0);
+    EXPECT_NEAR(glm::distance(centre, base * glm::dvec3(0.5, 0, 0.5)), 0.0, 1e-3);
+    FrameRequest request;
+    request.objects.push_back(
+        {std::make_shared<const Mesh>(mesh), glm::mat4(1.0f), glm::vec3(0.2f, 0.3f, 0.4f)});
+    const reference::EmbreeScene scene(request, scene_bounds(request.objects));
+    const auto hit =
+        scene.intersect({-0.9, 0.9, 2.0}, {0.0, 0.0, -1.0}, 0.0, reference::GroundReach::Drawn);
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_NEAR(glm::distance(hit->albedo, glm::dvec3(glm::vec3(0.2f, 0.3f, 0.4f))), 0.0, 1e-9);
+}

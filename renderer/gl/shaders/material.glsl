@@ -1,13 +1,17 @@
 // A glTF 2.0 material at a mesh fragment (specification, section 3.9): its factors times its
-// five textures, each read through its own uv transform (KHR_texture_transform, built on the
-// CPU as translation * rotation * scale) and sampler. Shared by the geometry pass, the shadow
-// pass's alpha test and the transparent pass. MATERIAL_TEXTURES 0 (a material without
-// textures, as an OBJ's): the factors alone, with no uv or tangent read, so that the program
-// interpolates neither (llvmpipe interpolates every input a fragment shader reads).
+// five textures, each read on its own uv set (TEXCOORD_0 or TEXCOORD_1) through its own uv
+// transform (KHR_texture_transform, built on the CPU as translation * rotation * scale) and
+// sampler, the base colour times the vertex colour (COLOR_0). Shared by the geometry pass, the
+// shadow pass's alpha test and the transparent pass. MATERIAL_TEXTURES 0 (a material without
+// textures on a primitive without vertex colours, as an OBJ's): the factors alone, with no uv,
+// colour or tangent read, so that the program interpolates none of them (llvmpipe interpolates
+// every input a fragment shader reads).
 in vec3 v_world_position;
 in vec3 v_normal;
 #if MATERIAL_TEXTURES
 in vec2 v_texcoord;
+in vec2 v_texcoord1;
+in vec4 v_color;  // COLOR_0, or (1, 1, 1, 1)
 in vec4 v_tangent;
 #endif
 
@@ -26,6 +30,7 @@ layout(binding = OCCLUSION_TEXTURE_UNIT) uniform sampler2D u_occlusion_texture;
 layout(binding = EMISSIVE_TEXTURE_UNIT) uniform sampler2D u_emissive_texture;
 uniform int u_textures;  // bit i: reference i is present
 uniform mat3 u_uv_transform[5];
+uniform int u_uv_sets;  // bit i: reference i reads TEXCOORD_1 (v_texcoord1), else TEXCOORD_0
 
 uniform vec4 u_base_color;  // linear RGBA
 // 1: the base-colour texture's RGB multiplies the base colour; 0: the object's colour replaced
@@ -42,7 +47,8 @@ uniform float u_alpha_cutoff;
 bool has_texture(int reference) { return (u_textures & (1 << reference)) != 0; }
 
 vec2 material_uv(int reference) {
-    return (u_uv_transform[reference] * vec3(v_texcoord, 1.0)).xy;
+    vec2 uv = (u_uv_sets & (1 << reference)) != 0 ? v_texcoord1 : v_texcoord;
+    return (u_uv_transform[reference] * vec3(uv, 1.0)).xy;
 }
 #endif
 
@@ -53,6 +59,9 @@ vec4 material_base_color() {
         vec4 texel = texture(u_base_color_texture, material_uv(BASE_COLOR_TEXTURE));
         base *= vec4(mix(vec3(1.0), texel.rgb, u_base_texture_color), texel.a);
     }
+    // The vertex colour multiplies as the texture does (its RGB replaced with it by the object's
+    // colour, its alpha kept).
+    base *= vec4(mix(vec3(1.0), v_color.rgb, u_base_texture_color), v_color.a);
 #endif
     return base;
 }

@@ -84,6 +84,15 @@ GpuMesh upload_mesh(const Mesh& mesh) {
             out.buffers.push_back(upload_buffer(primitive.texcoords));
             attach(vao, out.buffers.back().get(), 2, 2);
         }
+        // Location 4 is the transfer's irradiance (attach_transferred_irradiance).
+        if (primitive.texcoords1.size() == primitive.positions.size()) {
+            out.buffers.push_back(upload_buffer(primitive.texcoords1));
+            attach(vao, out.buffers.back().get(), 5, 2);
+        }
+        if (primitive.colors.size() == primitive.positions.size()) {
+            out.buffers.push_back(upload_buffer(primitive.colors));
+            attach(vao, out.buffers.back().get(), 6, 4);
+        }
         if (primitive.tangents.size() == primitive.positions.size()) {
             out.buffers.push_back(upload_buffer(primitive.tangents));
             attach(vao, out.buffers.back().get(), 3, 4);

@@ -35,6 +35,7 @@ void set_material_uniforms(gl::Program& program, RendererState& state, const Gpu
         &material.normal_texture, &material.occlusion_texture, &material.emissive_texture};
     std::array<glm::mat3, kReferences> transforms{};
     GLint present = 0;
+    GLint uv_sets = 0;
     for (int i = 0; i < kReferences; ++i) {
         const TextureReference& reference = *references[std::size_t(i)];
         transforms[std::size_t(i)] = uv_transform(reference);
@@ -42,11 +43,15 @@ void set_material_uniforms(gl::Program& program, RendererState& state, const Gpu
             continue;
         }
         present |= 1 << i;
+        if (reference.texcoord == 1) {
+            uv_sets |= 1 << i;
+        }
         const GLuint unit = kMaterialTextures[std::size_t(i)].index;
         glBindTextureUnit(unit, gpu.textures.at(std::size_t(reference.texture)).get());
         glBindSampler(unit, state.sampler(reference.sampler));
     }
     glUniform1i(program.uniform("u_textures"), present);
+    glUniform1i(program.uniform("u_uv_sets"), uv_sets);
     glUniformMatrix3fv(program.uniform("u_uv_transform"), kReferences, GL_FALSE,
                        glm::value_ptr(transforms[0]));
     const glm::vec4 base =
@@ -79,6 +84,15 @@ bool has_textures(const Material& material) {
 bool alpha_tested(const Material& material) {
     return material.alpha_mode != AlphaMode::Opaque &&
            (material.base_color_texture.present() || material.base_color.a < 1.0f);
+}
+
+bool alpha_tested(const Material& material, const Primitive& primitive) {
+    return alpha_tested(material) ||
+           (material.alpha_mode != AlphaMode::Opaque && !primitive.colors.empty());
+}
+
+bool reads_textures_or_colors(const Material& material, const Primitive& primitive) {
+    return has_textures(material) || !primitive.colors.empty();
 }
 
 }  // namespace oer

@@ -34,5 +34,11 @@ bool has_textures(const Material& material);
 // texture or an alpha under 1. The geometry pass tests MASK ones at alpha_cutoff, the shadow
 // pass both (BLEND at 0.5, u_alpha_cutoff as set_material_uniforms sets it).
 bool alpha_tested(const Material& material);
+// The same for the material on `primitive`, whose vertex colours' alpha (COLOR_0) can cut it too.
+bool alpha_tested(const Material& material, const Primitive& primitive);
+
+// Whether the geometry pass reads the material's textures or the primitive's vertex colours
+// (MATERIAL_TEXTURES 1).
+bool reads_textures_or_colors(const Material& material, const Primitive& primitive);
 
 }  // namespace oer

@@ -60,6 +60,8 @@ RendererState::RendererState(const FrameLimits& limits_)
     // What mesh.vert reads for a primitive without tangents (its attribute 3 disabled): the
     // generic attribute, context state that no vertex array keeps.
     glVertexAttrib4f(3, 1.0f, 0.0f, 0.0f, 1.0f);
+    // And for a primitive without vertex colours (attribute 6): white, opaque.
+    glVertexAttrib4f(6, 1.0f, 1.0f, 1.0f, 1.0f);
     check_gl_errors("FrameRenderer set-up");
 }
 

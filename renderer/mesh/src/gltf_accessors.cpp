@@ -168,6 +168,12 @@ const AttributeFormat kNormalFormat{TINYGLTF_TYPE_VEC3, {kFloat}, {kByte, kShort
 const AttributeFormat kTangentFormat{TINYGLTF_TYPE_VEC4, {kFloat}, {kByte, kShort}, true};
 const AttributeFormat kTexcoordFormat{
     TINYGLTF_TYPE_VEC2, {kFloat, kUnsignedByte, kUnsignedShort}, kQuantizedAny, false};
+// glTF 2.0 section 3.7.2.1: COLOR_n is RGB or RGBA, float or normalized unsigned byte or short;
+// KHR_mesh_quantization adds none.
+const AttributeFormat kColor3Format{
+    TINYGLTF_TYPE_VEC3, {kFloat, kUnsignedByte, kUnsignedShort}, {}, false};
+const AttributeFormat kColor4Format{
+    TINYGLTF_TYPE_VEC4, {kFloat, kUnsignedByte, kUnsignedShort}, {}, false};
 const AttributeFormat kTranslationFormat{TINYGLTF_TYPE_VEC3, {kFloat}, {kByte, kShort}, true};
 const AttributeFormat kRotationFormat{TINYGLTF_TYPE_VEC4, {kFloat, kByte, kShort}, {}, true};
 const AttributeFormat kScaleFormat{TINYGLTF_TYPE_VEC3, {kFloat}, {kByte, kShort}, true};

@@ -44,12 +44,14 @@ struct AttributeFormat {
     bool quantized_normalized = false;
 };
 
-// POSITION, NORMAL, TANGENT, TEXCOORD_n; the instancing extension's TRANSLATION, ROTATION and
-// SCALE (EXT_mesh_gpu_instancing, with KHR_mesh_quantization's types).
+// POSITION, NORMAL, TANGENT, TEXCOORD_n, COLOR_n; the instancing extension's TRANSLATION, ROTATION
+// and SCALE (EXT_mesh_gpu_instancing, with KHR_mesh_quantization's types).
 extern const AttributeFormat kPositionFormat;
 extern const AttributeFormat kNormalFormat;
 extern const AttributeFormat kTangentFormat;
 extern const AttributeFormat kTexcoordFormat;
+extern const AttributeFormat kColor3Format;  // COLOR_n as RGB
+extern const AttributeFormat kColor4Format;  // COLOR_n as RGBA
 extern const AttributeFormat kTranslationFormat;
 extern const AttributeFormat kRotationFormat;
 extern const AttributeFormat kScaleFormat;

@@ -120,8 +120,9 @@ class GltfConverter {
     }
 
     // The primitive read, baked by `world`, with its material and its variants' (a primitive
-    // without TEXCOORD_0 gets each material without its normal texture instead) and, where a
-    // normal texture needs them, the file's tangents.
+    // without TEXCOORD_0 gets each material without its normal texture instead), TEXCOORD_1
+    // where a texture of one of them reads it and, where a normal texture needs them, the file's
+    // tangents.
     Primitive build(const tinygltf::Primitive& source, const std::string& name,
                     const glm::dmat4& world) {
         const std::uint64_t vertex_budget = primitives_.vertex_budget();
@@ -133,6 +134,10 @@ class GltfConverter {
             primitive.variant_materials.push_back(index == kUnmappedVariant
                                                       ? primitive.material
                                                       : material_of(index, primitive, name));
+        }
+        if (reads_uv_set_1(primitive)) {
+            primitive.texcoords1 =
+                primitives_.texcoords1(source, name, primitive.positions.size(), vertex_budget);
         }
         const auto tangent = source.attributes.find("TANGENT");
         if (tangent != source.attributes.end() && !primitive.texcoords.empty() &&
@@ -153,6 +158,16 @@ class GltfConverter {
             return materials_.without_normal_texture(index, slot, name);
         }
         return slot;
+    }
+
+    // Whether a material the primitive may be drawn with has a texture on TEXCOORD_1.
+    bool reads_uv_set_1(const Primitive& primitive) const {
+        for (const int material : primitive.materials_drawn()) {
+            if (mesh_.materials[std::size_t(material)].reads_uv_set(1)) {
+                return true;
+            }
+        }
+        return false;
     }
 
     // Whether a material the primitive may be drawn with has a normal texture.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
@@ -138,6 +139,37 @@ void PrimitiveReader::read_attributes(const tinygltf::Primitive& source, const s
                                               kTexcoordFormat, vertex_budget, "vertices");
         check_count(primitive.texcoords.size(), "TEXCOORD_0");
     }
+    if (const auto color = source.attributes.find("COLOR_0"); color != source.attributes.end()) {
+        primitive.colors = read_colors(color->second, name, vertex_budget);
+        check_count(primitive.colors.size(), "COLOR_0");
+    }
+}
+
+// COLOR_0 (glTF 2.0 section 3.7.2.1): linear RGB (alpha 1) or RGBA, each component finite and
+// clamped to [0, 1] (a float colour may stray; normalized integers cannot).
+std::vector<glm::vec4> PrimitiveReader::read_colors(int accessor, const std::string& name,
+                                                    std::uint64_t vertex_budget) const {
+    const std::string what = name + ": COLOR_0";
+    std::vector<glm::vec4> colors;
+    if (accessor >= 0 && std::size_t(accessor) < model_.accessors.size() &&
+        model_.accessors[std::size_t(accessor)].type == TINYGLTF_TYPE_VEC3) {
+        for (const glm::vec3& rgb :
+             accessors_.vec3(accessor, what, kColor3Format, vertex_budget, "vertices")) {
+            colors.emplace_back(rgb, 1.0f);
+        }
+    } else {
+        colors = accessors_.vec4(accessor, what, kColor4Format, vertex_budget, "vertices");
+    }
+    for (std::size_t i = 0; i < colors.size(); ++i) {
+        glm::vec4& c = colors[i];
+        if (!std::isfinite(c.r) || !std::isfinite(c.g) || !std::isfinite(c.b) ||
+            !std::isfinite(c.a)) {
+            fail(ErrorKind::InvalidInput, asset_,
+                 name + ": vertex " + std::to_string(i) + " has a non-finite COLOR_0");
+        }
+        c = glm::clamp(c, glm::vec4(0.0f), glm::vec4(1.0f));
+    }
+    return colors;
 }
 
 // The file's indices (or 0 to n - 1 where it has none), a multiple of 3 for TRIANGLES, each
@@ -187,6 +219,24 @@ void PrimitiveReader::check_positions_finite(const Primitive& primitive,
                      ")");
         }
     }
+}
+
+std::vector<glm::vec2> PrimitiveReader::texcoords1(const tinygltf::Primitive& source,
+                                                   const std::string& name,
+                                                   std::size_t vertex_count,
+                                                   std::uint64_t vertex_budget) const {
+    const auto texcoord = source.attributes.find("TEXCOORD_1");
+    if (texcoord == source.attributes.end()) {
+        return {};
+    }
+    std::vector<glm::vec2> texcoords = accessors_.vec2(texcoord->second, name + ": TEXCOORD_1",
+                                                       kTexcoordFormat, vertex_budget, "vertices");
+    if (texcoords.size() != vertex_count) {
+        fail(ErrorKind::InvalidInput, asset_,
+             name + ": TEXCOORD_1 has " + std::to_string(texcoords.size()) +
+                 " elements, POSITION " + std::to_string(vertex_count));
+    }
+    return texcoords;
 }
 
 std::vector<glm::vec4> PrimitiveReader::tangents(int accessor, const std::string& name,

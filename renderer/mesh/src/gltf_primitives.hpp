@@ -1,9 +1,9 @@
 #pragma once
 // Private to the glTF loader: one primitive's geometry read from its accessors (gltf_accessors.hpp)
 // and checked: its mode (triangles, strips and fans, the last two made lists; lines and points
-// refused), POSITION, NORMAL and TEXCOORD_0 of one count, indices in range, finite positions,
-// and the limits on vertices and triangles counted over every primitive read. TANGENT is read
-// apart, only where a normal texture needs it.
+// refused), POSITION, NORMAL, TEXCOORD_0 and COLOR_0 (RGB or RGBA, made RGBA) of one count, indices
+// in range, finite positions, and the limits on vertices and triangles counted over every primitive
+// read. TANGENT and TEXCOORD_1 are read apart, only where a material needs them.
 #include <tiny_gltf.h>
 
 #include <cstddef>
@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
 #include "gltf_accessors.hpp"
@@ -26,7 +27,7 @@ class PrimitiveReader {
   public:
     PrimitiveReader(const tinygltf::Model& model, const std::string& asset,
                     const MeshLimits& limits)
-        : asset_(asset), limits_(limits), accessors_(model, asset) {}
+        : model_(model), asset_(asset), limits_(limits), accessors_(model, asset) {}
 
     // The vertices the next primitive may have within limits.max_vertices.
     std::uint64_t vertex_budget() const { return limits_.max_vertices - vertices_; }
@@ -45,7 +46,15 @@ class PrimitiveReader {
     std::vector<glm::vec4> tangents(int accessor, const std::string& name, std::size_t vertex_count,
                                     std::uint64_t vertex_budget) const;
 
+    // TEXCOORD_1, as TEXCOORD_0 is read (accessor formats, finite values are checked later),
+    // `vertex_count` of them; empty when the primitive has none. Read apart, only where a
+    // material the primitive may be drawn with has a texture on set 1.
+    std::vector<glm::vec2> texcoords1(const tinygltf::Primitive& source, const std::string& name,
+                                      std::size_t vertex_count, std::uint64_t vertex_budget) const;
+
   private:
+    std::vector<glm::vec4> read_colors(int accessor, const std::string& name,
+                                       std::uint64_t vertex_budget) const;
     void read_attributes(const tinygltf::Primitive& source, const std::string& name,
                          std::uint64_t vertex_budget, Primitive& primitive) const;
     std::vector<std::uint32_t> read_indices(const tinygltf::Primitive& source,
@@ -53,6 +62,7 @@ class PrimitiveReader {
                                             std::size_t vertex_count) const;
     void check_positions_finite(const Primitive& primitive, const std::string& name) const;
 
+    const tinygltf::Model& model_;
     const std::string& asset_;
     const MeshLimits& limits_;
     AccessorReader accessors_;

@@ -2,6 +2,7 @@
 #include "gltf_textures.hpp"
 
 #include <cstddef>
+#include <string_view>
 
 #include "gltf_samplers.hpp"
 #include "gltf_values.hpp"
@@ -21,11 +22,17 @@ TextureReference TextureReferences::reference(const TextureUse& use, TextureEnco
              what + " refers to texture " + std::to_string(use.index) + ", which does not exist");
     }
     const TexCoordSet tex_coord = read_transform(use, what, reference);
-    if (tex_coord.index != 0) {
+    // A normal texture's tangent frame follows TEXCOORD_0 (the file's TANGENT or MikkTSpace's).
+    const bool normal = std::string_view(use.property) == "normalTexture";
+    if (tex_coord.index != 0 && (normal || tex_coord.index != 1)) {
         warnings_.push_back(what + " uses TEXCOORD_" + std::to_string(tex_coord.index) +
-                            tex_coord.note + ", only TEXCOORD_0 is supported: texture ignored");
+                            tex_coord.note +
+                            (normal ? ", only TEXCOORD_0 is supported for a normal texture"
+                                    : ", only TEXCOORD_0 and TEXCOORD_1 are supported") +
+                            ": texture ignored");
         return TextureReference{};
     }
+    reference.texcoord = tex_coord.index;
     const tinygltf::Texture& texture = model_.textures[std::size_t(use.index)];
     const int image = source_image(texture, use.index, what);
     if (image < 0) {

@@ -4,8 +4,8 @@
 // (gltf_samplers.hpp); KHR_texture_transform's offset, rotation, scale and texCoord; the image
 // decoded through TextureImages; its image: EXT_texture_webp's or EXT_texture_avif's source
 // first, else the core one (KHR_texture_basisu's KTX2 source is not decoded: the core source is
-// its fallback). A texture on a texCoord other than 0, or without a PNG, JPEG, WebP or AVIF
-// source, is ignored with a warning.
+// its fallback). A texture on a texCoord other than 0 and 1 (a normal texture: other than 0),
+// or without a PNG, JPEG, WebP or AVIF source, is ignored with a warning.
 #include <tiny_gltf.h>
 
 #include <string>
@@ -45,7 +45,7 @@ class TextureReferences {
     // The texture coordinates a use reads: its texCoord, or KHR_texture_transform's.
     struct TexCoordSet {
         int index;
-        const char* note;  // how it was chosen, for the warning when it is not 0
+        const char* note;  // how it was chosen, for the warning when it is not read
     };
 
     TexCoordSet read_transform(const TextureUse& use, const std::string& what,

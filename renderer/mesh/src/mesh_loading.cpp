@@ -57,6 +57,10 @@ bool uses_a_texture(const Material& material) {
     return false;
 }
 
+bool reads_uv_set_1(const Material& material) {
+    return material.reads_uv_set(1);
+}
+
 bool has_a_normal_texture(const Material& material) {
     return material.normal_texture.present();
 }
@@ -103,17 +107,25 @@ void check_primitive(const Primitive& primitive, std::size_t material_count,
     if (!primitive.normals.empty() && primitive.normals.size() != n) {
         fail(ErrorKind::Internal, asset, p + ": normals and positions differ in number");
     }
-    if (!primitive.texcoords.empty()) {
-        if (primitive.texcoords.size() != n) {
+    for (const auto& [set, texcoords] :
+         {std::pair{"", &primitive.texcoords}, std::pair{" (TEXCOORD_1)", &primitive.texcoords1}}) {
+        if (texcoords->empty()) {
+            continue;
+        }
+        if (texcoords->size() != n) {
             fail(ErrorKind::Internal, asset,
-                 p + ": texture coordinates and positions differ in number");
+                 p + ": texture coordinates" + set + " and positions differ in number");
         }
         for (std::size_t i = 0; i < n; ++i) {
-            if (!finite(primitive.texcoords[i])) {
+            if (!finite((*texcoords)[i])) {
                 fail(ErrorKind::InvalidInput, asset,
-                     p + ": vertex " + std::to_string(i) + " has non-finite texture coordinates");
+                     p + ": vertex " + std::to_string(i) + " has non-finite texture coordinates" +
+                         set);
             }
         }
+    }
+    if (!primitive.colors.empty() && primitive.colors.size() != n) {
+        fail(ErrorKind::Internal, asset, p + ": colours and positions differ in number");
     }
     if (!primitive.tangents.empty()) {
         if (primitive.tangents.size() != n) {
@@ -260,6 +272,9 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
         complete_normals(primitive, mesh.repairs);
         if (any_material_drawn(mesh, primitive, uses_a_texture) && primitive.texcoords.empty()) {
             primitive.texcoords.assign(primitive.positions.size(), glm::vec2(0.0f));
+        }
+        if (any_material_drawn(mesh, primitive, reads_uv_set_1) && primitive.texcoords1.empty()) {
+            primitive.texcoords1.assign(primitive.positions.size(), glm::vec2(0.0f));
         }
         for (const glm::vec3& position : primitive.positions) {
             low = glm::min(low, position);

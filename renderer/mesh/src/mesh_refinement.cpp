@@ -58,6 +58,10 @@ glm::vec2 midpoint(const glm::vec2& a, const glm::vec2& b) {
     return glm::vec2(0.5 * (glm::dvec2(a) + glm::dvec2(b)));
 }
 
+glm::vec4 midpoint(const glm::vec4& a, const glm::vec4& b) {
+    return glm::vec4(0.5 * (glm::dvec4(a) + glm::dvec4(b)));
+}
+
 // The direction halfway between two unit vectors; `fallback` where they are opposite.
 glm::vec3 halfway_direction(const glm::vec3& a, const glm::vec3& b, const glm::vec3& fallback) {
     const glm::vec3 sum = a + b;
@@ -118,6 +122,12 @@ void add_midpoint_vertex(Primitive& primitive, const Edge& edge) {
     }
     if (!primitive.texcoords.empty()) {
         primitive.texcoords.push_back(midpoint(primitive.texcoords[a], primitive.texcoords[b]));
+    }
+    if (!primitive.colors.empty()) {
+        primitive.colors.push_back(midpoint(primitive.colors[a], primitive.colors[b]));
+    }
+    if (!primitive.texcoords1.empty()) {
+        primitive.texcoords1.push_back(midpoint(primitive.texcoords1[a], primitive.texcoords1[b]));
     }
     if (!primitive.tangents.empty()) {
         const glm::vec4& ta = primitive.tangents[a];

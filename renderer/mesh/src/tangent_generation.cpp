@@ -168,6 +168,12 @@ std::size_t generate_tangents(Primitive& primitive, const std::string& asset) {
             primitive.positions.push_back(primitive.positions[vertex]);
             primitive.normals.push_back(primitive.normals[vertex]);
             primitive.texcoords.push_back(primitive.texcoords[vertex]);
+            if (!primitive.texcoords1.empty()) {
+                primitive.texcoords1.push_back(primitive.texcoords1[vertex]);
+            }
+            if (!primitive.colors.empty()) {
+                primitive.colors.push_back(primitive.colors[vertex]);
+            }
             primitive.tangents.push_back(tangent);
             const std::uint32_t copy = *link;
             next_copy.push_back(none);  // may move next_copy, where `link` may point

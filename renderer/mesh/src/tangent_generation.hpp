@@ -14,10 +14,10 @@ namespace oer::mesh_detail {
 // image, that is along decreasing v). Needs unit normals and texcoords, one per position, and a
 // valid triangle list. MikkTSpace gives a tangent per triangle corner; a vertex whose corners
 // got different ones (a uv mirror seam, a hard edge of the uv mapping) is split into one
-// vertex per tangent, its position, normal and texcoords copied. Returns the number of
-// vertices added. A corner without a defined tangent (its triangles have no uv area) gets a
-// unit vector perpendicular to its normal. Throws oer::Error (LimitExceeded) naming `asset`
-// and the primitive when MikkTSpace runs out of memory.
+// vertex per tangent, its position, normal, texcoords (both sets) and colour copied. Returns the
+// number of vertices added. A corner without a defined tangent (its triangles have no uv area) gets
+// a unit vector perpendicular to its normal. Throws oer::Error (LimitExceeded) naming `asset` and
+// the primitive when MikkTSpace runs out of memory.
 std::size_t generate_tangents(Primitive& primitive, const std::string& asset);
 
 }  // namespace oer::mesh_detail

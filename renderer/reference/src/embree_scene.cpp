@@ -91,7 +91,8 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
             }
             geometry.indices = primitive.indices;
             // The geometry pass's albedo: the request's base colour replaces the material's
-            // factor and texture; otherwise the factor times the texture (sRGB decoded).
+            // factor, texture and vertex colours; otherwise the factor times the texture (sRGB
+            // decoded) times the vertex colour (COLOR_0).
             if (const std::optional<glm::vec3> colour = base_color_override(object, material)) {
                 geometry.base_color = glm::dvec3(*colour);
             } else {
@@ -99,8 +100,11 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
                 if (material.base_color_texture.present()) {
                     geometry.texture =
                         &mesh.textures.at(std::size_t(material.base_color_texture.texture));
-                    geometry.texcoords = primitive.texcoords;
+                    geometry.texcoords = material.base_color_texture.texcoord == 1
+                                             ? primitive.texcoords1
+                                             : primitive.texcoords;
                 }
+                geometry.colors = primitive.colors;
             }
             add(std::move(geometry));
         }
@@ -165,14 +169,24 @@ void EmbreeScene::add(Geometry geometry) {
 
 glm::dvec3 EmbreeScene::albedo_at(const Geometry& geometry, unsigned triangle, double u,
                                   double v) const {
-    if (geometry.texture == nullptr) {
+    if (geometry.texture == nullptr && geometry.colors.empty()) {
         return geometry.base_color;
     }
     const std::uint32_t* corner = &geometry.indices[3 * std::size_t(triangle)];
-    const glm::dvec2 uv = (1.0 - u - v) * glm::dvec2(geometry.texcoords[corner[0]]) +
-                          u * glm::dvec2(geometry.texcoords[corner[1]]) +
-                          v * glm::dvec2(geometry.texcoords[corner[2]]);
-    return geometry.base_color * sample_texture(*geometry.texture, uv);
+    glm::dvec3 albedo = geometry.base_color;
+    if (geometry.texture != nullptr) {
+        const glm::dvec2 uv = (1.0 - u - v) * glm::dvec2(geometry.texcoords[corner[0]]) +
+                              u * glm::dvec2(geometry.texcoords[corner[1]]) +
+                              v * glm::dvec2(geometry.texcoords[corner[2]]);
+        albedo *= sample_texture(*geometry.texture, uv);
+    }
+    if (!geometry.colors.empty()) {
+        const glm::dvec3 color = (1.0 - u - v) * glm::dvec3(geometry.colors[corner[0]]) +
+                                 u * glm::dvec3(geometry.colors[corner[1]]) +
+                                 v * glm::dvec3(geometry.colors[corner[2]]);
+        albedo *= color;
+    }
+    return albedo;
 }
 
 bool EmbreeScene::reaches_infinite_ground(const glm::dvec3& origin, const glm::dvec3& direction,

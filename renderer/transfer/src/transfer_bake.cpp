@@ -643,6 +643,10 @@ bool reflects_per_material(const Mesh& mesh) {
         return false;
     }
     for (const Primitive& primitive : mesh.primitives) {
+        // Vertex colours vary the albedo across a material, as a texture does.
+        if (!primitive.colors.empty()) {
+            return false;
+        }
         for (const int material : primitive.materials_drawn()) {
             if (mesh.materials.at(std::size_t(material)).base_color_texture.present()) {
                 return false;

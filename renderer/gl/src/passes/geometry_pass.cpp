@@ -83,13 +83,14 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
             if (material.alpha_mode == AlphaMode::Blend) {
                 continue;
             }
-            const bool alpha_test =
-                material.alpha_mode == AlphaMode::Mask && alpha_tested(material);
+            const bool alpha_test = material.alpha_mode == AlphaMode::Mask &&
+                                    alpha_tested(material, mesh.primitives[p]);
             gl::Program& geometry = state.program(
-                "geometry", std::string("#define ALPHA_TEST ") + (alpha_test ? "1" : "0") +
-                                "\n#define MATERIAL_TEXTURES " +
-                                (has_textures(material) ? "1" : "0") + "\n" +
-                                frame.transfer_define);
+                "geometry",
+                std::string("#define ALPHA_TEST ") + (alpha_test ? "1" : "0") +
+                    "\n#define MATERIAL_TEXTURES " +
+                    (reads_textures_or_colors(material, mesh.primitives[p]) ? "1" : "0") + "\n" +
+                    frame.transfer_define);
             if (current != &geometry) {
                 current = &geometry;
                 glUseProgram(geometry.id());

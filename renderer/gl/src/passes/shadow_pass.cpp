@@ -30,8 +30,8 @@ std::int64_t shadow_variant(const SceneObject& object) {
     for (const Primitive& primitive : mesh.primitives) {
         const int drawn = primitive.material_under(object.variant);
         if (drawn != primitive.material &&
-            (alpha_tested(mesh.materials.at(std::size_t(drawn))) ||
-             alpha_tested(mesh.materials.at(std::size_t(primitive.material))))) {
+            (alpha_tested(mesh.materials.at(std::size_t(drawn)), primitive) ||
+             alpha_tested(mesh.materials.at(std::size_t(primitive.material)), primitive))) {
             return std::int64_t(*object.variant);
         }
     }
@@ -98,7 +98,7 @@ ShadowMaps render_shadow_maps(const FrameContext& frame, RendererState& state,
                         const GpuPrimitive& primitive = gpu.primitives[p];
                         const Material& material = object.mesh->materials.at(
                             std::size_t(object.mesh->primitives[p].material_under(object.variant)));
-                        const bool alpha_test = alpha_tested(material);
+                        const bool alpha_test = alpha_tested(material, object.mesh->primitives[p]);
                         gl::Program& program =
                             alpha_test ? state.program("depth", "#define ALPHA_TEST 1\n") : depth;
                         if (current != &program) {

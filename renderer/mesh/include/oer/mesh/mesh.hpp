@@ -4,6 +4,7 @@
 // list, with the materials and textures they use. Produced by the loaders (mesh_loading.hpp)
 // and by code (default_product.hpp); validated before anything reaches GL.
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,10 +51,14 @@ struct TextureSampler {
 
 // A material's use of a texture: which one, how it is sampled, and KHR_texture_transform's
 // uv transform, applied as uv' = T * (u, v, 1) with T = translation(offset) * rotation(rotation)
-// * scale(scale) (the extension's own order). Only TEXCOORD_0 is read: a reference to another
-// set is dropped with a warning.
+// * scale(scale) (the extension's own order). TEXCOORD_0 and TEXCOORD_1 are read (a normal
+// texture on TEXCOORD_0 only: tangents follow it): a reference to another set is dropped with a
+// warning.
 struct TextureReference {
     int texture = -1;  // index into Mesh::textures, or -1: none
+    // The uv set it reads: 0 (Primitive::texcoords, TEXCOORD_0) or 1 (Primitive::texcoords1,
+    // TEXCOORD_1); the file's texCoord, or KHR_texture_transform's.
+    int texcoord = 0;
     TextureSampler sampler;
     glm::vec2 offset{0.0f};
     float rotation = 0.0f;  // radians, counter-clockwise in uv
@@ -102,6 +107,17 @@ struct Material {
 
     // Whether the material has a specular term, so that its scene needs the specular maps.
     bool glossy() const { return model == ShadingModel::MetallicRoughness; }
+    // Whether a texture of the material reads uv set `set` (TextureReference::texcoord).
+    bool reads_uv_set(int set) const {
+        for (const TextureReference* reference :
+             {&base_color_texture, &metallic_roughness_texture, &normal_texture, &occlusion_texture,
+              &emissive_texture}) {
+            if (reference->present() && reference->texcoord == set) {
+                return true;
+            }
+        }
+        return false;
+    }
 };
 
 struct Primitive {
@@ -111,6 +127,12 @@ struct Primitive {
     // Empty, or one per position; never empty when the material has a texture (a glTF
     // primitive without TEXCOORD_0 whose material has one gets (0, 0) everywhere).
     std::vector<glm::vec2> texcoords;
+    // The second uv set (TEXCOORD_1): empty, or one per position; never empty when a material
+    // the primitive may be drawn with has a texture on set 1 (zeros where the file has none).
+    std::vector<glm::vec2> texcoords1;
+    // Vertex colours (glTF COLOR_0, linear RGBA in [0, 1], RGB given alpha 1): empty, or one per
+    // position; they multiply the material's base colour and alpha.
+    std::vector<glm::vec4> colors;
     // Empty, or one per position: xyz the unit tangent (the direction of increasing u), w the
     // bitangent's sign (bitangent = w * cross(normal, tangent)), as glTF's TANGENT. Never empty
     // when the material has a normal texture: read from the file, or generated with MikkTSpace

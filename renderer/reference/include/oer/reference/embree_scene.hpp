@@ -74,6 +74,9 @@ class EmbreeScene {
         std::vector<glm::vec3> positions;  // world space
         std::vector<glm::vec3> normals;    // world space, unit
         std::vector<glm::vec2> texcoords;  // empty without a texture
+        // COLOR_0, multiplying the albedo; empty without vertex colours or with the object's
+        // base colour (which replaces them, as it does the texture).
+        std::vector<glm::vec4> colors;
         std::vector<std::uint32_t> indices;
         glm::dvec3 base_color{1.0};
         const Texture* texture = nullptr;  // the base-color texture, sRGB
