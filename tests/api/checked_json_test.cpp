@@ -72,7 +72,8 @@ TEST(CheckedJson, ManyValuesAreRefusedWithoutBuildingThem) {
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
               0.05);
     // An array of many small objects parses in linear time (nlohmann's parser callback, which
-    // scans the array each time an object in it ends, took 21 s for 131000).
+    // scans the array each time an object in it ends, took 21 s for 131000; linear, it takes
+    // 0.3 s optimised and 2.1 s under the sanitizers on a loaded 2-core machine).
     std::string objects = "[{\"k\":0}";
     for (int i = 1; i < 131'000; ++i) {
         objects += ",{\"k\":0}";
@@ -80,5 +81,5 @@ TEST(CheckedJson, ManyValuesAreRefusedWithoutBuildingThem) {
     objects += "]";
     const auto again = std::chrono::steady_clock::now();
     EXPECT_EQ(parse_bounded(objects, {1'000'000, 8}).size(), 131'000u);
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - again).count(), 2.0);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - again).count(), 6.0);
 }

@@ -111,7 +111,7 @@ TEST(GltfCameras, ArePlacedByTheirNodesWorldTransforms) {
 TEST(GltfCameras, ACameraOnAMeshNodeSharesItsTransform) {
     GltfBuilder b;
     b.mesh(json::array({{{"attributes", {{"POSITION", b.positions(kTriangle)}}}}}), "M");
-    b.doc["cameras"] = {perspective_camera("", 0.5)};
+    b.doc["cameras"] = json::array({perspective_camera("", 0.5)});
     b.node({{"translation", {0.0, 1.0, 0.0}}, {"children", {1}}});
     b.node({{"mesh", 0},
             {"camera", 0},
