@@ -313,7 +313,11 @@ TEST(RenderBudgetShare, AFloodingAddressLeavesOthersTheirLatencySlow) {
     // Each refusal is held up to a second (ClientWorkBudget::kRefusalHold): about one a second
     // a connection, not thousands.
     EXPECT_LE(refused.load(), int(2 * flood_seconds) + 2);
-    EXPECT_LE(during, 1.5 * alone);
+    // The flooder's frames take about a quarter of the one worker: the other's frame may find
+    // one of them under way (a frame's wait at most), never a queue of them (two connections
+    // flooding without the share put two frames ahead: 3 times). Measured 1.2 to 1.65 times on
+    // the loaded 2-core CI machine.
+    EXPECT_LE(during, 2.0 * alone);
     // Milliseconds of slack: cached frames take a fraction of one, and a 2-core machine's
     // scheduler alone moves their p99 by a few.
     EXPECT_LE(cached_during, 1.5 * cached_alone + 0.003);
