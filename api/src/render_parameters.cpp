@@ -238,11 +238,38 @@ std::vector<RenderParameter> scene_rows() {
 
 std::vector<RenderParameter> lighting_switch_rows() {
     std::vector<RenderParameter> rows;
-    rows.push_back(boolean_row(
-        {"ground", "ground", "ground", "the ground plane under the scene"},
-        [](auto& spec) -> auto& { return spec.ground; },
-        lands_in(
-            [](auto& spec) -> auto& { return spec.ground; }, &FrameRequest::ground)));
+    const auto ground = [](auto& spec) -> auto& {
+        return spec.ground;
+    };
+    rows.push_back(scalar_row(
+        {"ground", "ground", "ground",
+         "the ground plane under the scene: on (an opaque floor), shadow (invisible but for the "
+         "objects' shadows, over the background) or off"},
+        ParameterKind::Switch, Presence::Defaulted, "on|off|shadow", ", default on",
+        [ground](RenderSpec& spec, const Json& value, const std::string& path,
+                 const RenderLimits&) {
+            if (value.is_boolean()) {
+                ground(spec) = value.get<bool>() ? GroundChoice::Opaque : GroundChoice::Off;
+            } else if (value.is_string() && value.get<std::string>() == "shadow") {
+                ground(spec) = GroundChoice::Shadow;
+            } else {
+                reader().fail(path, "expected true, false or \"shadow\"");
+            }
+        },
+        [ground](RenderSpec& spec, const std::string& text, const std::string& name,
+                 const RenderLimits&) {
+            ground(spec) = parse_enum(name, text, ground_choice_from_string);
+        },
+        [ground](const RenderSpec& spec) {
+            return ground(spec) == GroundChoice::Shadow
+                       ? Json("shadow")
+                       : Json(ground(spec) == GroundChoice::Opaque);
+        },
+        [ground](const RenderSpec& spec, FrameRequest& request) {
+            request.ground = ground(spec) != GroundChoice::Off;
+            request.ground_look = ground(spec) == GroundChoice::Shadow ? GroundLook::ShadowCatcher
+                                                                       : GroundLook::Opaque;
+        }));
     // Without objects nothing occludes the residual map: the unoccluded lighting is the same
     // frame, and there is no scene to bake a transfer for.
     rows.push_back(boolean_row(
@@ -430,6 +457,16 @@ std::vector<RenderParameter> shadow_rows() {
         {"shadows/filter", "shadow_filter", "shadow-filter", "the shadow map's filter"},
         Presence::Defaulted, "pcf|hard", [](auto& spec) -> auto& { return spec.shadows.filter; },
         enum_parser(shadow_filter_from_string), enum_printer<ShadowFilter>(), nullptr));
+    rows.push_back(number_row(
+        {"shadows/softness", "shadow_softness", "shadow-softness",
+         "each light's penumbra as a share of the light's own (as model-viewer's "
+         "shadow-softness): 0 hard, 1 the light's size"},
+        [](auto& spec) -> auto& { return spec.shadows.softness; }, kUnitInterval, nullptr));
+    rows.push_back(number_row(
+        {"shadows/intensity", "shadow_intensity", "shadow-intensity",
+         "how dark the shadow-catching ground's shadows are (as model-viewer's "
+         "shadow-intensity): 0 none, 1 all the light the objects take away"},
+        [](auto& spec) -> auto& { return spec.shadows.intensity; }, kUnitInterval, nullptr));
     return rows;
 }
 

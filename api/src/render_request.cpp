@@ -31,17 +31,19 @@ constexpr EnumNames<ImageFormat, 3> kFormatNames = {
 constexpr EnumNames<ShadowFilter, 2> kFilterNames = {
     {{ShadowFilter::Pcf, "pcf"}, {ShadowFilter::Hard, "hard"}}};
 constexpr EnumNames<Bounce, 2> kBounceNames = {{{Bounce::None, "none"}, {Bounce::One, "one"}}};
+constexpr EnumNames<GroundChoice, 3> kGroundNames = {
+    {{GroundChoice::Off, "off"}, {GroundChoice::Opaque, "on"}, {GroundChoice::Shadow, "shadow"}}};
 
 // What a valid body can hold, checked while it is parsed, so that a body of many small values
 // costs no more than a valid one. A valid body nests 4 levels deep (body, camera, orbit,
-// target); its values are: 23 per object (the object, its mesh, its transform array and 16
-// numbers, its base_color array and 3 numbers), one per light switch, and 42 others (the body,
-// its 13 scalar members, the objects and lights arrays, the camera's 22 with its vectors and
-// orbit, shadows' 4): under 64.
+// target); its values are: 25 per object (the object, its mesh, its transform array and 16
+// numbers, its base_color array and 3 numbers, its base_color_material and variant), one per
+// light switch, and 44 others (the body, its 13 scalar members, the objects and lights arrays,
+// the camera's 22 with its vectors and orbit, shadows' 6): under 64.
 checked_json::JsonBounds request_bounds(const RenderLimits& limits) {
     checked_json::JsonBounds bounds;
     bounds.max_depth = 16;
-    bounds.max_elements = 64 + 23 * limits.max_objects + limits.max_lights;
+    bounds.max_elements = 64 + 25 * limits.max_objects + limits.max_lights;
     return bounds;
 }
 
@@ -195,6 +197,14 @@ std::string to_string(Bounce bounce) {
 
 Bounce bounce_from_string(const std::string& name) {
     return value_named(name, kBounceNames, "bounce");
+}
+
+std::string to_string(GroundChoice ground) {
+    return name_of(ground, kGroundNames);
+}
+
+GroundChoice ground_choice_from_string(const std::string& name) {
+    return value_named(name, kGroundNames, "ground");
 }
 
 Background parse_background(const std::string& name, const std::string& text) {

@@ -31,6 +31,7 @@ inline constexpr Range kPitch{-90.0, 90.0};
 inline constexpr Range kDistance{1e-4, 1e6};
 inline constexpr Range kExposure{-64.0, 64.0};  // the renderer's limit
 inline constexpr Range kColor{0.0, 1.0};
+inline constexpr Range kUnitInterval{0.0, 1.0};  // shadow softness and intensity
 inline constexpr int kMaxQuality = 100;
 inline constexpr int kMinShadowResolution = 64;
 // Frame sides beyond this are nonsense rather than over a configured limit.

@@ -86,8 +86,9 @@ RenderCost estimate_render_cost(const api::RenderSpec& spec,
         std::uint64_t(spec.width) * std::uint64_t(spec.height) * std::uint64_t(spec.samples);
     cost.target_bytes = samples * kTargetBytesPerSample;
     // The geometry pass, each shadow map and the ground's visibility pass draw every triangle.
-    cost.draw_seconds =
-        double(triangles) * double(1 + lights + (spec.ground ? 1 : 0)) / kTrianglesPerSecond;
+    cost.draw_seconds = double(triangles) *
+                        double(1 + lights + (spec.ground != api::GroundChoice::Off ? 1 : 0)) /
+                        kTrianglesPerSecond;
     cost.shade_seconds = double(samples) * double(1 + rig_lights) / kSampleLightsPerSecond;
     if (spec.occlusion && !object_meshes.empty()) {
         const std::uint64_t receivers = transfer_point_count(points);

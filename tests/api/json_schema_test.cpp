@@ -76,7 +76,7 @@ TEST(JsonSchemaOpenApi, TheWholeSpecConvertsWithItsStructure) {
         }
     }
     ASSERT_NE(ground, nullptr);
-    EXPECT_EQ(ground->at("schema").at("enum"), Json::parse(R"(["on", "off"])"));
+    EXPECT_EQ(ground->at("schema").at("enum"), Json::parse(R"(["on", "off", "shadow"])"));
 }
 
 TEST(JsonSchema, DocumentsTheApiWritesMatch) {

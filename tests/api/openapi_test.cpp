@@ -274,7 +274,7 @@ TEST(OpenApi, RenderRequestDefaultsAreTheParsers) {
         ++defaults;
     }
     // The orbit's distance and target have none: absent, they are the automatic framing's.
-    EXPECT_EQ(defaults, 21);
+    EXPECT_EQ(defaults, 23);
     EXPECT_FALSE(default_of(render_member("camera/orbit/distance")).has_value());
     EXPECT_FALSE(default_of(render_member("camera/orbit/target")).has_value());
 }
@@ -351,7 +351,8 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
     for (const api::RenderParameter& row : api::render_parameters()) {
         const bool scalar =
             row.kind == api::ParameterKind::Number || row.kind == api::ParameterKind::Integer ||
-            row.kind == api::ParameterKind::Name || row.kind == api::ParameterKind::Boolean;
+            row.kind == api::ParameterKind::Name || row.kind == api::ParameterKind::Boolean ||
+            row.kind == api::ParameterKind::Switch;
         if (row.query.empty() || !scalar) {
             continue;
         }
@@ -364,14 +365,12 @@ TEST(OpenApi, RenderQueryHasExactlyTheParsersParameters) {
         }
         ASSERT_TRUE(declared.has_value()) << name;
         const Json canonical = defaults.at(Json::json_pointer("/" + std::string(row.json)));
-        EXPECT_EQ(row.kind == api::ParameterKind::Boolean
-                      ? Json(canonical.get<bool>() ? "on" : "off")
-                      : canonical,
+        EXPECT_EQ(canonical.is_boolean() ? Json(canonical.get<bool>() ? "on" : "off") : canonical,
                   *declared)
             << name;
         ++defaulted;
     }
-    EXPECT_EQ(defaulted, 18);
+    EXPECT_EQ(defaulted, 20);
     EXPECT_FALSE(default_of(parameter_schema(render_get_parameters(), "distance")).has_value());
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "ground")), Json("on"));
     EXPECT_EQ(default_of(parameter_schema(render_get_parameters(), "occlusion")), Json("on"));

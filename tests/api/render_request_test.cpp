@@ -71,7 +71,7 @@ TEST(RenderRequest, TheDesignExampleParsesToItsValues) {
     EXPECT_EQ(spec.objects[0].transform[0][3], 0.0);
     ASSERT_TRUE(spec.objects[0].base_color.has_value());
     EXPECT_EQ(*spec.objects[0].base_color, glm::dvec3(0.8, 0.1, 0.05));
-    EXPECT_TRUE(spec.ground);
+    EXPECT_EQ(spec.ground, api::GroundChoice::Opaque);
     ASSERT_TRUE(spec.camera.has_value());
     const auto& look_at = std::get<api::LookAtSpec>(spec.camera->placement);
     EXPECT_EQ(look_at.eye, glm::dvec3(0.0, 1.5, 4.0));
@@ -113,7 +113,7 @@ TEST(RenderRequest, EveryOtherMemberParses) {
     EXPECT_EQ(spec.objects[1].mesh, kMeshB);
     EXPECT_EQ(spec.objects[1].transform, glm::dmat4(1.0));
     EXPECT_FALSE(spec.objects[1].base_color.has_value());
-    EXPECT_FALSE(spec.ground);
+    EXPECT_EQ(spec.ground, api::GroundChoice::Off);
     EXPECT_FALSE(spec.occlusion);
     EXPECT_EQ(spec.bounce, Bounce::None);
     EXPECT_EQ(spec.width, 640);
@@ -139,23 +139,27 @@ TEST(RenderRequest, DefaultsFillTheCanonicalDocument) {
     EXPECT_TRUE(spec.lights.empty());
     EXPECT_TRUE(spec.occlusion);
     EXPECT_EQ(spec.bounce, Bounce::One);
-    const Json expected = {
-        {"environment", "default"},
-        {"objects", Json::array()},
-        {"ground", true},
-        {"occlusion", true},
-        {"bounce", "one"},
-        {"lights", Json::array()},
-        {"width", 512},
-        {"height", 512},
-        {"format", "jpeg"},
-        {"quality", 85},
-        {"exposure", 0.0},
-        {"tonemap", "neutral"},
-        {"background", "env"},
-        {"shadows", {{"enabled", true}, {"resolution", 2048}, {"filter", "pcf"}}},
-        {"samples", 4},
-        {"environment_yaw", 0.0}};
+    const Json expected = {{"environment", "default"},
+                           {"objects", Json::array()},
+                           {"ground", true},
+                           {"occlusion", true},
+                           {"bounce", "one"},
+                           {"lights", Json::array()},
+                           {"width", 512},
+                           {"height", 512},
+                           {"format", "jpeg"},
+                           {"quality", 85},
+                           {"exposure", 0.0},
+                           {"tonemap", "neutral"},
+                           {"background", "env"},
+                           {"shadows",
+                            {{"enabled", true},
+                             {"resolution", 2048},
+                             {"filter", "pcf"},
+                             {"softness", 1.0},
+                             {"intensity", 1.0}}},
+                           {"samples", 4},
+                           {"environment_yaw", 0.0}};
     EXPECT_EQ(api::normalised_render_json(spec), expected);
     EXPECT_EQ(api::normalised_render_json(spec).dump(), expected.dump());
 
@@ -572,8 +576,8 @@ TEST(RenderRequest, LargeInputsStopAtTheLimits) {
         EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded);
     }
     EXPECT_EQ(rejected_member(huge.substr(0, 1000) + "]}"), "");
-    // A body within the byte limit but of more values than any valid request (64 objects of 23
-    // values, 64 light switches and under 64 others: 1600) is refused while it is parsed.
+    // A body within the byte limit but of more values than any valid request (64 objects of 25
+    // values, 64 light switches and under 64 others: 1728) is refused while it is parsed.
     std::string zeros = "[0";
     for (int i = 1; i < 100'000; ++i) {
         zeros += ",0";
@@ -586,7 +590,7 @@ TEST(RenderRequest, LargeInputsStopAtTheLimits) {
     } catch (const Error& error) {
         EXPECT_EQ(error.kind(), ErrorKind::LimitExceeded);
         EXPECT_EQ(std::string(error.what()),
-                  "render request: the JSON holds more than 1600 values, more than any request "
+                  "render request: the JSON holds more than 1728 values, more than any request "
                   "within the limits (at most 64 objects and 64 light switches)");
     }
     // The largest valid body is within the bound.
@@ -594,7 +598,8 @@ TEST(RenderRequest, LargeInputsStopAtTheLimits) {
     for (int i = 0; i < 64; ++i) {
         full_objects += std::string(i == 0 ? "" : ",") +
                         R"({"mesh": "default", "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],
-                            "base_color": [0.5, 0.5, 0.5]})";
+                            "base_color": [0.5, 0.5, 0.5], "base_color_material": "Body",
+                            "variant": "Red"})";
     }
     std::string all_on = "[true";
     for (int i = 1; i < 64; ++i) {
@@ -605,7 +610,8 @@ TEST(RenderRequest, LargeInputsStopAtTheLimits) {
         "camera": {"eye": [0, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y": 40},
         "ground": true, "occlusion": false, "width": 64, "height": 64, "format": "png",
         "quality": 90, "exposure": 0, "tonemap": "aces", "background": "transparent",
-        "shadows": {"enabled": true, "resolution": 1024, "filter": "pcf"}, "samples": 4,
+        "shadows": {"enabled": true, "resolution": 1024, "filter": "pcf", "softness": 0.5,
+                    "intensity": 0.5}, "samples": 4,
         "environment_yaw": 10})";
     EXPECT_EQ(api::parse_render_json(largest).objects.size(), 64u);
 }
@@ -821,7 +827,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
                              "camera/orbit/distance", "shadows/filter", "environment_yaw"}) {
         EXPECT_NE(std::find(members.begin(), members.end(), path), members.end()) << path;
     }
-    EXPECT_EQ(members.size(), 17u + 5u + 6u + 4u + 3u);
+    EXPECT_EQ(members.size(), 17u + 5u + 6u + 4u + 5u);
     // Every query parameter is accepted with a valid value (and the ones it needs).
     const std::map<std::string, Query> valid = {
         {"environment", {}},
@@ -852,6 +858,8 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         {"shadows", {{"shadows", "off"}}},
         {"shadow_resolution", {{"shadow_resolution", "64"}}},
         {"shadow_filter", {{"shadow_filter", "hard"}}},
+        {"shadow_softness", {{"shadow_softness", "0.5"}}},
+        {"shadow_intensity", {{"shadow_intensity", "0.5"}}},
         {"samples", {{"samples", "2"}}},
         {"environment_yaw", {{"environment_yaw", "5"}}}};
     for (const std::string& parameter : api::render_query_parameters()) {
@@ -860,7 +868,7 @@ TEST(RenderRequest, TheMemberListsMatchTheParsers) {
         query.insert({"environment", "default"});
         EXPECT_EQ(rejected_parameter(query), "") << parameter;
     }
-    EXPECT_EQ(api::render_query_parameters().size(), 29u);
+    EXPECT_EQ(api::render_query_parameters().size(), 31u);
 }
 
 TEST(RenderRequest, BackgroundsReadAndPrintCanonically) {
@@ -941,6 +949,46 @@ TEST(RenderRequest, ToFrameRequestConvertsALookAtCamera) {
     EXPECT_EQ(request.samples, 2);
     EXPECT_EQ(request.environment_yaw, 90.0);
     EXPECT_FALSE(request.linear);
+}
+
+TEST(RenderRequest, TheShadowCatchingGroundAndItsShadowsReadInBothForms) {
+    const RenderSpec body = api::parse_render_json(
+        R"({"environment": "default", "ground": "shadow",
+            "shadows": {"softness": 0.25, "intensity": 0.5}})");
+    const RenderSpec query = api::parse_render_query({{"environment", "default"},
+                                                      {"ground", "shadow"},
+                                                      {"shadow_softness", "0.25"},
+                                                      {"shadow_intensity", "0.5"}});
+    EXPECT_EQ(body.ground, api::GroundChoice::Shadow);
+    EXPECT_EQ(api::render_etag(body), api::render_etag(query));
+    const Json canonical = api::normalised_render_json(body);
+    EXPECT_EQ(canonical.at("ground"), "shadow");
+    EXPECT_EQ(canonical.at("shadows").at("softness"), 0.25);
+    EXPECT_EQ(canonical.at("shadows").at("intensity"), 0.5);
+    // The booleans keep their spelling, so that an opaque ground's document (and ETag) is the
+    // one it had before the shadow catcher.
+    EXPECT_EQ(api::normalised_render_json(
+                  api::parse_render_query({{"environment", "default"}, {"ground", "off"}}))
+                  .at("ground"),
+              false);
+    const FrameRequest frame = api::to_frame_request(body, rig_with_lights(0), nullptr, {});
+    EXPECT_TRUE(frame.ground);
+    EXPECT_EQ(frame.ground_look, GroundLook::ShadowCatcher);
+    EXPECT_EQ(frame.shadows.softness, 0.25);
+    EXPECT_EQ(frame.shadows.intensity, 0.5);
+    const FrameRequest opaque = api::to_frame_request(
+        api::parse_render_json(R"({"environment": "default"})"), rig_with_lights(0), nullptr, {});
+    EXPECT_EQ(opaque.ground_look, GroundLook::Opaque);
+
+    EXPECT_EQ(rejected_member(R"({"environment": "default", "ground": "on"})"), "ground");
+    EXPECT_EQ(rejected_member(R"({"environment": "default", "ground": 1})"), "ground");
+    EXPECT_EQ(rejected_member(R"({"environment": "default", "shadows": {"intensity": 1.5}})"),
+              "shadows/intensity");
+    EXPECT_EQ(rejected_member(R"({"environment": "default", "shadows": {"softness": -0.1}})"),
+              "shadows/softness");
+    EXPECT_EQ(rejected_parameter({{"environment", "default"}, {"ground", "true"}}), "ground");
+    EXPECT_EQ(rejected_parameter({{"environment", "default"}, {"shadow_softness", "2"}}),
+              "shadow_softness");
 }
 
 TEST(RenderRequest, ToFrameRequestOccludesAScenesObjectsOnly) {

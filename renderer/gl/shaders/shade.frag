@@ -32,11 +32,19 @@ layout(binding = GBUFFER_TRANSFERRED_UNIT) uniform sampler2D u_transferred;
 // read bilinearly; clamped beyond the grid, whose edge holds the unoccluded ground's.
 layout(binding = GROUND_TRANSFER_UNIT) uniform sampler2D u_ground_transfer;
 uniform vec4 u_ground_transfer_rect;  // the grid's lowest x and z, 1 / its side
+uniform vec3 u_open_ground_transferred;  // FrameContext::open_ground_transferred
+#endif
+#if SURFACE == 2
+uniform vec4 u_ground_fade;  // the scene's centre (x, z), the fade's start and end radius
+#if SHADOW_CATCHER
+uniform float u_shadow_intensity;  // ShadowOptions::intensity
+#endif
 #endif
 out vec4 o_color;
 
-#if SURFACE == 0
-vec4 shade(ivec2 pixel) {
+// What the background shows at this fragment, premultiplied: the map along the view ray, or
+// nothing (a colour or transparency, which display.glsl composes under it).
+vec4 background() {
 #if ENVIRONMENT_BACKGROUND
     vec2 ndc = gl_FragCoord.xy / u_viewport_size * 2.0 - 1.0;
     vec4 near_point = u_inverse_view_projection * vec4(ndc, -1.0, 1.0);
@@ -49,6 +57,11 @@ vec4 shade(ivec2 pixel) {
 #else
     return vec4(0.0);
 #endif
+}
+
+#if SURFACE == 0
+vec4 shade(ivec2 pixel) {
+    return background();
 }
 #elif SURFACE == 1
 vec4 shade(ivec2 pixel) {
@@ -81,17 +94,36 @@ float ground_visibility(int k, vec3 position) {
 }
 #endif
 
-// The ground is Lambertian (docs/design.md section 7).
+#if TRANSFER
+// The transfer's irradiance at the ground point xz. Beyond the grid the clamped texture would
+// hold the edge's occlusion out to the plane's edge; there the objects' effect falls off as a
+// compact occluder's does, with the cube of the distance (its solid angle as 1 / r^2, its
+// cosine at the receiver as 1 / r), towards the open ground's.
+vec3 ground_transferred(vec2 xz) {
+    vec2 uv = (xz - u_ground_transfer_rect.xy) * u_ground_transfer_rect.z;
+    vec3 edge = textureLod(u_ground_transfer, uv, 0.0).rgb;
+    float outside = 2.0 * max(abs(uv.x - 0.5), abs(uv.y - 0.5));  // 1 on the grid's edge
+    return outside <= 1.0 ? edge
+                          : u_open_ground_transferred +
+                                (edge - u_open_ground_transferred) / (outside * outside * outside);
+}
+#endif
+
+// The ground is Lambertian (docs/design.md section 7). Its irradiance E, and E_open, what it
+// would be without the objects (their shadows and occlusion gone, the plane's own horizon
+// still hiding the lights below it), which the shadow catcher compares E with.
 vec4 shade(ivec2 pixel) {
     vec3 position = texelFetch(u_positions, pixel, 0).xyz;
     vec4 albedo = texelFetch(u_albedos, pixel, 0);
-    vec3 E = u_flat_irradiance[0];
+    vec3 E_open = u_flat_irradiance[0];
 #if TRANSFER
-    E += textureLod(u_ground_transfer,
-                    (position.xz - u_ground_transfer_rect.xy) * u_ground_transfer_rect.z, 0.0)
-             .rgb;
+    vec3 E = E_open + ground_transferred(position.xz);
+    E_open += u_open_ground_transferred;
+#else
+    vec3 E = E_open;
 #endif
     float attenuation = u_attenuation_base;
+    float open_attenuation = u_attenuation_base;
 #if LIGHTS_ON > 0
     for (int k = 0; k < LIGHTS_ON; ++k) {
         // The ground's own plane hides a light below its horizon from its top (the true
@@ -99,12 +131,35 @@ vec4 shade(ivec2 pixel) {
         // light's SH is left, whose truncated clamped cosine still reaches above the horizon
         // (order 3, 5 degrees below: 0.05 of the light's facing irradiance, f(t) = 1/4 + t/2 +
         // 5/32 (3 t^2 - 1) at t = -0.087; Ramamoorthi and Hanrahan 2001, eq. 8).
-        float v = u_light_direction[k].y < 0.0 ? 0.0 : ground_visibility(k, position);
+        bool below_horizon = u_light_direction[k].y < 0.0;
+        float v = below_horizon ? 0.0 : ground_visibility(k, position);
         E -= (1.0 - v) * u_flat_irradiance[k + 1];
         attenuation -= (1.0 - v) * u_light_share[k];
+        if (below_horizon) {
+            E_open -= u_flat_irradiance[k + 1];
+            open_attenuation -= u_light_share[k];
+        }
     }
 #endif
-    return vec4(albedo.rgb * u_albedo_scale * E * attenuation, 1.0);
+    // SceneBounds::ground_weight: the plane fades into the background far from the scene.
+    float t = clamp((distance(position.xz, u_ground_fade.xy) - u_ground_fade.z) /
+                        (u_ground_fade.w - u_ground_fade.z),
+                    0.0, 1.0);
+    float weight = 1.0 - t * t * (3.0 - 2.0 * t);
+#if SHADOW_CATCHER
+    // The share of the open ground's light that the objects take away, by luminance (Rec. 709),
+    // none where they add light (what they reflect onto it).
+    const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
+    float open_light = dot(E_open, LUMINANCE) * open_attenuation;
+    float taken = open_light > 0.0 ? 1.0 - dot(E, LUMINANCE) * attenuation / open_light : 0.0;
+    float shadow = u_shadow_intensity * weight * clamp(taken, 0.0, 1.0);
+    vec4 behind = background();
+    // Over the map, the map darkened; over a colour or nothing, black of the shadow's opacity.
+    return behind.a > 0.0 ? vec4(behind.rgb * (1.0 - shadow), 1.0) : vec4(0.0, 0.0, 0.0, shadow);
+#else
+    vec4 ground = vec4(albedo.rgb * u_albedo_scale * E * attenuation, 1.0);
+    return weight * ground + (1.0 - weight) * background();
+#endif
 }
 #endif
 

@@ -91,6 +91,7 @@ void add_transferred_irradiance(FrameContext& frame, TransferredIrradianceCache&
         frame.transferred_vertices = cache.vertices;
         frame.transferred_offsets = cache.offsets;
         frame.transferred_ground = cache.ground;
+        frame.open_ground_transferred = cache.open_ground;
         ++cache.reuses;
         return;
     }
@@ -110,11 +111,13 @@ void add_transferred_irradiance(FrameContext& frame, TransferredIrradianceCache&
     if (transfer.ground) {
         frame.transferred_ground = transferred_irradiance(transfer.ground->points, transfer.order,
                                                           lighting, inputs.weights_of_bounce);
+        frame.open_ground_transferred = open_ground_irradiance(transfer.order, lighting);
     }
     cache.inputs = std::move(inputs);
     cache.vertices = frame.transferred_vertices;
     cache.offsets = frame.transferred_offsets;
     cache.ground = frame.transferred_ground;
+    cache.open_ground = frame.open_ground_transferred;
 }
 
 void add_camera(FrameContext& frame) {
@@ -154,7 +157,9 @@ void add_shadow_views(FrameContext& frame) {
             light_profile(frame.rig.sh.per_light[k], frame.rig.lights[k].direction);
         const double radius =
             std::min(frame.rig.lights[k].angular_radius, profile.glow_angular_radius);
-        frame.light_spreads.push_back(float(std::tan(std::min(radius, 1.2))));
+        // The request's softness scales the penumbra (ShadowOptions::softness).
+        frame.light_spreads.push_back(request.shadows.softness *
+                                      float(std::tan(std::min(radius, 1.2))));
         frame.light_core_shares.push_back(float(profile.core_share));
         if (frame.specular) {
             // The lobes' axes are the light's direction; light_directions turns it by the yaw.

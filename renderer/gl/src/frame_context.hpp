@@ -56,6 +56,9 @@ struct FrameContext {
     // [object][primitive]: the index in transferred_vertices of the primitive's first vertex
     std::vector<std::vector<std::size_t>> transferred_offsets;
     std::vector<glm::vec3> transferred_ground;  // the grid's texels, GroundTransfer's order
+    // The open ground's (open_ground_irradiance): the grid's value where nothing occludes it,
+    // the floor's beyond the grid, and the shadow-catching floor's light without the objects.
+    glm::vec3 open_ground_transferred{0.0f};
 
     // Materials. specular: some object has a glossy material (Material::glossy) and the rig's
     // model is hdr (the thesis's has no specular BRDF): the frame reads FrameRequest::specular
@@ -121,6 +124,7 @@ struct TransferredIrradianceCache {
     std::vector<glm::vec3> vertices;
     std::vector<std::vector<std::size_t>> offsets;
     std::vector<glm::vec3> ground;
+    glm::vec3 open_ground{0.0f};
     std::size_t reuses = 0;  // frames that took the values from here
 };
 

@@ -149,6 +149,12 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
                     "shadow_resolution: must be in 1.." +
                         std::to_string(std::min(limits.max_shadow_resolution, max_texture_size)));
     }
+    for (const auto& [name, value] : {std::pair{"shadow_softness", request.shadows.softness},
+                                      std::pair{"shadow_intensity", request.shadows.intensity}}) {
+        if (!(value >= 0.0f && value <= 1.0f)) {
+            fail(name, "must be in [0, 1]");
+        }
+    }
     // 2^64 and 2^-64 are still normal floats: the shaders' exposure scale stays finite and
     // non-zero.
     if (!std::isfinite(request.exposure) || std::abs(request.exposure) > 64.0) {

@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
+#include <glm/vec2.hpp>
 
 #include "environment_sampler.hpp"
 #include "oer/core/error.hpp"
@@ -158,6 +159,11 @@ void validate(const FrameRequest& request, const ReferenceOptions& options) {
                                                  std::to_string(request.width) + "x" +
                                                  std::to_string(request.height));
     }
+    if (request.ground && request.ground_look != GroundLook::Opaque) {
+        throw Error(ErrorKind::InvalidInput,
+                    "reference: the reference draws the opaque ground only (a shadow catcher "
+                    "is a ratio of two renderings, with and without the objects)");
+    }
     if (options.samples < 2 || options.samples % 2 != 0) {
         throw Error(ErrorKind::InvalidInput,
                     "reference: samples must be even and at least 2 (two independent halves "
@@ -229,16 +235,27 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
         for (int s = 0; s < options.samples; ++s) {
             // A box filter over the pixel: a uniform point in it per sample.
             const glm::dvec3 direction = rays.direction(x + random.uniform(), y + random.uniform());
+            const auto hit =
+                scene.intersect(rays.eye, direction, 0.0, reference::GroundReach::Drawn);
+            // The ground fades into the background far from the scene, as the renderer draws it
+            // (SceneBounds::ground_weight); an object or the near ground is all surface.
+            const double surface =
+                !hit ? 0.0
+                     : (hit->ground ? double(frame.ground_weight(float(glm::length(
+                                          glm::dvec2(hit->position.x - frame.centre.x,
+                                                     hit->position.z - frame.centre.z)))))
+                                    : 1.0);
             glm::dvec3 radiance(0.0);
-            if (const auto hit =
-                    scene.intersect(rays.eye, direction, 0.0, reference::GroundReach::Drawn)) {
-                radiance = hit->albedo / kPi *
+            if (surface > 0.0) {
+                radiance = surface * hit->albedo / kPi *
                            tracer.irradiance(*hit, random, options.bounce == Bounce::One);
-                coverage += 1.0;
-            } else if (environment_background) {
-                radiance = background_radiance(*request.environment_map, direction,
-                                               request.environment_yaw);
-                coverage += 1.0;
+                coverage += surface;
+            }
+            if (surface < 1.0 && environment_background) {
+                radiance +=
+                    (1.0 - surface) * background_radiance(*request.environment_map, direction,
+                                                          request.environment_yaw);
+                coverage += 1.0 - surface;
             }
             halves[s < half ? 0 : 1] += radiance;
         }

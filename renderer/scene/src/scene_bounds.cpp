@@ -27,4 +27,10 @@ SceneBounds scene_bounds(const std::vector<SceneObject>& objects) {
     return scene;
 }
 
+float SceneBounds::ground_weight(float distance) const {
+    const float start = ground_fade_start(), end = ground_half_size();
+    const float t = std::clamp((distance - start) / (end - start), 0.0f, 1.0f);
+    return 1.0f - t * t * (3.0f - 2.0f * t);
+}
+
 }  // namespace oer

@@ -29,6 +29,7 @@
 #include "oer/reference/embree_scene.hpp"
 #include "oer/reference/pixel_random.hpp"
 #include "oer/scene/scene_bounds.hpp"
+#include "oer/transfer/transfer_lighting.hpp"
 
 namespace oer {
 namespace {
@@ -75,17 +76,12 @@ constexpr std::uint64_t kBakeSeed = 1;
 constexpr int kMinStrata = 8;
 constexpr int kMaxStrata = 32;
 
-// A_l Y_i(n): the transfer of a point that nothing occludes (oer/scene/scene_transfer.hpp).
-Coefficients unoccluded_transfer(const glm::dvec3& n) {
-    Coefficients transfer{};
-    sh_evaluate(kTransferBakeOrder, n, transfer);
-    for (int l = 0; l < kTransferBakeOrder; ++l) {
-        const double a_l = lambertian_band_factor(l);
-        for (int m = -l; m <= l; ++m) {
-            transfer[std::size_t(sh_index(l, m))] *= a_l;
-        }
-    }
-    return transfer;
+// unoccluded_transfer (transfer_lighting.hpp) at the bake's order.
+Coefficients unoccluded_coefficients(const glm::dvec3& n) {
+    const std::vector<double> transfer = unoccluded_transfer(kTransferBakeOrder, n);
+    Coefficients coefficients{};
+    std::copy(transfer.begin(), transfer.end(), coefficients.begin());
+    return coefficients;
 }
 
 // One receiver point: where its rays start and the hemisphere they cover, and where its vectors
@@ -291,7 +287,7 @@ class DirectAtHit {
         : request_(request),
           transfer_(transfer),
           sky_direct_(sky_direct),
-          open_ground_(unoccluded_transfer({0, 1, 0})) {}
+          open_ground_(unoccluded_coefficients({0, 1, 0})) {}
 
     // With the ground, what the object reflects of the map alone (Receiver::sky_direct), as the
     // one-bounce reference's surfaces do: the plane's own light is the ground's slot; without
@@ -500,7 +496,7 @@ class ReceiverTracer {
     void trace_direct(std::size_t r, const Receiver& receiver, RaysMeetingSurfaces& meeting) const {
         const double ray_weight = std::numbers::pi / layout_.rays;
         const glm::dvec3 origin = receiver.position + layout_.offset * receiver.normal;
-        Coefficients direct = unoccluded_transfer(receiver.normal);
+        Coefficients direct = unoccluded_coefficients(receiver.normal);
         Coefficients sky_direct = direct;
         Coefficients basis{};
         for_each_ray(r, layout_.strata, [&](int ray, double u1, double u2) {

@@ -243,4 +243,25 @@ std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int 
     return irradiance;
 }
 
+std::vector<double> unoccluded_transfer(int order, const glm::dvec3& n) {
+    std::vector<double> transfer(std::size_t(sh_count(order)));
+    sh_evaluate(order, n, transfer);
+    for (int l = 0; l < order; ++l) {
+        const double a_l = lambertian_band_factor(l);
+        for (int m = -l; m <= l; ++m) {
+            transfer[std::size_t(sh_index(l, m))] *= a_l;
+        }
+    }
+    return transfer;
+}
+
+glm::vec3 open_ground_irradiance(int stored_order, const TransferLighting& lighting) {
+    const std::vector<double> transfer = unoccluded_transfer(stored_order, {0.0, 1.0, 0.0});
+    TransferPoints open;
+    open.count = 1;
+    // As floats, as the bake stores every receiver's vector.
+    open.direct.assign(transfer.begin(), transfer.end());
+    return transferred_irradiance(open, stored_order, lighting, {}).front();
+}
+
 }  // namespace oer

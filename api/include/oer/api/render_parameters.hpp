@@ -27,6 +27,7 @@ using RenderQuery = std::multimap<std::string, std::string>;
 enum class ParameterKind {
     ContentId,    // a string: a content id or "default"
     Boolean,      // JSON true or false; query on or off
+    Switch,       // JSON true, false or one more name; query on, off or that name
     Integer,      // a number with no fraction
     Number,       // a finite number
     Name,         // a string among a fixed set (an enum's names, or a background's forms)

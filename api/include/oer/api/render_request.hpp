@@ -18,11 +18,12 @@
 //   camera.fov_y                               fov_y
 //   camera.asset: N | "NAME"                   camera=asset:N | camera=asset:NAME
 //   lights: [1, 0.5, false]                    lights=1,0.5,0  (weights; true/false: 1/0)
-//   ground: true | false                       ground=on|off
+//   ground: true | false | "shadow"            ground=on|off|shadow
 //   occlusion: true | false                    occlusion=on|off
 //   bounce: "none" | "one"                     bounce=none|one
 //   shadows.enabled: true | false              shadows=on|off
 //   shadows.resolution, shadows.filter         shadow_resolution, shadow_filter
+//   shadows.softness, shadows.intensity        shadow_softness, shadow_intensity
 //   environment_yaw                            environment_yaw
 //   width, height, format, quality, exposure, tonemap, background, samples: the same
 //
@@ -85,6 +86,12 @@ ShadowFilter shadow_filter_from_string(const std::string& name);  // throws oer:
 std::string to_string(Bounce bounce);                // "none", "one"
 Bounce bounce_from_string(const std::string& name);  // throws oer::Error
 
+// The ground plane (FrameRequest::ground and ::ground_look): none, an opaque floor, or a shadow
+// catcher. JSON spells it false, true or "shadow"; the query off, on or shadow.
+enum class GroundChoice { Off, Opaque, Shadow };
+std::string to_string(GroundChoice ground);                       // "off", "on", "shadow"
+GroundChoice ground_choice_from_string(const std::string& name);  // throws oer::Error
+
 // "env", "transparent" or "#rrggbb" (either case); throws InvalidParameter naming `name`.
 Background parse_background(const std::string& name, const std::string& text);
 // The canonical text: "env", "transparent" or "#rrggbb" in lowercase.
@@ -144,7 +151,7 @@ struct CameraSpec {
 struct RenderSpec {
     std::string environment;  // a rig id or kDefaultPresetId
     std::vector<ObjectSpec> objects;
-    bool ground = true;
+    GroundChoice ground = GroundChoice::Opaque;
     // The occlusion switches, FrameRequest::occlusion and ::bounce: false, the previous OER
     // lighting (the residual map unoccluded); none, the ground lights nothing and nothing
     // reflects (to compare with a direct-only reference).

@@ -82,6 +82,7 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     const FrameRequest& request = frame.request;
     const bool environment_background = request.background.kind == BackgroundKind::Environment;
     const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.blending;
+    const bool shadow_catcher = request.ground_look == GroundLook::ShadowCatcher;
     const std::string shading_defines =
         frame.lighting_defines + frame.transfer_define + "#define ENVIRONMENT_BACKGROUND " +
         std::to_string(environment_background ? 1 : 0) + "\n#define DISPLAY_OUTPUT " +
@@ -125,9 +126,13 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
             // Only objects have specular materials; the background and the ground take SPECULAR 0.
             const std::string specular_define =
                 surface == kObjectSurface ? frame.specular_define : "#define SPECULAR 0\n";
+            const std::string ground_define =
+                surface == kGroundSurface
+                    ? std::string("#define SHADOW_CATCHER ") + (shadow_catcher ? "1\n" : "0\n")
+                    : "";
             gl::Program& shade =
-                state.program("shade", shading_defines + specular_define + "#define SURFACE " +
-                                           std::to_string(surface) + "\n");
+                state.program("shade", shading_defines + specular_define + ground_define +
+                                           "#define SURFACE " + std::to_string(surface) + "\n");
             glUseProgram(shade.id());
             set_surface_shading_uniforms(shade, frame);
             glUniformMatrix4fv(shade.uniform("u_inverse_view_projection"), 1, GL_FALSE,
@@ -145,6 +150,16 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
                 glUniform4f(shade.uniform("u_ground_transfer_rect"),
                             ground.centre.x - ground.half_size, ground.centre.y - ground.half_size,
                             0.5f / ground.half_size, 0.0f);
+                glUniform3fv(shade.uniform("u_open_ground_transferred"), 1,
+                             glm::value_ptr(frame.open_ground_transferred));
+            }
+            if (surface == kGroundSurface) {
+                glUniform4f(shade.uniform("u_ground_fade"), frame.scene.centre.x,
+                            frame.scene.centre.z, frame.scene.ground_fade_start(),
+                            frame.scene.ground_half_size());
+                if (shadow_catcher) {
+                    glUniform1f(shade.uniform("u_shadow_intensity"), request.shadows.intensity);
+                }
             }
             if (display_in_shading) {
                 set_display_uniforms(shade, request);

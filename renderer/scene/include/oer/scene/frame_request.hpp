@@ -58,6 +58,25 @@ struct ShadowOptions {
     bool enabled = true;  // false: every light reaches every point (no shadow pass)
     int resolution = 2048;
     ShadowFilter filter = ShadowFilter::Pcf;
+    // In [0, 1], as model-viewer's shadow-softness: each light's penumbra, a blocker's shadow
+    // growing with its distance from the receiver by the light's angular size, is scaled by it
+    // (1: the light's own size, as the environment shows it; 0: the hard shadow of a point).
+    double softness = 1.0;
+    // In [0, 1], as model-viewer's shadow-intensity: how much of its shadows the shadow-catching
+    // floor (GroundLook::ShadowCatcher) shows (1: all the light the objects take away; 0: none).
+    double intensity = 1.0;
+};
+
+// How the ground plane (FrameRequest::ground) is drawn. It takes shadows, lights and occludes
+// the scene alike in both; both fade into the background with the distance from the scene
+// (SceneBounds::ground_weight), so that no edge of the plane is ever seen.
+enum class GroundLook {
+    Opaque,  // a Lambertian floor of albedo 0.8
+    // Invisible: the background shows through it, darkened by what the objects take away from
+    // the floor's light (each light's shadow, the residual map's occlusion), as a product
+    // photographer's shadow catcher does. Over a colour or transparency the shadow is a black
+    // of that opacity, so that a transparent frame carries it in its alpha.
+    ShadowCatcher,
 };
 
 // The brightest a request can make a light: four times as captured (docs/design.md section 2).
@@ -92,6 +111,7 @@ struct FrameRequest {
     int width = 512;
     int height = 512;
     bool ground = true;
+    GroundLook ground_look = GroundLook::Opaque;  // with the ground
     Background background;
     double exposure = 0.0;  // EV
     ToneMapper tonemap = ToneMapper::Neutral;

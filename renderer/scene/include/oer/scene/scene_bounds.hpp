@@ -16,6 +16,13 @@ struct SceneBounds {
     // Half the side of the square ground plane under the scene (at the box's lowest y): 20
     // radii, far enough that its edge is rarely in view and casts nothing onto the scene.
     float ground_half_size() const { return 20.0f * radius; }
+    // How much of the ground is drawn at horizontal distance `distance` from the centre: all of
+    // it within ground_fade_start(), none from ground_half_size() on, smoothstep between, round
+    // about the centre so that the square's corners never show. Beyond that the background
+    // shows, so that a low camera sees a horizon, not the edge of a slab (shade.frag's ground
+    // and the reference renderer compose the same way).
+    float ground_fade_start() const { return 5.0f * radius; }
+    float ground_weight(float distance) const;
 };
 
 SceneBounds scene_bounds(const std::vector<SceneObject>& objects);

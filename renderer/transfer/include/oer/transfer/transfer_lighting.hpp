@@ -73,4 +73,15 @@ std::vector<glm::vec3> transferred_irradiance(const TransferPoints& points, int 
                                               const TransferLighting& lighting,
                                               std::span<const glm::vec3> weights);
 
+// The transfer of a point facing n that nothing occludes: the clamped cosine's, A_l Y_lm(n)
+// (Ramamoorthi and Hanrahan 2001), order^2 coefficients. The bake starts every receiver from
+// it and takes off what its rays find blocked.
+std::vector<double> unoccluded_transfer(int order, const glm::dvec3& n);
+
+// The irradiance of the open ground under `lighting`: a texel of the ground's grid that
+// nothing occludes and nothing reflects onto, by the same sums as transferred_irradiance, so
+// that such a texel of a transfer baked at stored_order has exactly this value (the
+// shadow-catching floor's light without the objects, and where the grid ends).
+glm::vec3 open_ground_irradiance(int stored_order, const TransferLighting& lighting);
+
 }  // namespace oer
