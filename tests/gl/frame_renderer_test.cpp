@@ -31,6 +31,7 @@
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/rig.hpp"
 #include "oer/mesh/mesh_loading.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "prefiltered_cubes.hpp"
 #include "process_memory.hpp"
 #include "synthetic_maps.hpp"
@@ -213,6 +214,7 @@ namespace {
 std::vector<int> shadow_classes(const Rig& rig, const FrameRequest& request, glm::dvec3 low,
                                 glm::dvec3 high) {
     const Camera& camera = *request.camera;
+    const SceneBounds scene = scene_bounds(request.objects);
     const auto occluders = [&](int x, int y) -> std::optional<int> {
         const glm::dvec3 ray = pixel_ray(camera, request.width, request.height, x, y);
         const glm::dvec3 eye(camera.eye);
@@ -220,6 +222,11 @@ std::vector<int> shadow_classes(const Rig& rig, const FrameRequest& request, glm
             return std::nullopt;
         }
         const glm::dvec3 ground = eye + (-eye.y / ray.y) * ray;
+        // Only the floor drawn whole: farther out it fades into the background.
+        if (glm::length(glm::dvec2(ground.x - scene.centre.x, ground.z - scene.centre.z)) >
+            scene.ground_fade_start()) {
+            return std::nullopt;
+        }
         int mask = 0;
         for (std::size_t k = 0; k < rig.lights.size(); ++k) {
             if (hits_box(ground, rig.lights[k].direction, low, high)) {

@@ -59,10 +59,11 @@ struct Variant {
     std::string defines;
 };
 
-// The values a define is compiled with: all of a switch's; a count's ends and the value after
-// the first (they only size arrays and loops, and #if tests only LIGHTS_ON > 0).
+// The values a define is compiled with: all of a switch's or a kind's (SURFACE's four); a
+// count's ends and the value after the first (they only size arrays and loops, and #if tests
+// only LIGHTS_ON > 0).
 std::vector<int> values_of(const DefineRange& range) {
-    if (range.max - range.min <= 2) {
+    if (range.max - range.min <= 3) {
         std::vector<int> values;
         for (int value = range.min; value <= range.max; ++value) {
             values.push_back(value);
@@ -489,7 +490,7 @@ TEST(ShaderSourcesGlslang, EveryVariantOfEveryFrameProgramCompiles) {
     // The shading pass's 3 SH orders x 3 light counts x 192 switch combinations, the
     // transparent pass's 3 x 3 x 16, the bake's 3 x 3 x 2, the resolve's 2, depth's 2 and
     // geometry's 8.
-    EXPECT_EQ(variants.size(), 1728u + 144u + 18u + 2u + 2u + 8u);
+    EXPECT_EQ(variants.size(), 2304u + 144u + 18u + 2u + 2u + 8u);
 
     // Each distinct error once, with the variants that have it.
     std::map<std::string, std::vector<const Compiled*>> errors;

@@ -1,8 +1,8 @@
 #version 450 core
 #extension GL_GOOGLE_include_directive : require
 // Deferred shading: every sample is shaded once, in whole blocks, by the program of its
-// surface (SURFACE 0 the background, 1 objects, 2 the ground plane), which the stencil test
-// routes to it. Shading the meshes' fragments directly costs far more on llvmpipe, whose 4x4
+// surface (SURFACE 0 the background, 1 objects, 2 the ground plane, 3 the ground plane as a
+// shadow catcher), which the stencil test routes to it. Shading the meshes' fragments directly costs far more on llvmpipe, whose 4x4
 // blocks are mostly empty on small triangles, and whose SIMD lanes would run every branch of
 // a shader that handled all three surfaces. Objects are shaded by surface_shading.glsl from
 // the G-buffer (geometry.frag); the transparent pass shades BLEND primitives with the same
@@ -27,18 +27,18 @@ layout(binding = GROUND_VISIBILITY_UNIT) uniform sampler2DArray u_ground_visibil
 #if TRANSFER && SURFACE == 1
 // The G-buffer's transferred irradiance.
 layout(binding = GBUFFER_TRANSFERRED_UNIT) uniform sampler2D u_transferred;
-#elif TRANSFER && SURFACE == 2
+#elif TRANSFER && SURFACE >= 2
 // The transfer's irradiance over the ground's grid (GroundTransfer), one texel per receiver,
 // read bilinearly; clamped beyond the grid, whose edge holds the unoccluded ground's.
 layout(binding = GROUND_TRANSFER_UNIT) uniform sampler2D u_ground_transfer;
 uniform vec4 u_ground_transfer_rect;  // the grid's lowest x and z, 1 / its side
 uniform vec3 u_open_ground_transferred;  // FrameContext::open_ground_transferred
 #endif
-#if SURFACE == 2
+#if SURFACE >= 2
 uniform vec4 u_ground_fade;  // the scene's centre (x, z), the fade's start and end radius
-#if SHADOW_CATCHER
-uniform float u_shadow_intensity;  // ShadowOptions::intensity
 #endif
+#if SURFACE == 3
+uniform float u_shadow_intensity;  // ShadowOptions::intensity
 #endif
 out vec4 o_color;
 
@@ -146,7 +146,7 @@ vec4 shade(ivec2 pixel) {
                         (u_ground_fade.w - u_ground_fade.z),
                     0.0, 1.0);
     float weight = 1.0 - t * t * (3.0 - 2.0 * t);
-#if SHADOW_CATCHER
+#if SURFACE == 3
     // The share of the open ground's light that the objects take away, by luminance (Rec. 709),
     // none where they add light (what they reflect onto it).
     const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);

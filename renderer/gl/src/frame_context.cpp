@@ -129,7 +129,15 @@ void add_camera(FrameContext& frame) {
     const float eye_distance = glm::length(frame.camera.eye - scene.centre);
     const float far_plane =
         eye_distance + (request.ground ? 1.5f * frame.ground_half_size : 2.0f * scene.radius);
-    frame.near_plane = std::max(far_plane * 1e-5f, 0.5f * (eye_distance - scene.radius));
+    // In front of the scene's bounds, and with the ground in front of the plane too: a low
+    // camera sees the plane from its own height on, which a near plane fitted to the bounds alone
+    // would clip away below the frame's middle.
+    float near_plane = 0.5f * (eye_distance - scene.radius);
+    const float height = frame.camera.eye.y - scene.box.min.y;
+    if (request.ground && height > 0.0f) {
+        near_plane = std::min(near_plane, 0.5f * height);
+    }
+    frame.near_plane = std::max(far_plane * 1e-5f, near_plane);
     frame.view_projection =
         projection_matrix(frame.camera, aspect, std::min(frame.near_plane, far_plane * 0.5f),
                           far_plane) *

@@ -26,6 +26,8 @@ namespace oer {
 constexpr int kBackgroundSurface = 0;
 constexpr int kObjectSurface = 1;
 constexpr int kGroundSurface = 2;
+// The shading program of the ground's samples when it is a shadow catcher (shade.frag).
+constexpr int kShadowCatcherProgram = 3;
 
 struct FrameContext {
     explicit FrameContext(const FrameRequest& request_) : request(request_), rig(*request_.rig) {}

@@ -42,7 +42,7 @@ const std::vector<FrameProgram> kPrograms{
       {"ENVIRONMENT_BACKGROUND", 0, 1},
       kDisplayOutput,
       kSpecular,
-      {"SURFACE", 0, 2},
+      {"SURFACE", 0, 3},
       kTransfer}},
     {"transparent",
      "mesh.vert",

@@ -126,13 +126,13 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
             // Only objects have specular materials; the background and the ground take SPECULAR 0.
             const std::string specular_define =
                 surface == kObjectSurface ? frame.specular_define : "#define SPECULAR 0\n";
-            const std::string ground_define =
-                surface == kGroundSurface
-                    ? std::string("#define SHADOW_CATCHER ") + (shadow_catcher ? "1\n" : "0\n")
-                    : "";
+            // The shadow-catching ground (GroundLook::ShadowCatcher) is program SURFACE 3 of
+            // the ground's samples.
+            const int program =
+                surface == kGroundSurface && shadow_catcher ? kShadowCatcherProgram : surface;
             gl::Program& shade =
-                state.program("shade", shading_defines + specular_define + ground_define +
-                                           "#define SURFACE " + std::to_string(surface) + "\n");
+                state.program("shade", shading_defines + specular_define + "#define SURFACE " +
+                                           std::to_string(program) + "\n");
             glUseProgram(shade.id());
             set_surface_shading_uniforms(shade, frame);
             glUniformMatrix4fv(shade.uniform("u_inverse_view_projection"), 1, GL_FALSE,
