@@ -46,7 +46,9 @@ bin="$root/build/bin"
 "$bin/light_location_sweep" "${quick[@]}" --json "$out/location.json" --csv "$out/location.csv"
 "$bin/frame_sweep" "${quick[@]}" "${samples[@]}" --mesh-dir "$meshes" --out "$out/frames"
 "$bin/material_gallery" --out "$out/gallery"
+"$bin/shadow_sweep" "${quick[@]}" --out "$out/shadows"
 
 /usr/bin/python3 "$root/docs/accuracy/make_report.py" --lighting "$out/lighting.json" \
     --location "$out/location.json" --frames "$out/frames" --materials "$out/gallery" \
-    --out "$report_dir"
+    --shadows "$out/shadows/shadow_sweep.json" \
+    --shadows-before "$root/docs/accuracy/soft_shadows_before.json" --out "$report_dir"

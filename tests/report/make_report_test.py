@@ -31,7 +31,9 @@ def run_report(frames: Path, out: Path) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, str(MAKE_REPORT), "--lighting", str(arguments.work / "lighting.json"),
          "--location", str(arguments.work / "location.json"), "--frames", str(frames),
-         "--out", str(out)], capture_output=True, text=True, check=False)
+         "--out", str(out), "--shadows", str(FIXTURE / "shadow_sweep.json"),
+         "--shadows-before", str(FIXTURE / "shadow_sweep_before.json")],
+        capture_output=True, text=True, check=False)
 
 
 class MakeReportTest(unittest.TestCase):
@@ -76,6 +78,14 @@ class MakeReportTest(unittest.TestCase):
         self.assertIn("does not meet the noise requirement", self.markdown)
         # night has no thesis rows: no line for it rather than a line of dashes.
         self.assertNotIn("| night | thesis |", self.markdown)
+
+    def test_soft_shadows_rows_carry_before_and_now(self) -> None:
+        # the bunny's penumbra: 28.1 % before, 14.6 % now; high-pass 0.0575 and 0.0370 over 0.0210.
+        self.assertIn("## Soft shadows", self.markdown)
+        self.assertIn("| bunny | default | 2 | 2048 | 3583 | 28.1 % | 14.6 % | 2.8 % | "
+                      "0.0575 / 0.0210 = 2.74 | 0.0370 / 0.0210 = 1.76 |", self.markdown)
+        self.assertIn("| dress form | default | 1 | 512 | 582 | 0.162 | 0.305 | 0.187 |",
+                      self.markdown)
 
     def test_per_mesh_means_and_front(self) -> None:
         # means of 0.1234 and 0.0642; of 0.18 and 0.09 near the bunny; of 21.34 and 18.9 ms.

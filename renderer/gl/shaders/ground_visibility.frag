@@ -20,6 +20,6 @@ void main() {
         return;
     }
     vec3 point = mix(from, to, (u_ground_height - from.y) / (to.y - from.y));
-    // The disc is not turned: per-texel noise would be magnified over the ground into a pattern.
-    o_visibility = visibility(u_light, point, vec3(0.0, 1.0, 0.0), mat2(1.0));
+    // The spiral is not turned: per-texel noise would be magnified over the ground into a pattern.
+    o_visibility = baked_visibility(u_light, point, vec3(0.0, 1.0, 0.0));
 }

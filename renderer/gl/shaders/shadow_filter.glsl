@@ -2,7 +2,8 @@
 // ground-visibility bake. Shadow maps of the lights that are on are the layers of one depth
 // array (SHADOW_MAPS_UNIT), so that any number of lights needs two texture units, not one per
 // light. SHADOWS 0: every light reaches every point; PCF 0: the thesis's hard test, 1: soft
-// shadows whose penumbra grows with the distance from the blockers (PCSS).
+// shadows whose penumbra grows with the distance from the blockers (PCSS) on Vogel spirals,
+// per pixel for objects (visibility) and once per cached map for the ground (baked_visibility).
 #include "math_constants.glsl"
 
 #if LIGHTS_ON > 0
@@ -23,15 +24,6 @@ layout(binding = SHADOW_DEPTHS_UNIT) uniform sampler2DArray u_shadow_depths;
 uniform float u_shadow_texel;  // one texel, in uv
 #endif
 #endif
-
-// 16 points of a Poisson disc of radius 1.
-const vec2 POISSON[16] = vec2[](
-    vec2(-0.94201624, -0.39906216), vec2(0.94558609, -0.76890725), vec2(-0.09418410, -0.92938870),
-    vec2(0.34495938, 0.29387760), vec2(-0.91588581, 0.45771432), vec2(-0.81544232, -0.87912464),
-    vec2(-0.38277543, 0.27676845), vec2(0.97484398, 0.75648379), vec2(0.44323325, -0.97511554),
-    vec2(0.53742981, -0.47373420), vec2(-0.26496911, -0.41893023), vec2(0.79197514, 0.19090188),
-    vec2(-0.24188840, 0.99706507), vec2(-0.81409955, 0.91437590), vec2(0.19984126, 0.78641367),
-    vec2(0.14383161, -0.14100790));
 
 #if SHADOWS && PCF
 // The receiver's own depth slope in the light's view, d(depth)/d(uv), from its normal
@@ -59,24 +51,43 @@ float receiver_test(vec3 uvz, vec2 offset, vec2 slope, float layer) {
     return texture(u_shadow_maps, vec4(uvz.xy + offset, layer, reference));
 }
 
-// The share of the light's glow that reaches the point (uvz: its place in the light's view).
-float soft_visibility(int k, vec3 uvz, vec3 normal, mat2 rotation, float layer) {
+// The golden angle, pi (3 - sqrt 5): successive points of a Vogel spiral turn by it.
+const float GOLDEN_ANGLE = 2.39996323;
+
+// The share of the light's glow that reaches the point (uvz: its place in the light's view),
+// from search_taps taps of the blocker search and filter_taps of the filter, both Vogel spirals
+// (H. Vogel, "A better way to construct the sunflower head", 1979): point i of n at radius
+// sqrt((i + 0.5) / n), turned by i golden angles, covers the disc evenly at any n, with no
+// cluster or gap for a tap count to expose (J. Jimenez, "Next Generation Post Processing in
+// Call of Duty: Advanced Warfare", SIGGRAPH 2014, whose shadows turn it per pixel by
+// interleaved gradient noise, as disc_rotation does here).
+float soft_visibility(int k, vec3 uvz, vec3 normal, mat2 rotation, float layer, int search_taps,
+                      int filter_taps) {
     // Percentage-closer soft shadows (R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH
     // 2005 sketch): the blockers' mean depth, searched over the widest penumbra a blocker could
     // cast here (one at the light's near plane), sizes the filter, so that a contact shadow or
     // a self-shadow stays sharp while a shadow far from its caster spreads as the light's size
-    // says. The point itself and eight taps of the disc for the search: without the point, a
-    // thin blocker between the taps left it lit where the hard test shades it (the bunny's
-    // creases under sunrise, 10.7 % from the reference against 8.7 %).
+    // says. The point itself is searched too: without it, a thin blocker between the taps left
+    // it lit where the hard test shades it (the bunny's creases under sunrise, 10.7 % from the
+    // reference against 8.7 %).
     vec2 slope = receiver_slope(k, normal);
     float search = max(u_shadow_texel, uvz.z * u_light_spread[k]);
     float centre = texture(u_shadow_depths, vec3(uvz.xy, layer)).r;
     float blocker_depth = centre < uvz.z ? centre : 0.0;
     float blockers = centre < uvz.z ? 1.0 : 0.0;
-    for (int i = 0; i < 16; i += 2) {
-        vec2 offset = rotation * POISSON[i] * search;
+    const mat2 TURN = mat2(cos(GOLDEN_ANGLE), sin(GOLDEN_ANGLE), -sin(GOLDEN_ANGLE),
+                           cos(GOLDEN_ANGLE));
+    vec2 direction = rotation[0];
+    for (int i = 0; i < search_taps; ++i) {
+        vec2 offset = direction * (sqrt((float(i) + 0.5) / float(search_taps)) * search);
+        direction = TURN * direction;
         float depth = texture(u_shadow_depths, vec3(uvz.xy + offset, layer)).r;
-        if (depth < uvz.z + dot(slope, offset)) {
+        // A blocker counts only where its own penumbra reaches the point: the search disc is
+        // sized for a blocker at the near plane, and a caster's parts near the receiver (a
+        // pole's foot, in the disc of a point near its tip's shadow) would otherwise pull the
+        // mean depth towards the receiver and shrink the kernel into a hard edge.
+        if (depth < uvz.z + dot(slope, offset) &&
+            length(offset) <= (uvz.z - depth) * u_light_spread[k]) {
             blocker_depth += depth;
             blockers += 1.0;
         }
@@ -86,31 +97,25 @@ float soft_visibility(int k, vec3 uvz, vec3 normal, mat2 rotation, float layer) 
     }
     float kernel = clamp((uvz.z - blocker_depth / blockers) * u_light_spread[k],
                          u_shadow_texel, search);
-    // One bilinear comparison per tap (2x2 texels). Four spread taps first: where they agree
-    // the point is fully lit or fully in shadow, as nearly every point is; only penumbrae pay
-    // for the other twelve.
-    const int EARLY[4] = int[](0, 1, 5, 7);
+    // One bilinear comparison per tap (2x2 texels), every tap: an early exit on a few taps
+    // that agree makes a step wherever they stop agreeing, inside the penumbra.
     float sum = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        sum += receiver_test(uvz, rotation * POISSON[EARLY[i]] * kernel, slope, layer);
+    direction = rotation[0];
+    for (int i = 0; i < filter_taps; ++i) {
+        vec2 offset = direction * (sqrt((float(i) + 0.5) / float(filter_taps)) * kernel);
+        direction = TURN * direction;
+        sum += receiver_test(uvz, offset, slope, layer);
     }
-    if (sum == 0.0 || sum == 4.0) {
-        return sum / 4.0;
-    }
-    for (int i = 0; i < 16; ++i) {
-        if (i == 0 || i == 1 || i == 5 || i == 7) {
-            continue;
-        }
-        sum += receiver_test(uvz, rotation * POISSON[i] * kernel, slope, layer);
-    }
-    return sum / 16.0;
+    return sum / float(filter_taps);
 }
 #endif
 
 // Fraction of light k that reaches the point: 0 in its shadow, 1 outside. Points outside the
 // shadow map's square are lit (every caster is inside it); depths beyond its far plane are
-// clamped so that they compare as "behind every caster". rotation turns the PCF disc.
-float visibility(int k, vec3 position, vec3 normal, mat2 rotation) {
+// clamped so that they compare as "behind every caster". rotation turns the filter's spiral;
+// search_taps and filter_taps are the PCSS's (soft_visibility).
+float filtered_visibility(int k, vec3 position, vec3 normal, mat2 rotation, int search_taps,
+                          int filter_taps) {
 #if !SHADOWS
     return 1.0;
 #else
@@ -130,11 +135,25 @@ float visibility(int k, vec3 position, vec3 normal, mat2 rotation) {
         return hard;
     }
     vec3 receiver = vec3(uvz.xy, reference);
-    return core * hard + (1.0 - core) * soft_visibility(k, receiver, normal, rotation, layer);
+    return core * hard + (1.0 - core) * soft_visibility(k, receiver, normal, rotation, layer,
+                                                        search_taps, filter_taps);
 #else
     return hard;
 #endif
 #endif
+}
+
+// Per shaded sample (objects): 8 search taps and 16 filter taps, the spiral turned per pixel
+// (disc_rotation), so that what 16 taps cannot resolve is fine noise that the pixel's
+// supersamples average, not a pattern.
+float visibility(int k, vec3 position, vec3 normal, mat2 rotation) {
+    return filtered_visibility(k, position, normal, rotation, 8, 16);
+}
+
+// The ground's bake (ground_visibility.frag), once per cached shadow map: it can afford 32
+// search taps and 64 filter taps, so that the unturned spiral's steps are a 64th of the light.
+float baked_visibility(int k, vec3 position, vec3 normal) {
+    return filtered_visibility(k, position, normal, mat2(1.0), 32, 64);
 }
 #endif
 
