@@ -13,6 +13,10 @@ const background = document.getElementById('background');
 const backgroundColor = document.getElementById('background-color');
 const ground = document.getElementById('ground');
 const shadows = document.getElementById('shadows');
+const shadowIntensity = document.getElementById('shadow-intensity');
+const shadowIntensityValue = document.getElementById('shadow-intensity-value');
+const shadowSoftness = document.getElementById('shadow-softness');
+const shadowSoftnessValue = document.getElementById('shadow-softness-value');
 const environmentYaw = document.getElementById('environment-yaw');
 const environmentYawValue = document.getElementById('environment-yaw-value');
 const showState = () => {
@@ -24,8 +28,12 @@ const showState = () => {
   if (backgroundValue.startsWith('#')) {
     backgroundColor.value = backgroundValue.toLowerCase();
   }
-  ground.checked = viewer.getAttribute('ground') !== 'off';
+  ground.value = viewer.getAttribute('ground') || 'on';
   shadows.checked = viewer.getAttribute('shadows') !== 'off';
+  shadowIntensity.value = viewer.getAttribute('shadow-intensity') ?? '1';
+  shadowIntensityValue.value = shadowIntensity.value;
+  shadowSoftness.value = viewer.getAttribute('shadow-softness') ?? '1';
+  shadowSoftnessValue.value = shadowSoftness.value;
   environmentYaw.value = viewer.getAttribute('environment-yaw') ?? '0';
   environmentYawValue.value = environmentYaw.value;
 };
@@ -62,14 +70,28 @@ const applyBackground = () => {
 };
 background.addEventListener('change', applyBackground);
 backgroundColor.addEventListener('input', applyBackground);
-// Switches whose attribute is absent when on (GET /v1/render's default) and 'off' when off.
-for (const [box, attribute] of [[ground, 'ground'], [shadows, 'shadows']]) {
-  box.addEventListener('change', () => {
-    if (box.checked) {
-      viewer.removeAttribute(attribute);
-    } else {
-      viewer.setAttribute(attribute, 'off');
-    }
+// The ground: an opaque floor (GET /v1/render's default, no attribute), a shadow catcher or none.
+ground.addEventListener('change', () => {
+  if (ground.value === 'on') {
+    viewer.removeAttribute('ground');
+  } else {
+    viewer.setAttribute('ground', ground.value);
+  }
+});
+// Shadows: absent when on (the default) and 'off' when off.
+shadows.addEventListener('change', () => {
+  if (shadows.checked) {
+    viewer.removeAttribute('shadows');
+  } else {
+    viewer.setAttribute('shadows', 'off');
+  }
+});
+// Shadow strength (the shadow-only floor's) and softness: absent at 1, the defaults.
+for (const [slider, output, attribute] of [[shadowIntensity, shadowIntensityValue, 'shadow-intensity'],
+                                           [shadowSoftness, shadowSoftnessValue, 'shadow-softness']]) {
+  slider.addEventListener('input', () => {
+    output.value = slider.value;
+    viewer.adjust(attribute, Number(slider.value) === 1 ? null : slider.value);
   });
 }
 environmentYaw.addEventListener('input', () => {

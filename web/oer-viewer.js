@@ -23,8 +23,12 @@ const TRANSFER_PARAMETERS = ['mesh', 'ground', 'occlusion', 'bounce'];
 // A frame longer in coming than this shows the waiting bar (and aria-busy), so that no wait
 // longer than half a second is silent.
 const WAITING_MS = 500;
+// The shadow-only floor is the opaque one's scene (ground=shadow shares its transfer).
 const transferKey = (url) => {
   const query = new URL(url, location.href).searchParams;
+  if (query.get('ground') === 'shadow') {
+    query.set('ground', 'on');
+  }
   return TRANSFER_PARAMETERS.map((name) => `${name}=${query.getAll(name).join('+')}`).join('&');
 };
 // The orbit when camera-orbit gives none: GET /v1/render's defaults for yaw, pitch, distance.
@@ -92,8 +96,8 @@ const STYLE = `
 export class OerViewer extends HTMLElement {
   static observedAttributes = [
     'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'camera-asset',
-    'exposure', 'background', 'ground', 'shadows', 'environment-yaw', 'base-color',
-    'base-color-material', 'variant', 'auto-rotate',
+    'exposure', 'background', 'ground', 'shadows', 'shadow-intensity', 'shadow-softness',
+    'environment-yaw', 'base-color', 'base-color-material', 'variant', 'auto-rotate',
   ];
 
   #image;
@@ -316,6 +320,8 @@ export class OerViewer extends HTMLElement {
     }
     for (const [attribute, parameter] of [['lights', 'lights'], ['exposure', 'exposure'],
                                           ['background', 'background'], ['ground', 'ground'], ['shadows', 'shadows'],
+                                          ['shadow-intensity', 'shadow_intensity'],
+                                          ['shadow-softness', 'shadow_softness'],
                                           ['environment-yaw', 'environment_yaw']]) {
       const value = this.getAttribute(attribute);
       if (value) {

@@ -229,6 +229,56 @@ TEST_F(OcclusionTest, AZeroTransferTakesTheResidualMapsIrradianceOffTheGround) {
     EXPECT_GT(ground_pixels, 3000);
 }
 
+TEST_F(OcclusionTest, BeyondTheGroundsGridTheObjectsEffectFallsOffWithTheCubeOfTheDistance) {
+    // A zero transfer over a grid of 2 scene radii each side: inside, the ground loses the
+    // residual's irradiance whole; outside, at `outside` times the grid's half side (its
+    // Chebyshev distance), a 1 / outside^3 share of it, towards the open ground's.
+    const auto rig = lit_rig(false);
+    FrameRequest plain = sphere_on_ground(rig);
+    plain.camera->eye = {0.0f, 9.0f, 0.5f};
+    plain.camera->target = {0.0f, 0.0f, 0.0f};
+    plain.camera->fov_y = 60.0f;
+    const Frame expected = render(plain);
+    FrameRequest occluded = with_cosine_transfer(plain, 1.0f, 0.0f);
+    auto transfer = std::make_shared<SceneTransfer>(*occluded.transfer);
+    const SceneBounds bounds = scene_bounds(plain.objects);
+    transfer->ground->half_size = 2.0f * bounds.radius;
+    occluded.transfer = transfer;
+    const Frame frame = render(occluded);
+    const TransferLighting lighting = transfer_lighting(*rig, std::vector<float>(3, 1.0f), 0.0,
+                                                        transfer_order(*rig), true, Bounce::None);
+    const glm::dvec3 residual_up =
+        irradiance_coefficients(lighting.residual).evaluate({0.0, 1.0, 0.0}) *
+        (0.8 / std::numbers::pi);
+    int inside = 0, outside = 0;
+    const glm::dvec3 eye(plain.camera->eye);
+    for (int y = 0; y < frame.height; ++y) {
+        for (int x = 0; x < frame.width; ++x) {
+            const glm::dvec3 ray = oer::testing::pixel_ray(*plain.camera, 128, 128, x, y);
+            const glm::dvec3 point = eye + (bounds.box.min.y - eye.y) / ray.y * ray;
+            if (ray.y >= 0.0 || oer::testing::hit_sphere(eye, ray, {0, 0, 0}, 1.05) ||
+                glm::length(glm::dvec2(point.x - bounds.centre.x, point.z - bounds.centre.z)) >
+                    bounds.ground_fade_start()) {
+                continue;
+            }
+            const double chebyshev =
+                std::max(std::abs(point.x - bounds.centre.x), std::abs(point.z - bounds.centre.z)) /
+                transfer->ground->half_size;
+            // A pixel's centre against the texel-filtered edge: away from the grid's border.
+            if (std::abs(chebyshev - 1.0) < 0.05) {
+                continue;
+            }
+            const double share = chebyshev < 1.0 ? 1.0 : 1.0 / (chebyshev * chebyshev * chebyshev);
+            const glm::dvec3 lost = linear_rgb(expected, x, y) - linear_rgb(frame, x, y);
+            ASSERT_NEAR(lost.g, share * residual_up.g, 2e-3 * residual_up.g + 1e-5)
+                << x << "," << y << " at " << chebyshev << " half sides";
+            ++(chebyshev < 1.0 ? inside : outside);
+        }
+    }
+    EXPECT_GT(inside, 500);
+    EXPECT_GT(outside, 2000);
+}
+
 TEST_F(OcclusionTest, ALightBelowTheGroundsHorizonReachesNoObject) {
     const auto rig = lit_rig(true);
     ASSERT_EQ(rig->lights.size(), 3u);

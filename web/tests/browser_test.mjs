@@ -248,7 +248,7 @@ try {
     await page.locator('#exposure').fill('1.5');
     await page.locator('#background').selectOption('color');
     await page.locator('#background-color').fill('#336699');
-    await page.locator('#ground').uncheck();
+    await page.locator('#ground').selectOption('off');
     await page.locator('#shadows').uncheck();
     await page.locator('#environment-yaw').fill('90');
     const handle = await page.waitForFunction(
@@ -271,7 +271,7 @@ try {
     assert.equal(await again.locator('#exposure').inputValue(), '1.5');
     assert.equal(await again.locator('#background').inputValue(), 'color');
     assert.equal(await again.locator('#background-color').inputValue(), '#336699');
-    assert.equal(await again.locator('#ground').isChecked(), false);
+    assert.equal(await again.locator('#ground').inputValue(), 'off');
     assert.equal(await again.locator('#shadows').isChecked(), false);
     assert.equal(await again.locator('#environment-yaw').inputValue(), '90');
     await again.close();
@@ -283,7 +283,20 @@ try {
     assert.match(clear.url, /[?&]background=transparent(&|$)/);
     assert.match(clear.url, /[?&]format=png(&|$)/);
     assert.match(page.url(), /[?&]background=transparent(&|$)/);
-    for (const name of ['exposure', 'background', 'ground', 'shadows', 'environment-yaw']) {
+    // The shadow-only floor at half strength over transparency: its frame and its link.
+    const uncaught = await page.evaluate(() => window.oerFrames.length);
+    await page.locator('#ground').selectOption('shadow');
+    await page.locator('#shadow-intensity').fill('0.5');
+    const caught = await (await page.waitForFunction(
+      (count) => window.oerFrames.slice(count).find((shown) => !shown.preview &&
+        shown.url.includes('ground=shadow') && shown.url.includes('shadow_intensity=0.5')) ?? false,
+      uncaught, { timeout: 30000 })).jsonValue();
+    assert.match(caught.url, /[?&]format=png(&|$)/);
+    for (const parameter of ['ground=shadow', 'shadow-intensity=0.5']) {
+      assert.match(page.url(), new RegExp(`[?&]${parameter}(&|$)`), page.url());
+    }
+    for (const name of ['exposure', 'background', 'ground', 'shadows', 'shadow-intensity',
+                        'environment-yaw']) {
       await page.evaluate((attribute) => document.querySelector('oer-viewer').removeAttribute(attribute), name);
     }
     assert.equal(await page.locator('#background').inputValue(), 'env');
