@@ -97,16 +97,6 @@ struct Arguments {
     std::vector<std::string> meshes;  // empty: every mesh
 };
 
-std::vector<std::string> split_names(const std::string& text) {
-    std::vector<std::string> names;
-    for (std::size_t start = 0; start <= text.size();) {
-        const std::size_t comma = std::min(text.find(',', start), text.size());
-        names.push_back(text.substr(start, comma - start));
-        start = comma + 1;
-    }
-    return names;
-}
-
 Arguments parse_arguments(int argc, char** argv) {
     Arguments arguments;
     const auto value = [&](int& i) -> std::string {
@@ -142,9 +132,9 @@ Arguments parse_arguments(int argc, char** argv) {
         } else if (flag == "--max-samples") {
             arguments.max_samples = positive(flag, value(i));
         } else if (flag == "--worlds") {
-            arguments.worlds = split_names(value(i));
+            arguments.worlds = oer::bench::split_names(value(i));
         } else if (flag == "--meshes") {
-            arguments.meshes = split_names(value(i));
+            arguments.meshes = oer::bench::split_names(value(i));
         } else {
             throw oer::Error(oer::ErrorKind::InvalidInput,
                              "unknown argument '" + flag +

@@ -100,13 +100,7 @@ Arguments parse_arguments(int argc, char** argv) {
         } else if (flag == "--size") {
             arguments.size = std::stoi(value(i));
         } else if (flag == "--worlds") {
-            arguments.worlds.clear();
-            const std::string names = value(i);
-            for (std::size_t start = 0; start <= names.size();) {
-                const std::size_t comma = std::min(names.find(',', start), names.size());
-                arguments.worlds.push_back(names.substr(start, comma - start));
-                start = comma + 1;
-            }
+            arguments.worlds = oer::bench::split_names(value(i));
         } else {
             throw oer::Error(oer::ErrorKind::InvalidInput,
                              "unknown argument '" + flag +

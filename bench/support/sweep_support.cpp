@@ -264,4 +264,14 @@ std::string csv_field(const std::string& text) {
     return quoted + "\"";
 }
 
+std::vector<std::string> split_names(const std::string& text) {
+    std::vector<std::string> names;
+    for (std::size_t start = 0; start <= text.size();) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        names.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    return names;
+}
+
 }  // namespace oer::bench

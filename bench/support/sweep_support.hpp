@@ -108,4 +108,7 @@ void write_text_file(const std::string& path, const std::string& text);
 // A CSV field (RFC 4180): quoted, with quotes doubled, when it holds a comma, quote or newline.
 std::string csv_field(const std::string& text);
 
+// "a,b,c" as {"a", "b", "c"}: a sweep's --worlds and --meshes.
+std::vector<std::string> split_names(const std::string& text);
+
 }  // namespace oer::bench

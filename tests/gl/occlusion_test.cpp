@@ -189,6 +189,15 @@ TEST_F(OcclusionTest, AnUnoccludedTransferGivesTheFrameWithoutOcclusion) {
     EXPECT_GT(largest_relative_difference(expected, render(occluded)), 1e-2);
 }
 
+// The ground's (albedo 0.8) radiance from the residual map's irradiance facing up, which a zero
+// transfer takes off it (the three lights at weight 1).
+glm::dvec3 ground_radiance_of_residual(const Rig& rig) {
+    const TransferLighting lighting = transfer_lighting(rig, std::vector<float>(3, 1.0f), 0.0,
+                                                        transfer_order(rig), true, Bounce::None);
+    return irradiance_coefficients(lighting.residual).evaluate({0.0, 1.0, 0.0}) *
+           (0.8 / std::numbers::pi);
+}
+
 TEST_F(OcclusionTest, AZeroTransferTakesTheResidualMapsIrradianceOffTheGround) {
     const auto rig = lit_rig(false);
     FrameRequest plain = sphere_on_ground(rig);
@@ -198,11 +207,7 @@ TEST_F(OcclusionTest, AZeroTransferTakesTheResidualMapsIrradianceOffTheGround) {
     const Frame frame = render(occluded);
     // The ground (albedo 0.8) loses albedo / pi E_R(+Y), the residual's irradiance facing up,
     // wherever it is.
-    const TransferLighting lighting = transfer_lighting(*rig, std::vector<float>(3, 1.0f), 0.0,
-                                                        transfer_order(*rig), true, Bounce::None);
-    const glm::dvec3 residual_up =
-        irradiance_coefficients(lighting.residual).evaluate({0.0, 1.0, 0.0}) *
-        (0.8 / std::numbers::pi);
+    const glm::dvec3 residual_up = ground_radiance_of_residual(*rig);
     ASSERT_GT(residual_up.g, 0.05);
     const SceneBounds bounds = scene_bounds(plain.objects);
     int ground_pixels = 0;
@@ -245,11 +250,7 @@ TEST_F(OcclusionTest, BeyondTheGroundsGridTheObjectsEffectFallsOffWithTheCubeOfT
     transfer->ground->half_size = 2.0f * bounds.radius;
     occluded.transfer = transfer;
     const Frame frame = render(occluded);
-    const TransferLighting lighting = transfer_lighting(*rig, std::vector<float>(3, 1.0f), 0.0,
-                                                        transfer_order(*rig), true, Bounce::None);
-    const glm::dvec3 residual_up =
-        irradiance_coefficients(lighting.residual).evaluate({0.0, 1.0, 0.0}) *
-        (0.8 / std::numbers::pi);
+    const glm::dvec3 residual_up = ground_radiance_of_residual(*rig);
     int inside = 0, outside = 0;
     const glm::dvec3 eye(plain.camera->eye);
     for (int y = 0; y < frame.height; ++y) {
