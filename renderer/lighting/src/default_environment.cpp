@@ -33,26 +33,44 @@ constexpr double degrees(double d) {
 constexpr double kInner = 0.85;
 constexpr double kOuter = 1.15;
 
-// The dim gradient behind the soft-boxes: warm floor, cool ceiling.
-constexpr glm::dvec3 kFloor{0.020, 0.018, 0.016};    // straight down (-Y)
-constexpr glm::dvec3 kCeiling{0.064, 0.072, 0.080};  // straight up (+Y)
+// The room around the soft-boxes: a light, neutral grey, brighter towards the ceiling, after
+// three.js's RoomEnvironment (examples/jsm/environments/RoomEnvironment.js, from model-viewer's
+// EnvironmentScene), whose white room lit by a ceiling lamp surrounds its six area lights at
+// about 1/50 of their radiance. An even surround lights every side of a product and shows as
+// a grey backdrop (the old dim gradient, 0.02 to 0.08, showed near black); linear in the
+// direction's y between these three. Brighter, it would flatten the product: the floor the
+// renderer adds reflects the room and the soft-boxes back up at it.
+constexpr glm::dvec3 kRoomFloor{0.18, 0.18, 0.18};    // straight down (-Y)
+constexpr glm::dvec3 kRoomWalls{0.30, 0.30, 0.30};    // the horizon
+constexpr glm::dvec3 kRoomCeiling{0.38, 0.38, 0.38};  // straight up (+Y)
+
+glm::dvec3 room(double y) {
+    return y < 0.0 ? kRoomWalls + (kRoomFloor - kRoomWalls) * -y
+                   : kRoomWalls + (kRoomCeiling - kRoomWalls) * y;
+}
 
 }  // namespace
 
 std::vector<DefaultStudioLight> default_environment_lights() {
+    // Placed as a product photographer's three soft-boxes (and as RoomEnvironment's front, side
+    // and back area lights): the key above and beside the default camera, a fill low on the
+    // other side, a rim behind. The radiances make a white Lambertian product white but not
+    // clipped at 0 EV under the neutral tone map (tests/integration/default_exposure_test.cpp);
+    // the sizes keep the three discs within the top 1 % of the map's pixels, which light
+    // location clusters (docs/design.md section 2), so that each is found as a light.
     return {
-        // Key: large warm soft-box up and front-left, azimuth -45 deg, elevation 40 deg:
-        // direction (-0.5417, 0.6428, 0.5417), angular radius 10 deg (20 deg wide),
-        // radiance 50 * (1.0, 0.85, 0.7) = (50, 42.5, 35).
-        {"key", from_angles(-45.0, 40.0), degrees(10.0), {50.0f, 42.5f, 35.0f}},
-        // Fill: smaller cool soft-box low on the other side, azimuth 55 deg, elevation 10 deg:
-        // direction (0.8067, 0.1736, 0.5649), angular radius 6 deg (12 deg wide),
-        // radiance 18 * (0.7, 0.85, 1.0) = (12.6, 15.3, 18).
-        {"fill", from_angles(55.0, 10.0), degrees(6.0), {12.6f, 15.3f, 18.0f}},
-        // Rim: small bright neutral light behind and above, azimuth 165 deg, elevation 50 deg:
-        // direction (0.1664, 0.7660, -0.6209), angular radius 3 deg (6 deg wide),
-        // radiance (180, 180, 180).
-        {"rim", from_angles(165.0, 50.0), degrees(3.0), {180.0f, 180.0f, 180.0f}},
+        // Key: large warm soft-box up and front-left, azimuth -40 deg, elevation 35 deg:
+        // direction (-0.5265, 0.5736, 0.6275), angular radius 10 deg (20 deg wide),
+        // radiance 28 * (1.0, 0.96, 0.9) = (28, 26.88, 25.2).
+        {"key", from_angles(-40.0, 35.0), degrees(10.0), {28.0f, 26.88f, 25.2f}},
+        // Fill: smaller cool soft-box low on the other side, azimuth 60 deg, elevation 15 deg:
+        // direction (0.8365, 0.2588, 0.4830), angular radius 7 deg (14 deg wide),
+        // radiance 8 * (0.9, 0.95, 1.0) = (7.2, 7.6, 8).
+        {"fill", from_angles(60.0, 15.0), degrees(7.0), {7.2f, 7.6f, 8.0f}},
+        // Rim: small bright neutral soft-box behind and above, azimuth 165 deg, elevation 50 deg:
+        // direction (0.1664, 0.7660, -0.6209), angular radius 4 deg (8 deg wide),
+        // radiance (40, 40, 40).
+        {"rim", from_angles(165.0, 50.0), degrees(4.0), {40.0f, 40.0f, 40.0f}},
     };
 }
 
@@ -77,8 +95,7 @@ HdrImage make_default_environment(int width, int height) {
     HdrImage image(width, height);
     const equirect::Grid grid(width, height);
     for (int y = 0; y < height; ++y) {
-        const double t = 0.5 * (grid.row_cos_theta[y] + 1.0);  // 0 straight down, 1 up
-        const glm::dvec3 background = kFloor + (kCeiling - kFloor) * t;
+        const glm::dvec3 background = room(grid.row_cos_theta[y]);
         for (int x = 0; x < width; ++x) {
             const glm::dvec3 d = grid.direction(x, y);
             glm::dvec3 value = background;
