@@ -15,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include "http_support.hpp"
+#include "oer/mesh/camera.hpp"
 
 using namespace oer;
 using namespace oer::itest;
@@ -104,13 +105,13 @@ TEST(Framing, AnOrbitWithoutTargetOrDistanceFramesTheWholeProduct) {
     };
 
     // The camera expected (camera.hpp, frame_orbit): about the bounds' centre, from the distance
-    // at which the bounding sphere, with a 1.1 margin, fits the narrower half field of view.
+    // at which the cylinder holding the bounds at every yaw fits both fields of view.
     const glm::dvec3 centre = 0.5 * (low + high);
-    const double radius = 0.5 * glm::length(high - low);
-    const double half_fov_y = glm::radians(45.0) / 2.0;
-    const double half_fov_x = std::atan(std::tan(half_fov_y) * width / height);
+    const Camera expected =
+        frame_orbit(60.0f, 20.0f, std::nullopt, std::nullopt,
+                    Bounds{glm::vec3(low), glm::vec3(high)}, 45.0f, float(width) / float(height));
     const PixelBox framed =
-        projected_bounds(centre, 1.1 * radius / std::sin(std::min(half_fov_x, half_fov_y)));
+        projected_bounds(centre, glm::length(glm::dvec3(expected.eye - expected.target)));
     // The projected bounds are inside the frame ...
     EXPECT_GE(framed.low.x, 0.0);
     EXPECT_GE(framed.low.y, 0.0);

@@ -5,6 +5,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "oer/core/error.hpp"
@@ -15,6 +16,47 @@ namespace {
 
 bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+float framing_distance(float pitch, const glm::vec3& target, const Bounds& bounds, float fov_y,
+                       float aspect) {
+    // Every yaw of the product about the vertical axis through the target: the cylinder about
+    // that axis through the bounds' farthest corner, from the bounds' bottom to their top. It
+    // turns into itself with the yaw, so the distance does not change while a turntable turns
+    // (model-viewer frames the same solid, its idealAspect the cylinder's width over height).
+    float radius = 0.0f;
+    for (int corner = 0; corner < 4; ++corner) {
+        const glm::vec2 d{((corner & 1) ? bounds.max.x : bounds.min.x) - target.x,
+                          ((corner & 2) ? bounds.max.z : bounds.min.z) - target.z};
+        radius = std::max(radius, glm::length(d));
+    }
+    // The circles at the top and bottom as polygons of kSides vertices circumscribing them
+    // (radius / cos(pi / kSides)), so that fitting the vertices fits the circles.
+    constexpr int kSides = 32;
+    radius /= std::cos(glm::pi<float>() / float(kSides));
+    // The camera's frame at yaw 0 (the cylinder's framing is the same at every yaw): towards
+    // the eye w, right r, up u.
+    const float p = glm::radians(pitch);
+    const glm::vec3 w{0.0f, std::sin(p), std::cos(p)};
+    const glm::vec3 r{1.0f, 0.0f, 0.0f};
+    const glm::vec3 u = glm::cross(r, -w);
+    const float tan_y = std::tan(glm::radians(fov_y) * 0.5f);
+    const float tan_x = tan_y * std::max(aspect, 1e-3f);
+    // A point at depth D - p.w with horizontal offset |p.r| fits the half field of view
+    // tan_x with the margin when D >= p.w + margin |p.r| / tan_x; likewise vertically. The
+    // margin keeps the silhouette off the frame's edges.
+    constexpr float margin = 1.08f;
+    float distance = 1e-6f;
+    for (const float height : {bounds.min.y - target.y, bounds.max.y - target.y}) {
+        for (int i = 0; i < kSides; ++i) {
+            const float a = 2.0f * glm::pi<float>() * float(i) / float(kSides);
+            const glm::vec3 point{radius * std::cos(a), height, radius * std::sin(a)};
+            const float depth = glm::dot(point, w);
+            distance = std::max({distance, depth + margin * std::abs(glm::dot(point, r)) / tan_x,
+                                 depth + margin * std::abs(glm::dot(point, u)) / tan_y});
+        }
+    }
+    return distance;
 }
 
 }  // namespace
@@ -66,19 +108,8 @@ Camera frame_orbit(float yaw, float pitch, const std::optional<glm::vec3>& targe
     orbit.yaw = yaw;
     orbit.pitch = pitch;
     orbit.target = target.value_or(bounds.centre());
-    if (distance) {
-        orbit.distance = *distance;
-    } else {
-        // A sphere of radius r seen from distance d subtends asin(r / d): it fits the narrower
-        // half field of view when d >= r / sin(half_fov).
-        const float radius = std::max(1e-6f, 0.5f * glm::length(bounds.max - bounds.min) +
-                                                 glm::length(bounds.centre() - orbit.target));
-        const float half_fov_y = glm::radians(fov_y) * 0.5f;
-        const float half_fov_x = std::atan(std::tan(half_fov_y) * std::max(aspect, 1e-3f));
-        const float half_fov = std::min(half_fov_y, half_fov_x);
-        constexpr float margin = 1.1f;
-        orbit.distance = margin * radius / std::sin(half_fov);
-    }
+    orbit.distance =
+        distance.value_or(framing_distance(pitch, orbit.target, bounds, fov_y, aspect));
     return orbit_camera(orbit, fov_y);
 }
 

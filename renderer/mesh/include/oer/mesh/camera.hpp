@@ -31,10 +31,13 @@ Bounds transformed_bounds(const Bounds& bounds, const glm::mat4& transform);
 Bounds enclosing_bounds(const std::vector<Bounds>& boxes);
 
 // An orbit camera whose target and distance may be left to the automatic framing: the target
-// defaults to the bounds' centre, the distance to the one from which the sphere about the target
-// enclosing the bounds' bounding sphere fits the vertical and horizontal field of view with a
-// margin, so that the whole scene is in the frame at any yaw and pitch. The framing depends on
-// the field of view and the aspect ratio alone, never on the size in pixels.
+// defaults to the bounds' centre, the distance to the one from which the cylinder about the
+// vertical axis through the target that holds the bounds at every yaw (a product on a
+// turntable) fits the vertical and horizontal field of view at this pitch with an 8 % margin,
+// like model-viewer's framing: the whole scene is in the frame at any yaw, the distance does
+// not change with the yaw, and a tall product fills a portrait frame's height as a wide one
+// fills a landscape frame's width. The framing depends on the pitch, the field of view and the
+// aspect ratio alone, never on the size in pixels.
 Camera frame_orbit(float yaw, float pitch, const std::optional<glm::vec3>& target,
                    const std::optional<float>& distance, const Bounds& bounds, float fov_y,
                    float aspect);
