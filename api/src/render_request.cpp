@@ -87,13 +87,28 @@ void check_query_names(const std::multimap<std::string, std::string>& query) {
 // The orbit's missing target or distance from the automatic framing of `scene` (the objects'
 // enclosing bounds), as the renderer frames a request without a camera (frame_context.cpp): the
 // same bounds, in float, at the frame's aspect ratio (width / height, never the size in pixels).
-Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const Bounds& scene, float aspect) {
+// With the ground drawn (at the scene's lowest y, FrameRequest's rule), the pitch is raised to
+// keep the eye above the floor (oer::pitch_above_floor): the floor's underside is never shown.
+Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const Bounds& scene, float aspect,
+                      bool ground) {
     const std::optional<glm::vec3> target =
         orbit.target ? std::optional<glm::vec3>(glm::vec3(*orbit.target)) : std::nullopt;
     const std::optional<float> distance =
         orbit.distance ? std::optional<float>(float(*orbit.distance)) : std::nullopt;
-    return frame_orbit(float(orbit.yaw), float(orbit.pitch), target, distance, scene, fov_y,
-                       aspect);
+    float pitch = float(orbit.pitch);
+    if (ground) {
+        try {
+            pitch = pitch_above_floor(pitch, target, distance, scene, fov_y, aspect, scene.min.y);
+        } catch (const Error&) {
+            throw InvalidParameter("target",
+                                   "no orbit pitch keeps the eye above the floor, which the ground "
+                                   "puts at the scene's lowest y = " +
+                                       std::to_string(scene.min.y) +
+                                       ": the target is below it or too close to it for the "
+                                       "distance; raise the target or ask for ground off");
+        }
+    }
+    return frame_orbit(float(orbit.yaw), pitch, target, distance, scene, fov_y, aspect);
 }
 
 // "it has 2: 0 'Front' (perspective), 1 'Top' (orthographic)": what a mesh offers, for the
@@ -332,13 +347,21 @@ Camera resolved_camera(const RenderSpec& spec,
         return frame_bounds(scene, Camera{}.fov_y, aspect);
     }
     if (const auto* look_at = std::get_if<LookAtSpec>(&spec.camera->placement)) {
+        // An eye under the floor would see its underside: the request says what it did not mean.
+        if (spec.ground && look_at->eye.y <= double(scene.min.y)) {
+            throw InvalidParameter(
+                "eye", "y = " + std::to_string(look_at->eye.y) +
+                           " is not above the floor, which the ground puts at the scene's lowest "
+                           "y = " +
+                           std::to_string(scene.min.y) + "; raise the eye or ask for ground off");
+        }
         return render_members::to_camera(*look_at, spec.camera->fov_y);
     }
     if (const auto* asset = std::get_if<AssetCameraSpec>(&spec.camera->placement)) {
         return resolved_asset_camera(*asset, spec, meshes);
     }
     return resolved_orbit(std::get<OrbitSpec>(spec.camera->placement), float(spec.camera->fov_y),
-                          scene, aspect);
+                          scene, aspect, spec.ground);
 }
 
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,

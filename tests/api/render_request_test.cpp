@@ -1064,8 +1064,9 @@ TEST(RenderRequest, AnOrbitWithoutTargetOrDistanceFramesTheScene) {
     const Bounds& bounds = product->bounds;
     const float aspect = 800.0f / 600.0f;
     // The camera expected: the orbit's angles about the bounds' centre, from the automatic
-    // framing's distance (frame_bounds, as the renderer frames a request with no camera).
-    const Camera automatic = frame_bounds(bounds, 45.0f, aspect);
+    // framing's distance at that pitch (frame_orbit).
+    const Camera automatic =
+        frame_orbit(0.0f, 20.0f, std::nullopt, std::nullopt, bounds, 45.0f, aspect);
     const Camera expected = orbit_camera(
         {60.0f, 20.0f, glm::length(automatic.eye - automatic.target), bounds.centre()}, 45.0f);
     EXPECT_NEAR(glm::length(request.camera->eye - expected.eye), 0.0f, 1e-5f);
@@ -1140,6 +1141,55 @@ TEST(RenderRequest, AnOrbitsGivenTargetAndDistanceWin) {
              (corner & 4) ? bounds.max.z : bounds.min.z});
         EXPECT_LT(std::max(std::abs(p.x), std::abs(p.y)), 1.0f) << "corner " << corner;
     }
+}
+
+// With the ground on, an orbit cannot go under the floor (the scene's lowest y): its pitch is
+// raised until the eye is kFloorClearanceDegrees above it, and the resolved camera says so; with
+// the ground off, it goes where it is asked. A look-at eye under the floor with the ground on is
+// a mistake the request names (422), and so is an orbit no pitch keeps above the floor.
+TEST(RenderRequest, AnOrbitStaysAboveTheFloorAndALookAtUnderItIsRefused) {
+    const auto product = std::make_shared<const Mesh>(make_default_product());
+    const float floor = product->bounds.min.y;
+    const auto camera_of = [&](Query query) {
+        query.insert({{"environment", "default"}, {"mesh", "default"}});
+        return api::resolved_camera(api::parse_render_query(query), {product});
+    };
+    const auto pitch_of = [](const Camera& camera) {
+        const glm::vec3 offset = camera.eye - camera.target;
+        return glm::degrees(std::asin(offset.y / glm::length(offset)));
+    };
+    for (const std::string pitch : {"-80", "-45", "-30"}) {
+        const Camera clamped = camera_of({{"yaw", "40"}, {"pitch", pitch}});
+        const float distance = glm::length(clamped.eye - clamped.target);
+        EXPECT_NEAR(clamped.eye.y - floor,
+                    distance * std::sin(glm::radians(kFloorClearanceDegrees)), 1e-3f * distance)
+            << pitch;
+        EXPECT_GT(pitch_of(clamped), std::stof(pitch)) << pitch;
+        const Camera free = camera_of({{"yaw", "40"}, {"pitch", pitch}, {"ground", "off"}});
+        EXPECT_NEAR(pitch_of(free), std::stof(pitch), 1e-3f);
+        EXPECT_LT(free.eye.y, floor) << pitch;
+    }
+    // A pitch high enough already is left alone, below the target's height too, distance given
+    // or not.
+    EXPECT_NEAR(pitch_of(camera_of({{"pitch", "-5"}})), -5.0f, 1e-3f);
+    const Camera near = camera_of({{"pitch", "-20"}, {"distance", "0.5"}});
+    EXPECT_NEAR(pitch_of(near), -20.0f, 1e-3f);
+    EXPECT_GT(near.eye.y, floor);
+    // The look-at eye at or under the floor: 422 naming the eye.
+    const auto refused = [&](const Query& query, const std::string& parameter) {
+        try {
+            camera_of(query);
+            ADD_FAILURE() << "accepted";
+        } catch (const api::InvalidParameter& error) {
+            EXPECT_EQ(error.parameter(), parameter) << error.what();
+            EXPECT_NE(std::string(error.what()).find("floor"), std::string::npos) << error.what();
+        }
+    };
+    refused({{"eye", "0,-0.5,3"}, {"target", "0,1,0"}}, "eye");
+    refused({{"eye", "0," + std::to_string(floor) + ",3"}, {"target", "0,1,0"}}, "eye");
+    EXPECT_NO_THROW(camera_of({{"eye", "0,-0.5,3"}, {"target", "0,1,0"}, {"ground", "off"}}));
+    // An orbit about a point under the floor, close: no pitch clears the floor.
+    refused({{"target", "0,-2,0"}, {"distance", "1"}}, "target");
 }
 
 TEST(RenderRequest, AnAbsentOrbitTargetAndDistanceStayAbsentAndKeepOneEtag) {

@@ -113,6 +113,34 @@ Camera frame_orbit(float yaw, float pitch, const std::optional<glm::vec3>& targe
     return orbit_camera(orbit, fov_y);
 }
 
+float pitch_above_floor(float pitch, const std::optional<glm::vec3>& target,
+                        const std::optional<float>& distance, const Bounds& bounds, float fov_y,
+                        float aspect, float floor_y) {
+    // How far the eye at pitch p is above the clearance (the automatic distance changes with
+    // the pitch, so the eye's height is no closed form of it).
+    const auto headroom = [&](float p) {
+        const Camera camera = frame_orbit(0.0f, p, target, distance, bounds, fov_y, aspect);
+        const float clearance = glm::length(camera.eye - camera.target) *
+                                std::sin(glm::radians(kFloorClearanceDegrees));
+        return camera.eye.y - floor_y - clearance;
+    };
+    if (headroom(pitch) >= 0.0f) {
+        return pitch;
+    }
+    float low = pitch, high = 90.0f;
+    if (headroom(high) < 0.0f) {
+        throw Error(ErrorKind::InvalidInput,
+                    "camera: no orbit pitch keeps the eye above the floor at y = " +
+                        std::to_string(floor_y) + " (the target is below it or too close to it)");
+    }
+    // Bisection to a thousandth of a degree, then the side that clears the floor.
+    while (high - low > 1e-3f) {
+        const float middle = 0.5f * (low + high);
+        (headroom(middle) >= 0.0f ? high : low) = middle;
+    }
+    return high;
+}
+
 Camera frame_bounds(const Bounds& bounds, float fov_y, float aspect) {
     const Orbit angles;
     return frame_orbit(angles.yaw, angles.pitch, std::nullopt, std::nullopt, bounds, fov_y, aspect);

@@ -42,6 +42,19 @@ Camera frame_orbit(float yaw, float pitch, const std::optional<glm::vec3>& targe
                    const std::optional<float>& distance, const Bounds& bounds, float fov_y,
                    float aspect);
 
+// The floor's clearance: an orbit over a floor keeps its eye at least distance * sin(3 degrees)
+// above the floor plane, so that the floor is seen from above, never edge-on or from below.
+inline constexpr float kFloorClearanceDegrees = 3.0f;
+
+// The orbit's pitch, raised where it must be so that frame_orbit's eye (with the same target,
+// distance, bounds, field of view and aspect) keeps kFloorClearanceDegrees above the floor plane
+// y = floor_y (model-viewer clamps its orbit to min-camera-orbit the same way): `pitch` itself
+// when its eye is high enough. Throws oer::Error (InvalidInput) when no pitch up to 90 degrees
+// is (the target is below the floor, or too close to it for the distance given).
+float pitch_above_floor(float pitch, const std::optional<glm::vec3>& target,
+                        const std::optional<float>& distance, const Bounds& bounds, float fov_y,
+                        float aspect, float floor_y);
+
 // The automatic framing: frame_orbit from the default orbit angles, target and distance both
 // taken from the bounds.
 Camera frame_bounds(const Bounds& bounds, float fov_y, float aspect);
