@@ -710,3 +710,30 @@ TEST(RenderCamera, TheHeaderNamesTheAutomaticFramingSoAnOrbitFromItDrawsTheSameF
     // a pixel.
     EXPECT_LE(largest, 2) << "the orbit from X-Oer-Camera draws another frame";
 }
+
+// With the ground on, an orbit under the floor is drawn from just above it (pitch raised until
+// the eye is 3 degrees above the dress form's lowest y, where the floor lies), and the frame's
+// X-Oer-Camera names that camera; a look-at eye under the floor is 422 naming `eye`.
+TEST(RenderCamera, AnOrbitUnderTheFloorIsRaisedAboveItAndTheHeaderSaysSo) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const auto mesh = client->Get("/v1/meshes/default");
+    ASSERT_TRUE(mesh);
+    const double floor = Json::parse(mesh->body).at("bounds").at("min")[1];
+    const std::string common =
+        "/v1/render?environment=default&mesh=default&width=32&height=32&samples=1";
+    const auto framed = client->Get((common + "&yaw=30&pitch=-60").c_str());
+    ASSERT_TRUE(framed);
+    ASSERT_EQ(framed->status, 200) << framed->body;
+    const std::string header = framed->get_header_value("X-Oer-Camera");
+    const glm::dvec3 offset = camera_vector(header, "eye") - camera_vector(header, "target");
+    const double distance = glm::length(offset);
+    EXPECT_NEAR(camera_vector(header, "eye").y - floor, distance * std::sin(glm::radians(3.0)),
+                1e-3 * distance)
+        << header;
+    EXPECT_GT(glm::degrees(std::asin(offset.y / distance)), -60.0) << header;
+    expect_problem("GET", "/v1/render",
+                   client->Get((common + "&eye=0,-0.5,3&target=0,1,0").c_str()),
+                   ProblemKind::InvalidParameter, "eye");
+}
