@@ -87,16 +87,17 @@ void check_query_names(const std::multimap<std::string, std::string>& query) {
 // The orbit's missing target or distance from the automatic framing of `scene` (the objects'
 // enclosing bounds), as the renderer frames a request without a camera (frame_context.cpp): the
 // same bounds, in float, at the frame's aspect ratio (width / height, never the size in pixels).
-// With the ground drawn (at the scene's lowest y, FrameRequest's rule), the pitch is raised to
-// keep the eye above the floor (oer::pitch_above_floor): the floor's underside is never shown.
+// With a floor (opaque or shadow-catching: the ground at the scene's lowest y, FrameRequest's
+// rule), the pitch is raised to keep the eye above it (oer::pitch_above_floor): the floor's
+// underside is never shown, nor a shadow caught from below.
 Camera resolved_orbit(const OrbitSpec& orbit, float fov_y, const Bounds& scene, float aspect,
-                      bool ground) {
+                      bool floor) {
     const std::optional<glm::vec3> target =
         orbit.target ? std::optional<glm::vec3>(glm::vec3(*orbit.target)) : std::nullopt;
     const std::optional<float> distance =
         orbit.distance ? std::optional<float>(float(*orbit.distance)) : std::nullopt;
     float pitch = float(orbit.pitch);
-    if (ground) {
+    if (floor) {
         try {
             pitch = pitch_above_floor(pitch, target, distance, scene, fov_y, aspect, scene.min.y);
         } catch (const Error&) {
@@ -348,7 +349,7 @@ Camera resolved_camera(const RenderSpec& spec,
     }
     if (const auto* look_at = std::get_if<LookAtSpec>(&spec.camera->placement)) {
         // An eye under the floor would see its underside: the request says what it did not mean.
-        if (spec.ground && look_at->eye.y <= double(scene.min.y)) {
+        if (spec.ground != GroundChoice::Off && look_at->eye.y <= double(scene.min.y)) {
             throw InvalidParameter(
                 "eye", "y = " + std::to_string(look_at->eye.y) +
                            " is not above the floor, which the ground puts at the scene's lowest "
@@ -361,7 +362,7 @@ Camera resolved_camera(const RenderSpec& spec,
         return resolved_asset_camera(*asset, spec, meshes);
     }
     return resolved_orbit(std::get<OrbitSpec>(spec.camera->placement), float(spec.camera->fov_y),
-                          scene, aspect, spec.ground);
+                          scene, aspect, spec.ground != GroundChoice::Off);
 }
 
 FrameRequest to_frame_request(const RenderSpec& spec, std::shared_ptr<const Rig> rig,
