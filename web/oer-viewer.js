@@ -33,9 +33,12 @@ const transferKey = (url) => {
 };
 // The orbit when camera-orbit gives none: GET /v1/render's defaults for yaw, pitch, distance.
 const DEFAULT_ORBIT = { yaw: 30, pitch: 15, distance: 3 };
-// Orbit limits: from just below the horizon to just short of straight down (the up vector
-// degenerates at 90 degrees), and zoom within a factor of about 15 either way.
+// Orbit limits: from just below the horizon (with a floor, opaque or shadow-only, from the
+// horizon: the server raises an orbit whose eye would see the floor's underside, and the drag
+// stops where it does) to just short of straight down (the up vector degenerates at 90
+// degrees), and zoom within a factor of about 15 either way.
 const PITCH_LIMITS = [-10, 89];
+const PITCH_LIMITS_OVER_FLOOR = [0, 89];
 const DISTANCE_LIMITS = [0.2, 50];
 const DEGREES_PER_PIXEL = 0.4;
 const KEY_STEP_DEGREES = 5;
@@ -215,7 +218,8 @@ export class OerViewer extends HTMLElement {
   }
 
   set orbit({ yaw, pitch, distance }) {
-    const parts = [rounded(wrapDegrees(yaw)), rounded(clamp(pitch, PITCH_LIMITS))];
+    const limits = this.getAttribute('ground') === 'off' ? PITCH_LIMITS : PITCH_LIMITS_OVER_FLOOR;
+    const parts = [rounded(wrapDegrees(yaw)), rounded(clamp(pitch, limits))];
     if (distance != null) {
       parts.push(rounded(clamp(distance, DISTANCE_LIMITS)));
     }

@@ -88,7 +88,9 @@ async function shownImage(page) {
 function assertRealFrame(image, what) {
   assert.equal(image.naturalWidth, image.expectedWidth, `${what}: width`);
   assert.equal(image.naturalHeight, image.expectedHeight, `${what}: height`);
-  assert.ok(image.colors >= 50, `${what}: ${image.colors} colors, a blank or flat frame`);
+  // A blank or flat frame has a handful; the neutral studio's product over its light floor
+  // about 45 (the old dark studio's, over 50).
+  assert.ok(image.colors >= 20, `${what}: ${image.colors} colors, a blank or flat frame`);
   assert.ok(image.deviation >= 10, `${what}: luminance deviation ${image.deviation}`);
   assert.ok(image.mean > 5 && image.mean < 250, `${what}: mean luminance ${image.mean}`);
 }
@@ -233,6 +235,20 @@ try {
     assertRealFrame(after, 'frame after the drag');
     assert.notEqual(after.checksum, before.checksum, 'the image changed');
     assert.equal(after.naturalWidth, before.naturalWidth, 'full size again');
+    // Over a floor the orbit stops at the horizon; without one it may go a little below.
+    const lowest = await page.evaluate(() => {
+      const viewer = document.querySelector('oer-viewer');
+      const saved = viewer.getAttribute('camera-orbit');
+      viewer.orbit = { yaw: 0, pitch: -8 };
+      const overFloor = viewer.orbit.pitch;
+      viewer.setAttribute('ground', 'off');
+      viewer.orbit = { yaw: 0, pitch: -8 };
+      const withoutFloor = viewer.orbit.pitch;
+      viewer.removeAttribute('ground');
+      viewer.setAttribute('camera-orbit', saved);
+      return { overFloor, withoutFloor };
+    });
+    assert.deepEqual(lowest, { overFloor: 0, withoutFloor: -8 });
   });
 
   await check('the page\'s URL reproduces the same frame (same ETag)', async () => {
@@ -506,7 +522,9 @@ try {
                 marks.markers.map((marker) => marker.brightest.toFixed(0)).join(', '));
     marks.markers.forEach((marker, index) => {
       assert.equal(marker.text, String(index + 1));
-      assert.ok(marker.brightest > 2 * marks.median + 40,
+      // Far brighter than the map's median, or clipped white where the map itself is bright
+      // (the studio's grey room: median 139).
+      assert.ok(marker.brightest > Math.min(2 * marks.median + 40, 250),
                 `light ${index + 1}'s marker sits on luminance ${marker.brightest}, the map's median is ${marks.median}`);
     });
   });
