@@ -51,7 +51,11 @@ def shadows_section(now: dict[str, Any], before: dict[str, Any] | None) -> str:
         "high-pass visibility (less its Gaussian blur of 1 pixel), ours / the reference's less "
         "its Monte Carlo noise's expected share ('—' where that is below "
         f"{LEAST_REFERENCE_HIGH_PASS}). Before: the 16-point Poisson disc, unturned in the "
-        "ground's bake, with its early exit; now: Vogel spirals, every tap.",
+        "ground's bake, with its early exit; now: Vogel spirals, every tap. Only the floor drawn "
+        "whole counts (within 5 scene radii; beyond, it fades into the background). 'studio' is "
+        "Blender's, the same map before and now; 'default' is the built-in studio, whose "
+        "before was measured under the previous one (the same three soft boxes over a "
+        "near-black backdrop), so that its rows compare the filters under two lightings.",
         markdown_table(["mesh", "world", "light", "map", "pixels", "error before", "error now",
                         "reference noise", "high-pass before", "high-pass now"], penumbra),
         "The pole's shadow on the dress form's base (the base's top within half the pole's "
