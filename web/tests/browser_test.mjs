@@ -269,7 +269,8 @@ try {
     await page.locator('#environment-yaw').fill('90');
     const handle = await page.waitForFunction(
       (count) => window.oerFrames.slice(count).find((shown) => !shown.preview &&
-        shown.url.includes('environment_yaw=90')) ?? false, frames, { timeout: 30000 });
+        !shown.preliminary && shown.url.includes('environment_yaw=90')) ?? false, frames,
+      { timeout: 30000 });
     const dressed = await handle.jsonValue();
     for (const parameter of ['exposure=1.5', 'background=%23336699', 'ground=off', 'shadows=off',
                              'environment_yaw=90']) {
@@ -305,7 +306,8 @@ try {
     await page.locator('#shadow-intensity').fill('0.5');
     const caught = await (await page.waitForFunction(
       (count) => window.oerFrames.slice(count).find((shown) => !shown.preview &&
-        shown.url.includes('ground=shadow') && shown.url.includes('shadow_intensity=0.5')) ?? false,
+        !shown.preliminary && shown.url.includes('ground=shadow') &&
+        shown.url.includes('shadow_intensity=0.5')) ?? false,
       uncaught, { timeout: 30000 })).jsonValue();
     assert.match(caught.url, /[?&]format=png(&|$)/);
     for (const parameter of ['ground=shadow', 'shadow-intensity=0.5']) {

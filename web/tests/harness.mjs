@@ -94,7 +94,8 @@ export const RECORD_EVENTS = () => {
   }, true);
 };
 
-// Waits for a full (not preview) frame after the first `after` frames; returns its detail. An
+// Waits for a full frame (neither a preview nor a preliminary one, which the frame with its
+// transfer follows) after the first `after` frames; returns its detail. An
 // error event after those frames fails at once with the element's message, and a timeout says
 // what the element showed and reported meanwhile, so that a failure in CI explains itself.
 export async function fullFrame(page, after = 0) {
@@ -103,7 +104,8 @@ export async function fullFrame(page, after = 0) {
     handle = await page.waitForFunction((count) => {
       const error = window.oerErrors.find((reported) => reported.afterFrames >= count);
       return (error && { error }) ??
-        window.oerFrames.slice(count).findLast((frame) => !frame.preview) ?? false;
+        window.oerFrames.slice(count).findLast((frame) => !frame.preview && !frame.preliminary) ??
+        false;
     }, after, { timeout: 30000 });
   } catch (error) {
     const seen = await page.evaluate((count) => ({
