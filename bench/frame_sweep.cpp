@@ -99,26 +99,7 @@ struct Arguments {
 
 Arguments parse_arguments(int argc, char** argv) {
     Arguments arguments;
-    const auto value = [&](int& i) -> std::string {
-        if (i + 1 >= argc) {
-            throw oer::Error(oer::ErrorKind::InvalidInput, std::string(argv[i]) + " needs a value");
-        }
-        return argv[++i];
-    };
-    const auto positive = [](const std::string& flag, const std::string& text) {
-        std::size_t used = 0;
-        int number = 0;
-        try {
-            number = std::stoi(text, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != text.size() || number < 2 || number % 2 != 0) {
-            throw oer::Error(oer::ErrorKind::InvalidInput,
-                             flag + " takes an even number of at least 2, not '" + text + "'");
-        }
-        return number;
-    };
+    const auto value = [&](int& i) { return oer::bench::flag_value(argc, argv, i); };
     for (int i = 1; i < argc; ++i) {
         const std::string flag = argv[i];
         if (flag == "--out") {
@@ -128,9 +109,9 @@ Arguments parse_arguments(int argc, char** argv) {
         } else if (flag == "--mesh-dir") {
             arguments.mesh_dir = value(i);
         } else if (flag == "--min-samples") {
-            arguments.min_samples = positive(flag, value(i));
+            arguments.min_samples = oer::bench::reference_samples(flag, value(i));
         } else if (flag == "--max-samples") {
-            arguments.max_samples = positive(flag, value(i));
+            arguments.max_samples = oer::bench::reference_samples(flag, value(i));
         } else if (flag == "--worlds") {
             arguments.worlds = oer::bench::split_names(value(i));
         } else if (flag == "--meshes") {

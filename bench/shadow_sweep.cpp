@@ -83,12 +83,7 @@ struct Arguments {
 
 Arguments parse_arguments(int argc, char** argv) {
     Arguments arguments;
-    const auto value = [&](int& i) -> std::string {
-        if (i + 1 >= argc) {
-            throw oer::Error(oer::ErrorKind::InvalidInput, std::string(argv[i]) + " needs a value");
-        }
-        return argv[++i];
-    };
+    const auto value = [&](int& i) { return oer::bench::flag_value(argc, argv, i); };
     for (int i = 1; i < argc; ++i) {
         const std::string flag = argv[i];
         if (flag == "--out") {
@@ -96,7 +91,7 @@ Arguments parse_arguments(int argc, char** argv) {
         } else if (flag == "--quick") {
             arguments.quick = true;
         } else if (flag == "--samples") {
-            arguments.samples = std::stoi(value(i));
+            arguments.samples = oer::bench::reference_samples(flag, value(i));
         } else if (flag == "--size") {
             arguments.size = std::stoi(value(i));
         } else if (flag == "--worlds") {

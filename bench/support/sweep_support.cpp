@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <limits>
 #include <numbers>
@@ -272,6 +273,28 @@ std::vector<std::string> split_names(const std::string& text) {
         start = comma + 1;
     }
     return names;
+}
+
+std::string flag_value(int argc, const char* const* argv, int& i) {
+    if (i + 1 >= argc) {
+        throw Error(ErrorKind::InvalidInput, std::string(argv[i]) + " needs a value");
+    }
+    return argv[++i];
+}
+
+int reference_samples(const std::string& flag, const std::string& text) {
+    std::size_t used = 0;
+    int number = 0;
+    try {
+        number = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || number < 2 || number % 2 != 0) {
+        throw Error(ErrorKind::InvalidInput,
+                    flag + " takes an even number of at least 2, not '" + text + "'");
+    }
+    return number;
 }
 
 }  // namespace oer::bench

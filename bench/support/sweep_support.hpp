@@ -111,4 +111,13 @@ std::string csv_field(const std::string& text);
 // "a,b,c" as {"a", "b", "c"}: a sweep's --worlds and --meshes.
 std::vector<std::string> split_names(const std::string& text);
 
+// The value after the flag argv[i] (i moves past it); throws oer::Error (InvalidInput) when the
+// flag is the last argument.
+std::string flag_value(int argc, const char* const* argv, int& i);
+
+// A reference's samples per pixel from a flag's text: an even number of at least 2 (the
+// reference estimates its noise from two halves); throws oer::Error (InvalidInput) naming the
+// flag otherwise.
+int reference_samples(const std::string& flag, const std::string& text);
+
 }  // namespace oer::bench

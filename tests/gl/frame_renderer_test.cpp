@@ -102,22 +102,11 @@ class FrameRendererTest : public oer::testing::RendererSuite {
     }
 };
 
-// A grey box standing on the ground, hard shadows from a fine shadow map, linear output: the
-// set-up of the tests that compare shadows with ray-cast geometry.
+// One box of boxes_on_ground_request, its shadows from a finer map (4096).
 FrameRequest box_on_ground_request(std::shared_ptr<const Rig> rig, glm::dvec3 low, glm::dvec3 high,
                                    const Camera& camera, int size) {
-    FrameRequest request;
-    request.rig = std::move(rig);
-    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
-                                   glm::vec3(low), glm::vec3(high), glm::vec3(0.5f))),
-                               glm::mat4(1.0f), std::nullopt});
-    request.camera = camera;
-    request.width = request.height = size;
-    request.ground = true;
-    request.background.kind = BackgroundKind::Transparent;
-    request.samples = 1;
-    request.linear = true;
-    request.shadows.filter = ShadowFilter::Hard;
+    FrameRequest request =
+        oer::testing::boxes_on_ground_request(std::move(rig), {{low, high}}, camera, size);
     request.shadows.resolution = 4096;
     return request;
 }

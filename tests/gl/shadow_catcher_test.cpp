@@ -15,7 +15,6 @@
 #include "oer/lighting/irradiance.hpp"
 #include "oer/scene/scene_bounds.hpp"
 #include "synthetic_maps.hpp"
-#include "test_meshes.hpp"
 
 namespace {
 
@@ -46,20 +45,12 @@ Camera top_camera() {
     return camera;
 }
 
-// The grey box on the ground, hard shadows, one sample, no occlusion (the ground's light is
-// then the rig's SH at +Y less the lights it does not see).
+// The grey box on the ground (boxes_on_ground_request; no occlusion, so that the ground's light
+// is the rig's SH at +Y less the lights it does not see), in display output.
 FrameRequest box_request(std::shared_ptr<const Rig> rig, const Camera& camera) {
-    FrameRequest request;
-    request.rig = std::move(rig);
-    request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
-                                   glm::vec3(kLow), glm::vec3(kHigh), glm::vec3(0.5f))),
-                               glm::mat4(1.0f), std::nullopt});
-    request.camera = camera;
-    request.width = request.height = kSize;
-    request.ground = true;
-    request.samples = 1;
-    request.shadows.filter = ShadowFilter::Hard;
-    request.shadows.resolution = 2048;
+    FrameRequest request =
+        oer::testing::boxes_on_ground_request(std::move(rig), {{kLow, kHigh}}, camera, kSize);
+    request.linear = false;
     return request;
 }
 

@@ -16,7 +16,6 @@
 #include "oer/mesh/mesh.hpp"
 #include "ray_geometry.hpp"
 #include "synthetic_maps.hpp"
-#include "test_meshes.hpp"
 
 using namespace oer;
 using oer::testing::linear_rgb;
@@ -27,25 +26,13 @@ namespace {
 
 class SoftShadowTest : public oer::testing::RendererSuite {
   protected:
-    // One grey object per box, on the ground, PCF at 2048, linear output.
+    // boxes_on_ground_request's boxes, soft shadows (PCF).
     static FrameRequest boxes_request(std::shared_ptr<const Rig> rig,
-                                      const std::vector<std::pair<glm::vec3, glm::vec3>>& boxes,
+                                      const std::vector<std::pair<glm::dvec3, glm::dvec3>>& boxes,
                                       const Camera& camera, int size) {
-        FrameRequest request;
-        request.rig = std::move(rig);
-        for (const auto& [low, high] : boxes) {
-            request.objects.push_back(
-                {std::make_shared<const Mesh>(oer::testing::box(low, high, glm::vec3(0.5f))),
-                 glm::mat4(1.0f), std::nullopt});
-        }
-        request.camera = camera;
-        request.width = request.height = size;
-        request.ground = true;
-        request.background.kind = BackgroundKind::Transparent;
-        request.samples = 1;
-        request.linear = true;
+        FrameRequest request =
+            oer::testing::boxes_on_ground_request(std::move(rig), boxes, camera, size);
         request.shadows.filter = ShadowFilter::Pcf;
-        request.shadows.resolution = 2048;
         return request;
     }
 

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -16,6 +18,7 @@
 #include "oer/gl/render_thread.hpp"
 #include "oer/lighting/rig.hpp"
 #include "ray_geometry.hpp"
+#include "test_meshes.hpp"
 
 namespace oer::testing {
 
@@ -34,6 +37,30 @@ inline std::shared_ptr<const Rig> make_rig(const HdrImage& map, std::optional<in
     options.light_count = lights;
     options.sh_order = order;
     return std::make_shared<const Rig>(build_rig(map, {}, options));
+}
+
+// Grey boxes (low, high corners) standing on the ground, hard shadows from a 2048 map, one
+// sample, linear output over transparency: the set-up of the tests that compare shadows with
+// ray-cast geometry, which change the filter, the map or the output where they need to.
+inline FrameRequest boxes_on_ground_request(
+    std::shared_ptr<const Rig> rig, const std::vector<std::pair<glm::dvec3, glm::dvec3>>& boxes,
+    const Camera& camera, int size) {
+    FrameRequest request;
+    request.rig = std::move(rig);
+    for (const auto& [low, high] : boxes) {
+        request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
+                                       glm::vec3(low), glm::vec3(high), glm::vec3(0.5f))),
+                                   glm::mat4(1.0f), std::nullopt});
+    }
+    request.camera = camera;
+    request.width = request.height = size;
+    request.ground = true;
+    request.background.kind = BackgroundKind::Transparent;
+    request.samples = 1;
+    request.linear = true;
+    request.shadows.filter = ShadowFilter::Hard;
+    request.shadows.resolution = 2048;
+    return request;
 }
 
 inline glm::dvec3 linear_rgb(const Frame& frame, int x, int y) {

@@ -158,7 +158,8 @@ vec4 shade(ivec2 pixel) {
     return behind.a > 0.0 ? vec4(behind.rgb * (1.0 - shadow), 1.0) : vec4(0.0, 0.0, 0.0, shadow);
 #else
     vec4 ground = vec4(albedo.rgb * u_albedo_scale * E * attenuation, 1.0);
-    return weight * ground + (1.0 - weight) * background();
+    // The background is looked up only where it shows: most of the floor is drawn whole.
+    return weight < 1.0 ? weight * ground + (1.0 - weight) * background() : ground;
 #endif
 }
 #endif
