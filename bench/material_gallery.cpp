@@ -6,21 +6,37 @@
 // pass time (geometry + shading + readback); per world, the prefiltering time and the cube's
 // memory.
 //
-//     material_gallery --out DIR     writes DIR/materials.md and DIR/materials/*.png
+// Then the error of glossy frames against the reference renderer, which shades the same glTF
+// BRDF (renderer/reference/include/oer/reference/metallic_roughness_brdf.hpp) with one bounce:
+// per sphere of a dielectric row and a metal row at the roughness of the targets (docs/design.md
+// section 8: mirror 0.05, metal 0.3, plastic 0.5) the relative RMS of luminance over its whole
+// pixels, and for the gold bunny and the dress form (fabric and a lacquered stand on its floor)
+// over 4 x 4 blocks (bench/support/frame_metrics.hpp), each frame as the service renders it:
+// occlusion and one bounce through the scene's baked transfer, on the floor.
+//
+//     material_gallery --out DIR [--samples N] [--size N] [--worlds NAME,NAME]
+//         writes DIR/materials.md and DIR/materials/*.png; the error frames are N x N (256)
+//         against N samples per pixel (128)
 //
 // scripts/accuracy-report.sh runs it and shows its page in docs/accuracy.md (make_report.py).
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
 #include "bench_renderer.hpp"
 #include "bench_support.hpp"
+#include "frame_metrics.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
 #include "oer/gl/render_thread.hpp"
@@ -29,8 +45,11 @@
 #include "oer/lighting/rig.hpp"
 #include "oer/lighting/specular_environment.hpp"
 #include "oer/mesh/camera.hpp"
+#include "oer/mesh/default_product.hpp"
 #include "oer/mesh/material_spheres.hpp"
 #include "oer/mesh/mesh_loading.hpp"
+#include "oer/reference/reference_renderer.hpp"
+#include "oer/transfer/transfer_bake.hpp"
 #include "sweep_support.hpp"
 
 namespace fs = std::filesystem;
@@ -59,6 +78,43 @@ std::shared_ptr<const oer::Mesh> gold(const oer::Mesh& mesh) {
     return glossy;
 }
 
+struct Arguments {
+    std::string out;
+    int samples = 128;
+    int size = 256;
+    std::vector<std::string> worlds;  // empty: every Blender world
+};
+
+Arguments parse_arguments(int argc, const char* const* argv) {
+    Arguments arguments;
+    for (int i = 1; i < argc; ++i) {
+        const std::string flag = argv[i];
+        if (flag == "--out") {
+            arguments.out = oer::bench::flag_value(argc, argv, i);
+        } else if (flag == "--samples") {
+            arguments.samples =
+                oer::bench::reference_samples(flag, oer::bench::flag_value(argc, argv, i));
+        } else if (flag == "--size") {
+            const std::string value = oer::bench::flag_value(argc, argv, i);
+            arguments.size = std::atoi(value.c_str());
+            if (arguments.size < 16 || arguments.size > 2048) {
+                throw oer::Error(oer::ErrorKind::InvalidInput,
+                                 "--size takes 16 to 2048 pixels, not '" + value + "'");
+            }
+        } else if (flag == "--worlds") {
+            arguments.worlds = oer::bench::split_names(oer::bench::flag_value(argc, argv, i));
+        } else {
+            throw oer::Error(oer::ErrorKind::InvalidInput,
+                             "unknown flag '" + flag +
+                                 "' (takes --out DIR, --samples N, --size N, --worlds NAME,NAME)");
+        }
+    }
+    if (arguments.out.empty()) {
+        throw oer::Error(oer::ErrorKind::InvalidInput, "--out DIR is required");
+    }
+    return arguments;
+}
+
 double color_pass_ms(const oer::Frame& frame) {
     double sum = 0.0;
     for (const char* pass : {"geometry_pass", "shading_pass", "readback"}) {
@@ -68,7 +124,227 @@ double color_pass_ms(const oer::Frame& frame) {
     return sum;
 }
 
-int run(const fs::path& out) {
+// The worlds the arguments name (every Blender world when they name none).
+std::vector<fs::path> chosen_worlds(const Arguments& arguments) {
+    std::vector<fs::path> chosen;
+    for (const fs::path& path : oer::bench::blender_worlds()) {
+        const std::string stem = path.stem().string();
+        if (arguments.worlds.empty() || std::find(arguments.worlds.begin(), arguments.worlds.end(),
+                                                  stem) != arguments.worlds.end()) {
+            chosen.push_back(path);
+        }
+    }
+    if (chosen.empty()) {
+        throw oer::Error(oer::ErrorKind::InvalidInput, "--worlds names no Blender world");
+    }
+    return chosen;
+}
+
+struct World {
+    std::string name;
+    std::shared_ptr<const oer::HdrImage> map;
+    std::shared_ptr<const oer::Rig> rig;
+    std::shared_ptr<const oer::PrefilteredCube> cube;
+};
+
+// A scene of the error tables: its mesh, baked once for every world (a transfer depends on the
+// objects and the ground, not on the light).
+struct ErrorScene {
+    std::string title;
+    std::shared_ptr<const oer::Mesh> mesh;
+    std::shared_ptr<const oer::SceneTransfer> transfer;
+    bool per_sphere = false;  // one figure per primitive (a sphere), else 4 x 4 blocks
+};
+
+oer::FrameRequest error_request(const ErrorScene& scene, const World& world, int size) {
+    oer::FrameRequest request;
+    request.rig = world.rig;
+    request.environment_map = world.map;
+    request.specular = world.cube;
+    request.objects.push_back({scene.mesh, glm::mat4(1.0f), std::nullopt});
+    request.width = size;
+    request.height = size;
+    request.camera = oer::frame_bounds(scene.mesh->bounds, 45.0f, 1.0f);
+    request.linear = true;
+    request.occlusion = true;
+    request.bounce = oer::Bounce::One;
+    request.transfer = scene.transfer;
+    return request;
+}
+
+// The ray through the centre of pixel (x, y) of a square frame, as the reference casts it.
+glm::dvec3 pixel_ray(const oer::Camera& camera, int size, int x, int y) {
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(camera.target - camera.eye));
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(camera.up)));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const double t = std::tan(glm::radians(double(camera.fov_y)) / 2.0);
+    return glm::normalize(forward + (2.0 * (x + 0.5) / size - 1.0) * t * right +
+                          (1.0 - 2.0 * (y + 0.5) / size) * t * up);
+}
+
+// Per primitive (a sphere about its bounds' centre), the pixels wholly on it in both frames.
+std::vector<std::vector<std::uint8_t>> sphere_masks(const oer::Mesh& mesh,
+                                                    const oer::Camera& camera, int size,
+                                                    const std::vector<float>& ours,
+                                                    const oer::ReferenceFrame& reference) {
+    std::vector<std::vector<std::uint8_t>> masks;
+    const glm::dvec3 eye(camera.eye);
+    for (const oer::Primitive& primitive : mesh.primitives) {
+        glm::dvec3 low(1e30), high(-1e30);
+        for (const glm::vec3& p : primitive.positions) {
+            low = glm::min(low, glm::dvec3(p));
+            high = glm::max(high, glm::dvec3(p));
+        }
+        const glm::dvec3 centre = 0.5 * (low + high);
+        const double radius = 0.5 * (high.x - low.x);
+        std::vector<std::uint8_t> mask(std::size_t(size) * std::size_t(size), 0);
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(size) + std::size_t(x);
+                const glm::dvec3 d = pixel_ray(camera, size, x, y);
+                const glm::dvec3 oc = eye - centre;
+                const double b = glm::dot(oc, d), c = glm::dot(oc, oc) - radius * radius;
+                mask[i] = b * b - c > 0.0 &&
+                          reference.surfaces[i] == oer::ReferenceSurface::Object &&
+                          ours[i * 4 + 3] >= 0.999f && reference.linear[i * 4 + 3] >= 0.999f;
+            }
+        }
+        masks.push_back(std::move(mask));
+    }
+    return masks;
+}
+
+// The relative RMS of luminance of ours against the reference over 4 x 4 blocks wholly on the
+// object in both frames, and the reference's own noise there.
+std::pair<double, double> block_error(const std::vector<double>& ours,
+                                      const std::vector<double>& reference,
+                                      const oer::ReferenceFrame& frame,
+                                      const std::vector<float>& ours_rgba) {
+    std::vector<std::uint8_t> mask(ours.size(), 0);
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        mask[i] = frame.surfaces[i] == oer::ReferenceSurface::Object &&
+                  ours_rgba[i * 4 + 3] >= 0.999f && frame.linear[i * 4 + 3] >= 0.999f;
+    }
+    const oer::bench::BlockGrid grid{frame.width, frame.height, 4};
+    const std::vector<std::uint8_t> blocks = oer::bench::whole_blocks(mask, grid);
+    return {oer::bench::relative_rms_error(oer::bench::block_means(ours, grid),
+                                           oer::bench::block_means(reference, grid), blocks),
+            oer::bench::relative_noise(oer::bench::block_noise(frame.luminance_noise, grid),
+                                       oer::bench::block_means(reference, grid), blocks)};
+}
+
+// The tables of ours against the reference, per world.
+std::string error_tables(oer::bench::BenchRenderer& renderer, const std::vector<World>& worlds,
+                         const Arguments& arguments) {
+    const std::vector<float> roughness = {0.0f, 0.05f, 0.3f, 0.5f, 1.0f};
+    oer::MaterialSpheresOptions sphere_options;
+    sphere_options.roughness = roughness;
+    const std::vector<std::byte> glb = oer::material_spheres_glb(sphere_options);
+    const auto spheres = std::make_shared<const oer::Mesh>(
+        oer::load_mesh_memory(glb, "material-spheres.glb", oer::MeshFormat::Glb));
+    const auto bunny = std::make_shared<const oer::Mesh>(oer::load_mesh_file(kBunny));
+    std::vector<ErrorScene> scenes = {
+        {"spheres", spheres, nullptr, true},
+        {"gold bunny, roughness 0.3, 4x4 blocks", gold(*bunny), nullptr, false},
+        {"dress form (fabric, lacquered stand), 4x4 blocks",
+         std::make_shared<const oer::Mesh>(oer::make_default_product()), nullptr, false},
+    };
+    for (ErrorScene& scene : scenes) {
+        oer::FrameRequest request = error_request(scene, worlds.front(), arguments.size);
+        request.transfer = nullptr;
+        oer::TransferBakeOptions bake;
+        bake.bounce = oer::Bounce::One;
+        scene.transfer =
+            std::make_shared<const oer::SceneTransfer>(oer::bake_transfer(request, bake));
+    }
+    // Rows: one per sphere (its material's name), then the other scenes; columns: worlds.
+    std::vector<std::string> rows;
+    for (const oer::Primitive& primitive : spheres->primitives) {
+        rows.push_back(spheres->materials.at(std::size_t(primitive.material)).name);
+    }
+    rows.push_back(scenes[1].title);
+    rows.push_back(scenes[2].title);
+    std::vector<std::vector<std::string>> cells(rows.size());
+    std::string times = "| frame ms: ours / reference |";
+    for (const World& world : worlds) {
+        std::size_t row = 0;
+        double ours_ms = 0.0, reference_ms = 0.0;
+        for (const ErrorScene& scene : scenes) {
+            const oer::FrameRequest request = error_request(scene, world, arguments.size);
+            renderer.render(request);  // warm: programs, textures, shadow maps
+            const oer::Frame frame = renderer.render(request);
+            oer::ReferenceOptions options;
+            options.bounce = oer::Bounce::One;
+            options.samples = arguments.samples;
+            const oer::ReferenceFrame reference = oer::render_reference(request, options);
+            ours_ms += color_pass_ms(frame);
+            reference_ms += reference.render_ms;
+            const std::vector<double> ours = oer::bench::frame_luminance(frame.linear);
+            const std::vector<double> truth = oer::bench::frame_luminance(reference.linear);
+            const auto cell = [](double error, double noise) {
+                char text[64];
+                std::snprintf(text, sizeof text, "%.3f (%.3f)", error, noise);
+                return std::string(text);
+            };
+            if (scene.per_sphere) {
+                const fs::path images = fs::path(arguments.out) / "materials";
+                for (const auto& [suffix, rgba] :
+                     {std::pair{"ours", &frame.linear}, {"reference", &reference.linear}}) {
+                    const std::vector<std::uint8_t> png = oer::encode_png(oer::bench::display_image(
+                        *rgba, arguments.size, arguments.size, 1.0, 0.0, oer::ToneMapper::Neutral));
+                    oer::bench::write_text_file(
+                        (images / ("spheres-" + world.name + "-" + suffix + ".png")).string(),
+                        std::string(png.begin(), png.end()));
+                }
+                for (const std::vector<std::uint8_t>& mask : sphere_masks(
+                         *scene.mesh, *request.camera, arguments.size, frame.linear, reference)) {
+                    cells[row++].push_back(
+                        cell(oer::bench::relative_rms_error(ours, truth, mask),
+                             oer::bench::relative_noise(reference.luminance_noise, truth, mask)));
+                }
+            } else {
+                const auto [error, noise] = block_error(ours, truth, reference, frame.linear);
+                cells[row++].push_back(cell(error, noise));
+            }
+            std::printf("%-12s %-50s ours %6.1f ms, reference %7.0f ms\n", world.name.c_str(),
+                        scene.title.c_str(), color_pass_ms(frame), reference.render_ms);
+        }
+        char time[96];
+        std::snprintf(time, sizeof time, " %.0f / %.0f |", ours_ms, reference_ms);
+        times += time;
+    }
+    std::ostringstream page;
+    page << "\n### Against the reference renderer\n\n"
+         << "Relative RMS of luminance against `oer reference` (the same glTF BRDF, path traced "
+            "with one bounce, "
+         << arguments.samples << " samples per pixel), " << arguments.size << "x" << arguments.size
+         << ", every frame as the service renders it (occlusion and one bounce through the "
+            "scene's baked transfer, on its floor); in brackets the reference's own noise "
+            "over the same pixels. Spheres: over each sphere's whole pixels; the bunny and the "
+            "dress form: over 4x4 blocks. Targets (docs/design.md section 8): metal at "
+            "roughness 0.3 at most 0.15, dielectric (plastic) at 0.5 at most 0.06, mirror "
+            "(metal at 0.05) at most 0.30.\n\n| scene |";
+    for (const World& world : worlds) {
+        page << " " << world.name << " |";
+    }
+    page << "\n|---|";
+    for (std::size_t i = 0; i < worlds.size(); ++i) {
+        page << "---|";
+    }
+    page << "\n";
+    for (std::size_t row = 0; row < rows.size(); ++row) {
+        page << "| " << rows[row] << " |";
+        for (const std::string& cell : cells[row]) {
+            page << " " << cell << " |";
+        }
+        page << "\n";
+    }
+    page << times << "\n";
+    return page.str();
+}
+
+int run(const Arguments& arguments) {
+    const fs::path out = arguments.out;
     if (!fs::exists(kBunny)) {
         std::fprintf(stderr, "material gallery: %s is missing (Debian package glmark2-data)\n",
                      kBunny);
@@ -108,7 +384,8 @@ int run(const fs::path& out) {
         page << "---|";
     }
     page << "\n";
-    for (const fs::path& world_path : oer::bench::blender_worlds()) {
+    std::vector<World> worlds;
+    for (const fs::path& world_path : chosen_worlds(arguments)) {
         const std::string world = world_path.stem().string();
         oer::LoadedImage loaded = oer::load_image_file(world_path.string());
         const auto map = std::make_shared<const oer::HdrImage>(std::move(loaded.image));
@@ -118,6 +395,7 @@ int run(const fs::path& out) {
         const auto cube =
             std::make_shared<const oer::PrefilteredCube>(oer::prefilter_residual(*map, *rig));
         const double prefilter_ms = oer::bench::ms_since(start);
+        worlds.push_back({world, map, rig, cube});
         char head[128];
         std::snprintf(head, sizeof head, "| %s (%zu lights) | %.0f | %.2f |", world.c_str(),
                       rig->lights.size(), prefilter_ms, double(cube->byte_size()) / 1e6);
@@ -150,6 +428,7 @@ int run(const fs::path& out) {
         }
         page << "\n";
     }
+    page << error_tables(renderer, worlds, arguments);
     oer::bench::write_text_file((out / "materials.md").string(), page.str());
     std::printf("wrote %s\n", (out / "materials.md").c_str());
     return 0;
@@ -158,12 +437,8 @@ int run(const fs::path& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 3 || std::string(argv[1]) != "--out") {
-        std::fprintf(stderr, "usage: %s --out DIR\n", argv[0]);
-        return 2;
-    }
     try {
-        return run(argv[2]);
+        return run(parse_arguments(argc, argv));
     } catch (const oer::Error& error) {
         std::fprintf(stderr, "material gallery: %s\n", error.what());
         return 1;

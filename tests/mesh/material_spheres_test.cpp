@@ -85,6 +85,30 @@ TEST(MaterialSpheres, RefusesOptionsOutOfRange) {
     options = {};
     options.rings = 1000;
     EXPECT_THROW(material_spheres_glb(options), Error);
+    options = {};
+    options.roughness = {0.0f, 1.5f};
+    try {
+        material_spheres_glb(options);
+        FAIL() << "roughness 1.5 accepted";
+    } catch (const Error& error) {
+        EXPECT_NE(std::string(error.what()).find("1.5"), std::string::npos) << error.what();
+    }
+    options.roughness = {0.5f};
+    EXPECT_THROW(material_spheres_glb(options), Error);
+}
+
+TEST(MaterialSpheres, ColumnsTakeTheRoughnessValuesGiven) {
+    MaterialSpheresOptions options;
+    options.roughness = {0.0f, 0.05f, 0.3f};
+    const Mesh mesh = load_spheres(options);
+    ASSERT_EQ(mesh.materials.size(), 6u);
+    for (const Primitive& primitive : mesh.primitives) {
+        const Material& material = mesh.materials.at(std::size_t(primitive.material));
+        const int column =
+            int(std::lround(primitive.positions[0].x / kMaterialSphereSpacing + 1.0f));
+        EXPECT_NEAR(material.roughness, options.roughness.at(std::size_t(column)), 1e-6f)
+            << material.name;
+    }
 }
 
 }  // namespace

@@ -114,6 +114,24 @@ bool hits_box(glm::dvec3 origin, glm::dvec3 direction, glm::dvec3 low, glm::dvec
     return near_t <= far_t;
 }
 
+// The RMS and mean of (green - 1) over the pixels wholly on the object.
+std::pair<double, double> furnace_error(const ReferenceFrame& frame, int& checked) {
+    double squared = 0.0, signed_sum = 0.0;
+    checked = 0;
+    for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
+        if (frame.surfaces[i] != ReferenceSurface::Object || alpha_at(frame, i) < 1.0) {
+            continue;
+        }
+        ++checked;
+        const double error = rgb_at(frame, i).g - 1.0;
+        squared += error * error;
+        signed_sum += error;
+    }
+    return {std::sqrt(squared / checked), signed_sum / checked};
+}
+
+}  // namespace
+
 TEST(ReferenceRendererFurnace, CosineSamplingGivesExactlyTheMapsRadiance) {
     // A white Lambertian sphere under constant radiance L reflects exactly L wherever it sees
     // the map alone (docs/design.md section 3): with cosine sampling each sample is L itself.
@@ -150,18 +168,8 @@ TEST(ReferenceRendererFurnace, MisIsWithinItsNoiseAndUnbiased) {
     ReferenceOptions options;
     options.samples = 16;
     const ReferenceFrame frame = render_reference(request, options);
-    double squared = 0.0, signed_sum = 0.0;
     int checked = 0;
-    for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
-        if (frame.surfaces[i] != ReferenceSurface::Object || alpha_at(frame, i) < 1.0) {
-            continue;
-        }
-        ++checked;
-        const double error = rgb_at(frame, i).g - 1.0;
-        squared += error * error;
-        signed_sum += error;
-    }
-    const double rms = std::sqrt(squared / checked), bias = signed_sum / checked;
+    const auto [rms, bias] = furnace_error(frame, checked);
     std::printf(
         "furnace, MIS: %d pixels, relative RMS error %.4f, estimated noise %.4f, "
         "mean error %.5f\n",
@@ -492,7 +500,7 @@ glm::dvec3 quad_albedo(const Mesh& mesh, double x, double y) {
     const auto hit =
         scene.intersect({x, y, 2.0}, {0.0, 0.0, -1.0}, 0.0, reference::GroundReach::Drawn);
     EXPECT_TRUE(hit.has_value());
-    return hit ? hit->albedo : glm::dvec3(-1.0);
+    return hit ? hit->material.base_color : glm::dvec3(-1.0);
 }
 
 }  // namespace
@@ -534,5 +542,143 @@ TEST(ReferenceRendererAlbedo, VertexColoursMultiplyTheAlbedo) {
     const auto hit =
         scene.intersect({-0.9, 0.9, 2.0}, {0.0, 0.0, -1.0}, 0.0, reference::GroundReach::Drawn);
     ASSERT_TRUE(hit.has_value());
-    EXPECT_NEAR(glm::distance(hit->albedo, glm::dvec3(glm::vec3(0.2f, 0.3f, 0.4f))), 0.0, 1e-9);
+    EXPECT_NEAR(glm::distance(hit->material.base_color, glm::dvec3(glm::vec3(0.2f, 0.3f, 0.4f))),
+                0.0, 1e-9);
+}
+
+namespace {
+
+// The furnace of a glossy sphere: the furnace_request with the sphere's material replaced.
+FrameRequest glossy_furnace(glm::vec3 base, float metallic, float roughness) {
+    FrameRequest request = furnace_request(glm::vec3(1.0f), glm::vec3(1.0f), 192, 32);
+    Mesh mesh = *request.objects[0].mesh;
+    mesh.materials[0] = oer::testing::metallic_roughness(base, metallic, roughness);
+    request.objects[0].mesh = std::make_shared<const Mesh>(std::move(mesh));
+    return request;
+}
+
+// An equirectangular map whose radiance varies smoothly with direction d:
+// (0.5 + 0.4 d.x, 0.5 + 0.4 d.y, 0.5 + 0.4 d.z), each pixel its centre's value.
+HdrImage gradient_map(int width, int height) {
+    HdrImage map = oer::testing::constant_map(width, height, glm::vec3(0.0f));
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const glm::dvec3 d = equirect::pixel_direction(x, y, width, height);
+            float* p = map.at(x, y);
+            for (int c = 0; c < 3; ++c) {
+                p[c] = float(0.5 + 0.4 * d[c]);
+            }
+        }
+    }
+    return map;
+}
+
+}  // namespace
+
+// The glTF BRDF under a constant map: a white metal and a white dielectric reflect the map's
+// radiance exactly at every point (the BRDF's furnace, through camera rays, light sampling and
+// MIS), so the error is the noise alone.
+TEST(ReferenceRendererGlossy, WhiteGlossySpheresVanishInTheFurnace) {
+    for (const auto& [metallic, roughness] :
+         {std::pair{1.0f, 0.5f}, {1.0f, 0.1f}, {0.0f, 0.5f}, {0.0f, 0.05f}}) {
+        // Enough samples that the heavy tail of a glossy lobe's estimates (rare large ones)
+        // does not pull the mean of a few pixels below its expectation.
+        ReferenceOptions options;
+        options.samples = 128;
+        const ReferenceFrame frame =
+            render_reference(glossy_furnace(glm::vec3(1.0f), metallic, roughness), options);
+        int checked = 0;
+        const auto [rms, bias] = furnace_error(frame, checked);
+        std::printf(
+            "glossy furnace, metallic %.0f, roughness %.2f: %d pixels, RMS %.4f, "
+            "noise %.4f, mean error %.5f\n",
+            metallic, roughness, checked, rms, frame.noise.object, bias);
+        ASSERT_GT(checked, 300);
+        EXPECT_LT(rms, 3.0 * frame.noise.object + 1e-3);
+        EXPECT_LT(std::abs(bias), 0.004) << "metallic " << metallic << ", roughness " << roughness;
+    }
+}
+
+// A chrome sphere (white metal, roughness 0) reflects the map in the mirrored direction
+// r = d - 2 (d.n) n of each camera ray d: the reference's mirror is exact to the map's pixels.
+// A pixel's few samples may include one of the multiple-scattering lobe (a 1 % chance), which
+// carries almost nothing: single pixels are noisy, the mean error is not.
+TEST(ReferenceRendererGlossy, AChromeSphereReflectsTheMapInTheMirroredDirection) {
+    const int size = 64;
+    FrameRequest request =
+        request_for(gradient_map(512, 256), plain_rig(0),
+                    oer::testing::uv_sphere({0, 0, 0}, 0.8f, 256, 128, glm::vec3(1.0f)),
+                    {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, size);
+    Mesh chrome = *request.objects[0].mesh;
+    chrome.materials[0] = oer::testing::metallic_roughness(glm::vec3(1.0f), 1.0f, 0.0f);
+    request.objects[0].mesh = std::make_shared<const Mesh>(std::move(chrome));
+    ReferenceOptions options;
+    options.samples = 16;
+    const ReferenceFrame frame = render_reference(request, options);
+    int checked = 0, off = 0;
+    double error_sum = 0.0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const std::size_t i = std::size_t(y * size + x);
+            const glm::dvec3 d = pixel_ray(*request.camera, size, x + 0.5, y + 0.5);
+            const auto p = hit_sphere(glm::dvec3(request.camera->eye), d, glm::dvec3(0.0), 0.8);
+            // Away from the rim, where a pixel's rays spread over a wide range of reflections.
+            if (!p || alpha_at(frame, i) < 1.0 || glm::dot(-d, *p / 0.8) < 0.5) {
+                continue;
+            }
+            const glm::dvec3 r = glm::reflect(d, *p / 0.8);
+            const glm::dvec3 expected = glm::dvec3(0.5) + 0.4 * r;
+            const glm::dvec3 got = rgb_at(frame, i);
+            double error = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                error = std::max(error, std::abs(got[c] - expected[c]) / expected[c]);
+            }
+            error_sum += error;
+            off += error > 0.02;
+            ++checked;
+        }
+    }
+    const double mean_error = error_sum / checked, share_off = double(off) / checked;
+    std::printf(
+        "chrome sphere: %d pixels, mean relative error %.4f, %.1f %% of them off by "
+        "more than 2 %%\n",
+        checked, mean_error, 100.0 * share_off);
+    ASSERT_GT(checked, 1000);
+    EXPECT_LT(mean_error, 0.01);
+    EXPECT_LT(share_off, 0.05);
+}
+
+// glTF's alpha modes: a masked quad in front of a sphere is seen where its alpha reaches the
+// cutoff and seen through where it does not; a blended one lets its 1 - alpha through.
+TEST(ReferenceRendererGlossy, AlphaMasksAndBlendsLetTheRaysThrough) {
+    const auto centre_of = [](AlphaMode mode, float alpha) {
+        FrameRequest request =
+            request_for(oer::testing::constant_map(64, 32, glm::vec3(1.0f)), plain_rig(0),
+                        oer::testing::uv_sphere({0, 0, 0}, 0.8f, 64, 32, glm::vec3(0.2f)),
+                        {0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 8);
+        Mesh screen = oer::testing::quad({0.0f, 0.0f, 1.5f}, 0.5f, glm::vec3(0.9f));
+        screen.materials[0].alpha_mode = mode;
+        screen.materials[0].base_color.a = alpha;
+        request.objects.push_back(
+            {std::make_shared<const Mesh>(std::move(screen)), glm::mat4(1.0f), std::nullopt});
+        ReferenceOptions options;
+        options.samples = 64;
+        options.sampling = ReferenceSampling::Cosine;
+        const ReferenceFrame frame = render_reference(request, options);
+        // The centre 2 x 2 pixels, which the quad covers.
+        double sum = 0.0;
+        for (const std::size_t i : {27u, 28u, 35u, 36u}) {
+            sum += rgb_at(frame, i).g / 4.0;
+        }
+        return sum;
+    };
+    // A white quad lit by 1 from the front (and its back by the sphere's shadow): about 0.9;
+    // the sphere's front under the map: at most 0.2.
+    const double opaque = centre_of(AlphaMode::Opaque, 1.0f);
+    const double sphere = centre_of(AlphaMode::Mask, 0.3f);
+    EXPECT_GT(opaque, 0.6);
+    EXPECT_LT(sphere, 0.25);
+    EXPECT_NEAR(centre_of(AlphaMode::Mask, 0.7f), opaque, 1e-9);
+    // Blended at 0.5: half each, within the noise of the coin.
+    EXPECT_NEAR(centre_of(AlphaMode::Blend, 0.5f), 0.5 * (opaque + sphere), 0.08);
 }

@@ -13,7 +13,9 @@
 //   FssEss P(r) so + (Fms Ems + c_diff (1 - FssEss - Fms Ems)) E / pi ao + emissive,
 // P(r) being the prefiltered radiance of the residual map plus each light's lobes weighted by
 // the same w_k v_k as its diffuse light (specular_lighting.glsl), so that switching, dimming or
-// shadowing a light takes its reflection with it; so is the specular occlusion of ao.
+// shadowing a light takes its reflection with it; so is the specular occlusion of ao. With
+// an opaque floor, what a reflection sees below the horizon is the floor, not the map
+// (floor_share).
 #include "math_constants.glsl"
 #include "sh_lighting.glsl"
 #include "shadow_filter.glsl"
@@ -23,6 +25,30 @@ uniform vec2 u_yaw;  // (cos, sin) of the environment's yaw
 uniform vec3 u_eye;
 uniform float u_albedo_scale;      // 1 / pi (hdr model) or 1 (thesis model)
 uniform float u_attenuation_base;  // thesis: 1 - sum_k (1 - w_k) luminance_share_k
+#if SPECULAR
+// The opaque floor as reflections see it (surface_shading.cpp): its radiance and height, and
+// its fade (the scene's centre x and z, the fade's start and end radius; end 0: no floor).
+uniform vec4 u_floor;
+uniform vec4 u_floor_fade;
+
+// The share of a reflection along r from `position` that sees the floor instead of the map:
+// where r goes down, the floor where the ray meets it, by the weight the floor is drawn with
+// there (SceneBounds::ground_weight); blended across the horizon over the lobe's width (alpha,
+// at least 0.01), since a rough lobe about a level r sees both.
+float floor_share(vec3 position, vec3 r, float alpha) {
+    if (u_floor_fade.w <= 0.0) {
+        return 0.0;
+    }
+    float width = max(alpha, 0.01);
+    float below = smoothstep(width, -width, r.y);
+    float down = min(r.y, -1e-3);
+    vec2 hit = position.xz + r.xz * ((position.y - u_floor.w) / -down);
+    float t = clamp((distance(hit, u_floor_fade.xy) - u_floor_fade.z) /
+                        (u_floor_fade.w - u_floor_fade.z),
+                    0.0, 1.0);
+    return below * (1.0 - t * t * (3.0 - 2.0 * t));
+}
+#endif
 #if LIGHTS_ON > 0
 uniform vec3 u_light_direction[LIGHTS_ON];  // world space: turned by the yaw
 uniform float u_light_share[LIGHTS_ON];     // w_k luminance_share_k (thesis); 0 (hdr)
@@ -74,7 +100,8 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
         vec3 single_scattering, multiple_scattering;
         split_sum_weights(f0, split_sum_dfg(n_dot_v, roughness), single_scattering,
                           multiple_scattering);
-        vec3 prefiltered = residual_reflection(map_direction(r), roughness) + lights_reflected;
+        vec3 prefiltered = mix(residual_reflection(map_direction(r), roughness) + lights_reflected,
+                               u_floor.rgb, floor_share(position, r, alpha));
         vec3 diffuse_weight = multiple_scattering + diffuse_color(base, metallic) *
                                                         (1.0 - single_scattering - multiple_scattering);
         return single_scattering * prefiltered * specular_occlusion(n_dot_v, ao, alpha) +

@@ -1,7 +1,6 @@
 #include "material_uniforms.hpp"
 
 #include <array>
-#include <cmath>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -16,16 +15,6 @@ constexpr int kReferences = int(kMaterialTextures.size());
 
 }  // namespace
 
-glm::mat3 uv_transform(const TextureReference& reference) {
-    const float c = std::cos(reference.rotation), s = std::sin(reference.rotation);
-    const glm::mat3 translation(1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, reference.offset.x,
-                                reference.offset.y, 1.0f);
-    const glm::mat3 rotation(c, s, 0.0f, -s, c, 0.0f, 0.0f, 0.0f, 1.0f);
-    const glm::mat3 scale(reference.scale.x, 0.0f, 0.0f, 0.0f, reference.scale.y, 0.0f, 0.0f, 0.0f,
-                          1.0f);
-    return translation * rotation * scale;
-}
-
 void set_material_uniforms(gl::Program& program, RendererState& state, const GpuMesh& gpu,
                            const Material& material,
                            const std::optional<glm::vec3>& base_override) {
@@ -38,7 +27,7 @@ void set_material_uniforms(gl::Program& program, RendererState& state, const Gpu
     GLint uv_sets = 0;
     for (int i = 0; i < kReferences; ++i) {
         const TextureReference& reference = *references[std::size_t(i)];
-        transforms[std::size_t(i)] = uv_transform(reference);
+        transforms[std::size_t(i)] = reference.uv_transform();
         if (!reference.present()) {
             continue;
         }

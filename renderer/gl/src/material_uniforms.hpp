@@ -4,7 +4,6 @@
 // kMaterialTextures with the sampler object of each reference, and each reference's uv transform.
 #include <optional>
 
-#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "gl_program.hpp"
@@ -13,10 +12,6 @@
 #include "renderer_state.hpp"
 
 namespace oer {
-
-// KHR_texture_transform's matrix, translation(offset) * rotation(rotation) * scale(scale), as
-// the extension's own GLSL builds it (mesh.hpp, TextureReference).
-glm::mat3 uv_transform(const TextureReference& reference);
 
 // Sets the material's uniforms on `program` (in use) and binds its textures. base_override
 // (SceneObject::base_color) replaces the base colour and the texture's RGB, keeping the

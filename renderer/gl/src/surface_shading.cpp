@@ -36,6 +36,30 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
         return;
     }
     glUniform1f(program.uniform("u_specular_max_lod"), float(frame.request.specular->levels - 1));
+    // The opaque floor as reflections see it (surface_shading.glsl, floor_share): the open
+    // floor's radiance, albedo kGroundAlbedo under the light the ground pass gives a point that
+    // nothing shadows (set 0, the transfer's open ground, no light below the plane's horizon),
+    // and the fade that draws it. A shadow catcher's floor is not seen, so it reflects nothing.
+    const FrameRequest& request = frame.request;
+    glm::vec4 floor(0.0f), floor_fade(0.0f);
+    if (request.ground && request.ground_look == GroundLook::Opaque) {
+        const glm::dvec3 up(0.0, 1.0, 0.0);
+        glm::dvec3 irradiance = frame.irradiance_sets[0].evaluate(up);
+        if (frame.transfer) {
+            irradiance += glm::dvec3(frame.open_ground_transferred);
+        }
+        for (std::size_t i = 0; i < frame.lit.size(); ++i) {
+            if (frame.light_directions[i].y < 0.0f) {
+                irradiance -= frame.irradiance_sets[i + 1].evaluate(up);
+            }
+        }
+        floor = glm::vec4(glm::vec3(double(kGroundAlbedo) / std::numbers::pi * irradiance),
+                          frame.scene.box.min.y);
+        floor_fade = glm::vec4(frame.scene.centre.x, frame.scene.centre.z,
+                               frame.scene.ground_fade_start(), frame.scene.ground_half_size());
+    }
+    glUniform4fv(program.uniform("u_floor"), 1, glm::value_ptr(floor));
+    glUniform4fv(program.uniform("u_floor_fade"), 1, glm::value_ptr(floor_fade));
     for (std::size_t i = 0; i < frame.lit.size(); ++i) {
         glUniform2fv(program.uniform(element("u_lobe_sharpness", i)), 1,
                      glm::value_ptr(frame.lobe_sharpness[i]));

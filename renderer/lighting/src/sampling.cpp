@@ -52,12 +52,34 @@ glm::dvec3 cosine_direction(const glm::dvec3& n, double u1, double u2) {
     }
     const double x = r * std::cos(phi), y = r * std::sin(phi);
     const double z = std::sqrt(std::max(0.0, 1.0 - x * x - y * y));
-    // The frame (t, s, n) of Duff et al. 2017.
+    const TangentFrame frame = tangent_frame(n);
+    return glm::normalize(x * frame.t + y * frame.s + z * n);
+}
+
+TangentFrame tangent_frame(const glm::dvec3& n) {
     const double sign = std::copysign(1.0, n.z);
     const double p = -1.0 / (sign + n.z), q = n.x * n.y * p;
-    const glm::dvec3 t(1.0 + sign * n.x * n.x * p, sign * q, -sign * n.x);
-    const glm::dvec3 s(q, sign + n.y * n.y * p, -n.y);
-    return glm::normalize(x * t + y * s + z * n);
+    return {{1.0 + sign * n.x * n.x * p, sign * q, -sign * n.x}, {q, sign + n.y * n.y * p, -n.y}};
+}
+
+glm::dvec3 ggx_visible_normal(const glm::dvec3& v, double alpha, double u1, double u2) {
+    // The view direction stretched to the hemisphere configuration (alpha 1).
+    const glm::dvec3 vh = glm::normalize(glm::dvec3(alpha * v.x, alpha * v.y, v.z));
+    // An orthonormal basis about it (Heitz's T1, T2).
+    const double length_squared = vh.x * vh.x + vh.y * vh.y;
+    const glm::dvec3 t1 = length_squared > 0.0
+                              ? glm::dvec3(-vh.y, vh.x, 0.0) / std::sqrt(length_squared)
+                              : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 t2 = glm::cross(vh, t1);
+    // A uniform point on the disc, warped to the projected hemisphere's visible half.
+    const double r = std::sqrt(u1), phi = 2.0 * pi * u2;
+    const double p1 = r * std::cos(phi);
+    const double s = 0.5 * (1.0 + vh.z);
+    const double p2 = (1.0 - s) * std::sqrt(std::max(0.0, 1.0 - p1 * p1)) + s * r * std::sin(phi);
+    const glm::dvec3 nh =
+        p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
+    // Back to the ellipsoid configuration.
+    return glm::normalize(glm::dvec3(alpha * nh.x, alpha * nh.y, std::max(0.0, nh.z)));
 }
 
 }  // namespace oer::sampling

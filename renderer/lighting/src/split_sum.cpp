@@ -19,20 +19,12 @@
 #include <glm/vec3.hpp>
 
 #include "oer/core/error.hpp"
+#include "oer/lighting/microfacet.hpp"
 #include "oer/lighting/sampling.hpp"
 
 namespace oer {
 
 namespace {
-
-// glTF 2.0 Appendix B.3.2: V = 0.5 / (n.l sqrt(n.v^2 (1 - a^2) + a^2) + n.v sqrt(n.l^2 (1 -
-// a^2) + a^2)), a = alpha.
-double smith_visibility(double n_dot_v, double n_dot_l, double alpha) {
-    const double a2 = alpha * alpha;
-    const double view = n_dot_l * std::sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2);
-    const double light = n_dot_v * std::sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
-    return 0.5 / (view + light);
-}
 
 // (A, B) of one entry, n = +z, v in the xz plane.
 glm::dvec2 integrate(double n_dot_v, double roughness, int samples) {

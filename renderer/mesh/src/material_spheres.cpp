@@ -79,11 +79,30 @@ std::string roughness_label(double roughness) {
 
 }  // namespace
 
-std::vector<std::byte> material_spheres_glb(const MaterialSpheresOptions& options) {
-    if (options.columns < 2 || options.columns > 16) {
-        throw Error(ErrorKind::InvalidInput, "material spheres: columns must be in [2, 16], not " +
-                                                 std::to_string(options.columns));
+std::vector<std::byte> material_spheres_glb(const MaterialSpheresOptions& given) {
+    MaterialSpheresOptions options = given;
+    if (options.roughness.empty()) {
+        if (options.columns < 2 || options.columns > 16) {
+            throw Error(ErrorKind::InvalidInput,
+                        "material spheres: columns must be in [2, 16], not " +
+                            std::to_string(options.columns));
+        }
+        for (int column = 0; column < options.columns; ++column) {
+            options.roughness.push_back(float(column) / float(options.columns - 1));
+        }
     }
+    if (options.roughness.size() < 2 || options.roughness.size() > 16) {
+        throw Error(ErrorKind::InvalidInput, "material spheres: 2 to 16 roughness values, not " +
+                                                 std::to_string(options.roughness.size()));
+    }
+    for (const float roughness : options.roughness) {
+        if (!(roughness >= 0.0f && roughness <= 1.0f)) {
+            throw Error(ErrorKind::InvalidInput, "material spheres: a roughness of " +
+                                                     std::to_string(roughness) +
+                                                     " is outside [0, 1]");
+        }
+    }
+    options.columns = int(options.roughness.size());
     if (options.rings < 4 || options.rings > 256) {
         throw Error(ErrorKind::InvalidInput, "material spheres: rings must be in [4, 256], not " +
                                                  std::to_string(options.rings));
@@ -146,7 +165,7 @@ std::vector<std::byte> material_spheres_glb(const MaterialSpheresOptions& option
         const bool metal = row == 1;
         const glm::vec3 color = metal ? options.metal_color : options.dielectric_color;
         for (int column = 0; column < options.columns; ++column) {
-            const double roughness = double(column) / double(options.columns - 1);
+            const double roughness = options.roughness[std::size_t(column)];
             const int index = int(materials.size());
             materials.push_back({{"name", std::string(metal ? "metal" : "dielectric") +
                                               " roughness " + roughness_label(roughness)},

@@ -1,6 +1,7 @@
 #include "oer/reference/embree_scene.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -10,6 +11,7 @@
 #include <glm/matrix.hpp>
 
 #include "oer/core/error.hpp"
+#include "oer/reference/pixel_random.hpp"
 
 namespace oer::reference {
 
@@ -29,17 +31,36 @@ double srgb_decode(std::uint8_t value) {
     return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
 }
 
-// Bilinear, repeating at the edges (glTF's default sampler), of linear texels: the renderer's
-// filtering at its finest level.
-glm::dvec3 sample_texture(const Texture& texture, glm::dvec2 uv) {
+// A texel coordinate wrapped as the sampler says (glTF 2.0 section 5.26).
+long long wrap(long long t, long long size, TextureWrap mode) {
+    switch (mode) {
+        case TextureWrap::ClampToEdge:
+            return std::clamp(t, 0LL, size - 1);
+        case TextureWrap::MirroredRepeat: {
+            const long long period = 2 * size, m = (t % period + period) % period;
+            return m < size ? m : period - 1 - m;
+        }
+        case TextureWrap::Repeat:
+            break;
+    }
+    return (t % size + size) % size;
+}
+
+// Bilinear (the renderer's filtering at its finest level) under the sampler's wrap modes, the
+// texels decoded as the texture's encoding says (sRGB for colour, linear for data).
+glm::dvec4 sample_texture(const Texture& texture, const TextureSampler& sampler, glm::dvec2 uv) {
     const double x = uv.x * texture.width - 0.5, y = uv.y * texture.height - 0.5;
     const double x0 = std::floor(x), y0 = std::floor(y);
     const double fx = x - x0, fy = y - y0;
-    const auto texel = [&texture](long long tx, long long ty) {
-        const long long w = texture.width, h = texture.height;
-        const std::size_t i = std::size_t(((ty % h + h) % h) * w + ((tx % w + w) % w)) * 4;
-        return glm::dvec3(srgb_decode(texture.rgba[i]), srgb_decode(texture.rgba[i + 1]),
-                          srgb_decode(texture.rgba[i + 2]));
+    const auto texel = [&](long long tx, long long ty) {
+        const std::size_t i = std::size_t(wrap(ty, texture.height, sampler.wrap_t) * texture.width +
+                                          wrap(tx, texture.width, sampler.wrap_s)) *
+                              4;
+        const auto channel = [&](std::size_t c) {
+            return texture.encoding == TextureEncoding::Srgb ? srgb_decode(texture.rgba[i + c])
+                                                             : texture.rgba[i + c] / 255.0;
+        };
+        return glm::dvec4(channel(0), channel(1), channel(2), texture.rgba[i + 3] / 255.0);
     };
     const long long ix = (long long)x0, iy = (long long)y0;
     return (1 - fy) * ((1 - fx) * texel(ix, iy) + fx * texel(ix + 1, iy)) +
@@ -63,6 +84,21 @@ RTCRay make_ray(const glm::dvec3& origin, const glm::dvec3& direction, double t_
 
 }  // namespace
 
+struct EmbreeScene::Corners {
+    const std::uint32_t* index;  // the triangle's three vertex indices
+    double weight[3];            // 1 - u - v, u, v
+
+    Corners(const Geometry& geometry, unsigned triangle, double u, double v)
+        : index(&geometry.indices[3 * std::size_t(triangle)]), weight{1.0 - u - v, u, v} {}
+
+    template <typename Vector>
+    auto interpolate(const std::vector<Vector>& values) const {
+        using Double = glm::vec<Vector::length(), double>;
+        return weight[0] * Double(values[index[0]]) + weight[1] * Double(values[index[1]]) +
+               weight[2] * Double(values[index[2]]);
+    }
+};
+
 EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
                          GroundTracing ground_tracing) {
     device_ = rtcNewDevice(nullptr);
@@ -76,7 +112,8 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
     for (std::size_t o = 0; o < request.objects.size(); ++o) {
         const SceneObject& object = request.objects[o];
         const Mesh& mesh = *object.mesh;
-        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(object.transform)));
+        const glm::mat3 linear(object.transform);
+        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
         for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
             const Primitive& primitive = mesh.primitives[p];
             const Material& material =
@@ -90,22 +127,45 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
                 geometry.normals.push_back(glm::normalize(normal_matrix * primitive.normals[i]));
             }
             geometry.indices = primitive.indices;
-            // The geometry pass's albedo: the request's base colour replaces the material's
-            // factor, texture and vertex colours; otherwise the factor times the texture (sRGB
-            // decoded) times the vertex colour (COLOR_0).
-            if (const std::optional<glm::vec3> colour = base_color_override(object, material)) {
-                geometry.base_color = glm::dvec3(*colour);
-            } else {
-                geometry.base_color = glm::dvec3(glm::vec3(material.base_color));
-                if (material.base_color_texture.present()) {
-                    geometry.texture =
-                        &mesh.textures.at(std::size_t(material.base_color_texture.texture));
-                    geometry.texcoords = material.base_color_texture.texcoord == 1
-                                             ? primitive.texcoords1
-                                             : primitive.texcoords;
+            geometry.texcoords[0] = primitive.texcoords;
+            geometry.texcoords[1] = primitive.texcoords1;
+            geometry.colors = primitive.colors;
+            const auto lookup = [&mesh](const TextureReference& reference) {
+                TextureLookup result;
+                if (reference.present()) {
+                    result.texture = &mesh.textures.at(std::size_t(reference.texture));
+                    result.set = reference.texcoord;
+                    result.uv_transform = reference.uv_transform();
+                    result.sampler = reference.sampler;
                 }
-                geometry.colors = primitive.colors;
+                return result;
+            };
+            // The geometry pass's base colour: the request's colour replaces the material's
+            // factor and the RGB of its texture and vertex colours, whose alpha stays.
+            geometry.base_color = glm::dvec4(material.base_color);
+            if (const std::optional<glm::vec3> colour = base_color_override(object, material)) {
+                geometry.base_color = glm::dvec4(glm::dvec3(*colour), material.base_color.a);
+                geometry.keep_texture_color = false;
             }
+            geometry.base_texture = lookup(material.base_color_texture);
+            geometry.glossy = material.glossy();
+            geometry.metallic = material.metallic;
+            geometry.roughness = material.roughness;
+            if (geometry.glossy) {
+                geometry.metallic_roughness_texture = lookup(material.metallic_roughness_texture);
+            }
+            geometry.normal_texture = lookup(material.normal_texture);
+            geometry.normal_scale = material.normal_scale;
+            if (geometry.normal_texture.texture != nullptr) {
+                for (const glm::vec4& tangent : primitive.tangents) {
+                    geometry.tangents.emplace_back(glm::normalize(linear * glm::vec3(tangent)),
+                                                   tangent.w);
+                }
+            }
+            geometry.emissive = glm::dvec3(material.emissive) * double(material.emissive_strength);
+            geometry.emissive_texture = lookup(material.emissive_texture);
+            geometry.alpha_mode = material.alpha_mode;
+            geometry.alpha_cutoff = material.alpha_cutoff;
             add(std::move(geometry));
         }
     }
@@ -123,10 +183,23 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
                             {c.x - h, y, c.z - h}};
         ground.normals.assign(4, {0.0f, 1.0f, 0.0f});
         ground.indices = {0, 1, 2, 0, 2, 3};
-        ground.base_color = glm::dvec3(kGroundAlbedo);
+        ground.base_color = glm::dvec4(glm::dvec3(kGroundAlbedo), 1.0);
         ground.ground = true;
         add(std::move(ground));
     }
+    // The filters read their geometry through its user pointer: set once every geometry has
+    // its final place in geometries_.
+    for (std::size_t id = 0; id < geometries_.size(); ++id) {
+        if (geometries_[id].alpha_mode == AlphaMode::Opaque) {
+            continue;
+        }
+        RTCGeometry geometry = rtcGetGeometry(scene_, unsigned(id));
+        rtcSetGeometryUserData(geometry, this);
+        rtcSetGeometryIntersectFilterFunction(geometry, &EmbreeScene::filter_alpha);
+        rtcSetGeometryOccludedFilterFunction(geometry, &EmbreeScene::filter_alpha);
+        rtcCommitGeometry(geometry);
+    }
+    check_embree(device_, "rtcSetGeometryIntersectFilterFunction");
     rtcCommitScene(scene_);
     check_embree(device_, "rtcCommitScene");
 }
@@ -167,26 +240,67 @@ void EmbreeScene::add(Geometry geometry) {
     geometries_.push_back(std::move(geometry));
 }
 
-glm::dvec3 EmbreeScene::albedo_at(const Geometry& geometry, unsigned triangle, double u,
-                                  double v) const {
-    if (geometry.texture == nullptr && geometry.colors.empty()) {
-        return geometry.base_color;
+glm::dvec2 EmbreeScene::uv_at(const Geometry& geometry, const TextureLookup& lookup,
+                              const Corners& corners) const {
+    const std::vector<glm::vec2>& texcoords = geometry.texcoords[lookup.set];
+    if (texcoords.empty()) {
+        return glm::dvec2(0.0);
     }
-    const std::uint32_t* corner = &geometry.indices[3 * std::size_t(triangle)];
-    glm::dvec3 albedo = geometry.base_color;
-    if (geometry.texture != nullptr) {
-        const glm::dvec2 uv = (1.0 - u - v) * glm::dvec2(geometry.texcoords[corner[0]]) +
-                              u * glm::dvec2(geometry.texcoords[corner[1]]) +
-                              v * glm::dvec2(geometry.texcoords[corner[2]]);
-        albedo *= sample_texture(*geometry.texture, uv);
+    return glm::dvec2(glm::dmat3(lookup.uv_transform) *
+                      glm::dvec3(corners.interpolate(texcoords), 1.0));
+}
+
+glm::dvec4 EmbreeScene::sample(const Geometry& geometry, const TextureLookup& lookup,
+                               const Corners& corners) const {
+    return sample_texture(*lookup.texture, lookup.sampler, uv_at(geometry, lookup, corners));
+}
+
+glm::dvec4 EmbreeScene::base_color_at(const Geometry& geometry, const Corners& corners) const {
+    glm::dvec4 base = geometry.base_color;
+    const double keep = geometry.keep_texture_color ? 1.0 : 0.0;
+    if (geometry.base_texture.texture != nullptr) {
+        const glm::dvec4 texel = sample(geometry, geometry.base_texture, corners);
+        base *= glm::dvec4(glm::mix(glm::dvec3(1.0), glm::dvec3(texel), keep), texel.a);
     }
     if (!geometry.colors.empty()) {
-        const glm::dvec3 color = (1.0 - u - v) * glm::dvec3(geometry.colors[corner[0]]) +
-                                 u * glm::dvec3(geometry.colors[corner[1]]) +
-                                 v * glm::dvec3(geometry.colors[corner[2]]);
-        albedo *= color;
+        const glm::dvec4 color = corners.interpolate(geometry.colors);
+        base *= glm::dvec4(glm::mix(glm::dvec3(1.0), glm::dvec3(color), keep), color.a);
     }
-    return albedo;
+    return base;
+}
+
+void EmbreeScene::filter_alpha(const RTCFilterFunctionNArguments* arguments) {
+    const auto& scene = *static_cast<const EmbreeScene*>(arguments->geometryUserPtr);
+    for (unsigned i = 0; i < arguments->N; ++i) {
+        if (arguments->valid[i] == 0) {
+            continue;
+        }
+        const unsigned geometry_id = RTCHitN_geomID(arguments->hit, arguments->N, i);
+        const Geometry& geometry = scene.geometries_[geometry_id];
+        const unsigned triangle = RTCHitN_primID(arguments->hit, arguments->N, i);
+        const float u = RTCHitN_u(arguments->hit, arguments->N, i);
+        const float v = RTCHitN_v(arguments->hit, arguments->N, i);
+        const double alpha = scene.base_color_at(geometry, Corners(geometry, triangle, u, v)).a;
+        bool through = false;
+        if (geometry.alpha_mode == AlphaMode::Mask) {
+            through = alpha < geometry.alpha_cutoff;
+        } else {
+            // The coin: the ray's origin and direction and the hit's place, hashed.
+            std::uint64_t key = splitmix64(std::uint64_t(geometry_id) << 32 | triangle);
+            for (const float value : {u, v, RTCRayN_org_x(arguments->ray, arguments->N, i),
+                                      RTCRayN_org_y(arguments->ray, arguments->N, i),
+                                      RTCRayN_org_z(arguments->ray, arguments->N, i),
+                                      RTCRayN_dir_x(arguments->ray, arguments->N, i),
+                                      RTCRayN_dir_y(arguments->ray, arguments->N, i),
+                                      RTCRayN_dir_z(arguments->ray, arguments->N, i)}) {
+                key = splitmix64(key ^ std::bit_cast<std::uint32_t>(value));
+            }
+            through = double(key >> 11) * 0x1p-53 >= alpha;
+        }
+        if (through) {
+            arguments->valid[i] = 0;
+        }
+    }
 }
 
 bool EmbreeScene::reaches_infinite_ground(const glm::dvec3& origin, const glm::dvec3& direction,
@@ -213,30 +327,52 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const glm::dvec3& origin,
         SurfaceHit hit;
         hit.position = origin + (*ground_height_ - origin.y) / direction.y * direction;
         hit.geometric_normal = hit.shading_normal = {0.0, 1.0, 0.0};
-        hit.albedo = glm::dvec3(kGroundAlbedo);
+        hit.material.base_color = glm::dvec3(kGroundAlbedo);
         hit.ground = true;
         return hit;
     }
     const Geometry& geometry = geometries_[ray_hit.hit.geomID];
     const unsigned triangle = ray_hit.hit.primID;
     const double u = ray_hit.hit.u, v = ray_hit.hit.v;
-    const std::uint32_t* corner = &geometry.indices[3 * std::size_t(triangle)];
+    const Corners corners(geometry, triangle, u, v);
     SurfaceHit hit;
     hit.position = origin + double(ray_hit.ray.tfar) * direction;
-    const glm::dvec3 p0(geometry.positions[corner[0]]), p1(geometry.positions[corner[1]]),
-        p2(geometry.positions[corner[2]]);
+    const glm::dvec3 p0(geometry.positions[corners.index[0]]),
+        p1(geometry.positions[corners.index[1]]), p2(geometry.positions[corners.index[2]]);
     hit.geometric_normal = glm::normalize(glm::cross(p1 - p0, p2 - p0));
     // Interpolated as the rasteriser interpolates its vertex normals (Embree's u and v are the
-    // weights of the second and third vertex), on the side of the surface the ray came from.
-    glm::dvec3 n = (1.0 - u - v) * glm::dvec3(geometry.normals[corner[0]]) +
-                   u * glm::dvec3(geometry.normals[corner[1]]) +
-                   v * glm::dvec3(geometry.normals[corner[2]]);
-    n = glm::normalize(n);
-    if (glm::dot(n, direction) > 0.0) {
-        n = -n;
+    // weights of the second and third vertex), on the side of the surface the ray came from,
+    // the normal texture applied in the tangent frame (glTF 2.0 section 3.7.2.1, as
+    // material.glsl: t made orthogonal to n, b = w cross(n, t), the map's xy times its scale).
+    glm::dvec3 n = glm::normalize(corners.interpolate(geometry.normals));
+    const bool flip = glm::dot(n, direction) > 0.0;
+    if (geometry.normal_texture.texture != nullptr && !geometry.tangents.empty()) {
+        const glm::dvec4 tangent = corners.interpolate(geometry.tangents);
+        glm::dvec3 t = glm::dvec3(tangent) - n * glm::dot(n, glm::dvec3(tangent));
+        if (glm::dot(t, t) > 1e-12) {
+            t = glm::normalize(t);
+            const glm::dvec3 b = (tangent.w < 0.0 ? -1.0 : 1.0) * glm::cross(n, t);
+            glm::dvec3 mapped =
+                glm::dvec3(sample(geometry, geometry.normal_texture, corners)) * 2.0 - 1.0;
+            mapped.x *= geometry.normal_scale;
+            mapped.y *= geometry.normal_scale;
+            n = glm::normalize(t * mapped.x + b * mapped.y + n * mapped.z);
+        }
     }
-    hit.shading_normal = n;
-    hit.albedo = albedo_at(geometry, triangle, u, v);
+    hit.shading_normal = flip ? -n : n;
+    hit.material.base_color = glm::dvec3(base_color_at(geometry, corners));
+    hit.material.glossy = geometry.glossy;
+    hit.material.metallic = geometry.metallic;
+    hit.material.roughness = geometry.roughness;
+    if (geometry.metallic_roughness_texture.texture != nullptr) {
+        const glm::dvec4 texel = sample(geometry, geometry.metallic_roughness_texture, corners);
+        hit.material.roughness *= texel.g;
+        hit.material.metallic *= texel.b;
+    }
+    hit.emissive = geometry.emissive;
+    if (geometry.emissive_texture.texture != nullptr) {
+        hit.emissive *= glm::dvec3(sample(geometry, geometry.emissive_texture, corners));
+    }
     hit.ground = geometry.ground;
     hit.object = geometry.object;
     hit.primitive = geometry.primitive;

@@ -18,6 +18,7 @@
 #include "oer/lighting/light_location.hpp"
 #include "oer/lighting/sampling.hpp"
 #include "oer/reference/embree_scene.hpp"
+#include "oer/reference/metallic_roughness_brdf.hpp"
 #include "oer/reference/pixel_random.hpp"
 
 namespace oer {
@@ -66,41 +67,42 @@ class Tracer {
            const ReferenceOptions& options, double offset)
         : scene_(scene), environment_(environment), options_(options), offset_(offset) {}
 
-    // An estimate of the irradiance at a hit, integral of L_in cos over the hemisphere of its
-    // shading normal: L_in from the environment where the way out is free and, with
-    // `bounce`, from the Lambertian surface seen elsewhere (lit by the environment alone).
-    glm::dvec3 irradiance(const SurfaceHit& hit, PixelRandom& random, bool bounce) const {
-        const glm::dvec3& n = hit.shading_normal;
-        glm::dvec3 sum(0.0);
+    // An estimate of the radiance a hit sends towards `viewer` (unit): its emission and the
+    // light it reflects by its BRDF (metallic_roughness_brdf.hpp), L_in from the environment
+    // where the way out is free and, while `bounces` remain, from the surface seen elsewhere
+    // (itself lit the same way with one bounce fewer): a chrome bowl's inside reflects itself.
+    glm::dvec3 outgoing(const SurfaceHit& hit, const glm::dvec3& viewer, PixelRandom& random,
+                        int bounces) const {
+        const reference::MetallicRoughnessBrdf brdf(hit.material, hit.shading_normal, viewer);
+        glm::dvec3 sum = hit.emissive;
         const bool mis = options_.sampling == ReferenceSampling::Mis && environment_.can_sample();
         if (mis) {
             const reference::EnvironmentSample light =
                 environment_.sample(random.uniform(), random.uniform(), random.uniform());
-            const double cosine = glm::dot(n, light.direction);
+            const double cosine = glm::dot(hit.shading_normal, light.direction);
             if (cosine > 0.0 && light.pdf > 0.0 &&
                 !scene_.occluded(leave(hit, light.direction), light.direction, 0.0,
                                  reference::GroundReach::Infinite)) {
-                sum += light.radiance *
-                       (cosine / light.pdf * power_heuristic(light.pdf, cosine / kPi));
+                sum += light.radiance * brdf.evaluate(light.direction) *
+                       (cosine / light.pdf * power_heuristic(light.pdf, brdf.pdf(light.direction)));
             }
         }
-        const glm::dvec3 direction =
-            sampling::cosine_direction(n, random.uniform(), random.uniform());
-        const double cosine = glm::dot(n, direction);
-        if (cosine <= 0.0) {
+        // A Lambertian surface has one lobe: no draw chooses it.
+        const double lobe = hit.material.glossy ? random.uniform() : 1.0;
+        const double u1 = random.uniform(), u2 = random.uniform();
+        const std::optional<reference::BrdfSample> sample = brdf.sample(lobe, u1, u2);
+        if (!sample) {
             return sum;
         }
-        const double cosine_pdf = cosine / kPi;
+        const glm::dvec3& direction = sample->direction;
         const std::optional<SurfaceHit> next = scene_.intersect(
             leave(hit, direction), direction, 0.0, reference::GroundReach::Infinite);
         if (!next) {
             const double weight =
-                mis ? power_heuristic(cosine_pdf, environment_.pdf(direction)) : 1.0;
-            // cosine / cosine_pdf = pi.
-            sum += environment_.radiance(direction) * (kPi * weight);
-        } else if (bounce) {
-            const glm::dvec3 outgoing = next->albedo / kPi * irradiance(*next, random, false);
-            sum += outgoing * kPi;
+                mis ? power_heuristic(sample->pdf, environment_.pdf(direction)) : 1.0;
+            sum += environment_.radiance(direction) * sample->weight * weight;
+        } else if (bounces > 0) {
+            sum += sample->weight * outgoing(*next, -direction, random, bounces - 1);
         }
         return sum;
     }
@@ -221,6 +223,7 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
     result.luminance_noise.assign(pixel_count, 0.0);
     std::vector<double> luminance_a(pixel_count, 0.0), luminance_b(pixel_count, 0.0);
     const int half = options.samples / 2;
+    const int bounces = options.bounce == Bounce::One ? 1 : 0;
 
     const auto render_pixel = [&](int x, int y) {
         const std::size_t index = std::size_t(y) * std::size_t(width) + std::size_t(x);
@@ -247,8 +250,7 @@ ReferenceFrame render_reference(const FrameRequest& request, const ReferenceOpti
                                     : 1.0);
             glm::dvec3 radiance(0.0);
             if (surface > 0.0) {
-                radiance = surface * hit->albedo / kPi *
-                           tracer.irradiance(*hit, random, options.bounce == Bounce::One);
+                radiance = surface * tracer.outgoing(*hit, -direction, random, bounces);
                 coverage += surface;
             }
             if (surface < 1.0 && environment_background) {

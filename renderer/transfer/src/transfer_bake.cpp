@@ -564,7 +564,7 @@ class ReceiverTracer {
             }
             if (to.native != VectorsOfHit::kNone) {
                 for (std::size_t c = 0; c < 3; ++c) {
-                    gather(to.native + c, weight * hit->albedo[int(c)], reflected);
+                    gather(to.native + c, weight * hit->material.base_color[int(c)], reflected);
                 }
             }
             if (to.unit != VectorsOfHit::kNone) {

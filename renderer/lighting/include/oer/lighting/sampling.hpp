@@ -11,6 +11,9 @@
 //    D(h) (n.h) (B. Walter, S. Marschner, H. Li and K. Torrance, "Microfacet Models for
 //    Refraction through Rough Surfaces", EGSR 2007, eqs. 33, 35 and 36), as in B. Karis, "Real
 //    Shading in Unreal Engine 4", SIGGRAPH 2013, ImportanceSampleGGX.
+//  - GGX importance sampling of the normals visible from a direction: E. Heitz, "Sampling the
+//    GGX Distribution of Visible Normals", JCGT 7(4), 2018 (the reference renderer's specular
+//    lobe, whose weight G2 / G1 stays near 1 at every roughness).
 //  - Cosine-weighted hemisphere directions: Malley's method (Pharr, Jakob and Humphreys 2016,
 //    section 13.6.3) on P. Shirley and K. Chiu's concentric map, "A Low Distortion Map Between
 //    Disk and Square", 1997.
@@ -47,12 +50,23 @@ GgxHalfVector ggx_half_vector(double alpha2, double u, double phi);
 // unit solid angle of h, at (n.h)^2 = cos2_theta.
 double ggx_distribution(double alpha2, double cos2_theta);
 
+// A unit half vector h about +z with density D_v(h) = G1(v) max(0, v.h) D(h) / v.z over the
+// solid angle (Heitz 2018's listing), for v (unit, v.z > 0) in the same frame, GGX of alpha,
+// (u1, u2) uniform in [0, 1)^2.
+glm::dvec3 ggx_visible_normal(const glm::dvec3& v, double alpha, double u1, double u2);
+
+// The tangents (t, s) that make (t, s, n) a right-handed orthonormal frame about the unit n
+// (T. Duff, J. Burgess, P. Christensen, C. Hery, A. Kensler, M. Liani and R. Villemin,
+// "Building an Orthonormal Basis, Revisited", JCGT 6(1), 2017).
+struct TangentFrame {
+    glm::dvec3 t, s;
+};
+TangentFrame tangent_frame(const glm::dvec3& n);
+
 // A direction about the unit normal n with density cos / pi for (u1, u2) uniform in [0, 1)^2:
 // a uniform point on the disc by the concentric map, lifted onto the hemisphere (Malley's
 // method). The concentric map keeps the square's strata compact on the disc, so stratified
-// (u1, u2) give stratified directions. The frame about n is T. Duff, J. Burgess, P.
-// Christensen, C. Hery, A. Kensler, M. Liani and R. Villemin, "Building an Orthonormal Basis,
-// Revisited", JCGT 6(1), 2017.
+// (u1, u2) give stratified directions. The frame about n is tangent_frame's.
 glm::dvec3 cosine_direction(const glm::dvec3& n, double u1, double u2);
 
 }  // namespace oer::sampling

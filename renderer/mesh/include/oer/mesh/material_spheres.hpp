@@ -16,6 +16,8 @@ struct MaterialSpheresOptions {
     int columns = 5;  // roughness steps, in [2, 16]: roughness i / (columns - 1)
     glm::vec3 dielectric_color{0.80f, 0.10f, 0.08f};  // linear base colour of the top row
     glm::vec3 metal_color{1.00f, 0.78f, 0.34f};       // gold-like F0 of the bottom row
+    // The columns' roughness, each in [0, 1], 2 to 16 of them; empty: i / (columns - 1).
+    std::vector<float> roughness{};
     int rings = 32;  // the UV spheres' latitude rings, in [4, 256]; 2 x rings segments
 };
 

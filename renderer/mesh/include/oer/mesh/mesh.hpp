@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -64,6 +65,9 @@ struct TextureReference {
     float rotation = 0.0f;  // radians, counter-clockwise in uv
     glm::vec2 scale{1.0f};
     bool present() const { return texture >= 0; }
+    // KHR_texture_transform's matrix, translation(offset) * rotation(rotation) * scale(scale),
+    // as the extension's own GLSL builds it: the rasteriser's uniform and the reference's uv.
+    glm::mat3 uv_transform() const;
 };
 
 enum class ShadingModel {

@@ -13,10 +13,13 @@
 #include <vector>
 
 #include <embree3/rtcore.h>
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "oer/mesh/camera.hpp"
+#include "oer/reference/metallic_roughness_brdf.hpp"
 #include "oer/scene/frame_request.hpp"
 #include "oer/scene/scene_bounds.hpp"
 
@@ -25,8 +28,13 @@ namespace oer::reference {
 struct SurfaceHit {
     glm::dvec3 position{0.0};
     glm::dvec3 geometric_normal{0.0};  // unit, either side
-    glm::dvec3 shading_normal{0.0};    // unit, on the side the ray came from
-    glm::dvec3 albedo{0.0};
+    // Unit, on the side the ray came from; the material's normal texture applied.
+    glm::dvec3 shading_normal{0.0};
+    // The material there (base colour: the factor times the texture, sRGB decoded, times
+    // COLOR_0, or the request's base colour; metallic and roughness: the factors times the
+    // texture), a Lambertian albedo of 0.8 on the ground (docs/design.md section 7).
+    SurfaceMaterial material;
+    glm::dvec3 emissive{0.0};  // factor times KHR_materials_emissive_strength times texture
     bool ground = false;
     // Where on the request's meshes (not set on the ground): request.objects[object], its
     // mesh's primitives[primitive], the triangle's index in that primitive's index list
@@ -70,22 +78,44 @@ class EmbreeScene {
                   GroundReach reach) const;
 
   private:
+    // A material's use of a texture on one primitive (mesh.hpp's TextureReference).
+    struct TextureLookup {
+        const Texture* texture = nullptr;
+        int set = 0;  // TEXCOORD_0 or TEXCOORD_1
+        glm::mat3 uv_transform{1.0f};
+        TextureSampler sampler;
+    };
     struct Geometry {
         std::vector<glm::vec3> positions;  // world space
         std::vector<glm::vec3> normals;    // world space, unit
-        std::vector<glm::vec2> texcoords;  // empty without a texture
-        // COLOR_0, multiplying the albedo; empty without vertex colours or with the object's
-        // base colour (which replaces them, as it does the texture).
+        std::vector<glm::vec4> tangents;   // world space, w the bitangent's sign; with a normal map
+        std::vector<glm::vec2> texcoords[2];  // empty where no texture reads the set
+        // COLOR_0, multiplying the base colour and alpha (only the alpha under the request's
+        // base colour, which replaces the RGB, as it does the texture's); empty without them.
         std::vector<glm::vec4> colors;
         std::vector<std::uint32_t> indices;
-        glm::dvec3 base_color{1.0};
-        const Texture* texture = nullptr;  // the base-color texture, sRGB
+        glm::dvec4 base_color{1.0};
+        bool keep_texture_color = true;  // false under the request's base colour
+        TextureLookup base_texture, metallic_roughness_texture, normal_texture, emissive_texture;
+        bool glossy = false;
+        double metallic = 0.0, roughness = 1.0, normal_scale = 1.0;
+        glm::dvec3 emissive{0.0};
+        AlphaMode alpha_mode = AlphaMode::Opaque;
+        double alpha_cutoff = 0.5;
         bool ground = false;
         std::size_t object = 0;     // index in request.objects (not for the ground)
         std::size_t primitive = 0;  // index in that object's mesh's primitives
     };
+    struct Corners;  // a triangle's vertex indices and barycentric weights
+    glm::dvec2 uv_at(const Geometry& geometry, const TextureLookup& lookup,
+                     const Corners& corners) const;
+    glm::dvec4 sample(const Geometry& geometry, const TextureLookup& lookup,
+                      const Corners& corners) const;
+    glm::dvec4 base_color_at(const Geometry& geometry, const Corners& corners) const;
+    // Whether a hit on a masked or blended surface lets the ray through (Embree's filters).
+    static void filter_alpha(const RTCFilterFunctionNArguments* arguments);
+
     void add(Geometry geometry);
-    glm::dvec3 albedo_at(const Geometry& geometry, unsigned triangle, double u, double v) const;
 
     // Whether a ray from origin along direction meets the infinite ground plane beyond the drawn
     // square: it goes down from above the plane.
