@@ -130,8 +130,6 @@ std::pair<double, double> furnace_error(const ReferenceFrame& frame, int& checke
     return {std::sqrt(squared / checked), signed_sum / checked};
 }
 
-}  // namespace
-
 TEST(ReferenceRendererFurnace, CosineSamplingGivesExactlyTheMapsRadiance) {
     // A white Lambertian sphere under constant radiance L reflects exactly L wherever it sees
     // the map alone (docs/design.md section 3): with cosine sampling each sample is L itself.
