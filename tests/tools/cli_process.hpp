@@ -21,17 +21,24 @@ inline std::string slurp(const std::filesystem::path& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// Runs `oer ARGUMENTS` (through the shell, stdin empty), its output kept in files in `dir`.
-inline ProcessResult run_oer(const std::string& arguments, const std::filesystem::path& dir) {
+// Runs `EXECUTABLE ARGUMENTS` (through the shell, stdin empty), its output kept in files in
+// `dir`.
+inline ProcessResult run_executable(const std::string& executable, const std::string& arguments,
+                                    const std::filesystem::path& dir) {
     const std::filesystem::path out = dir / "stdout", err = dir / "stderr";
-    const std::string command = std::string(OER_CLI_PATH) + " " + arguments + " >" + out.string() +
-                                " 2>" + err.string() + " </dev/null";
+    const std::string command =
+        executable + " " + arguments + " >" + out.string() + " 2>" + err.string() + " </dev/null";
     const int raw = std::system(command.c_str());
     ProcessResult result;
     result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
     result.out = slurp(out);
     result.err = slurp(err);
     return result;
+}
+
+// Runs `oer ARGUMENTS`, as run_executable.
+inline ProcessResult run_oer(const std::string& arguments, const std::filesystem::path& dir) {
+    return run_executable(OER_CLI_PATH, arguments, dir);
 }
 
 // A fixture whose tests each have a fresh folder dir_ (removed afterwards) and run `oer` in it.
