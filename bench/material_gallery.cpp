@@ -287,15 +287,6 @@ std::string error_tables(oer::bench::BenchRenderer& renderer, const std::vector<
                 return std::string(text);
             };
             if (scene.per_sphere) {
-                const fs::path images = fs::path(arguments.out) / "materials";
-                for (const auto& [suffix, rgba] :
-                     {std::pair{"ours", &frame.linear}, {"reference", &reference.linear}}) {
-                    const std::vector<std::uint8_t> png = oer::encode_png(oer::bench::display_image(
-                        *rgba, arguments.size, arguments.size, 1.0, 0.0, oer::ToneMapper::Neutral));
-                    oer::bench::write_text_file(
-                        (images / ("spheres-" + world.name + "-" + suffix + ".png")).string(),
-                        std::string(png.begin(), png.end()));
-                }
                 for (const std::vector<std::uint8_t>& mask : sphere_masks(
                          *scene.mesh, *request.camera, arguments.size, frame.linear, reference)) {
                     cells[row++].push_back(
