@@ -21,7 +21,6 @@ using reference::SurfaceMaterial;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 const glm::dvec3 kNormal = glm::normalize(glm::dvec3(0.3, 1.0, -0.2));
 
 // The unit direction at angle acos(n_dot_w) from kNormal, turned by `azimuth` about it.
@@ -129,8 +128,9 @@ TEST(MetallicRoughnessBrdfSampling, TheDensityAndTheDirectionsLostUnderTheHorizo
             for (int j = 0; j < side; ++j) {
                 // Uniform in solid angle: cos theta uniform in (0, 1].
                 const double cosine = 1.0 - (i + 0.5) / side;
-                integral += brdf.pdf(direction_at(cosine, 2.0 * kPi * (j + 0.5) / side)) * 2.0 *
-                            kPi / (side * side);
+                integral +=
+                    brdf.pdf(direction_at(cosine, 2.0 * std::numbers::pi * (j + 0.5) / side)) *
+                    2.0 * std::numbers::pi / (side * side);
                 lost += !brdf.sample(random.uniform(), random.uniform(), random.uniform());
             }
         }
@@ -163,6 +163,6 @@ TEST(MetallicRoughnessBrdfReciprocity, ALambertianMaterialIsItsAlbedoOverPi) {
     const MetallicRoughnessBrdf brdf({{0.2, 0.4, 0.6}, 0.0, 1.0, false}, kNormal,
                                      direction_at(0.5, 0.0));
     const glm::dvec3 f = brdf.evaluate(direction_at(0.3, 2.0));
-    EXPECT_NEAR(f.b, 0.6 / kPi, 1e-12);
+    EXPECT_NEAR(f.b, 0.6 / std::numbers::pi, 1e-12);
     EXPECT_EQ(brdf.evaluate(-kNormal), glm::dvec3(0.0));
 }

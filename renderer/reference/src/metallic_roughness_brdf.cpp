@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "oer/lighting/light_location.hpp"
 #include "oer/lighting/microfacet.hpp"
 #include "oer/lighting/sampling.hpp"
 #include "oer/lighting/split_sum.hpp"
@@ -15,7 +16,7 @@ namespace oer::reference {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using std::numbers::pi;
 
 // The split sum's (A, B) at 64 x 64 entries of 4096 samples (the rasteriser's is 32 x 32 of
 // 1024: the reference's furnace must be exact to well under a percent at grazing angles), and
@@ -50,10 +51,6 @@ struct AlbedoTables {
 const AlbedoTables& albedo_tables() {
     static const AlbedoTables tables;
     return tables;
-}
-
-double luminance(const glm::dvec3& c) {
-    return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
 }
 
 }  // namespace
@@ -109,7 +106,7 @@ glm::dvec3 MetallicRoughnessBrdf::evaluate(const glm::dvec3& l) const {
         return glm::dvec3(0.0);
     }
     if (!material_.glossy) {
-        return diffuse_color_ / kPi;
+        return diffuse_color_ / pi;
     }
     const glm::dvec3 h = glm::normalize(v_ + l);
     const double v_dot_h = std::max(glm::dot(v_, h), 0.0);
@@ -120,11 +117,11 @@ glm::dvec3 MetallicRoughnessBrdf::evaluate(const glm::dvec3& l) const {
     const glm::dvec2 at_l = sample_dfg(albedo_tables().table, n_dot_l, material_.roughness);
     if (white_albedo_average_ < 1.0 - 1e-9) {
         f += multiple_scattering_fresnel_ * ((1.0 - white_albedo_v_) * (1.0 - (at_l.x + at_l.y)) /
-                                             (kPi * (1.0 - white_albedo_average_)));
+                                             (pi * (1.0 - white_albedo_average_)));
     }
     const glm::dvec3 specular_albedo_l =
         f0_ * at_l.x + at_l.y + multiple_scattering_fresnel_ * (1.0 - (at_l.x + at_l.y));
-    f += diffuse_color_ / kPi * (1.0 - specular_albedo_v_) * (1.0 - specular_albedo_l) /
+    f += diffuse_color_ / pi * (1.0 - specular_albedo_v_) * (1.0 - specular_albedo_l) /
          glm::max(1.0 - specular_albedo_average_, glm::dvec3(1e-9));
     return f;
 }
@@ -142,7 +139,7 @@ double MetallicRoughnessBrdf::pdf(const glm::dvec3& l) const {
     if (n_dot_l <= 0.0) {
         return 0.0;
     }
-    const double cosine = n_dot_l / kPi;
+    const double cosine = n_dot_l / pi;
     if (specular_share_ <= 0.0) {
         return cosine;
     }
