@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "directions.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/sheen_albedo.hpp"
 
@@ -35,27 +36,17 @@ double lambda(double x, double alpha) {
     return x < 0.5 ? std::exp(fit(x)) : std::exp(2.0 * fit(0.5) - fit(1.0 - x));
 }
 
-double hemisphere_integral(double n_dot_v, double roughness, int rows, int columns) {
+double sheen_integral(double n_dot_v, double roughness, int rows, int columns) {
     const double alpha = roughness * roughness;
     const glm::dvec3 v(std::sqrt(1.0 - n_dot_v * n_dot_v), 0.0, n_dot_v);
-    double sum = 0.0;
-    for (int t = 0; t < rows; ++t) {
-        const double theta0 = 0.5 * pi * t / rows, theta1 = 0.5 * pi * (t + 1) / rows;
-        const double theta = 0.5 * (theta0 + theta1);
-        const double cell = (std::cos(theta0) - std::cos(theta1)) * 2.0 * pi / columns;
-        for (int p = 0; p < columns; ++p) {
-            const double phi = 2.0 * pi * (p + 0.5) / columns;
-            const glm::dvec3 l(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                               std::cos(theta));
-            const glm::dvec3 h = glm::normalize(l + v);
-            const double sin2_h = 1.0 - h.z * h.z;
-            const double d = (2.0 + 1.0 / alpha) * std::pow(sin2_h, 0.5 / alpha) / (2.0 * pi);
-            const double visibility =
-                1.0 / ((1.0 + lambda(n_dot_v, alpha) + lambda(l.z, alpha)) * 4.0 * n_dot_v * l.z);
-            sum += d * visibility * l.z * cell;
-        }
-    }
-    return sum;
+    return oer::testing::hemisphere_integral<double>(rows, columns, [&](const glm::dvec3& l) {
+        const glm::dvec3 h = glm::normalize(l + v);
+        const double sin2_h = 1.0 - h.z * h.z;
+        const double d = (2.0 + 1.0 / alpha) * std::pow(sin2_h, 0.5 / alpha) / (2.0 * pi);
+        const double visibility =
+            1.0 / ((1.0 + lambda(n_dot_v, alpha) + lambda(l.z, alpha)) * 4.0 * n_dot_v * l.z);
+        return d * visibility * l.z;
+    });
 }
 
 }  // namespace
@@ -70,7 +61,7 @@ TEST(SheenAlbedo, EveryEntryAgreesWithABruteForceQuadrature) {
         for (int i = 0; i < size; i += 3) {
             const double n_dot_v = (i + 0.5) / size, roughness = (j + 0.5) / size;
             // The table holds at most 1 (sheen_albedo.hpp).
-            const double want = std::min(1.0, hemisphere_integral(n_dot_v, roughness, 512, 256));
+            const double want = std::min(1.0, sheen_integral(n_dot_v, roughness, 512, 256));
             const double got = table.albedo[std::size_t(j * size + i)];
             worst = std::max(worst, std::abs(got - want) / std::max(want, 0.1));
             EXPECT_NEAR(got, want, 0.02 * want + 0.002)
