@@ -237,8 +237,8 @@ TEST_F(MaterialExtensionsTest, TransmissionSendsTheEnvironmentTimesItsShare) {
     EXPECT_LT(half.worst, 2e-3);
 }
 
-// A mirror coat over a black base reflects a small light where reflection puts it, and loses it
-// with the light's weight: the coat's lobe is weighted w_k v_k as the base's specular lobe is.
+// A mirror coat over a black base reflects a small light, and loses it with the light's weight
+// and in the light's shadow: the coat's lobe is weighted w_k v_k as the base's specular lobe is.
 TEST_F(MaterialExtensionsTest, TheCoatsReflectionOfALightGoesWithTheLight) {
     const glm::dvec3 direction = glm::normalize(glm::dvec3(0.35, 0.6, 1.0));
     const HdrImage map =
@@ -263,8 +263,23 @@ TEST_F(MaterialExtensionsTest, TheCoatsReflectionOfALightGoesWithTheLight) {
     const double dimmed = peak(render(request));
     request.lights = {0.0f};
     const double off = peak(render(request));
-    std::printf("[ measured ] coat's highlight: %.3f lit, %.3f at weight 0.5, %.4f off\n", lit,
-                dimmed, off);
+    // A box over the highlight, across its rays towards the light (the highlight lies about the
+    // half vector of the view and the light), out of the camera's view of it.
+    request.lights = {};
+    const glm::dvec3 highlight = glm::normalize(direction + glm::dvec3(0.0, 0.0, 1.0));
+    const glm::dvec3 blocker = highlight + 1.5 * direction;
+    request.objects.push_back(
+        {oer::testing::shared(oer::testing::box(glm::vec3(blocker - 0.35),
+                                                glm::vec3(blocker + 0.35), glm::vec3(0.5f))),
+         glm::mat4(1.0f), std::nullopt});
+    request.shadows.enabled = true;
+    request.shadows.resolution = 2048;
+    const double shadowed = peak(render(request));
+    std::printf(
+        "[ measured ] coat's highlight: %.3f lit, %.3f at weight 0.5, %.4f off, %.4f in the "
+        "box's shadow\n",
+        lit, dimmed, off, shadowed);
+    EXPECT_LT(shadowed, 0.05 * lit);
     // At normal incidence the coat reflects 4 % of the light's radiance of 100.
     EXPECT_GT(lit, 2.0);
     EXPECT_NEAR(dimmed / lit, 0.5, 0.05);
