@@ -107,6 +107,17 @@ std::shared_ptr<const oer::Mesh> with_material(const oer::Mesh& mesh, float meta
     return glossy;
 }
 
+// The bunny as with_material's dielectric of roughness 0.5 with the material extensions' layers
+// `add_layers` gives it (docs/materials.md), shaded by the layered pass.
+template <typename AddLayers>
+std::shared_ptr<const oer::Mesh> with_layers(const oer::Mesh& mesh, AddLayers add_layers) {
+    auto layered = std::make_shared<oer::Mesh>(*with_material(mesh, 0.0f, 0.5f));
+    for (oer::Material& material : layered->materials) {
+        add_layers(material);
+    }
+    return layered;
+}
+
 oer::FrameRequest bunny_request(std::shared_ptr<const oer::Mesh> bunny,
                                 std::shared_ptr<const oer::Rig> rig, int width, int height) {
     oer::FrameRequest request;
@@ -218,6 +229,21 @@ int main(int argc, char** argv) {
         {"Lambertian (as loaded)", bunny},
         {"dielectric, roughness 0.5", with_material(*bunny, 0.0f, 0.5f)},
         {"metal, roughness 0.2", with_material(*bunny, 1.0f, 0.2f)},
+        {"dielectric 0.5, clear coat", with_layers(*bunny,
+                                                   [](oer::Material& m) {
+                                                       m.clearcoat.factor = 1.0f;
+                                                       m.clearcoat.roughness = 0.1f;
+                                                   })},
+        {"dielectric 0.5, every layer", with_layers(*bunny,
+                                                    [](oer::Material& m) {
+                                                        m.ior = 1.4f;
+                                                        m.specular.factor = 0.8f;
+                                                        m.clearcoat.factor = 1.0f;
+                                                        m.clearcoat.roughness = 0.1f;
+                                                        m.sheen.color = glm::vec3(0.5f);
+                                                        m.sheen.roughness = 0.5f;
+                                                        m.transmission.factor = 0.5f;
+                                                    })},
     };
 
     std::printf(
@@ -284,7 +310,8 @@ int main(int argc, char** argv) {
     std::printf(
         "\nmaterials, 2 lights, cached shadow maps, 1 sample per pixel: the bunny's "
         "color pass ms with its Lambertian material and with glossy PBR ones (split-sum IBL and "
-        "the lights' lobes), same run; target <= %.1fx Lambertian\n",
+        "the lights' lobes; the last two with the extensions' layers, docs/materials.md), same "
+        "run; target <= %.1fx Lambertian\n",
         targets::kPbrColorPassRatio);
     for (const auto& [width, height] : {std::pair{512, 512}, std::pair{1366, 768}}) {
         double lambertian_ms = 0.0;

@@ -16,9 +16,10 @@ namespace {
 
 constexpr EnumNames<MeshFormat, 3> kMeshFormatNames = {
     {{MeshFormat::Glb, "glb"}, {MeshFormat::Gltf, "gltf"}, {MeshFormat::Obj, "obj"}}};
-constexpr EnumNames<ShadingModel, 2> kShadingModelNames = {
+constexpr EnumNames<ShadingModel, 3> kShadingModelNames = {
     {{ShadingModel::Lambertian, "lambertian"},
-     {ShadingModel::MetallicRoughness, "metallic_roughness"}}};
+     {ShadingModel::MetallicRoughness, "metallic_roughness"},
+     {ShadingModel::Unlit, "unlit"}}};
 constexpr EnumNames<AlphaMode, 3> kAlphaModeNames = {
     {{AlphaMode::Opaque, "opaque"}, {AlphaMode::Mask, "mask"}, {AlphaMode::Blend, "blend"}}};
 constexpr EnumNames<CameraProjection, 2> kProjectionNames = {

@@ -41,50 +41,17 @@ using oer::testing::front_camera;
 using oer::testing::hit_sphere;
 using oer::testing::hits_box;
 using oer::testing::linear_alpha;
+using oer::testing::linear_request;
 using oer::testing::linear_rgb;
 using oer::testing::make_rig;
 using oer::testing::pixel_ray;
+using oer::testing::shared;
+using oer::testing::sphere_normal;
+using oer::testing::sphere_of;
 
 namespace {
 
 class MaterialShadingTest : public oer::testing::RendererSuite {};
-
-std::shared_ptr<const Mesh> shared(Mesh mesh) {
-    return std::make_shared<const Mesh>(std::move(mesh));
-}
-
-// A unit sphere at the origin with one material.
-std::shared_ptr<const Mesh> sphere_of(const Material& material) {
-    Mesh mesh = oer::testing::uv_sphere({0, 0, 0}, 1.0f, 256, 128, glm::vec3(1.0f));
-    mesh.materials[0] = material;
-    return shared(std::move(mesh));
-}
-
-FrameRequest linear_request(std::shared_ptr<const Rig> rig, const Camera& camera, int size) {
-    FrameRequest request;
-    request.rig = std::move(rig);
-    request.camera = camera;
-    request.width = request.height = size;
-    request.ground = false;
-    request.background.kind = BackgroundKind::Transparent;
-    request.samples = 1;
-    request.linear = true;
-    return request;
-}
-
-// The unit sphere's normal seen through pixel (x, y), or nothing for pixels that miss it or
-// lie within about a pixel of its silhouette.
-std::optional<glm::dvec3> sphere_normal(const Camera& camera, int size, int x, int y,
-                                        glm::dvec3 centre = {0, 0, 0}, double radius = 1.0) {
-    const glm::dvec3 eye(camera.eye);
-    const glm::dvec3 ray = pixel_ray(camera, size, size, x, y);
-    const auto t = hit_sphere(eye, ray, centre, radius);
-    if (!t) {
-        return std::nullopt;
-    }
-    const glm::dvec3 n = glm::normalize(eye + *t * ray - centre);
-    return glm::dot(n, -ray) > 0.2 ? std::optional(n) : std::nullopt;
-}
 
 // One small bright disc light over a dim constant sky: the map of the specular tests.
 struct SmallLight {

@@ -488,9 +488,9 @@ TEST(ShaderSourcesGlslang, EveryVariantOfEveryFrameProgramCompiles) {
         }
     }
     // The shading pass's 3 SH orders x 3 light counts x 192 switch combinations, the
-    // transparent pass's 3 x 3 x 16, the bake's 3 x 3 x 2, the resolve's 2, depth's 2 and
-    // geometry's 8.
-    EXPECT_EQ(variants.size(), 2304u + 144u + 18u + 2u + 2u + 8u);
+    // transparent pass's 3 x 3 x 32, the layered pass's 3 x 3 x 16, the bake's 3 x 3 x 2, the
+    // resolve's 2, depth's 2 and geometry's 8.
+    EXPECT_EQ(variants.size(), 2304u + 288u + 144u + 18u + 2u + 2u + 8u);
 
     // Each distinct error once, with the variants that have it.
     std::map<std::string, std::vector<const Compiled*>> errors;

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "directions.hpp"
 #include "oer/core/error.hpp"
 #include "oer/lighting/split_sum.hpp"
 
@@ -26,28 +27,17 @@ namespace {
 glm::dvec2 hemisphere_integral(double n_dot_v, double roughness, int rows, int columns) {
     const double alpha = roughness * roughness, a2 = alpha * alpha;
     const glm::dvec3 v(std::sqrt(1.0 - n_dot_v * n_dot_v), 0.0, n_dot_v);
-    glm::dvec2 sum(0.0);
-    for (int t = 0; t < rows; ++t) {
-        const double theta0 = 0.5 * pi * t / rows, theta1 = 0.5 * pi * (t + 1) / rows;
-        const double theta = 0.5 * (theta0 + theta1);
-        const double cell = (std::cos(theta0) - std::cos(theta1)) * 2.0 * pi / columns;
-        for (int p = 0; p < columns; ++p) {
-            const double phi = 2.0 * pi * (p + 0.5) / columns;
-            const glm::dvec3 l(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                               std::cos(theta));
-            const glm::dvec3 h = glm::normalize(l + v);
-            const double n_dot_l = l.z, n_dot_h = h.z, v_dot_h = glm::dot(v, h);
-            const double d_denominator = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
-            const double d = a2 / (pi * d_denominator * d_denominator);
-            const double visibility =
-                0.5 / (n_dot_l * std::sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2) +
-                       n_dot_v * std::sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2));
-            const double fresnel = std::pow(1.0 - v_dot_h, 5.0);
-            const double f = d * visibility * n_dot_l * cell;
-            sum += glm::dvec2((1.0 - fresnel) * f, fresnel * f);
-        }
-    }
-    return sum;
+    return oer::testing::hemisphere_integral<glm::dvec2>(rows, columns, [&](const glm::dvec3& l) {
+        const glm::dvec3 h = glm::normalize(l + v);
+        const double n_dot_l = l.z, n_dot_h = h.z, v_dot_h = glm::dot(v, h);
+        const double d_denominator = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+        const double d = a2 / (pi * d_denominator * d_denominator);
+        const double visibility = 0.5 / (n_dot_l * std::sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2) +
+                                         n_dot_v * std::sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2));
+        const double fresnel = std::pow(1.0 - v_dot_h, 5.0);
+        const double f = d * visibility * n_dot_l;
+        return glm::dvec2((1.0 - fresnel) * f, fresnel * f);
+    });
 }
 
 }  // namespace

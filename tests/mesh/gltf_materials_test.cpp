@@ -178,6 +178,232 @@ TEST(GltfMaterials, AbsentPropertiesTakeTheSpecificationsDefaults) {
     EXPECT_TRUE(mesh.primitives[0].tangents.empty());
 }
 
+// ---------------------------------------------------------------------------------------------
+// The material extensions (mesh.hpp's layers), by their Khronos specifications
+
+// Every factor and texture of the layer extensions, a texture transform and the second uv set
+// on one of them, each texture in its kind's encoding.
+TEST(GltfMaterialsExtensions, EveryLayerFactorAndTextureIsRead) {
+    const json transformed = {
+        {"index", 1},
+        {"extensions",
+         {{"KHR_texture_transform",
+           {{"offset", {0.25, 0.5}}, {"scale", {2.0, 3.0}}, {"texCoord", 1}}}}}};
+    const json material = {
+        {"name", "Lacquer"},
+        {"extensions",
+         {{"KHR_materials_ior", {{"ior", 1.33}}},
+          {"KHR_materials_specular",
+           {{"specularFactor", 0.5},
+            {"specularTexture", {{"index", 0}}},
+            {"specularColorFactor", {2.0, 1.0, 0.5}},
+            {"specularColorTexture", {{"index", 0}}}}},
+          {"KHR_materials_clearcoat",
+           {{"clearcoatFactor", 0.75},
+            {"clearcoatTexture", {{"index", 1}}},
+            {"clearcoatRoughnessFactor", 0.25},
+            {"clearcoatRoughnessTexture", transformed},
+            {"clearcoatNormalTexture", {{"index", 1}, {"scale", 0.5}}}}},
+          {"KHR_materials_sheen",
+           {{"sheenColorFactor", {0.9, 0.8, 0.7}},
+            {"sheenColorTexture", {{"index", 0}}},
+            {"sheenRoughnessFactor", 0.6},
+            {"sheenRoughnessTexture", {{"index", 1}}}}},
+          {"KHR_materials_transmission",
+           {{"transmissionFactor", 0.4}, {"transmissionTexture", {{"index", 1}}}}},
+          {"KHR_materials_volume",
+           {{"thicknessFactor", 0.02},
+            {"thicknessTexture", {{"index", 1}}},
+            {"attenuationDistance", 0.5},
+            {"attenuationColor", {0.9, 0.5, 0.25}}}}}}};
+    const Mesh mesh = load_gltf_text(quad_asset(material, 2));
+    expect_valid(mesh);
+    const Material& m = material_of(mesh);
+    EXPECT_EQ(m.model, ShadingModel::MetallicRoughness);
+    EXPECT_TRUE(m.layered());
+    EXPECT_FLOAT_EQ(m.ior, 1.33f);
+    EXPECT_EQ(m.specular.factor, 0.5f);
+    EXPECT_EQ(m.specular.color, glm::vec3(2.0f, 1.0f, 0.5f));
+    EXPECT_EQ(m.clearcoat.factor, 0.75f);
+    EXPECT_EQ(m.clearcoat.roughness, 0.25f);
+    EXPECT_EQ(m.clearcoat.normal_scale, 0.5f);
+    EXPECT_EQ(m.sheen.color, glm::vec3(0.9f, 0.8f, 0.7f));
+    EXPECT_FLOAT_EQ(m.sheen.roughness, 0.6f);
+    EXPECT_FLOAT_EQ(m.transmission.factor, 0.4f);
+    EXPECT_FLOAT_EQ(m.volume.thickness, 0.02f);
+    EXPECT_EQ(m.volume.attenuation_distance, 0.5f);
+    EXPECT_EQ(m.volume.attenuation_color, glm::vec3(0.9f, 0.5f, 0.25f));
+    const auto encoding = [&](const TextureReference& r) {
+        EXPECT_TRUE(r.present());
+        return r.present() ? mesh.textures.at(std::size_t(r.texture)).encoding
+                           : TextureEncoding::Linear;
+    };
+    // Colours are sRGB (each extension's specification), the rest linear data.
+    EXPECT_EQ(encoding(m.specular.color_texture), TextureEncoding::Srgb);
+    EXPECT_EQ(encoding(m.sheen.color_texture), TextureEncoding::Srgb);
+    for (const TextureReference* data :
+         {&m.specular.texture, &m.clearcoat.texture, &m.clearcoat.roughness_texture,
+          &m.clearcoat.normal_texture, &m.sheen.roughness_texture, &m.transmission.texture,
+          &m.volume.thickness_texture}) {
+        EXPECT_EQ(encoding(*data), TextureEncoding::Linear);
+    }
+    EXPECT_EQ(m.clearcoat.roughness_texture.offset, glm::vec2(0.25f, 0.5f));
+    EXPECT_EQ(m.clearcoat.roughness_texture.scale, glm::vec2(2.0f, 3.0f));
+    EXPECT_EQ(m.clearcoat.roughness_texture.texcoord, 1);
+    EXPECT_TRUE(m.reads_uv_set(1));
+    EXPECT_FALSE(mesh.primitives[0].texcoords1.empty());
+    // The coat's normal texture alone asks for tangents.
+    EXPECT_FALSE(m.normal_texture.present());
+    expect_unit_tangents(mesh.primitives[0]);
+    // Image 0 as colour and data, image 1 as data: three textures for eleven references.
+    EXPECT_EQ(mesh.textures.size(), 3u);
+}
+
+// The specification's defaults, and extensions at their defaults, leave the core model, which
+// the renderer shades without its layered programs.
+TEST(GltfMaterialsExtensions, LayersAtTheirDefaultsLeaveTheCoreModel) {
+    const Material m = material_of(load_gltf_text(
+        quad_asset({{"extensions",
+                     {{"KHR_materials_ior", json::object()},
+                      {"KHR_materials_specular", {{"specularFactor", 1.0}}},
+                      {"KHR_materials_clearcoat", {{"clearcoatRoughnessFactor", 0.5}}},
+                      {"KHR_materials_sheen", {{"sheenRoughnessFactor", 0.5}}},
+                      {"KHR_materials_transmission", json::object()},
+                      {"KHR_materials_volume", {{"thicknessFactor", 1.0}}}}}})));
+    EXPECT_EQ(m.ior, 1.5f);
+    EXPECT_EQ(m.specular.factor, 1.0f);
+    EXPECT_EQ(m.specular.color, glm::vec3(1.0f));
+    EXPECT_EQ(m.clearcoat.factor, 0.0f);
+    EXPECT_EQ(m.sheen.color, glm::vec3(0.0f));
+    EXPECT_EQ(m.transmission.factor, 0.0f);
+    EXPECT_EQ(m.volume.attenuation_distance, std::numeric_limits<float>::infinity());
+    EXPECT_EQ(m.volume.attenuation_color, glm::vec3(1.0f));
+    EXPECT_FALSE(m.layered());
+    // Each layer alone makes it layered.
+    for (const json& layer :
+         {json{{"KHR_materials_ior", {{"ior", 1.4}}}}, json{{"KHR_materials_ior", {{"ior", 0.0}}}},
+          json{{"KHR_materials_specular", {{"specularColorFactor", {1.0, 1.0, 0.9}}}}},
+          json{{"KHR_materials_specular", {{"specularTexture", {{"index", 0}}}}}},
+          json{{"KHR_materials_clearcoat", {{"clearcoatFactor", 0.1}}}},
+          json{{"KHR_materials_sheen", {{"sheenColorFactor", {0.0, 0.0, 0.1}}}}},
+          json{{"KHR_materials_transmission", {{"transmissionFactor", 0.1}}}}}) {
+        SCOPED_TRACE(layer.dump());
+        EXPECT_TRUE(material_of(load_gltf_text(quad_asset({{"extensions", layer}}))).layered());
+    }
+}
+
+// KHR_materials_unlit is its own model: no specular term, no layers (the extensions exclude
+// each other), alpha as in the core model.
+TEST(GltfMaterialsExtensions, UnlitIsItsOwnModelWithoutLayers) {
+    const Material m = material_of(load_gltf_text(
+        quad_asset({{"pbrMetallicRoughness", {{"baseColorFactor", {0.25, 0.5, 1.0, 0.5}}}},
+                    {"alphaMode", "BLEND"},
+                    {"extensions",
+                     {{"KHR_materials_unlit", json::object()},
+                      {"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}}}}}})));
+    EXPECT_EQ(m.model, ShadingModel::Unlit);
+    EXPECT_FALSE(m.glossy());
+    EXPECT_FALSE(m.layered());
+    EXPECT_EQ(m.clearcoat.factor, 0.0f);
+    EXPECT_EQ(m.base_color, glm::vec4(0.25f, 0.5f, 1.0f, 0.5f));
+    EXPECT_EQ(m.alpha_mode, AlphaMode::Blend);
+}
+
+// An asset that requires every layer extension loads, and says nothing of them.
+TEST(GltfMaterialsExtensions, AssetsRequiringTheLayersLoad) {
+    const std::vector<std::string> layers{"KHR_materials_unlit",    "KHR_materials_ior",
+                                          "KHR_materials_specular", "KHR_materials_clearcoat",
+                                          "KHR_materials_sheen",    "KHR_materials_transmission",
+                                          "KHR_materials_volume"};
+    json document = json::parse(quad_asset(
+        {{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}}}));
+    document["extensionsUsed"] = layers;
+    document["extensionsRequired"] = layers;
+    const Mesh mesh = load_gltf_text(document.dump());
+    EXPECT_EQ(material_of(mesh).transmission.factor, 1.0f);
+    for (const std::string& warning : mesh.warnings) {
+        EXPECT_EQ(warning.find("KHR_materials"), std::string::npos) << warning;
+    }
+}
+
+// Factors bounded to [0, 1] are clamped as the core ones are; a number the specification
+// excludes, or one of the wrong JSON type, is refused naming the material and the field.
+TEST(GltfMaterialsExtensions, HostileValuesAreRefusedNamingMaterialAndField) {
+    const Material clamped = material_of(load_gltf_text(
+        quad_asset({{"extensions",
+                     {{"KHR_materials_clearcoat",
+                       {{"clearcoatFactor", 2.0}, {"clearcoatRoughnessFactor", -1.0}}},
+                      {"KHR_materials_sheen", {{"sheenColorFactor", {-1.0, 0.5, 3.0}}}},
+                      {"KHR_materials_transmission", {{"transmissionFactor", 1.5}}},
+                      {"KHR_materials_volume", {{"attenuationColor", {2.0, -1.0, 0.5}}}}}}})));
+    EXPECT_EQ(clamped.clearcoat.factor, 1.0f);
+    EXPECT_EQ(clamped.clearcoat.roughness, 0.0f);
+    EXPECT_EQ(clamped.sheen.color, glm::vec3(0.0f, 0.5f, 1.0f));
+    EXPECT_EQ(clamped.transmission.factor, 1.0f);
+    EXPECT_EQ(clamped.volume.attenuation_color, glm::vec3(1.0f, 0.0f, 0.5f));
+
+    const auto named = [](const json& extensions) {
+        return json{{"name", "Glass"}, {"extensions", extensions}};
+    };
+    const std::vector<std::pair<json, std::string>> refused{
+        {named({{"KHR_materials_ior", {{"ior", 0.5}}}}),
+         "material 'Glass': KHR_materials_ior.ior 0.5 is neither 0 nor at least 1"},
+        {named({{"KHR_materials_ior", {{"ior", -1.0}}}}),
+         "material 'Glass': KHR_materials_ior.ior -1 is neither 0 nor at least 1"},
+        {named({{"KHR_materials_ior", {{"ior", 1e39}}}}),
+         "material 'Glass': KHR_materials_ior.ior 1e+39 is not finite as a 32-bit float"},
+        {named({{"KHR_materials_specular", {{"specularColorFactor", {1.0, -0.5, 1.0}}}}}),
+         "material 'Glass': KHR_materials_specular.specularColorFactor -0.5 is negative"},
+        {named({{"KHR_materials_clearcoat",
+                 {{"clearcoatNormalTexture", {{"index", 0}, {"scale", 1e300}}}}}}),
+         "material 'Glass': KHR_materials_clearcoat.clearcoatNormalTexture.scale 1e+300 is not "
+         "finite"},
+        {named({{"KHR_materials_volume", {{"thicknessFactor", -0.1}}}}),
+         "material 'Glass': KHR_materials_volume.thicknessFactor -0.1 is negative"},
+        {named({{"KHR_materials_volume", {{"attenuationDistance", 0.0}}}}),
+         "material 'Glass': KHR_materials_volume.attenuationDistance 0 is not above 0"},
+        {named({{"KHR_materials_volume", {{"attenuationDistance", -2.0}}}}),
+         "material 'Glass': KHR_materials_volume.attenuationDistance -2 is not above 0"},
+        {named({{"KHR_materials_sheen", {{"sheenColorTexture", {{"index", 7}}}}}}),
+         "material 'Glass': KHR_materials_sheen.sheenColorTexture refers to texture 7, which "
+         "does not exist"},
+        {named({{"KHR_materials_clearcoat", {{"clearcoatFactor", "full"}}}}),
+         "invalid glTF: materials[0].extensions.KHR_materials_clearcoat.clearcoatFactor must be "
+         "a number, not a string"},
+        {named({{"KHR_materials_sheen", {{"sheenColorFactor", {1.0, 1.0}}}}}),
+         "invalid glTF: materials[0].extensions.KHR_materials_sheen.sheenColorFactor must be an "
+         "array of 3 numbers"},
+        {named({{"KHR_materials_transmission", {{"transmissionTexture", {{"texCoord", 0}}}}}}),
+         "invalid glTF: materials[0].extensions.KHR_materials_transmission.transmissionTexture."
+         "index is required"},
+        {named({{"KHR_materials_volume", "thin"}}),
+         "invalid glTF: materials[0].extensions.KHR_materials_volume must be an object"},
+    };
+    for (const auto& [material, message] : refused) {
+        SCOPED_TRACE(material.dump());
+        expect_error([&material = material] { load_gltf_text(quad_asset(material)); },
+                     ErrorKind::InvalidInput, {"test.gltf: " + message});
+    }
+}
+
+// The coat's normal texture reads TEXCOORD_0 alone, as the material's does (its tangents follow
+// that set): on another set it is dropped with a warning, and a primitive without TEXCOORD_0
+// draws the material without it.
+TEST(GltfMaterialsExtensions, TheCoatsNormalTextureFollowsTheFirstUvSet) {
+    const Mesh mesh = load_gltf_text(
+        quad_asset({{"name", "Coat"},
+                    {"extensions",
+                     {{"KHR_materials_clearcoat",
+                       {{"clearcoatFactor", 1.0},
+                        {"clearcoatNormalTexture", {{"index", 0}, {"texCoord", 1}}}}}}}}));
+    EXPECT_FALSE(material_of(mesh).clearcoat.normal_texture.present());
+    EXPECT_NE(std::find(mesh.warnings.begin(), mesh.warnings.end(),
+                        "material 'Coat': KHR_materials_clearcoat.clearcoatNormalTexture uses "
+                        "TEXCOORD_1, only TEXCOORD_0 is supported for a normal texture: texture "
+                        "ignored"),
+              mesh.warnings.end());
+}
+
 TEST(GltfMaterials, AlphaModesAreReadAndAnyOtherIsRejectedNamingIt) {
     const std::vector<std::pair<std::string, AlphaMode>> modes{
         {"OPAQUE", AlphaMode::Opaque}, {"MASK", AlphaMode::Mask}, {"BLEND", AlphaMode::Blend}};
@@ -811,14 +1037,14 @@ TEST(GltfMaterialsSamples, ClearCoatTestHasItsNormalRoughnessAndEmissiveTextures
     const std::string file = "ClearCoat-glTF/ClearCoatTest.gltf";
     const Mesh mesh = load_sample(file);
     expect_valid(mesh);
-    // Its clear coat is an extension the loader does not implement: said, not silently dropped.
-    EXPECT_NE(std::find(mesh.warnings.begin(), mesh.warnings.end(),
-                        "the asset uses the extension KHR_materials_clearcoat, which is not "
-                        "supported: ignored"),
-              mesh.warnings.end());
+    // Its clear coat is read now: no warning says it is ignored.
+    for (const std::string& warning : mesh.warnings) {
+        EXPECT_EQ(warning.find("KHR_materials_clearcoat"), std::string::npos) << warning;
+    }
     const json d = sample_document(file);
-    // Every material the file gives a core texture gets it, in the encoding of its kind.
+    // Every material the file gives a texture gets it, in the encoding of its kind.
     std::size_t normal_mapped = 0;
+    std::size_t coat_textures = 0;
     for (std::size_t i = 0; i < d["materials"].size(); ++i) {
         const json& source = d["materials"][i];
         const std::string name = source["name"];
@@ -840,27 +1066,44 @@ TEST(GltfMaterialsSamples, ClearCoatTestHasItsNormalRoughnessAndEmissiveTextures
         check(pbr.contains("baseColorTexture"), m.base_color_texture, TextureEncoding::Srgb);
         check(source.contains("emissiveTexture"), m.emissive_texture, TextureEncoding::Srgb);
         EXPECT_FLOAT_EQ(m.roughness, pbr.value("roughnessFactor", 1.0));
+        const json coat = source.value("extensions", json::object())
+                              .value("KHR_materials_clearcoat", json::object());
+        EXPECT_FLOAT_EQ(m.clearcoat.factor, coat.value("clearcoatFactor", 0.0));
+        EXPECT_FLOAT_EQ(m.clearcoat.roughness, coat.value("clearcoatRoughnessFactor", 0.0));
+        EXPECT_EQ(m.layered(), coat.value("clearcoatFactor", 0.0) > 0.0);
+        check(coat.contains("clearcoatTexture"), m.clearcoat.texture, TextureEncoding::Linear);
+        check(coat.contains("clearcoatRoughnessTexture"), m.clearcoat.roughness_texture,
+              TextureEncoding::Linear);
+        check(coat.contains("clearcoatNormalTexture"), m.clearcoat.normal_texture,
+              TextureEncoding::Linear);
+        coat_textures += coat.contains("clearcoatTexture") ? 1 : 0;
+        coat_textures += coat.contains("clearcoatRoughnessTexture") ? 1 : 0;
+        coat_textures += coat.contains("clearcoatNormalTexture") ? 1 : 0;
         EXPECT_EQ(m.alpha_mode, source.value("alphaMode", "OPAQUE") == "BLEND" ? AlphaMode::Blend
                                                                                : AlphaMode::Opaque);
         normal_mapped += source.contains("normalTexture") ? 1 : 0;
     }
     EXPECT_EQ(normal_mapped, 6u);
-    // Images used: PartialCoating_Alpha (colour), RoughnessStripes (data), RibsNormal (data,
-    // through four textures), PlasticWrap_normals (data), ClearCoatLabels (colour); the
-    // clearcoat extension's own textures are not read.
-    EXPECT_EQ(mesh.textures.size(), 5u);
-    // Tangents exactly where a normal texture is, generated (the file has no TANGENT).
+    EXPECT_EQ(coat_textures, 4u);
+    // Images used: PartialCoating (the coat's weight, data), PartialCoating_Alpha (colour),
+    // RoughnessStripes (data, for the base and the coat), RibsNormal (data, through four
+    // textures, the coat's normal among them), PlasticWrap_normals (data, likewise),
+    // ClearCoatLabels (colour).
+    EXPECT_EQ(mesh.textures.size(), 6u);
+    // Tangents exactly where a normal texture (the material's or its coat's) is, generated (the
+    // file has no TANGENT).
     std::size_t with_tangents = 0;
     for (const Primitive& p : mesh.primitives) {
         const Material& m = mesh.materials[std::size_t(p.material)];
-        if (m.normal_texture.present()) {
+        if (m.needs_tangents()) {
             expect_unit_tangents(p);
             ++with_tangents;
         } else {
             EXPECT_TRUE(p.tangents.empty()) << p.name;
         }
     }
-    EXPECT_EQ(with_tangents, 6u);
+    // The six normal-mapped materials' primitives and CoatNorm_Coated's, whose coat alone is.
+    EXPECT_EQ(with_tangents, 7u);
     const auto label = std::find_if(mesh.materials.begin(), mesh.materials.end(),
                                     [](const Material& m) { return m.name == "LabelMaterial"; });
     ASSERT_NE(label, mesh.materials.end());

@@ -151,10 +151,10 @@ TEST(MeshFinishing, BrokenTangentsAndTextureReferencesAreInternalErrors) {
     expect_internal(mesh, "squares: vertex 2 has a non-finite tangent or a bitangent sign");
     mesh = mirrored_squares();
     mesh.materials[0].occlusion_texture.texture = 1;
-    expect_internal(mesh, "material 'Bumpy': its occlusion texture 1 does not exist");
+    expect_internal(mesh, "material 'Bumpy': its occlusionTexture 1 does not exist");
     mesh = mirrored_squares();
     mesh.materials[0].emissive_texture.texture = -2;
-    expect_internal(mesh, "material 'Bumpy': its emissive texture -2 does not exist");
+    expect_internal(mesh, "material 'Bumpy': its emissiveTexture -2 does not exist");
 }
 
 }  // namespace

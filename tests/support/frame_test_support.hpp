@@ -71,6 +71,43 @@ inline float linear_alpha(const Frame& frame, int x, int y) {
     return frame.linear[(std::size_t(y) * frame.width + x) * 4 + 3];
 }
 
+inline std::shared_ptr<const Mesh> shared(Mesh mesh) {
+    return std::make_shared<const Mesh>(std::move(mesh));
+}
+
+// A unit sphere at the origin with one material (256 segments, 128 rings).
+inline std::shared_ptr<const Mesh> sphere_of(const Material& material) {
+    Mesh mesh = uv_sphere({0, 0, 0}, 1.0f, 256, 128, glm::vec3(1.0f));
+    mesh.materials[0] = material;
+    return shared(std::move(mesh));
+}
+
+inline FrameRequest linear_request(std::shared_ptr<const Rig> rig, const Camera& camera, int size) {
+    FrameRequest request;
+    request.rig = std::move(rig);
+    request.camera = camera;
+    request.width = request.height = size;
+    request.ground = false;
+    request.background.kind = BackgroundKind::Transparent;
+    request.samples = 1;
+    request.linear = true;
+    return request;
+}
+
+// The unit sphere's normal seen through pixel (x, y), or nothing for pixels that miss it or
+// lie within about a pixel of its silhouette.
+inline std::optional<glm::dvec3> sphere_normal(const Camera& camera, int size, int x, int y,
+                                               glm::dvec3 centre = {0, 0, 0}, double radius = 1.0) {
+    const glm::dvec3 eye(camera.eye);
+    const glm::dvec3 ray = pixel_ray(camera, size, size, x, y);
+    const auto t = hit_sphere(eye, ray, centre, radius);
+    if (!t) {
+        return std::nullopt;
+    }
+    const glm::dvec3 n = glm::normalize(eye + *t * ray - centre);
+    return glm::dot(n, -ray) > 0.2 ? std::optional(n) : std::nullopt;
+}
+
 // A render thread and a FrameRenderer on it, made for a suite and shared by its tests.
 class RendererSuite : public ::testing::Test {
   protected:

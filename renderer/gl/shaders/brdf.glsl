@@ -2,11 +2,85 @@
 // image-based lighting: one function per formula. The DFG table they read is
 // renderer/lighting/src/split_sum.cpp's.
 
-// Reflectance at normal incidence: 0.04 for dielectrics (an index of refraction of 1.5), the
-// base colour for metals, blended by metallic (glTF 2.0 Appendix B.3.5, "f0 = lerp(0.04,
-// baseColor, metallic)").
-vec3 specular_f0(vec3 base, float metallic) {
-    return mix(vec3(0.04), base, metallic);
+// The layers of the glTF material extensions at a surface point (mesh.hpp's Material layers,
+// docs/materials.md), as the BRDF uses them; plain_layers() is the core model's, which the
+// deferred shading and every material without layers use.
+struct SurfaceLayers {
+    float ior;              // the dielectric's index of refraction
+    vec3 dielectric_f0;     // its reflectance at normal incidence
+    float dielectric_f90;   // and at grazing incidence
+    float clearcoat;        // the coat's weight
+    float clearcoat_roughness;
+    vec3 clearcoat_normal;  // unit, on the side seen
+    vec3 sheen_color;
+    float sheen_roughness;
+    float transmission;         // the share of the dielectric's diffuse lobe transmitted
+    vec3 volume_transmittance;  // of the light transmitted, through the volume's thickness
+};
+
+// The reflectance at normal incidence of a dielectric of index ior in air (KHR_materials_ior:
+// ((ior - 1) / (ior + 1))^2, 0.04 at glTF's 1.5; ior 0, the extension's special case, gives 1).
+float ior_f0(float ior) {
+    float r = (ior - 1.0) / (ior + 1.0);
+    return r * r;
+}
+
+// KHR_materials_specular: f0 = min(f0(ior) specularColor, 1) specular and f90 = specular, the
+// specular factor and texture weighting the whole dielectric reflection.
+SurfaceLayers material_layers(float ior, float specular, vec3 specular_color, float clearcoat,
+                              float clearcoat_roughness, vec3 clearcoat_normal, vec3 sheen_color,
+                              float sheen_roughness, float transmission,
+                              vec3 volume_transmittance) {
+    return SurfaceLayers(ior, min(vec3(ior_f0(ior)) * specular_color, vec3(1.0)) * specular,
+                         specular,
+                         clearcoat, clearcoat_roughness, clearcoat_normal, sheen_color,
+                         sheen_roughness, transmission, volume_transmittance);
+}
+
+// glTF 2.0's core model: f0 0.04 (an index of refraction of 1.5), f90 1, no layer.
+SurfaceLayers plain_layers() {
+    return SurfaceLayers(1.5, vec3(0.04), 1.0, 0.0, 0.0, vec3(0.0, 0.0, 1.0), vec3(0.0), 0.0, 0.0,
+                         vec3(1.0));
+}
+
+// Reflectance at normal incidence: the dielectric's (0.04 without layers), the base colour for
+// metals, blended by metallic (glTF 2.0 Appendix B.3.5, "f0 = lerp(0.04, baseColor,
+// metallic)"); likewise at grazing incidence, where metals reflect everything.
+vec3 specular_f0(SurfaceLayers layers, vec3 base, float metallic) {
+    return mix(layers.dielectric_f0, base, metallic);
+}
+float specular_f90(SurfaceLayers layers, float metallic) {
+    return mix(layers.dielectric_f90, 1.0, metallic);
+}
+
+// The clear coat's directional albedo, its Fresnel averaged over its GGX lobe: the split sum's
+// single scattering at f0 0.04 (an index of 1.5) and F90 1, E_c = 0.04 A + B. It weights the
+// coat's reflection and attenuates what lies beneath, 1 - clearcoat E_c: the coat's Fresnel over
+// its lobe where KHR_materials_clearcoat's reference shader takes Schlick's at n.v, so that a
+// white coat over a white base keeps a white furnace's energy exactly.
+float clearcoat_albedo(vec2 dfg) {
+    return 0.04 * dfg.x + dfg.y;
+}
+
+// The volume's Beer-Lambert transmittance over a thickness (KHR_materials_volume: attenuation
+// coefficient -ln(attenuationColor) / attenuationDistance), 1 for a thin wall (thickness 0).
+vec3 volume_transmittance(vec3 attenuation_coefficient, float thickness) {
+    return thickness > 0.0 ? exp(-attenuation_coefficient * thickness) : vec3(1.0);
+}
+
+// The roughness of the transmitted lobe: a thin wall's two interfaces blur as the surface's
+// roughness scaled by how much the index bends light, roughness clamp(2 ior - 2, 0, 1) (the
+// Khronos glTF-Sample-Viewer's applyIorToRoughness for KHR_materials_transmission): no blur at
+// an index of 1.
+float transmission_roughness(float roughness, float ior) {
+    return roughness * clamp(2.0 * ior - 2.0, 0.0, 1.0);
+}
+
+// KHR_materials_sheen's albedo scaling of the material under the sheen: 1 - max(sheenColor)
+// E_sheen(n.v), E_sheen the sheen lobe's directional albedo
+// (renderer/lighting/include/oer/lighting/sheen_albedo.hpp).
+float sheen_albedo_scaling(vec3 sheen_color, float sheen_albedo) {
+    return 1.0 - max(sheen_color.r, max(sheen_color.g, sheen_color.b)) * sheen_albedo;
 }
 
 // The Lambertian lobe's colour: metals have none (glTF 2.0 Appendix B.3.5, "c_diff =
@@ -25,15 +99,16 @@ float specular_occlusion(float n_dot_v, float ao, float alpha) {
 
 // The split sum's energy weights with multiple scattering (C. Fdez-Aguera, "A
 // Multiple-Scattering Microfacet Model for Real-Time Image-based Lighting", JCGT 8(1), 2019,
-// its listing for image-based lighting): the single-scattering weight FssEss = F0 A + B of the prefiltered
-// radiance, and the multiple-scattering weight Fms Ems of the irradiance E / pi, with
-// Ess = A + B, Ems = 1 - Ess, Favg = F0 + (1 - F0) / 21 and Fms = FssEss Favg / (1 - Ems Favg).
-// A white furnace is exact with them: a white metal reflects Ess + Ems = 1.
-void split_sum_weights(vec3 f0, vec2 dfg, out vec3 single_scattering,
+// its listing for image-based lighting): the single-scattering weight FssEss = F0 A + F90 B of
+// the prefiltered radiance, and the multiple-scattering weight Fms Ems of the irradiance E / pi,
+// with Ess = A + B, Ems = 1 - Ess, Favg = F0 + (F90 - F0) / 21 and Fms = FssEss Favg / (1 - Ems
+// Favg) (F90 is 1 but under KHR_materials_specular, whose factor scales it). A white furnace is
+// exact with them: a white metal reflects Ess + Ems = 1.
+void split_sum_weights(vec3 f0, float f90, vec2 dfg, out vec3 single_scattering,
                        out vec3 multiple_scattering) {
-    single_scattering = f0 * dfg.x + dfg.y;
+    single_scattering = f0 * dfg.x + f90 * dfg.y;
     float e_ms = 1.0 - (dfg.x + dfg.y);
-    vec3 f_avg = f0 + (1.0 - f0) / 21.0;
+    vec3 f_avg = f0 + (f90 - f0) / 21.0;
     vec3 f_ms = single_scattering * f_avg / (1.0 - e_ms * f_avg);
     multiple_scattering = f_ms * e_ms;
 }

@@ -5,6 +5,7 @@
 // 0.5 for BLEND, which casts a shadow where it is at least half opaque).
 #if ALPHA_TEST
 #define MATERIAL_TEXTURES 1
+#define MATERIAL_LAYERS 0
 #include "material.glsl"
 void main() {
     if (material_base_color().a < u_alpha_cutoff) {

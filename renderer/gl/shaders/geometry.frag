@@ -5,7 +5,10 @@
 // colour and metallic (-1 for a Lambertian material), emitted radiance. ALPHA_TEST 1 (MASK
 // materials) discards the fragments whose alpha is under the cutoff (glTF 2.0 section 3.9.4);
 // MATERIAL_TEXTURES 0 is a material without textures (material.glsl). TRANSFER 1 (occlusion
-// frames) also keeps the transfer's irradiance, interpolated from the vertices.
+// frames) also keeps the transfer's irradiance, interpolated from the vertices. The layers of
+// the material extensions are not kept: their materials are shaded by the layered pass
+// (layered.frag).
+#define MATERIAL_LAYERS 0
 #include "material.glsl"
 uniform vec3 u_eye;
 layout(location = 0) out vec4 o_position;  // world position, ao

@@ -6,7 +6,9 @@
 // blocks are mostly empty on small triangles, and whose SIMD lanes would run every branch of
 // a shader that handled all three surfaces. Objects are shaded by surface_shading.glsl from
 // the G-buffer (geometry.frag); the transparent pass shades BLEND primitives with the same
-// code afterwards.
+// code afterwards. Materials with the extensions' layers are the layered pass's
+// (layered.frag), so every object here has the core model's.
+#define MATERIAL_LAYERS 0
 #include "surface_shading.glsl"
 // Position and ao; shading normal and roughness; base colour and metallic (-1: Lambertian).
 layout(binding = GBUFFER_POSITIONS_UNIT) uniform sampler2D u_positions;
@@ -75,7 +77,7 @@ vec4 shade(ivec2 pixel) {
     vec3 transferred = vec3(0.0);
 #endif
     return vec4(shade_object(position.xyz, normal.xyz, albedo.rgb, albedo.a, normal.w, position.w,
-                             emissive, transferred),
+                             emissive, transferred, plain_layers()),
                 1.0);
 }
 #else

@@ -16,6 +16,18 @@
 // shadowing a light takes its reflection with it; so is the specular occlusion of ao. With
 // an opaque floor, what a reflection sees below the horizon is the floor, not the map
 // (floor_share).
+// An unlit material (metallic -2, KHR_materials_unlit) sends its base colour.
+//
+// MATERIAL_LAYERS 1 (a material with the extensions' layers, brdf.glsl's SurfaceLayers;
+// docs/materials.md): f0 and F90 are the layers' (KHR_materials_ior, _specular); the share
+// transmission of the dielectric's diffuse lobe is transmitted instead, the radiance behind the
+// thin wall P(-v) at transmission_roughness, tinted by the diffuse colour and the volume's
+// transmittance (KHR_materials_transmission, _volume); a sheen lobe sheen E_sheen E / pi ao over
+// the rest scaled by 1 - max(sheen) E_sheen (KHR_materials_sheen); and a clear coat, c E_c
+// P_c(r_c) with E_c = 0.04 A_c + B_c, over the rest and the emission scaled by 1 - c E_c
+// (KHR_materials_clearcoat). P(-v) and P_c hold each light's lobes with the same w_k v_k as P(r),
+// and the sheen's E holds them as the diffuse light does: every lobe keeps the lights'
+// switching, dimming and shadows.
 #include "math_constants.glsl"
 #include "sh_lighting.glsl"
 #include "shadow_filter.glsl"
@@ -53,6 +65,15 @@ float floor_share(vec3 position, vec3 r, float alpha) {
 uniform vec3 u_light_direction[LIGHTS_ON];  // world space: turned by the yaw
 uniform float u_light_share[LIGHTS_ON];     // w_k luminance_share_k (thesis); 0 (hdr)
 #endif
+#if SPECULAR && MATERIAL_LAYERS
+// The sheen lobe's directional albedo E_sheen at (n.v, sheen roughness)
+// (renderer/lighting/include/oer/lighting/sheen_albedo.hpp).
+layout(binding = SHEEN_ALBEDO_UNIT) uniform sampler2D u_sheen_albedo;
+
+float sheen_albedo(float n_dot_v, float sheen_roughness) {
+    return texture(u_sheen_albedo, vec2(n_dot_v, sheen_roughness)).r;
+}
+#endif
 
 // A world direction in the map's own frame: the environment turned by the yaw lights
 // direction d as the unturned one lights d turned back.
@@ -60,10 +81,14 @@ vec3 map_direction(vec3 d) {
     return vec3(u_yaw.x * d.x - u_yaw.y * d.z, d.y, u_yaw.y * d.x + u_yaw.x * d.z);
 }
 
-// n: the unit shading normal on the side seen; metallic -1 for a Lambertian material;
-// transferred: the transfer's irradiance at the point (0 without occlusion).
+// n: the unit shading normal on the side seen; metallic -1 for a Lambertian material, -2 for
+// an unlit one; transferred: the transfer's irradiance at the point (0 without occlusion);
+// layers: the material's (plain_layers() without MATERIAL_LAYERS, where they are not read).
 vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughness, float ao,
-                  vec3 emissive, vec3 transferred) {
+                  vec3 emissive, vec3 transferred, SurfaceLayers layers) {
+    if (metallic < -1.5) {
+        return base;
+    }
     float Y[SH_COUNT];
     sh_basis(map_direction(n), Y);
     vec3 E = irradiance(0, Y) + transferred;
@@ -74,6 +99,16 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
     vec3 r = reflect(-view, n);
     float alpha = roughness * roughness;
     vec3 lights_reflected = vec3(0.0);
+#if MATERIAL_LAYERS
+    // The coat reflects about its own normal at its own roughness; the thin wall transmits
+    // straight through, along -v.
+    vec3 coat_r = reflect(-view, layers.clearcoat_normal);
+    float coat_alpha = layers.clearcoat_roughness * layers.clearcoat_roughness;
+    float through_roughness = transmission_roughness(roughness, layers.ior);
+    float through_alpha = through_roughness * through_roughness;
+    vec3 lights_coat = vec3(0.0);
+    vec3 lights_through = vec3(0.0);
+#endif
 #endif
 #if LIGHTS_ON > 0
     mat2 rotation = disc_rotation(gl_FragCoord.xy);
@@ -89,6 +124,15 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
         // w_k is in the lobes' energies: v_k w_k P(k), only where the light reaches.
         if (glossy && v > 0.0) {
             lights_reflected += v * light_reflection(k, u_light_direction[k], r, alpha);
+#if MATERIAL_LAYERS
+            if (layers.clearcoat > 0.0) {
+                lights_coat += v * light_reflection(k, u_light_direction[k], coat_r, coat_alpha);
+            }
+            if (layers.transmission > 0.0) {
+                lights_through +=
+                    v * light_reflection(k, u_light_direction[k], -view, through_alpha);
+            }
+#endif
         }
 #endif
     }
@@ -96,16 +140,48 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
 #if SPECULAR
     if (glossy) {
         float n_dot_v = clamp(dot(n, view), 1e-4, 1.0);
-        vec3 f0 = specular_f0(base, metallic);
         vec3 single_scattering, multiple_scattering;
-        split_sum_weights(f0, split_sum_dfg(n_dot_v, roughness), single_scattering,
+        split_sum_weights(specular_f0(layers, base, metallic), specular_f90(layers, metallic),
+                          split_sum_dfg(n_dot_v, roughness), single_scattering,
                           multiple_scattering);
         vec3 prefiltered = mix(residual_reflection(map_direction(r), roughness) + lights_reflected,
                                u_floor.rgb, floor_share(position, r, alpha));
-        vec3 diffuse_weight = multiple_scattering + diffuse_color(base, metallic) *
-                                                        (1.0 - single_scattering - multiple_scattering);
-        return single_scattering * prefiltered * specular_occlusion(n_dot_v, ao, alpha) +
-               diffuse_weight * (E * (ao / PI)) + emissive;
+        // What the specular lobe leaves to the diffuse one (and to the transmitted one).
+        vec3 under_specular = diffuse_color(base, metallic) *
+                              (1.0 - single_scattering - multiple_scattering);
+        vec3 specular = single_scattering * prefiltered * specular_occlusion(n_dot_v, ao, alpha);
+        vec3 diffuse_irradiance = E * (ao / PI);
+#if MATERIAL_LAYERS
+        vec3 radiance = specular + (multiple_scattering +
+                                    under_specular * (1.0 - layers.transmission)) *
+                                       diffuse_irradiance;
+        if (layers.transmission > 0.0) {
+            vec3 behind = residual_reflection(map_direction(-view), through_roughness) +
+                          lights_through;
+            radiance += under_specular * layers.transmission * layers.volume_transmittance *
+                        behind;
+        }
+        if (max(layers.sheen_color.r, max(layers.sheen_color.g, layers.sheen_color.b)) > 0.0) {
+            float e_sheen = sheen_albedo(n_dot_v, layers.sheen_roughness);
+            radiance = radiance * sheen_albedo_scaling(layers.sheen_color, e_sheen) +
+                       layers.sheen_color * e_sheen * diffuse_irradiance;
+        }
+        radiance += emissive;
+        if (layers.clearcoat > 0.0) {
+            float coat_n_dot_v = clamp(dot(layers.clearcoat_normal, view), 1e-4, 1.0);
+            vec2 coat_dfg = split_sum_dfg(coat_n_dot_v, layers.clearcoat_roughness);
+            vec3 coat_prefiltered =
+                residual_reflection(map_direction(coat_r), layers.clearcoat_roughness) +
+                lights_coat;
+            float coat_albedo = layers.clearcoat * clearcoat_albedo(coat_dfg);
+            radiance = radiance * (1.0 - coat_albedo) +
+                       coat_albedo * coat_prefiltered *
+                           specular_occlusion(coat_n_dot_v, ao, coat_alpha);
+        }
+        return radiance;
+#else
+        return specular + (multiple_scattering + under_specular) * diffuse_irradiance + emissive;
+#endif
     }
 #endif
     return base * u_albedo_scale * E * attenuation * ao + emissive;

@@ -3,7 +3,8 @@
 // Transparent pass: BLEND primitives (glTF 2.0 section 3.9.4), forward shaded by the same
 // surface shading as the deferred pass, over the shaded frame: premultiplied radiance, blended
 // "over" (T. Porter and T. Duff, "Compositing Digital Images", SIGGRAPH 1984) as
-// src + (1 - src alpha) dst by the pass's blend state, alpha being coverage.
+// src + (1 - src alpha) dst by the pass's blend state, alpha being coverage. MATERIAL_LAYERS 1:
+// a material with the extensions' layers (material.glsl).
 #define MATERIAL_TEXTURES 1
 #include "material.glsl"
 #include "surface_shading.glsl"
@@ -17,7 +18,12 @@ void main() {
 #else
     vec3 transferred = vec3(0.0);
 #endif
+#if MATERIAL_LAYERS
+    SurfaceLayers layers = m.layers;
+#else
+    SurfaceLayers layers = plain_layers();
+#endif
     vec3 radiance = shade_object(v_world_position, m.normal, base.rgb, m.metallic, m.roughness,
-                                 m.ao, m.emissive, transferred);
+                                 m.ao, m.emissive, transferred, layers);
     o_color = vec4(radiance * base.a, base.a);
 }

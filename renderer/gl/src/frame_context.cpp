@@ -209,6 +209,10 @@ bool has_blending(const FrameRequest& request) {
         request, [](const Material& m) { return m.alpha_mode == AlphaMode::Blend; });
 }
 
+bool shaded_layered(const FrameContext& frame, const Material& material) {
+    return frame.specular && material.layered();
+}
+
 bool TransferredIrradianceInputs::same_as(const TransferredIrradianceInputs& other) const {
     const auto same_object = [](const auto& a, const auto& b) {
         const auto locked = a.lock();
@@ -223,6 +227,8 @@ FrameContext make_frame_context(const FrameRequest& request, TransferredIrradian
     FrameContext frame(request);
     frame.specular = needs_specular(request);
     frame.blending = has_blending(request);
+    frame.layered = frame.specular &&
+                    any_primitive_material(request, [](const Material& m) { return m.layered(); });
     frame.transfer = request.occlusion;
     add_lights(frame);
     if (frame.transfer) {

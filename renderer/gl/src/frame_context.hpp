@@ -26,6 +26,9 @@ namespace oer {
 constexpr int kBackgroundSurface = 0;
 constexpr int kObjectSurface = 1;
 constexpr int kGroundSurface = 2;
+// An object whose material has the extensions' layers (Material::layered): shaded by the
+// layered pass, never by the deferred one.
+constexpr int kLayeredSurface = 4;
 // The shading program of the ground's samples when it is a shadow catcher (shade.frag).
 constexpr int kShadowCatcherProgram = 3;
 
@@ -65,9 +68,15 @@ struct FrameContext {
     // Materials. specular: some object has a glossy material (Material::glossy) and the rig's
     // model is hdr (the thesis's has no specular BRDF): the frame reads FrameRequest::specular
     // and the DFG table, and its object programs are the SPECULAR 1 variants. blending: some
-    // primitive is alpha mode BLEND, for the transparent pass.
+    // primitive is alpha mode BLEND, for the transparent pass. layered: in a specular frame,
+    // some primitive's material has the extensions' layers (Material::layered), for the layered
+    // pass (OPAQUE and MASK ones) and the transparent pass's MATERIAL_LAYERS 1 (BLEND ones).
     bool specular = false;
     bool blending = false;
+    bool layered = false;
+    // Whether a pass after the deferred shading writes the shaded target (the layered and the
+    // transparent passes): it then holds linear radiance, which the resolve pass displays.
+    bool forward_passes() const { return blending || layered; }
 
     // Scene and camera.
     SceneBounds scene;
@@ -136,6 +145,9 @@ FrameContext make_frame_context(const FrameRequest& request, TransferredIrradian
 
 // Whether any primitive of the request's objects blends.
 bool has_blending(const FrameRequest& request);
+
+// Whether a primitive drawn with `material` is shaded by the layered programs in this frame.
+bool shaded_layered(const FrameContext& frame, const Material& material);
 
 // Supersamples per pixel side for `samples` samples per pixel (FrameRequest::samples).
 int supersampling_scale(int samples);

@@ -47,7 +47,12 @@ const std::vector<FrameProgram> kPrograms{
     {"transparent",
      "mesh.vert",
      "transparent.frag",
-     {kShOrder, kLightsOn, kShadows, kPcf, kSpecular, kTransfer}},
+     {kShOrder, kLightsOn, kShadows, kPcf, kSpecular, kTransfer, {"MATERIAL_LAYERS", 0, 1}}},
+    // Materials with layers exist only in specular frames.
+    {"layered",
+     "mesh.vert",
+     "layered.frag",
+     {kShOrder, kLightsOn, kShadows, kPcf, {"SPECULAR", 1, 1}, kAlphaTest, kTransfer}},
     {"resolve", "fullscreen.vert", "resolve.frag", {kDisplayOutput}},
 };
 

@@ -72,10 +72,13 @@ Frame FrameRenderer::render(const FrameRequest& request, const std::stop_token& 
     throw_if_stopped(stop, "the frame");
     start = Clock::now();
     GLuint finished = shade_surfaces(frame, lighting, shadows, targets, state, stop);
+    if (frame.layered) {
+        finished = shade_layered_surfaces(frame, lighting, targets, state);
+    }
     if (frame.blending) {
         finished = blend_transparent_surfaces(frame, lighting, targets, state);
     }
-    if (frame.scale > 1 || frame.blending) {
+    if (frame.forward_passes() || frame.scale > 1) {
         finished = resolve_supersamples(frame, finished, targets, state);
     }
     glFinish();

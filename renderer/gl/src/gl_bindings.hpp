@@ -48,26 +48,41 @@ inline constexpr Binding kGroundVisibility{"GROUND_VISIBILITY_UNIT", BindingKind
 // A specular frame's prefiltered cube and the split sum's DFG table (specular_lighting.glsl).
 inline constexpr Binding kSpecularCube{"SPECULAR_CUBE_UNIT", BindingKind::TextureUnit, 8};
 inline constexpr Binding kDfgTable{"DFG_TABLE_UNIT", BindingKind::TextureUnit, 9};
-// A material's five textures (material.glsl), in the order of its references.
-inline constexpr std::array<Binding, 5> kMaterialTextures{{
+// A material's textures (material.glsl), in the order of its references
+// (Material::texture_references): the core five, then the layers' nine (MATERIAL_LAYERS 1).
+inline constexpr std::array<Binding, 14> kMaterialTextures{{
     {"BASE_COLOR_TEXTURE_UNIT", BindingKind::TextureUnit, 10},
     {"METALLIC_ROUGHNESS_TEXTURE_UNIT", BindingKind::TextureUnit, 11},
     {"NORMAL_TEXTURE_UNIT", BindingKind::TextureUnit, 12},
     {"OCCLUSION_TEXTURE_UNIT", BindingKind::TextureUnit, 13},
     {"EMISSIVE_TEXTURE_UNIT", BindingKind::TextureUnit, 14},
+    {"SPECULAR_TEXTURE_UNIT", BindingKind::TextureUnit, 16},
+    {"SPECULAR_COLOR_TEXTURE_UNIT", BindingKind::TextureUnit, 17},
+    {"CLEARCOAT_TEXTURE_UNIT", BindingKind::TextureUnit, 18},
+    {"CLEARCOAT_ROUGHNESS_TEXTURE_UNIT", BindingKind::TextureUnit, 19},
+    {"CLEARCOAT_NORMAL_TEXTURE_UNIT", BindingKind::TextureUnit, 20},
+    {"SHEEN_COLOR_TEXTURE_UNIT", BindingKind::TextureUnit, 21},
+    {"SHEEN_ROUGHNESS_TEXTURE_UNIT", BindingKind::TextureUnit, 22},
+    {"TRANSMISSION_TEXTURE_UNIT", BindingKind::TextureUnit, 23},
+    {"THICKNESS_TEXTURE_UNIT", BindingKind::TextureUnit, 24},
 }};
+// The sheen lobe's directional albedo (surface_shading.glsl, MATERIAL_LAYERS 1).
+inline constexpr Binding kSheenAlbedo{"SHEEN_ALBEDO_UNIT", BindingKind::TextureUnit, 25};
 // The supersampled radiance the resolve pass averages (resolve.frag).
 inline constexpr Binding kResolveRadiance{"RESOLVE_RADIANCE_UNIT", BindingKind::TextureUnit, 0};
 // The frame's SH irradiance sets (sh_lighting.glsl).
 inline constexpr Binding kIrradianceSets{"IRRADIANCE_SETS_BINDING", BindingKind::ShaderStorage, 0};
 
 // Every binding above.
-inline constexpr std::array<Binding, 19> kBindings{
-    kGBufferPositions,    kGBufferNormals,      kGBufferAlbedos,      kGBufferEmissive,
-    kGBufferTransferred,  kGroundTransfer,      kEnvironment,         kShadowMaps,
-    kShadowDepths,        kGroundVisibility,    kSpecularCube,        kDfgTable,
-    kMaterialTextures[0], kMaterialTextures[1], kMaterialTextures[2], kMaterialTextures[3],
-    kMaterialTextures[4], kResolveRadiance,     kIrradianceSets};
+inline constexpr std::array<Binding, 29> kBindings{
+    kGBufferPositions,     kGBufferNormals,       kGBufferAlbedos,       kGBufferEmissive,
+    kGBufferTransferred,   kGroundTransfer,       kEnvironment,          kShadowMaps,
+    kShadowDepths,         kGroundVisibility,     kSpecularCube,         kDfgTable,
+    kMaterialTextures[0],  kMaterialTextures[1],  kMaterialTextures[2],  kMaterialTextures[3],
+    kMaterialTextures[4],  kMaterialTextures[5],  kMaterialTextures[6],  kMaterialTextures[7],
+    kMaterialTextures[8],  kMaterialTextures[9],  kMaterialTextures[10], kMaterialTextures[11],
+    kMaterialTextures[12], kMaterialTextures[13], kSheenAlbedo,          kResolveRadiance,
+    kIrradianceSets};
 
 // Pairs of bindings that share their point within one program because no variant of it reads
 // both (#if branches apart).

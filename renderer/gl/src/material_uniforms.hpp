@@ -22,9 +22,6 @@ void set_material_uniforms(gl::Program& program, RendererState& state, const Gpu
 // Unbinds the samplers of kMaterialTextures (a pass that set materials leaves none behind).
 void unbind_material_samplers();
 
-// Whether the material has any texture (MATERIAL_TEXTURES of material.glsl).
-bool has_textures(const Material& material);
-
 // Whether the material's alpha can cut its surface: MASK and BLEND materials with a base-colour
 // texture or an alpha under 1. The geometry pass tests MASK ones at alpha_cutoff, the shadow
 // pass both (BLEND at 0.5, u_alpha_cutoff as set_material_uniforms sets it).

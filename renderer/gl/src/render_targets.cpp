@@ -41,8 +41,8 @@ gl::Object make_framebuffer(std::initializer_list<GLuint> colors, GLuint depth, 
 }  // namespace
 
 RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool linear,
-                                      bool blending) {
-    const auto key = std::make_tuple(width, height, scale, linear, blending);
+                                      bool forward_passes) {
+    const auto key = std::make_tuple(width, height, scale, linear, forward_passes);
     auto found = targets_.find(key);
     if (found != targets_.end()) {
         return found->second;
@@ -68,7 +68,7 @@ RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool lin
                                               t.depth.get(), "geometry");
     // Blending needs radiance, not display values: a frame with transparent surfaces shades
     // into floats and resolves even at one sample per pixel.
-    const bool resolves = scale > 1 || blending;
+    const bool resolves = scale > 1 || forward_passes;
     const GLenum shaded_format = linear ? GL_RGBA32F : resolves ? GL_RGBA16F : GL_RGBA8;
     t.shaded = make_texture(shaded_format, samples_wide, samples_high);
     // The shading pass tests the geometry pass's stencil (the surface kind of each sample).

@@ -5,6 +5,7 @@
 #include "frame_programs.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/gl_context.hpp"
+#include "oer/lighting/sheen_albedo.hpp"
 #include "oer/lighting/split_sum.hpp"
 #include "shader_sources.hpp"
 
@@ -150,20 +151,38 @@ void RendererState::release_unowned_speculars() {
     std::erase_if(speculars_, [](const auto& entry) { return entry.second.owner.expired(); });
 }
 
+namespace {
+
+// A size x size table of floats (channels 1 or 2) as a bilinear, clamped texture, for the
+// shaders' lookups at (n.v, roughness).
+gl::Object table_texture(int size, GLenum internal_format, GLenum format, const float* values) {
+    gl::Object texture = gl::create_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(texture.get(), 1, internal_format, size, size);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(texture.get(), 0, 0, 0, size, size, format, GL_FLOAT, values);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return texture;
+}
+
+}  // namespace
+
 GLuint RendererState::dfg() {
     if (!dfg_) {
         const DfgTable table = dfg_table(32, 1024);
-        dfg_ = gl::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(dfg_.get(), 1, GL_RG32F, table.size, table.size);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        glTextureSubImage2D(dfg_.get(), 0, 0, 0, table.size, table.size, GL_RG, GL_FLOAT,
-                            table.scale_bias.data());
-        glTextureParameteri(dfg_.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(dfg_.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTextureParameteri(dfg_.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTextureParameteri(dfg_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        dfg_ = table_texture(table.size, GL_RG32F, GL_RG, &table.scale_bias[0].x);
     }
     return dfg_.get();
+}
+
+GLuint RendererState::sheen_albedo() {
+    if (!sheen_albedo_) {
+        const SheenAlbedoTable table = sheen_albedo_table(32, 1024);
+        sheen_albedo_ = table_texture(table.size, GL_R32F, GL_RED, table.albedo.data());
+    }
+    return sheen_albedo_.get();
 }
 
 namespace {

@@ -48,6 +48,9 @@ struct RendererState {
     // The split sum's DFG table (dfg_table(32, 1024)) as an RG32F texture, bilinear and
     // clamped, computed and uploaded on first use.
     GLuint dfg();
+    // The sheen lobe's directional albedo (sheen_albedo_table(32, 1024)) as an R32F texture,
+    // bilinear and clamped, computed and uploaded on first use (a frame with layers).
+    GLuint sheen_albedo();
     // The sampler object of a glTF sampler, made on first use.
     GLuint sampler(const TextureSampler& sampler);
     // Deletes the GL copies of cubes whose owners are gone (run once per frame), so that a
@@ -92,6 +95,7 @@ struct RendererState {
     };
     std::map<const PrefilteredCube*, CachedSpecular> speculars_;
     gl::Object dfg_;
+    gl::Object sheen_albedo_;
     std::vector<std::pair<TextureSampler, gl::Object>> samplers_;
 };
 

@@ -14,6 +14,9 @@ void bind_specular_textures(const FrameContext& frame, RendererState& state) {
     }
     glBindTextureUnit(gl_bindings::kSpecularCube.index, state.specular(frame.request.specular));
     glBindTextureUnit(gl_bindings::kDfgTable.index, state.dfg());
+    if (frame.layered) {
+        glBindTextureUnit(gl_bindings::kSheenAlbedo.index, state.sheen_albedo());
+    }
 }
 
 void set_surface_shading_uniforms(gl::Program& program, const FrameContext& frame) {

@@ -10,8 +10,8 @@
 namespace oer {
 
 // Binds the specular frame's cube (FrameRequest::specular) and the DFG table to gl_bindings.hpp's
-// kSpecularCube and kDfgTable; a frame that is not specular binds neither, so that neither is
-// uploaded.
+// kSpecularCube and kDfgTable, and in a frame with layers (FrameContext::layered) the sheen
+// albedo to kSheenAlbedo; a frame that is not specular binds none, so that none is uploaded.
 void bind_specular_textures(const FrameContext& frame, RendererState& state);
 
 // Sets the uniforms of surface_shading.glsl on `program` (in use).

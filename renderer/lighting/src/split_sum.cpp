@@ -9,7 +9,6 @@
 // inverse in base 2; oer/lighting/sampling.hpp), the same for every entry.
 #include "oer/lighting/split_sum.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -21,6 +20,7 @@
 #include "oer/core/error.hpp"
 #include "oer/lighting/microfacet.hpp"
 #include "oer/lighting/sampling.hpp"
+#include "table_lookup.hpp"
 
 namespace oer {
 
@@ -77,23 +77,10 @@ DfgTable dfg_table(int size, int samples) {
 }
 
 glm::dvec2 sample_dfg(const DfgTable& table, double n_dot_v, double roughness) {
-    const int size = table.size;
-    const auto coordinate = [size](double t, int& low, double& fraction) {
-        const double x = std::clamp(t * size - 0.5, 0.0, double(size - 1));
-        low = std::min(int(x), size - 2);
-        fraction = x - low;
-    };
-    int i = 0, j = 0;
-    double fx = 0.0, fy = 0.0;
-    coordinate(n_dot_v, i, fx);
-    coordinate(roughness, j, fy);
-    const auto at = [&](int column, int row) {
+    return detail::bilinear_lookup(table.size, n_dot_v, roughness, [&](int column, int row) {
         return glm::dvec2(
-            table.scale_bias[std::size_t(row) * std::size_t(size) + std::size_t(column)]);
-    };
-    const glm::dvec2 bottom = glm::mix(at(i, j), at(i + 1, j), fx);
-    const glm::dvec2 top = glm::mix(at(i, j + 1), at(i + 1, j + 1), fx);
-    return glm::mix(bottom, top, fy);
+            table.scale_bias[std::size_t(row) * std::size_t(table.size) + std::size_t(column)]);
+    });
 }
 
 }  // namespace oer

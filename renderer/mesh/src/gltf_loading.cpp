@@ -153,8 +153,7 @@ class GltfConverter {
     // draws it: without its normal texture when it has no TEXCOORD_0 to map it with.
     int material_of(int index, const Primitive& primitive, const std::string& name) {
         const int slot = materials_.slot(index, name);
-        if (mesh_.materials[std::size_t(slot)].normal_texture.present() &&
-            primitive.texcoords.empty()) {
+        if (mesh_.materials[std::size_t(slot)].needs_tangents() && primitive.texcoords.empty()) {
             return materials_.without_normal_texture(index, slot, name);
         }
         return slot;
@@ -170,10 +169,11 @@ class GltfConverter {
         return false;
     }
 
-    // Whether a material the primitive may be drawn with has a normal texture.
+    // Whether a material the primitive may be drawn with has a normal texture (its own or its
+    // clear coat's).
     bool needs_tangents(const Primitive& primitive) const {
         for (const int material : primitive.materials_drawn()) {
-            if (mesh_.materials[std::size_t(material)].normal_texture.present()) {
+            if (mesh_.materials[std::size_t(material)].needs_tangents()) {
                 return true;
             }
         }

@@ -1,7 +1,9 @@
 #pragma once
 // Private to the glTF loader: the materials the primitives use, converted on first use to the
 // glTF 2.0 metallic-roughness model (specification, section 3.9): factors, the five textures
-// (gltf_textures.hpp), KHR_materials_emissive_strength, alpha modes and double-sidedness. A
+// (gltf_textures.hpp), KHR_materials_emissive_strength, alpha modes and double-sidedness, and
+// the material extensions KHR_materials_unlit, _ior, _specular, _clearcoat, _sheen,
+// _transmission and _volume (their factors checked and their textures read as the core ones). A
 // primitive without a material gets the glTF default one; a primitive that cannot map its
 // material's normal texture gets a copy of the material without it.
 #include <tiny_gltf.h>
@@ -50,6 +52,11 @@ class GltfMaterials {
                        Material& material);
     void read_alpha_and_sides(const tinygltf::Material& source, const std::string& name,
                               Material& material);
+    void read_layers(const tinygltf::Material& source, const std::string& name, Material& material);
+    // A material extension's texture `key` ("clearcoatTexture") read with `encoding`.
+    TextureReference extension_texture(const tinygltf::Value& extension, const char* key,
+                                       const char* property, TextureEncoding encoding,
+                                       const std::string& name);
 
     const tinygltf::Model& model_;
     const std::string& asset_;

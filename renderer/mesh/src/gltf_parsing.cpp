@@ -326,7 +326,9 @@ bool supported_extension(const std::string& name) {
     for (const char* supported :
          {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
           "EXT_meshopt_compression", "KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing",
-          "EXT_texture_webp", "EXT_texture_avif", "KHR_materials_variants"}) {
+          "EXT_texture_webp", "EXT_texture_avif", "KHR_materials_variants", "KHR_materials_unlit",
+          "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat",
+          "KHR_materials_sheen", "KHR_materials_transmission", "KHR_materials_volume"}) {
         if (name == supported) {
             return true;
         }

@@ -112,6 +112,7 @@ class SchemaChecker {
                 optional_number(*strength, "emissiveStrength",
                                 path + ".extensions.KHR_materials_emissive_strength");
             }
+            check_material_layers(material, path);
         });
         each(root, "textures", [&](const Json& texture, const std::string& path) {
             optional_index(texture, "source", path);
@@ -164,6 +165,54 @@ class SchemaChecker {
     }
 
   private:
+    // The numbers and textureInfos of the material extensions the loader reads
+    // (gltf_materials.hpp), by each extension's JSON schema.
+    void check_material_layers(const Json& material, const std::string& path) const {
+        struct Layer {
+            const char* name;
+            std::initializer_list<const char*> numbers;
+            std::initializer_list<const char*> colors;  // arrays of 3 numbers
+            std::initializer_list<const char*> textures;
+        };
+        for (const Layer& layer : std::initializer_list<Layer>{
+                 {"KHR_materials_ior", {"ior"}, {}, {}},
+                 {"KHR_materials_specular",
+                  {"specularFactor"},
+                  {"specularColorFactor"},
+                  {"specularTexture", "specularColorTexture"}},
+                 {"KHR_materials_clearcoat",
+                  {"clearcoatFactor", "clearcoatRoughnessFactor"},
+                  {},
+                  {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"}},
+                 {"KHR_materials_sheen",
+                  {"sheenRoughnessFactor"},
+                  {"sheenColorFactor"},
+                  {"sheenColorTexture", "sheenRoughnessTexture"}},
+                 {"KHR_materials_transmission",
+                  {"transmissionFactor"},
+                  {},
+                  {"transmissionTexture"}},
+                 {"KHR_materials_volume",
+                  {"thicknessFactor", "attenuationDistance"},
+                  {"attenuationColor"},
+                  {"thicknessTexture"}}}) {
+            const Json* object = extension(material, layer.name);
+            if (object == nullptr) {
+                continue;
+            }
+            const std::string at = path + ".extensions." + layer.name;
+            for (const char* key : layer.numbers) {
+                optional_number(*object, key, at);
+            }
+            for (const char* key : layer.colors) {
+                number_array(*object, key, at, 3);
+            }
+            for (const char* key : layer.textures) {
+                texture_info(*object, key, at);
+            }
+        }
+    }
+
     // "name" a string, "extensions" an object of objects.
     void check_common(const Json& object, const std::string& path) const {
         optional_string(object, "name", path);

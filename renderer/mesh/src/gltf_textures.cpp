@@ -10,6 +10,23 @@
 
 namespace oer::mesh_detail {
 
+TextureUse TextureUse::of_extension(const tinygltf::Value& extension, const char* key,
+                                    const char* property) {
+    TextureUse use{property};
+    if (!extension.Has(key)) {
+        return use;
+    }
+    const tinygltf::Value& info = extension.Get(key);
+    use.index = info.Get("index").GetNumberAsInt();
+    if (info.Has("texCoord")) {
+        use.tex_coord = info.Get("texCoord").GetNumberAsInt();
+    }
+    if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform")) {
+        use.transform = &info.Get("extensions").Get("KHR_texture_transform");
+    }
+    return use;
+}
+
 TextureReference TextureReferences::reference(const TextureUse& use, TextureEncoding encoding,
                                               const std::string& material) {
     TextureReference reference;
@@ -22,8 +39,10 @@ TextureReference TextureReferences::reference(const TextureUse& use, TextureEnco
              what + " refers to texture " + std::to_string(use.index) + ", which does not exist");
     }
     const TexCoordSet tex_coord = read_transform(use, what, reference);
-    // A normal texture's tangent frame follows TEXCOORD_0 (the file's TANGENT or MikkTSpace's).
-    const bool normal = std::string_view(use.property) == "normalTexture";
+    // A normal texture's tangent frame follows TEXCOORD_0 (the file's TANGENT or MikkTSpace's),
+    // the clear coat's too.
+    const bool normal = std::string_view(use.property) == "normalTexture" ||
+                        std::string_view(use.property) == kClearcoatNormalTexture;
     if (tex_coord.index != 0 && (normal || tex_coord.index != 1)) {
         warnings_.push_back(what + " uses TEXCOORD_" + std::to_string(tex_coord.index) +
                             tex_coord.note +
@@ -111,11 +130,10 @@ void TextureReferences::check_image_index(int image, const std::string& what) co
 TextureReferences::TexCoordSet TextureReferences::read_transform(
     const TextureUse& use, const std::string& what, TextureReference& reference) const {
     TexCoordSet tex_coord{use.tex_coord, ""};
-    const auto transform = use.extensions->find("KHR_texture_transform");
-    if (transform == use.extensions->end()) {
+    if (use.transform == nullptr) {
         return tex_coord;
     }
-    const tinygltf::Value& t = transform->second;
+    const tinygltf::Value& t = *use.transform;
     const std::string at = what + ".extensions.KHR_texture_transform.";
     if (t.Has("offset")) {
         reference.offset = finite_vec2(asset_, t.Get("offset"), at + "offset");

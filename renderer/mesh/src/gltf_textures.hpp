@@ -16,17 +16,28 @@
 
 namespace oer::mesh_detail {
 
-// A textureInfo of any of its three kinds (the normal and occlusion ones add a number).
+// The clear coat's normal texture, which reads TEXCOORD_0 alone as normalTexture does.
+inline constexpr const char* kClearcoatNormalTexture =
+    "KHR_materials_clearcoat.clearcoatNormalTexture";
+
+// A textureInfo of any of its three kinds (the normal and occlusion ones add a number), from
+// the core material or from a material extension's JSON.
 struct TextureUse {
-    const char* property;  // "baseColorTexture", ...
+    const char* property;  // "baseColorTexture", "KHR_materials_clearcoat.clearcoatTexture", ...
     int index = -1;
     int tex_coord = 0;
-    const tinygltf::ExtensionMap* extensions = nullptr;
+    const tinygltf::Value* transform = nullptr;  // its KHR_texture_transform, if any
 
     template <typename Info>
     static TextureUse of(const Info& info, const char* property) {
-        return TextureUse{property, info.index, info.texCoord, &info.extensions};
+        const auto transform = info.extensions.find("KHR_texture_transform");
+        return TextureUse{property, info.index, info.texCoord,
+                          transform == info.extensions.end() ? nullptr : &transform->second};
     }
+    // Member `key` of a material extension's object (the schema has checked its types), or an
+    // unused TextureUse when it has none.
+    static TextureUse of_extension(const tinygltf::Value& extension, const char* key,
+                                   const char* property);
 };
 
 class TextureReferences {

@@ -38,31 +38,8 @@ bool finite(const glm::vec2& v) {
     return std::isfinite(v.x) && std::isfinite(v.y);
 }
 
-// Every texture a material may use, with the glTF property it comes from, for messages.
-std::array<std::pair<const char*, const TextureReference*>, 5> texture_references(
-    const Material& material) {
-    return {{{"base color", &material.base_color_texture},
-             {"metallic-roughness", &material.metallic_roughness_texture},
-             {"normal", &material.normal_texture},
-             {"occlusion", &material.occlusion_texture},
-             {"emissive", &material.emissive_texture}}};
-}
-
-bool uses_a_texture(const Material& material) {
-    for (const auto& [kind, reference] : texture_references(material)) {
-        if (reference->present()) {
-            return true;
-        }
-    }
-    return false;
-}
-
 bool reads_uv_set_1(const Material& material) {
     return material.reads_uv_set(1);
-}
-
-bool has_a_normal_texture(const Material& material) {
-    return material.normal_texture.present();
 }
 
 std::string describe(const glm::vec3& v) {
@@ -257,10 +234,10 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
                  std::to_string(limits.max_primitives));
     }
     for (const Material& material : mesh.materials) {
-        for (const auto& [kind, reference] : texture_references(material)) {
+        for (const auto& [property, reference] : material.texture_references()) {
             if (reference->texture < -1 || reference->texture >= int(mesh.textures.size())) {
                 fail(ErrorKind::Internal, asset,
-                     "material '" + material.name + "': its " + kind + " texture " +
+                     "material '" + material.name + "': its " + property + " " +
                          std::to_string(reference->texture) + " does not exist");
             }
         }
@@ -270,7 +247,9 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
     for (Primitive& primitive : mesh.primitives) {
         check_primitive(primitive, mesh.materials.size(), mesh.variants.size(), asset);
         complete_normals(primitive, mesh.repairs);
-        if (any_material_drawn(mesh, primitive, uses_a_texture) && primitive.texcoords.empty()) {
+        if (any_material_drawn(mesh, primitive,
+                               [](const Material& material) { return material.uses_textures(); }) &&
+            primitive.texcoords.empty()) {
             primitive.texcoords.assign(primitive.positions.size(), glm::vec2(0.0f));
         }
         if (any_material_drawn(mesh, primitive, reads_uv_set_1) && primitive.texcoords1.empty()) {
@@ -293,7 +272,9 @@ void finish_mesh(Mesh& mesh, const std::string& asset, const MeshLimits& limits)
     std::uint64_t split_for_tangents = 0;
     for (Primitive& primitive : mesh.primitives) {
         // After baking (the loaders' transforms are applied) and before any level of detail.
-        if (any_material_drawn(mesh, primitive, has_a_normal_texture) &&
+        if (any_material_drawn(
+                mesh, primitive,
+                [](const Material& material) { return material.needs_tangents(); }) &&
             primitive.tangents.empty()) {
             split_for_tangents += generate_tangents(primitive, asset);
         }

@@ -79,6 +79,21 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
                       const ShadowMaps& shadows, const RenderTargets& targets, RendererState& state,
                       const std::stop_token& stop);
 
+// One primitive (`primitive_index` of request.objects[object_index]) drawn by a forward program
+// of the layered or transparent pass, `program`: made current with the surface shading's
+// uniforms unless it is `current` (which it becomes), then the object's transform, the
+// material's uniforms and textures, its winding and culling, and its transferred irradiance.
+void draw_forward(const FrameContext& frame, const FrameLightingBuffers& lighting,
+                  RendererState& state, gl::Program& program, gl::Program*& current,
+                  std::size_t object_index, std::size_t primitive_index);
+
+// Layered pass, for frames with materials with the extensions' layers: the OPAQUE and MASK
+// primitives of such materials shaded forward over targets.shaded, on the samples the geometry
+// pass marked kLayeredSurface, as the transparent pass shades (with the textures and buffers the
+// shading pass left bound); returns targets.shaded.
+GLuint shade_layered_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
+                              const RenderTargets& targets, RendererState& state);
+
 // Transparent pass, for frames with BLEND primitives: each blended over targets.shaded, the
 // shading pass's product, farthest first, shaded as the shading pass shades objects (with the
 // textures and buffers it left bound); returns targets.shaded.

@@ -6,8 +6,9 @@
 // positions with ambient occlusion, shading normals with roughness, base colours with metallic
 // (-1 for Lambertian), emitted radiance, in an occlusion frame the transferred irradiance,
 // depth, and in the stencil each sample's surface kind (kBackgroundSurface where nothing was
-// drawn). Back faces of single-sided materials are culled. Material textures use
-// gl_bindings.hpp's kMaterialTextures, whose samplers it unbinds.
+// drawn, kLayeredSurface where a material with layers was, for the layered pass). Back faces of
+// single-sided materials are culled. Material textures use gl_bindings.hpp's kMaterialTextures,
+// whose samplers it unbinds.
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -38,7 +39,7 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
     const FrameRequest& request = frame.request;
     const Camera& camera = frame.camera;
     RenderTargets& targets = state.targets.get(request.width, request.height, frame.scale,
-                                               request.linear, frame.blending);
+                                               request.linear, frame.forward_passes());
     glBindFramebuffer(GL_FRAMEBUFFER, targets.geometry_framebuffer.get());
     // The fifth target, the transferred irradiance, only in occlusion frames: a frame without
     // occlusion writes and pays for four.
@@ -70,7 +71,6 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
     const auto draw = [&](const Mesh& mesh, const GpuMesh& gpu, const glm::mat4& model,
                           const SceneObject* drawn, int surface_kind,
                           std::optional<std::size_t> object) {
-        glStencilFunc(GL_ALWAYS, surface_kind, 0xff);
         const float max_error = sample_lod_error(frame, mesh, model);
         const float max_edge = transfer_lod_edge(frame, mesh);
         const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
@@ -83,6 +83,9 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
             if (material.alpha_mode == AlphaMode::Blend) {
                 continue;
             }
+            glStencilFunc(GL_ALWAYS,
+                          drawn && shaded_layered(frame, material) ? kLayeredSurface : surface_kind,
+                          0xff);
             const bool alpha_test = material.alpha_mode == AlphaMode::Mask &&
                                     alpha_tested(material, mesh.primitives[p]);
             gl::Program& geometry = state.program(

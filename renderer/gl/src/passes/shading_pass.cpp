@@ -81,7 +81,7 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     using namespace gl_bindings;
     const FrameRequest& request = frame.request;
     const bool environment_background = request.background.kind == BackgroundKind::Environment;
-    const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.blending;
+    const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.forward_passes();
     const bool shadow_catcher = request.ground_look == GroundLook::ShadowCatcher;
     const std::string shading_defines =
         frame.lighting_defines + frame.transfer_define + "#define ENVIRONMENT_BACKGROUND " +

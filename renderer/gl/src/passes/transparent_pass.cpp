@@ -8,7 +8,8 @@
 // farthest first by the distance from the eye to its bounds' centre: the usual sorting of
 // transparent geometry, exact between separate primitives and approximate where they
 // interpenetrate. Depth is tested against the opaque surfaces and not written. Leaves
-// blending, depth test and culling off, depth writes on, and units 10 to 14 without samplers.
+// blending, depth test and culling off, depth writes on, and the material units without
+// samplers. A material with the extensions' layers is shaded by the MATERIAL_LAYERS 1 variant.
 #include <algorithm>
 #include <vector>
 
@@ -23,13 +24,44 @@
 
 namespace oer {
 
+void draw_forward(const FrameContext& frame, const FrameLightingBuffers& lighting,
+                  RendererState& state, gl::Program& program, gl::Program*& current,
+                  std::size_t object_index, std::size_t primitive_index) {
+    const SceneObject& object = frame.request.objects[object_index];
+    const Mesh& mesh = *object.mesh;
+    const GpuMesh& gpu = state.mesh(object.mesh).gpu;
+    const Material& material = mesh.materials.at(
+        std::size_t(mesh.primitives[primitive_index].material_under(object.variant)));
+    if (current != &program) {
+        current = &program;
+        glUseProgram(program.id());
+        set_surface_shading_uniforms(program, frame);
+        glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE,
+                           glm::value_ptr(frame.view_projection));
+    }
+    glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(object.transform));
+    const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(object.transform));
+    glUniformMatrix3fv(program.uniform("u_normal_matrix"), 1, GL_FALSE,
+                       glm::value_ptr(normal_matrix));
+    set_material_uniforms(program, state, gpu, material, base_color_override(object, material));
+    glFrontFace(glm::determinant(glm::mat3(object.transform)) < 0.0f ? GL_CW : GL_CCW);
+    if (material.double_sided) {
+        glDisable(GL_CULL_FACE);
+    } else {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);  // the shadow pass culls front faces
+    }
+    const GpuPrimitive& primitive = gpu.primitives[primitive_index];
+    attach_object_transfer(frame, lighting, primitive, object_index, primitive_index);
+    draw_primitive(primitive, sample_lod_error(frame, mesh, object.transform),
+                   transfer_lod_edge(frame, mesh));
+}
+
 GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
                                   const RenderTargets& targets, RendererState& state) {
     const FrameRequest& request = frame.request;
     struct Transparent {
         const SceneObject* object;
-        const GpuMesh* gpu;
-        const GpuPrimitive* primitive;
         std::size_t object_index;
         std::size_t primitive_index;
         float distance;
@@ -46,8 +78,7 @@ GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLighting
             }
             const glm::vec3 centre =
                 glm::vec3(object.transform * glm::vec4(primitive.centre, 1.0f));
-            surfaces.push_back(
-                {&object, &gpu, &primitive, i, p, glm::length(centre - frame.camera.eye)});
+            surfaces.push_back({&object, i, p, glm::length(centre - frame.camera.eye)});
         }
     }
     std::stable_sort(
@@ -62,35 +93,18 @@ GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLighting
     glEnable(GL_BLEND);
     // Porter and Duff's "over" on premultiplied colour: src + (1 - src alpha) dst.
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    gl::Program& program = state.program(
-        "transparent", frame.lighting_defines + frame.specular_define + frame.transfer_define);
-    glUseProgram(program.id());
-    set_surface_shading_uniforms(program, frame);
-    glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE,
-                       glm::value_ptr(frame.view_projection));
+    gl::Program* current = nullptr;
     for (const Transparent& surface : surfaces) {
         const SceneObject& object = *surface.object;
         const Mesh& mesh = *object.mesh;
         const Material& material = mesh.materials.at(
             std::size_t(mesh.primitives[surface.primitive_index].material_under(object.variant)));
-        glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE,
-                           glm::value_ptr(object.transform));
-        const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(object.transform));
-        glUniformMatrix3fv(program.uniform("u_normal_matrix"), 1, GL_FALSE,
-                           glm::value_ptr(normal_matrix));
-        set_material_uniforms(program, state, *surface.gpu, material,
-                              base_color_override(object, material));
-        glFrontFace(glm::determinant(glm::mat3(object.transform)) < 0.0f ? GL_CW : GL_CCW);
-        if (material.double_sided) {
-            glDisable(GL_CULL_FACE);
-        } else {
-            glEnable(GL_CULL_FACE);
-            glCullFace(GL_BACK);  // the shadow pass culls front faces
-        }
-        attach_object_transfer(frame, lighting, *surface.primitive, surface.object_index,
-                               surface.primitive_index);
-        draw_primitive(*surface.primitive, sample_lod_error(frame, mesh, object.transform),
-                       transfer_lod_edge(frame, mesh));
+        gl::Program& program =
+            state.program("transparent", frame.lighting_defines + frame.specular_define +
+                                             frame.transfer_define + "#define MATERIAL_LAYERS " +
+                                             (shaded_layered(frame, material) ? "1" : "0") + "\n");
+        draw_forward(frame, lighting, state, program, current, surface.object_index,
+                     surface.primitive_index);
     }
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);

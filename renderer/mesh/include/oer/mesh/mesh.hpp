@@ -3,8 +3,10 @@
 // tangents (world space of the file, no rescaling), every primitive as an indexed triangle
 // list, with the materials and textures they use. Produced by the loaders (mesh_loading.hpp)
 // and by code (default_product.hpp); validated before anything reaches GL.
+#include <array>
+#include <cstddef>
 #include <cstdint>
-#include <initializer_list>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -76,9 +78,81 @@ enum class ShadingModel {
     Lambertian,
     // The glTF 2.0 metallic-roughness BRDF (specification, Appendix B): GGX, height-correlated
     // Smith visibility, Schlick Fresnel, Lambertian diffuse, lit by the split-sum specular
-    // image-based lighting of the environment and its lights.
+    // image-based lighting of the environment and its lights; with the layers of
+    // Material::layered() where the material has them.
     MetallicRoughness,
+    // KHR_materials_unlit (Khronos, 2019): the base colour (factor, texture and vertex colour)
+    // is the radiance sent, whatever the lighting; alpha as in the core model.
+    Unlit,
 };
+
+// The glTF material extensions that layer lobes over the metallic-roughness BRDF, each with
+// the specification's defaults (docs/materials.md has their formulas as shaded).
+
+// KHR_materials_specular (Khronos, 2022): the dielectric's reflectance, f0 = min(f0(ior) *
+// color, 1) * factor and f90 = factor, so that factor 0 leaves only the diffuse (or transmitted)
+// lobe. Metals are unchanged.
+struct SpecularLayer {
+    float factor = 1.0f;             // [0, 1]
+    TextureReference texture;        // linear, its A multiplies factor
+    glm::vec3 color{1.0f};           // at least 0, may exceed 1 (f0 is clamped to 1)
+    TextureReference color_texture;  // sRGB, its RGB multiplies color
+    bool present() const {
+        return factor != 1.0f || color != glm::vec3(1.0f) || texture.present() ||
+               color_texture.present();
+    }
+};
+
+// KHR_materials_clearcoat (Khronos, 2021): a GGX layer of f0 0.04 (an ior of 1.5) over the
+// material, of weight factor (times the texture's R) and its own roughness (times the roughness
+// texture's G) and normal map; the material beneath is attenuated by 1 - factor F_coat(n_c.v).
+struct ClearcoatLayer {
+    float factor = 0.0f;  // [0, 1]; 0: no coat
+    TextureReference texture;
+    float roughness = 0.0f;  // [0, 1], perceptual
+    TextureReference roughness_texture;
+    // Tangent-space, as normal_texture (TEXCOORD_0, the same tangents); none: the coat follows
+    // the interpolated vertex normal, not the material's normal map (the specification).
+    TextureReference normal_texture;
+    float normal_scale = 1.0f;
+};
+
+// KHR_materials_sheen (Khronos, 2021): a Charlie sheen lobe (A. Estevez and C. Kulla,
+// "Production Friendly Microfacet Sheen BRDF", 2017) of colour color (times the colour
+// texture's RGB) and roughness (times the roughness texture's A) over the material, which it
+// scales by 1 - max(color) E_sheen(n.v, roughness), its directional albedo.
+struct SheenLayer {
+    glm::vec3 color{0.0f};               // [0, 1]; black: no sheen
+    TextureReference color_texture;      // sRGB
+    float roughness = 0.0f;              // [0, 1], perceptual
+    TextureReference roughness_texture;  // linear, A
+};
+
+// KHR_materials_transmission (Khronos, 2021): the share of the dielectric's diffuse lobe that
+// is transmitted instead, factor times the texture's R; the surface is thin-walled (light leaves
+// it where it enters) unless KHR_materials_volume gives it a thickness.
+struct TransmissionLayer {
+    float factor = 0.0f;  // [0, 1]
+    TextureReference texture;
+};
+
+// KHR_materials_volume (Khronos, 2021): the medium under a transmitting surface. Only its
+// Beer-Lambert attenuation is shaded, over thickness (times the texture's G): transmitted light
+// is multiplied by attenuation_color^(thickness / attenuation_distance); the refraction of a
+// thick volume is not (the transmitted direction stays the thin wall's).
+struct VolumeLayer {
+    float thickness = 0.0f;  // at least 0, in the mesh's own units; 0: thin-walled
+    TextureReference thickness_texture;
+    float attenuation_distance = std::numeric_limits<float>::infinity();  // above 0
+    glm::vec3 attenuation_color{1.0f};                                    // [0, 1]
+};
+
+// A texture reference of a material with the name of its glTF property, for messages.
+struct NamedTextureReference {
+    const char* property;  // "baseColorTexture", ...
+    const TextureReference* reference;
+};
+inline constexpr std::size_t kMaterialTextureCount = 14;
 
 // glTF 2.0 alpha modes (section 3.9.4).
 enum class AlphaMode { Opaque, Mask, Blend };
@@ -109,14 +183,59 @@ struct Material {
     float alpha_cutoff = 0.5f;  // Mask only
     bool double_sided = false;
 
+    // KHR_materials_ior (Khronos, 2021): the dielectric's index of refraction, 1 or more, or 0
+    // (the specification's special case: full weight to the specular layer, f0 = 1). The
+    // dielectric's f0 = ((ior - 1) / (ior + 1))^2, 0.04 at the default 1.5.
+    float ior = 1.5f;
+    SpecularLayer specular;
+    ClearcoatLayer clearcoat;
+    SheenLayer sheen;
+    TransmissionLayer transmission;
+    VolumeLayer volume;
+
     // Whether the material has a specular term, so that its scene needs the specular maps.
     bool glossy() const { return model == ShadingModel::MetallicRoughness; }
+    // Whether a layer extension changes what the material reflects (a factor or texture away
+    // from the specification's default): such a material is shaded by the renderer's layered
+    // programs, every other by the plain ones, which cost nothing more for the extensions.
+    bool layered() const {
+        return glossy() && (ior != 1.5f || specular.present() || clearcoat.factor > 0.0f ||
+                            sheen.color != glm::vec3(0.0f) || transmission.factor > 0.0f);
+    }
+    // Whether a normal map (the material's or the clear coat's) needs tangents.
+    bool needs_tangents() const {
+        return normal_texture.present() || clearcoat.normal_texture.present();
+    }
+    // Every texture reference, in the order the renderer binds them (material.glsl).
+    std::array<NamedTextureReference, kMaterialTextureCount> texture_references() const {
+        return {{{"baseColorTexture", &base_color_texture},
+                 {"metallicRoughnessTexture", &metallic_roughness_texture},
+                 {"normalTexture", &normal_texture},
+                 {"occlusionTexture", &occlusion_texture},
+                 {"emissiveTexture", &emissive_texture},
+                 {"specularTexture", &specular.texture},
+                 {"specularColorTexture", &specular.color_texture},
+                 {"clearcoatTexture", &clearcoat.texture},
+                 {"clearcoatRoughnessTexture", &clearcoat.roughness_texture},
+                 {"clearcoatNormalTexture", &clearcoat.normal_texture},
+                 {"sheenColorTexture", &sheen.color_texture},
+                 {"sheenRoughnessTexture", &sheen.roughness_texture},
+                 {"transmissionTexture", &transmission.texture},
+                 {"thicknessTexture", &volume.thickness_texture}}};
+    }
+    // Whether the material has any texture.
+    bool uses_textures() const {
+        for (const NamedTextureReference& named : texture_references()) {
+            if (named.reference->present()) {
+                return true;
+            }
+        }
+        return false;
+    }
     // Whether a texture of the material reads uv set `set` (TextureReference::texcoord).
     bool reads_uv_set(int set) const {
-        for (const TextureReference* reference :
-             {&base_color_texture, &metallic_roughness_texture, &normal_texture, &occlusion_texture,
-              &emissive_texture}) {
-            if (reference->present() && reference->texcoord == set) {
+        for (const NamedTextureReference& named : texture_references()) {
+            if (named.reference->present() && named.reference->texcoord == set) {
                 return true;
             }
         }
