@@ -59,7 +59,8 @@ HdrImage three_light_map() {
 
 // The unit sphere's normal seen through pixel (x, y), or nothing for pixels that miss it or
 // graze its silhouette (within about a pixel of the edge).
-std::optional<glm::dvec3> sphere_normal(const Camera& camera, int width, int height, int x, int y) {
+std::optional<glm::dvec3> sphere_normal_in_frame(const Camera& camera, int width, int height, int x,
+                                                 int y) {
     const glm::dvec3 eye(camera.eye);
     const glm::dvec3 ray = pixel_ray(camera, width, height, x, y);
     const auto t = hit_sphere(eye, ray, {0, 0, 0}, 1.0);
@@ -176,7 +177,8 @@ TEST_F(FrameRendererTest, SpherePixelsMatchTheRigsShIrradianceAtTheirNormals) {
         int checked = 0;
         for (int y = 0; y < frame.height; ++y) {
             for (int x = 0; x < frame.width; ++x) {
-                const auto normal = sphere_normal(*request.camera, frame.width, frame.height, x, y);
+                const auto normal =
+                    sphere_normal_in_frame(*request.camera, frame.width, frame.height, x, y);
                 if (!normal) {
                     continue;
                 }
@@ -482,7 +484,8 @@ TEST_F(FrameRendererTest, ThesisModelScalesByTheAttenuationFactor) {
     int checked = 0;
     for (int y = 0; y < frame.height; y += 3) {
         for (int x = 0; x < frame.width; x += 3) {
-            const auto normal = sphere_normal(*request.camera, frame.width, frame.height, x, y);
+            const auto normal =
+                sphere_normal_in_frame(*request.camera, frame.width, frame.height, x, y);
             if (!normal) {
                 continue;
             }

@@ -34,7 +34,7 @@ using oer::testing::sphere_of;
 
 namespace {
 
-constexpr int kSize = 96;
+constexpr int kFurnaceSize = 96;
 const glm::vec3 kRadiance{0.5f, 1.0f, 2.0f};
 
 class MaterialExtensionsTest : public oer::testing::RendererSuite {
@@ -42,7 +42,7 @@ class MaterialExtensionsTest : public oer::testing::RendererSuite {
     // The unit sphere in `material` under the constant map kRadiance, seen from the front.
     static Frame furnace(const Material& material) {
         static const auto rig = make_rig(oer::testing::constant_map(256, 128, kRadiance), 0, 3);
-        FrameRequest request = linear_request(rig, front_camera(), kSize);
+        FrameRequest request = linear_request(rig, front_camera(), kFurnaceSize);
         request.objects.push_back({sphere_of(material), glm::mat4(1.0f), std::nullopt});
         request.specular = oer::testing::constant_cube(kRadiance);
         return render(request);
@@ -71,9 +71,9 @@ Deviation compare(const Frame& frame, const std::function<glm::dvec3(double)>& e
     const Camera camera = front_camera();
     Deviation d;
     double ratio_sum = 0.0;
-    for (int y = 0; y < kSize; ++y) {
-        for (int x = 0; x < kSize; ++x) {
-            const auto n = sphere_normal(camera, kSize, x, y);
+    for (int y = 0; y < kFurnaceSize; ++y) {
+        for (int x = 0; x < kFurnaceSize; ++x) {
+            const auto n = sphere_normal(camera, kFurnaceSize, x, y);
             if (!n) {
                 continue;
             }
