@@ -680,3 +680,27 @@ TEST(ReferenceRendererGlossy, AlphaMasksAndBlendsLetTheRaysThrough) {
     // Blended at 0.5: half each, within the noise of the coin.
     EXPECT_NEAR(centre_of(AlphaMode::Blend, 0.5f), 0.5 * (opaque + sphere), 0.08);
 }
+
+// KHR_materials_unlit: the surface sends its base colour whatever the light, as the rasteriser
+// draws it, exactly (no sample of the light changes it): under a map of radiance 2, where a
+// lit surface of that colour would send twice it.
+TEST(ReferenceRendererGlossy, AnUnlitSurfaceSendsItsBaseColour) {
+    FrameRequest request = furnace_request(glm::vec3(2.0f), glm::vec3(1.0f), 192, 32);
+    Mesh mesh = *request.objects[0].mesh;
+    mesh.materials[0] = oer::testing::metallic_roughness(glm::vec3(0.3f, 0.6f, 0.9f), 0.0f, 0.5f);
+    mesh.materials[0].model = ShadingModel::Unlit;
+    request.objects[0].mesh = std::make_shared<const Mesh>(std::move(mesh));
+    ReferenceOptions options;
+    options.samples = 4;
+    const ReferenceFrame frame = render_reference(request, options);
+    int checked = 0;
+    for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
+        if (frame.surfaces[i] != ReferenceSurface::Object || alpha_at(frame, i) < 1.0) {
+            continue;
+        }
+        ++checked;
+        ASSERT_NEAR(glm::distance(rgb_at(frame, i), glm::dvec3(glm::vec3(0.3f, 0.6f, 0.9f))), 0.0,
+                    1e-6);
+    }
+    EXPECT_GT(checked, 300);
+}

@@ -71,14 +71,16 @@ int reference_command(const std::vector<std::string>& arguments) {
                          std::to_string(samples));
     }
     const RenderScene scene = read_render_scene(inputs, "exr");
-    // The reference has no specular BRDF (reference_renderer.hpp): say so rather than let a
-    // glossy product's reference pass for what oer render draws.
+    // The reference shades glTF's core metallic-roughness BRDF, not the extensions' layers
+    // (docs/glossy-reference.md): say so rather than let such a product's reference pass for
+    // what oer render draws.
     for (const SceneObject& object : scene.request.objects) {
         for (const Material& material : object.mesh->materials) {
-            if (material.glossy()) {
+            if (material.layered()) {
                 std::cerr << "reference: material '" << material.name
-                          << "' is metallic-roughness; the reference shades every surface as "
-                             "Lambertian with its base colour\n";
+                          << "' has KHR_materials_* layers (ior, specular, clear coat, sheen or "
+                             "transmission); the reference shades its core metallic-roughness "
+                             "BRDF without them\n";
             }
         }
     }

@@ -149,6 +149,7 @@ EmbreeScene::EmbreeScene(const FrameRequest& request, const SceneBounds& frame,
             }
             geometry.base_texture = lookup(material.base_color_texture);
             geometry.glossy = material.glossy();
+            geometry.unlit = material.model == ShadingModel::Unlit;
             geometry.metallic = material.metallic;
             geometry.roughness = material.roughness;
             if (geometry.glossy) {
@@ -373,6 +374,7 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const glm::dvec3& origin,
     if (geometry.emissive_texture.texture != nullptr) {
         hit.emissive *= glm::dvec3(sample(geometry, geometry.emissive_texture, corners));
     }
+    hit.unlit = geometry.unlit;
     hit.ground = geometry.ground;
     hit.object = geometry.object;
     hit.primitive = geometry.primitive;

@@ -73,6 +73,9 @@ class Tracer {
     // (itself lit the same way with one bounce fewer): a chrome bowl's inside reflects itself.
     glm::dvec3 outgoing(const SurfaceHit& hit, const glm::dvec3& viewer, PixelRandom& random,
                         int bounces) const {
+        if (hit.unlit) {
+            return hit.material.base_color;
+        }
         const reference::MetallicRoughnessBrdf brdf(hit.material, hit.shading_normal, viewer);
         glm::dvec3 sum = hit.emissive;
         const bool mis = options_.sampling == ReferenceSampling::Mis && environment_.can_sample();

@@ -35,6 +35,9 @@ struct SurfaceHit {
     // texture), a Lambertian albedo of 0.8 on the ground (docs/design.md section 7).
     SurfaceMaterial material;
     glm::dvec3 emissive{0.0};  // factor times KHR_materials_emissive_strength times texture
+    // KHR_materials_unlit: the base colour is the radiance it sends, whatever the light, as the
+    // rasteriser's shade_object returns it (the transfer bake still reflects its base colour).
+    bool unlit = false;
     bool ground = false;
     // Where on the request's meshes (not set on the ground): request.objects[object], its
     // mesh's primitives[primitive], the triangle's index in that primitive's index list
@@ -98,6 +101,7 @@ class EmbreeScene {
         bool keep_texture_color = true;  // false under the request's base colour
         TextureLookup base_texture, metallic_roughness_texture, normal_texture, emissive_texture;
         bool glossy = false;
+        bool unlit = false;  // KHR_materials_unlit
         double metallic = 0.0, roughness = 1.0, normal_scale = 1.0;
         glm::dvec3 emissive{0.0};
         AlphaMode alpha_mode = AlphaMode::Opaque;
