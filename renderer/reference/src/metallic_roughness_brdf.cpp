@@ -85,9 +85,8 @@ MetallicRoughnessBrdf::MetallicRoughnessBrdf(const SurfaceMaterial& material, co
     }
     const glm::dvec2 at_v = sample_dfg(tables.table, n_dot_v_, material.roughness);
     white_albedo_v_ = at_v.x + at_v.y;
-    specular_albedo_v_ = specular_albedo(n_dot_v_);
-    specular_albedo_average_ =
-        f0_ * average.x + average.y + multiple_scattering_fresnel_ * (1.0 - white_albedo_average_);
+    specular_albedo_v_ = specular_albedo(at_v);
+    specular_albedo_average_ = specular_albedo(average);
     const glm::dvec3 single_scattering = f0_ * at_v.x + at_v.y;
     const double total =
         luminance(specular_albedo_v_ + diffuse_color_ * (1.0 - specular_albedo_v_));
@@ -95,9 +94,9 @@ MetallicRoughnessBrdf::MetallicRoughnessBrdf(const SurfaceMaterial& material, co
         total > 0.0 ? std::clamp(luminance(single_scattering) / total, 0.0, 1.0) : 1.0;
 }
 
-glm::dvec3 MetallicRoughnessBrdf::specular_albedo(double n_dot_w) const {
-    const glm::dvec2 at = sample_dfg(albedo_tables().table, n_dot_w, material_.roughness);
-    return f0_ * at.x + at.y + multiple_scattering_fresnel_ * (1.0 - (at.x + at.y));
+glm::dvec3 MetallicRoughnessBrdf::specular_albedo(const glm::dvec2& scale_bias) const {
+    return f0_ * scale_bias.x + scale_bias.y +
+           multiple_scattering_fresnel_ * (1.0 - (scale_bias.x + scale_bias.y));
 }
 
 glm::dvec3 MetallicRoughnessBrdf::evaluate(const glm::dvec3& l) const {
@@ -119,9 +118,7 @@ glm::dvec3 MetallicRoughnessBrdf::evaluate(const glm::dvec3& l) const {
         f += multiple_scattering_fresnel_ * ((1.0 - white_albedo_v_) * (1.0 - (at_l.x + at_l.y)) /
                                              (pi * (1.0 - white_albedo_average_)));
     }
-    const glm::dvec3 specular_albedo_l =
-        f0_ * at_l.x + at_l.y + multiple_scattering_fresnel_ * (1.0 - (at_l.x + at_l.y));
-    f += diffuse_color_ / pi * (1.0 - specular_albedo_v_) * (1.0 - specular_albedo_l) /
+    f += diffuse_color_ / pi * (1.0 - specular_albedo_v_) * (1.0 - specular_albedo(at_l)) /
          glm::max(1.0 - specular_albedo_average_, glm::dvec3(1e-9));
     return f;
 }

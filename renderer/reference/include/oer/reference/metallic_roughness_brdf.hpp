@@ -30,6 +30,7 @@
 // the mixture of both (one-sample multiple importance sampling, balance heuristic).
 #include <optional>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace oer::reference {
@@ -72,7 +73,9 @@ class MetallicRoughnessBrdf {
 
   private:
     double vndf_pdf(const glm::dvec3& l) const;
-    glm::dvec3 specular_albedo(double n_dot_w) const;  // E(n.w)
+    // E = f0 A + B + F_ms (1 - (A + B)) of a table entry (A, B): at one angle, or averaged
+    // over the hemisphere (E_avg, from the averages of A and B, which E is linear in).
+    glm::dvec3 specular_albedo(const glm::dvec2& scale_bias) const;
 
     SurfaceMaterial material_;
     glm::dvec3 n_, v_;
