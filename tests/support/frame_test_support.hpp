@@ -39,25 +39,33 @@ inline std::shared_ptr<const Rig> make_rig(const HdrImage& map, std::optional<in
     return std::make_shared<const Rig>(build_rig(map, {}, options));
 }
 
+// One object-free request of the rig: camera, square size, no ground, one sample, linear output
+// over transparency.
+inline FrameRequest linear_request(std::shared_ptr<const Rig> rig, const Camera& camera, int size) {
+    FrameRequest request;
+    request.rig = std::move(rig);
+    request.camera = camera;
+    request.width = request.height = size;
+    request.ground = false;
+    request.background.kind = BackgroundKind::Transparent;
+    request.samples = 1;
+    request.linear = true;
+    return request;
+}
+
 // Grey boxes (low, high corners) standing on the ground, hard shadows from a 2048 map, one
 // sample, linear output over transparency: the set-up of the tests that compare shadows with
 // ray-cast geometry, which change the filter, the map or the output where they need to.
 inline FrameRequest boxes_on_ground_request(
     std::shared_ptr<const Rig> rig, const std::vector<std::pair<glm::dvec3, glm::dvec3>>& boxes,
     const Camera& camera, int size) {
-    FrameRequest request;
-    request.rig = std::move(rig);
+    FrameRequest request = linear_request(std::move(rig), camera, size);
+    request.ground = true;
     for (const auto& [low, high] : boxes) {
         request.objects.push_back({std::make_shared<const Mesh>(oer::testing::box(
                                        glm::vec3(low), glm::vec3(high), glm::vec3(0.5f))),
                                    glm::mat4(1.0f), std::nullopt});
     }
-    request.camera = camera;
-    request.width = request.height = size;
-    request.ground = true;
-    request.background.kind = BackgroundKind::Transparent;
-    request.samples = 1;
-    request.linear = true;
     request.shadows.filter = ShadowFilter::Hard;
     request.shadows.resolution = 2048;
     return request;
@@ -80,18 +88,6 @@ inline std::shared_ptr<const Mesh> sphere_of(const Material& material) {
     Mesh mesh = uv_sphere({0, 0, 0}, 1.0f, 256, 128, glm::vec3(1.0f));
     mesh.materials[0] = material;
     return shared(std::move(mesh));
-}
-
-inline FrameRequest linear_request(std::shared_ptr<const Rig> rig, const Camera& camera, int size) {
-    FrameRequest request;
-    request.rig = std::move(rig);
-    request.camera = camera;
-    request.width = request.height = size;
-    request.ground = false;
-    request.background.kind = BackgroundKind::Transparent;
-    request.samples = 1;
-    request.linear = true;
-    return request;
 }
 
 // The unit sphere's normal seen through pixel (x, y), or nothing for pixels that miss it or
