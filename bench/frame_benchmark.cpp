@@ -81,7 +81,7 @@ class Bench {
 
 struct Lighting {
     std::shared_ptr<const oer::Rig> rig;
-    std::shared_ptr<const oer::PrefilteredCube> specular;  // for the glossy materials
+    std::shared_ptr<const oer::SpecularEnvironment> specular;  // for the glossy materials
 };
 
 Lighting lighting_with(int lights) {
@@ -91,7 +91,7 @@ Lighting lighting_with(int lights) {
     const oer::HdrImage map = oer::bench::make_synthetic_map(1024, 512, lights);
     auto rig = std::make_shared<const oer::Rig>(oer::build_rig(map, {}, options));
     auto specular =
-        std::make_shared<const oer::PrefilteredCube>(oer::prefilter_residual(map, *rig));
+        std::make_shared<const oer::SpecularEnvironment>(oer::prefilter_specular(map, *rig));
     return {std::move(rig), std::move(specular)};
 }
 
@@ -141,7 +141,7 @@ oer::FrameRequest default_request(int samples) {
     auto rig = std::make_shared<const oer::Rig>(oer::build_rig(*map, {}, oer::RigOptions{}));
     oer::FrameRequest request;
     request.specular =
-        std::make_shared<const oer::PrefilteredCube>(oer::prefilter_residual(*map, *rig));
+        std::make_shared<const oer::SpecularEnvironment>(oer::prefilter_specular(*map, *rig));
     request.rig = std::move(rig);
     request.environment_map = std::move(map);
     request.objects.push_back({std::make_shared<const oer::Mesh>(oer::make_default_product()),
@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
     std::printf("best of up to %d frames; passes of that frame in ms\n\n", kRepetitions);
 
     std::vector<std::shared_ptr<const oer::Rig>> rigs;
-    std::vector<std::shared_ptr<const oer::PrefilteredCube>> specular_cubes;
+    std::vector<std::shared_ptr<const oer::SpecularEnvironment>> specular_cubes;
     for (int lights = 0; lights <= 4; ++lights) {
         Lighting lighting = lighting_with(lights);
         rigs.push_back(std::move(lighting.rig));
@@ -309,8 +309,9 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "\nmaterials, 2 lights, cached shadow maps, 1 sample per pixel: the bunny's "
-        "color pass ms with its Lambertian material and with glossy PBR ones (split-sum IBL and "
-        "the lights' lobes; the last two with the extensions' layers, docs/materials.md), same "
+        "color pass ms with its Lambertian material and with glossy PBR ones (split-sum IBL, "
+        "the residual's cube and each light's; the last two with the extensions' layers, "
+        "docs/materials.md), same "
         "run; target <= %.1fx Lambertian\n",
         targets::kPbrColorPassRatio);
     for (const auto& [width, height] : {std::pair{512, 512}, std::pair{1366, 768}}) {

@@ -5,11 +5,12 @@
 // decoded maps (for backgrounds and previews) in an LRU of their own. The preset `default` is
 // the built-in studio with its rig and its specular cube at default options, made once at
 // start-up (the default product is glossy: the first frame and the readiness check need it).
-// Each uploaded rig's specular cube (its residual map prefiltered, specular_environment.hpp) is
-// made only when a frame needs it, then kept like the rig: in memory (LRU by bytes) and in the
-// store by rig id. Uploaded environments are listed by rig id and removed with all that was
-// derived from them. A cube, or a rig recomputed for a lookup, that the disk has no room for is
-// kept in memory only (logged): frames and lookups do not fail for want of space, uploads do.
+// Each uploaded rig's specular cubes (its residual map and each light prefiltered,
+// specular_environment.hpp) are made only when a frame needs them, then kept like the rig: in
+// memory (LRU by bytes) and in the store by rig id. Uploaded environments are listed by rig id and
+// removed with all that was derived from them. A cube, or a rig recomputed for a lookup, that the
+// disk has no room for is kept in memory only (logged): frames and lookups do not fail for want of
+// space, uploads do.
 #include <functional>
 #include <memory>
 #include <string>
@@ -68,7 +69,7 @@ class EnvironmentRegistry {
     // Concurrent calls for one rig compute it once (AssetRegistry): the later ones wait. nullptr
     // for a Thesis rig (no specular term), or when it must be computed and the source is no
     // longer stored.
-    std::shared_ptr<const PrefilteredCube> specular(const Environment& environment);
+    std::shared_ptr<const SpecularEnvironment> specular(const Environment& environment);
 
     // The uploaded environments (the preset is not listed) with ids after `after` ("" for the
     // first page), at most limit of them, by rig id; each with its map's id, size and format and
@@ -92,8 +93,8 @@ class EnvironmentRegistry {
                                                const std::string& source_id,
                                                const std::string& rig_id, Storing storing);
     void remember(const std::shared_ptr<const Environment>& environment);
-    std::shared_ptr<const PrefilteredCube> load_stored_specular(const std::string& id);
-    std::shared_ptr<const PrefilteredCube> compute_specular(const Environment& environment);
+    std::shared_ptr<const SpecularEnvironment> load_stored_specular(const std::string& id);
+    std::shared_ptr<const SpecularEnvironment> compute_specular(const Environment& environment);
     std::shared_ptr<const Environment> preprocess(
         std::string_view bytes, const std::string& extension, const RigOptions& options,
         const std::string& source_id, const std::string& rig_id, const std::string& file_name);
@@ -106,10 +107,10 @@ class EnvironmentRegistry {
     const Log log_;
     const ImageLimits limits_;
     std::shared_ptr<const HdrImage> preset_image_;
-    std::shared_ptr<const PrefilteredCube> preset_specular_;
+    std::shared_ptr<const SpecularEnvironment> preset_specular_;
     AssetRegistry<Environment> rigs_;
     SharedLruCache<HdrImage> images_;
-    AssetRegistry<PrefilteredCube> specular_;
+    AssetRegistry<SpecularEnvironment> specular_;
 };
 
 }  // namespace oer::server

@@ -913,7 +913,8 @@ TEST_F(FrameRendererTest, BrokenAssetsAreRejectedAndLeaveTheRendererClean) {
     good.ground = true;
     // The glTF samples' materials are glossy: their frames read the residual map prefiltered,
     // near the sky's constant 0.3.
-    good.specular = oer::testing::constant_cube(glm::vec3(0.3f));
+    good.specular =
+        oer::testing::specular_of(oer::testing::constant_cube(glm::vec3(0.3f)), rig->lights.size());
     const Frame before = render(good);
 
     // Assets that load but are degenerate, each beside the sphere, through every pass: normals

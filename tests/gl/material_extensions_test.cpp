@@ -44,7 +44,7 @@ class MaterialExtensionsTest : public oer::testing::RendererSuite {
         static const auto rig = make_rig(oer::testing::constant_map(256, 128, kRadiance), 0, 3);
         FrameRequest request = linear_request(rig, front_camera(), kFurnaceSize);
         request.objects.push_back({sphere_of(material), glm::mat4(1.0f), std::nullopt});
-        request.specular = oer::testing::constant_cube(kRadiance);
+        request.specular = oer::testing::specular_of(oer::testing::constant_cube(kRadiance));
         return render(request);
     }
 };
@@ -249,7 +249,7 @@ TEST_F(MaterialExtensionsTest, TheCoatsReflectionOfALightGoesWithTheLight) {
     material.clearcoat.factor = 1.0f;
     FrameRequest request = linear_request(rig, front_camera(), 128);
     request.objects.push_back({sphere_of(material), glm::mat4(1.0f), std::nullopt});
-    request.specular = std::make_shared<const PrefilteredCube>(prefilter_residual(map, *rig));
+    request.specular = std::make_shared<const SpecularEnvironment>(prefilter_specular(map, *rig));
     request.shadows.enabled = false;
     const auto peak = [](const Frame& frame) {
         double best = 0.0;

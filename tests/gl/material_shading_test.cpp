@@ -84,7 +84,7 @@ TEST_F(MaterialShadingTest, AWhiteFurnaceKeepsItsEnergyAtEveryRoughness) {
             request.objects.push_back(
                 {sphere_of(oer::testing::metallic_roughness(glm::vec3(1.0f), metallic, roughness)),
                  glm::mat4(1.0f), std::nullopt});
-            request.specular = oer::testing::constant_cube(radiance);
+            request.specular = oer::testing::specular_of(oer::testing::constant_cube(radiance));
             const Frame frame = render(request);
             glm::dvec3 sum(0.0);
             double worst = 0.0;
@@ -162,12 +162,30 @@ Pixel brightest(const Frame& frame) {
     return best;
 }
 
+// The centre of the pixels above half of the frame's peak (green): where a mirror shows a
+// uniform disc, whose reflection is a plateau.
+glm::dvec2 highlight_centre(const Frame& frame) {
+    const Pixel peak = brightest(frame);
+    const double half = 0.5 * linear_rgb(frame, peak.x, peak.y).g;
+    glm::dvec2 sum(0.0);
+    int count = 0;
+    for (int y = 0; y < frame.height; ++y) {
+        for (int x = 0; x < frame.width; ++x) {
+            if (linear_rgb(frame, x, y).g > half) {
+                sum += glm::dvec2(x, y);
+                ++count;
+            }
+        }
+    }
+    return sum / double(count);
+}
+
 }  // namespace
 
 // A mirror shows the light where reflection puts it, as bright as the light (its radiance times
-// F0 = 1, the split sum's A + B being 1 for a mirror); the light's weight at 0 takes exactly
-// that highlight away and nothing else (a metal has no diffuse), and a blocker between the
-// light and part of the highlight takes it away where the shadow map hides the light.
+// F0 = 1, the split sum's A + B being 1 for a mirror); its weight at 0.5 halves the highlight,
+// at 0 takes exactly that highlight away and nothing else (a metal has no diffuse), and a blocker
+// between the light and part of the highlight takes it away where the shadow map hides the light.
 TEST_F(MaterialShadingTest, AMirrorReflectsTheLightWhereItIsAndLosesItWithTheLight) {
     const SmallLight light{glm::normalize(glm::dvec3(0.35, 0.6, 1.0))};
     const HdrImage map = small_light_map(light);
@@ -192,12 +210,14 @@ TEST_F(MaterialShadingTest, AMirrorReflectsTheLightWhereItIsAndLosesItWithTheLig
         {sphere_of(oer::testing::metallic_roughness(glm::vec3(1.0f), 1.0f, 0.0f)), glm::mat4(1.0f),
          std::nullopt});
     // The residual map: the sky, black where the light's pixels were.
-    request.specular = std::make_shared<const PrefilteredCube>(prefilter_residual(map, *rig));
+    request.specular = std::make_shared<const SpecularEnvironment>(prefilter_specular(map, *rig));
     request.shadows.filter = ShadowFilter::Hard;
     request.shadows.resolution = 4096;
     const Frame lit = render(request);
     request.lights = {0.0f};
     const Frame off = render(request);
+    request.lights = {0.5f};
+    const Frame dimmed = render(request);
     request.lights = {};
     request.objects.push_back(
         {shared(oer::testing::box(glm::vec3(plate_low), glm::vec3(plate_high), glm::vec3(0.5f))),
@@ -209,12 +229,20 @@ TEST_F(MaterialShadingTest, AMirrorReflectsTheLightWhereItIsAndLosesItWithTheLig
     // Where and how bright.
     const Pixel peak = brightest(lit);
     const double peak_radiance = linear_rgb(lit, peak.x, peak.y).g;
+    const glm::dvec2 centre = highlight_centre(lit);
     std::printf(
-        "[ measured ] mirror: highlight at (%d, %d), reflection predicts (%d, %d); peak "
-        "%.2f for a light of radiance %.0f\n",
-        peak.x, peak.y, predicted.x, predicted.y, peak_radiance, light.radiance);
-    EXPECT_LE(std::hypot(peak.x - predicted.x, peak.y - predicted.y), 2.0);
+        "[ measured ] mirror: highlight centred at (%.1f, %.1f), reflection predicts (%d, %d); "
+        "peak %.2f for a light of radiance %.0f\n",
+        centre.x, centre.y, predicted.x, predicted.y, peak_radiance, light.radiance);
+    EXPECT_LE(std::hypot(centre.x - predicted.x, centre.y - predicted.y), 2.0);
     EXPECT_NEAR(peak_radiance, light.radiance, 0.1 * light.radiance);
+
+    // Dimmed to half: the highlight above the sky halves.
+    const double dimmed_ratio = (linear_rgb(dimmed, peak.x, peak.y).g - light.background) /
+                                (peak_radiance - light.background);
+    std::printf("[ measured ] light at weight 0.5: highlight %.4f of its full weight\n",
+                dimmed_ratio);
+    EXPECT_NEAR(dimmed_ratio, 0.5, 0.01);
 
     // The light switched off: its highlight gone, the rest of the sphere unchanged.
     const Pixel off_peak = brightest(off);
@@ -328,7 +356,7 @@ TEST_F(MaterialShadingTest, HighlightsDimAndWidenWithRoughness) {
     const int size = 512;
     FrameRequest request = linear_request(rig, camera, size);
     request.objects.push_back({shared(std::move(grid)), glm::mat4(1.0f), std::nullopt});
-    request.specular = std::make_shared<const PrefilteredCube>(prefilter_residual(map, *rig));
+    request.specular = std::make_shared<const SpecularEnvironment>(prefilter_specular(map, *rig));
     request.shadows.enabled = false;
     const Frame lit = render(request);
     request.lights = {0.0f};
@@ -379,7 +407,8 @@ TEST_F(MaterialShadingTest, LambertianMaterialsShadeAsBeforeAndCostNoSpecularMap
     request.shadows.enabled = false;
     const std::size_t uploads = specular_uploads();
     const Frame plain = render(request);
-    request.specular = oer::testing::constant_cube(glm::vec3(light.background));
+    request.specular = oer::testing::specular_of(
+        oer::testing::constant_cube(glm::vec3(light.background)), rig->lights.size());
     const Frame given_a_cube = render(request);
     EXPECT_EQ(given_a_cube.linear, plain.linear);
     EXPECT_EQ(specular_uploads(), uploads);
@@ -427,7 +456,8 @@ TEST_F(MaterialShadingTest, LambertianMaterialsShadeAsBeforeAndCostNoSpecularMap
     // The cube is uploaded once while its owner lives, and again for a new one.
     render(request);
     EXPECT_EQ(specular_uploads(), uploads + 1);
-    request.specular = oer::testing::constant_cube(glm::vec3(light.background));
+    request.specular = oer::testing::specular_of(
+        oer::testing::constant_cube(glm::vec3(light.background)), rig->lights.size());
     render(request);
     EXPECT_EQ(specular_uploads(), uploads + 2);
 }
@@ -452,16 +482,24 @@ TEST_F(MaterialShadingTest, GlossyMaterialsNeedAPrefilteredEnvironmentUnderTheHd
                   "specular: the scene has glossy materials but no prefiltered environment was "
                   "given");
     }
-    auto broken = std::make_shared<PrefilteredCube>(*oer::testing::constant_cube(glm::vec3(1.0f)));
-    broken->rgb_half[2].pop_back();
-    request.specular = broken;
-    try {
-        render(request);
-        ADD_FAILURE() << "a cube with a short level was uploaded";
-    } catch (const Error& error) {
-        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
-        EXPECT_NE(std::string(error.what()).find("level 2 of the cube"), std::string::npos)
-            << error.what();
+    // A residual with a short level, and lights' cubes prefiltered for a rig of other lights.
+    PrefilteredCube short_level = oer::testing::constant_cube(glm::vec3(1.0f));
+    short_level.rgb_half[2].pop_back();
+    const std::pair<std::shared_ptr<const SpecularEnvironment>, std::string> broken[] = {
+        {oer::testing::specular_of(short_level, rig->lights.size()),
+         "specular: the residual's cube: level 2 holds"},
+        {oer::testing::specular_of(oer::testing::constant_cube(glm::vec3(1.0f)),
+                                   rig->lights.size() + 1),
+         "specular: the lights' cube has 2 layers for a rig of 1 lights"}};
+    for (const auto& [specular, message] : broken) {
+        request.specular = specular;
+        try {
+            render(request);
+            ADD_FAILURE() << "refused cubes were uploaded: " << message;
+        } catch (const Error& error) {
+            EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
+            EXPECT_EQ(std::string(error.what()).rfind(message, 0), 0u) << error.what();
+        }
     }
 
     // The thesis's model: no specular term, so no cube needed; the metal's pixels are its base
@@ -519,7 +557,7 @@ Texture normal_texture_of(glm::dvec3 n) {
 // quads' surfaces pass through the same point.
 TEST_F(MaterialShadingTest, ANormalMapTiltsTheReflectionAsTheGeometryWould) {
     const auto rig = make_rig(gradient_map(), 0, 3);
-    const auto cube = oer::testing::cube_of(gradient_radiance);
+    const auto cube = oer::testing::specular_of(oer::testing::cube_of(gradient_radiance));
     const Camera camera = front_camera();
     const double tilt = glm::radians(30.0);
     const Material mirror = oer::testing::metallic_roughness(glm::vec3(1.0f), 1.0f, 0.0f);
@@ -602,7 +640,7 @@ TEST_F(MaterialShadingTest, BlendedSurfacesComposeOverWhatIsBehindThem) {
     request.objects.push_back({shared(oer::testing::quad({0, 0, -0.5f}, 1.0f, glm::vec3(1.0f))),
                                glm::mat4(1.0f), std::nullopt});
     request.objects.push_back({shared(std::move(transparent)), glm::mat4(1.0f), std::nullopt});
-    request.specular = oer::testing::constant_cube(radiance);
+    request.specular = oer::testing::specular_of(oer::testing::constant_cube(radiance));
     const Frame frame = render(request);
     request.linear = false;
     request.tonemap = ToneMapper::None;
@@ -840,7 +878,8 @@ TEST_F(MaterialShadingTest, DebiansGltfSamplesRender) {
     }
     const auto rig = make_rig(
         small_light_map({glm::normalize(glm::dvec3(0.3, 1.0, 0.5)), 0.1, 50.0f, 0.3f}), 1, 3);
-    const auto cube = oer::testing::constant_cube(glm::vec3(0.3f));
+    const auto cube =
+        oer::testing::specular_of(oer::testing::constant_cube(glm::vec3(0.3f)), rig->lights.size());
     for (const char* sample :
          {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb",
           "BoxTextured-glTF-Embedded/BoxTextured.gltf", "ClearCoat-glTF/ClearCoatTest.gltf",
@@ -878,25 +917,26 @@ TEST_F(MaterialShadingTest, DebiansGltfSamplesRender) {
 }
 
 // The switchable split of the specular lighting against the unsplit one: a metal sphere lit by
-// the residual map's cube plus the light's lobes (the renderer's way, the light switchable),
-// and the same sphere lit by the whole map prefiltered into one cube with no light taken out
-// (the viewers' way). Where the light is reflected and over the whole sphere they agree within
-// the lobes' error (light_lobe_test.cpp) and the cube's own.
+// the residual map's cube plus the light's own cube (the renderer's way, the light
+// switchable), and the same sphere lit by the whole map prefiltered into one cube with no light
+// taken out (the viewers' way). Over the whole sphere and at the light's highlight they agree
+// within the cubes' resolution, from a mirror to roughness 1.
 TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered) {
     const SmallLight light{glm::normalize(glm::dvec3(0.35, 0.6, 1.0)), 0.1, 100.0f, 0.05f};
     const HdrImage map = small_light_map(light);
     const auto rig = make_rig(map, 1, 3);
     const auto unsplit = make_rig(map, 0, 3);
-    const auto residual = std::make_shared<const PrefilteredCube>(prefilter_residual(map, *rig));
-    const auto whole = std::make_shared<const PrefilteredCube>(prefilter_map(map));
+    const auto split_cubes =
+        std::make_shared<const SpecularEnvironment>(prefilter_specular(map, *rig));
+    const auto whole = oer::testing::specular_of(prefilter_map(map));
     const Camera camera = front_camera();
-    for (const float roughness : {0.25f, 0.5f, 1.0f}) {
+    for (const float roughness : {0.0f, 0.1f, 0.25f, 0.5f, 1.0f}) {
         FrameRequest request = linear_request(rig, camera, 128);
         request.objects.push_back(
             {sphere_of(oer::testing::metallic_roughness(glm::vec3(1.0f), 1.0f, roughness)),
              glm::mat4(1.0f), std::nullopt});
         request.shadows.enabled = false;
-        request.specular = residual;
+        request.specular = split_cubes;
         const Frame split = render(request);
         request.rig = unsplit;
         request.specular = whole;
@@ -919,6 +959,106 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
             roughness, sum_split / sum_reference, peak_split, peak_reference);
         EXPECT_NEAR(sum_split / sum_reference, 1.0, 0.02) << roughness;
         EXPECT_NEAR(peak_split / peak_reference, 1.0, 0.12) << roughness;
+    }
+}
+
+// Each light reflects from its own layer of the lights' cube, whichever lights are on: a
+// mirror sphere under a disc and a soft box (30 x 8 degrees), each alone on, shows only its own
+// highlight where reflection puts it; the soft box's is a rectangle as wide and as tall on the
+// sphere as the box's reflected edges, at roughness 0 and still wider than tall at 0.2.
+TEST_F(MaterialShadingTest, EachLightReflectsFromItsOwnCubeInItsOwnShape) {
+    const glm::dvec3 disc_direction = glm::normalize(glm::dvec3(-0.5, 0.4, 1.0));
+    const oer::testing::SoftBoxLight box{glm::normalize(glm::dvec3(0.45, 0.2, 1.0)),
+                                         glm::radians(15.0), glm::radians(4.0), glm::vec3(60.0f)};
+    const HdrImage map = oer::testing::with_soft_boxes(
+        oer::testing::disc_map(1024, 512, glm::vec3(0.05f),
+                               {{disc_direction, 0.08, glm::vec3(100.0f)}}),
+        {box});
+    const auto rig = make_rig(map, 2, 3);
+    ASSERT_EQ(rig->lights.size(), 2u);
+    const auto specular =
+        std::make_shared<const SpecularEnvironment>(prefilter_specular(map, *rig));
+    // Which rig light is the box (the locator orders them by energy).
+    const std::size_t box_light = glm::dot(rig->lights[0].direction, box.direction) >
+                                          glm::dot(rig->lights[1].direction, box.direction)
+                                      ? 0
+                                      : 1;
+    const Camera camera = front_camera();
+    const int size = 256;
+    const auto frame_of = [&](float roughness, std::vector<float> lights) {
+        FrameRequest request = linear_request(rig, camera, size);
+        request.objects.push_back(
+            {sphere_of(oer::testing::metallic_roughness(glm::vec3(1.0f), 1.0f, roughness)),
+             glm::mat4(1.0f), std::nullopt});
+        request.shadows.enabled = false;
+        request.specular = specular;
+        request.lights = std::move(lights);
+        return render(request);
+    };
+    // The highlight (a frame minus the frame with both lights off) above half its peak: its
+    // centre and its extent in x and y.
+    struct Highlight {
+        glm::dvec2 centre{0.0};
+        glm::ivec2 low{size}, high{-1};
+    };
+    const auto highlight_of = [&](const Frame& lit, const Frame& off) {
+        double peak = 0.0;
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                peak = std::max(peak, linear_rgb(lit, x, y).g - linear_rgb(off, x, y).g);
+            }
+        }
+        Highlight h;
+        int count = 0;
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                if (linear_rgb(lit, x, y).g - linear_rgb(off, x, y).g > 0.5 * peak) {
+                    h.centre += glm::dvec2(x, y);
+                    h.low = glm::min(h.low, glm::ivec2(x, y));
+                    h.high = glm::max(h.high, glm::ivec2(x, y));
+                    ++count;
+                }
+            }
+        }
+        h.centre /= double(count);
+        return h;
+    };
+    // Where the mirror shows the box's edges: its extent on the sphere.
+    const auto towards = [&](const glm::dvec3& axis, double angle) {
+        return glm::normalize(std::cos(angle) * box.direction + std::sin(angle) * axis);
+    };
+    const Pixel left = reflection_towards(camera, size, towards(box.across(), -box.half_width));
+    const Pixel right = reflection_towards(camera, size, towards(box.across(), box.half_width));
+    const Pixel bottom = reflection_towards(camera, size, towards(box.up(), -box.half_height));
+    const Pixel top = reflection_towards(camera, size, towards(box.up(), box.half_height));
+    const int box_width = std::abs(right.x - left.x), box_height = std::abs(top.y - bottom.y);
+
+    for (const float roughness : {0.0f, 0.2f}) {
+        const Frame off = frame_of(roughness, {0.0f, 0.0f});
+        for (std::size_t k = 0; k < 2; ++k) {
+            std::vector<float> weights(2, 0.0f);
+            weights[k] = 1.0f;
+            const Highlight h = highlight_of(frame_of(roughness, weights), off);
+            const Pixel predicted = reflection_towards(camera, size, rig->lights[k].direction);
+            const int width = h.high.x - h.low.x + 1, height = h.high.y - h.low.y + 1;
+            std::printf(
+                "[ measured ] roughness %.1f, light %zu (%s) alone: highlight centred at "
+                "(%.1f, %.1f), reflection predicts (%d, %d); %d x %d pixels above half its peak "
+                "(the box's reflected edges %d x %d)\n",
+                roughness, k, k == box_light ? "soft box" : "disc", h.centre.x, h.centre.y,
+                predicted.x, predicted.y, width, height, box_width, box_height);
+            EXPECT_LE(std::hypot(h.centre.x - predicted.x, h.centre.y - predicted.y), 3.0)
+                << "light " << k << " roughness " << roughness;
+            if (k != box_light) {
+                continue;
+            }
+            if (roughness == 0.0f) {
+                EXPECT_NEAR(width, box_width, 3) << "the box's reflection's width";
+                EXPECT_NEAR(height, box_height, 3) << "the box's reflection's height";
+            } else {
+                EXPECT_GT(width, 2 * height) << "the box's reflection at roughness 0.2";
+            }
+        }
     }
 }
 
@@ -974,7 +1114,7 @@ TEST_F(MaterialShadingTest, PackedTexturesScaleTheirFactorsAndEmissionAdds) {
     mesh.textures.push_back(texture_of(1, 1, {{255, 255, 255, 255}}, TextureEncoding::Srgb));
     FrameRequest request = linear_request(rig, camera, size);
     request.objects.push_back({shared(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
-    request.specular = oer::testing::constant_cube(radiance);
+    request.specular = oer::testing::specular_of(oer::testing::constant_cube(radiance));
     const Frame frame = render(request);
 
     const DfgTable table = dfg_table(32, 1024);
@@ -1152,7 +1292,7 @@ TEST_F(MaterialShadingTest, ATextureOnTheSecondUvSetRendersAsOnTheFirst) {
         FrameRequest request = linear_request(rig, camera, size);
         request.objects.push_back(
             {shared(quad_on_two_uv_sets(occlusion_set, swapped)), glm::mat4(1.0f), std::nullopt});
-        request.specular = oer::testing::constant_cube(radiance);
+        request.specular = oer::testing::specular_of(oer::testing::constant_cube(radiance));
         return render(request);
     };
     const Frame on_set_1 = frame_of(1, false);
@@ -1191,7 +1331,7 @@ TEST_F(MaterialShadingTest, VertexColoursMultiplyTheBaseColourAndAlpha) {
         }
         FrameRequest request = linear_request(rig, camera, size);
         request.objects.push_back({shared(std::move(mesh)), glm::mat4(1.0f), std::nullopt});
-        request.specular = oer::testing::constant_cube(radiance);
+        request.specular = oer::testing::specular_of(oer::testing::constant_cube(radiance));
         return render(request);
     };
     const glm::vec4 red(1.0f, 0.0f, 0.0f, 1.0f), white(1.0f);

@@ -1,7 +1,8 @@
-// The prefiltered residual cube (oer/lighting/specular_environment.hpp): the furnace, a small
-// bright disc (where level 0 shows it, energy per level, the peak's place and fall), the
-// residual against the map with the lights' pixels zeroed, GL's face order and orientation,
-// and the stored form with each way it is refused.
+// The prefiltered cubes (oer/lighting/specular_environment.hpp): the furnace, a small bright
+// disc (where level 0 shows it, energy per level, the peak's place and fall), the residual
+// against the map with the lights' pixels zeroed, each light's cube against its pixels alone,
+// a soft box's shape at every roughness against the exact integral, GL's face order and
+// orientation, and the stored form with each way it is refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,12 +38,13 @@ SpecularOptions small_options() {
     options.face_size = 32;
     options.levels = 4;
     options.samples = 32;
+    options.light_face_size = 16;
     return options;
 }
 
-glm::dvec3 texel(const PrefilteredCube& cube, int level, int face, int i, int j) {
+glm::dvec3 texel(const PrefilteredCube& cube, int level, int face, int i, int j, int layer = 0) {
     const int n = cube.face_size >> level;
-    const std::size_t at = ((std::size_t(face) * n + j) * n + i) * 3;
+    const std::size_t at = (((std::size_t(layer) * 6 + face) * n + j) * n + i) * 3;
     const std::vector<std::uint16_t>& texels = cube.rgb_half[std::size_t(level)];
     return {glm::unpackHalf1x16(texels[at]), glm::unpackHalf1x16(texels[at + 1]),
             glm::unpackHalf1x16(texels[at + 2])};
@@ -70,14 +72,15 @@ double texel_solid_angle(int n, int i, int j) {
     return f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0);
 }
 
-// Mean radiance of one level over the sphere (sum of radiance x texel solid angle, / 4 pi).
-glm::dvec3 level_mean(const PrefilteredCube& cube, int level) {
+// Mean radiance of one level of a layer over the sphere (sum of radiance x texel solid angle, / 4
+// pi).
+glm::dvec3 level_mean(const PrefilteredCube& cube, int level, int layer = 0) {
     const int n = cube.face_size >> level;
     glm::dvec3 sum(0.0);
     for (int face = 0; face < 6; ++face) {
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
-                sum += texel(cube, level, face, i, j) * texel_solid_angle(n, i, j);
+                sum += texel(cube, level, face, i, j, layer) * texel_solid_angle(n, i, j);
             }
         }
     }
@@ -237,12 +240,153 @@ TEST(SpecularEnvironment, ResidualIsTheMapWithItsLightsZeroed) {
             zeroed.set(index, glm::vec3(0.0f));
         }
     }
-    const std::string residual =
-        encode_prefiltered_cube(prefilter_residual(map, rig, small_options()));
-    EXPECT_EQ(residual, encode_prefiltered_cube(prefilter_map(zeroed, small_options())));
-    EXPECT_NE(residual, encode_prefiltered_cube(prefilter_map(map, small_options())));
+    const auto residual = prefilter_residual(map, rig, small_options()).rgb_half;
+    EXPECT_EQ(residual, prefilter_map(zeroed, small_options()).rgb_half);
+    EXPECT_NE(residual, prefilter_map(map, small_options()).rgb_half);
     // Deterministic: a second run gives the same bytes.
-    EXPECT_EQ(residual, encode_prefiltered_cube(prefilter_residual(map, rig, small_options())));
+    EXPECT_EQ(residual, prefilter_residual(map, rig, small_options()).rgb_half);
+}
+
+// Level 0 of layer k of the lights' cube is light k's pixels alone (black elsewhere) resampled
+// at light_face_size, byte for byte as prefilter_map makes it; the lights' levels above keep
+// their energy.
+TEST(SpecularEnvironment, EachLightsLayerIsItsPixelsAlonePrefiltered) {
+    const HdrImage map =
+        disc_map(512, 256, glm::vec3(0.2f, 0.25f, 0.3f),
+                 {DiscLight{glm::dvec3(0.2, 1.0, 0.3), 0.08, glm::vec3(400.0f, 380.0f, 350.0f)},
+                  DiscLight{glm::dvec3(-1.0, 0.3, -0.4), 0.05, glm::vec3(200.0f, 220.0f, 260.0f)}});
+    const Rig rig = build_rig(map, RepairCounts{}, RigOptions{});
+    ASSERT_GE(rig.lights.size(), 2u);
+    const SpecularOptions options;  // the lights' cubes at 128, the residual's at 256
+    const SpecularEnvironment specular = prefilter_specular(map, rig, options);
+    ASSERT_EQ(specular.lights.layers, int(rig.lights.size()));
+    EXPECT_EQ(specular.lights.face_size, 128);
+    EXPECT_EQ(specular.lights.levels, specular.residual.levels);
+    for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+        HdrImage alone(map.width, map.height);
+        for (const std::uint32_t index : rig.lights[k].pixels) {
+            alone.set(index, map.rgb(index));
+        }
+        SpecularOptions light_options = options;
+        light_options.face_size = options.light_face_size;
+        const PrefilteredCube expected = prefilter_map(alone, light_options);
+        const std::vector<std::uint16_t>& all = specular.lights.rgb_half[0];
+        const std::size_t per_layer = all.size() / rig.lights.size();
+        const std::vector<std::uint16_t> layer(all.begin() + std::ptrdiff_t(k * per_layer),
+                                               all.begin() + std::ptrdiff_t((k + 1) * per_layer));
+        EXPECT_EQ(layer, expected.rgb_half[0]) << "light " << k;
+    }
+    // Each light's energy at every level is its energy at level 0 (its kernel sums to 1 about
+    // each of its texels); with the residual's it is the whole map's, within the sampled
+    // prefiltering's own error on a map with bright discs (the whole map's cube).
+    const PrefilteredCube whole = prefilter_map(map, options);
+    for (int level = 0; level < options.levels; ++level) {
+        glm::dvec3 parts = level_mean(specular.residual, level);
+        for (int k = 0; k < specular.lights.layers; ++k) {
+            const glm::dvec3 light = level_mean(specular.lights, level, k);
+            const glm::dvec3 at_level_0 = level_mean(specular.lights, 0, k);
+            std::printf("[ measured ] level %d: light %d's energy over its level 0's %.4f\n", level,
+                        k, light.g / at_level_0.g);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(light[c] / at_level_0[c], 1.0, 0.005) << "level " << level;
+            }
+            parts += light;
+        }
+        const glm::dvec3 expected = level_mean(whole, level);
+        std::printf(
+            "[ measured ] level %d: residual and lights over the whole map %.4f %.4f %.4f\n", level,
+            parts.r / expected.r, parts.g / expected.g, parts.b / expected.b);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(parts[c] / expected[c], 1.0, 0.03) << "level " << level;
+        }
+    }
+}
+
+// A soft box, a rectangle of 30 x 8 degrees (a planar light seen from its centre), in its own
+// cube: at every level its prefiltered radiance along the box's long and short axes is the
+// exact integral of its pixels under the prefiltering kernel, so its reflection is as long and
+// as narrow as the box at every roughness (a lobe about its direction would be round).
+// Tolerance: 2 % of the level's peak (measured 0.7 to 1.2 %: the half floats, the source
+// texels' size and the 128 texels' bilinear reads).
+TEST(SpecularEnvironment, ASoftBoxKeepsItsShapeAtEveryRoughness) {
+    const oer::testing::SoftBoxLight box{glm::normalize(glm::dvec3(0.4, 0.5, -0.7)),
+                                         glm::radians(15.0), glm::radians(4.0), glm::vec3(50.0f)};
+    const glm::dvec3 centre = box.direction, across = box.across(), up = box.up();
+    const glm::vec3 radiance = box.radiance;
+    const HdrImage map =
+        oer::testing::with_soft_boxes(constant_map(1024, 512, glm::vec3(0.1f)), {box});
+    const equirect::Grid grid(map.width, map.height);
+    std::vector<std::size_t> box_pixels;
+    for (std::size_t i = 0; i < map.pixel_count(); ++i) {
+        if (box.contains(grid.direction(i))) {
+            box_pixels.push_back(i);
+        }
+    }
+    RigOptions rig_options;
+    rig_options.light_count = 1;
+    const Rig rig = build_rig(map, RepairCounts{}, rig_options);
+    ASSERT_EQ(rig.lights.size(), 1u);
+    // The light's pixels are the box's (the locator may take a rim of the background with it).
+    double light_energy = 0.0, box_energy = 0.0;
+    for (const std::uint32_t index : rig.lights[0].pixels) {
+        light_energy += map.rgb(index).g * grid.row_solid_angle[index / std::size_t(map.width)];
+    }
+    for (const std::size_t index : box_pixels) {
+        box_energy += radiance.g * grid.row_solid_angle[index / std::size_t(map.width)];
+    }
+    ASSERT_NEAR(light_energy / box_energy, 1.0, 0.02);
+    const PrefilteredCube lights = prefilter_lights(map, rig);
+
+    // The exact P(d) of the light's pixels: sum of L K(d, l) dOmega over the normalisation
+    // integral of K over the hemisphere (K = D(h) n.l, n = v = d; `kernel` above).
+    const auto exact = [&](const glm::dvec3& d, double roughness) {
+        double sum = 0.0;
+        for (const std::uint32_t index : rig.lights[0].pixels) {
+            const double angle =
+                std::acos(std::clamp(glm::dot(d, grid.direction(index)), -1.0, 1.0));
+            if (angle < kPi / 2.0) {
+                sum += map.rgb(index).g * kernel(angle, roughness) *
+                       grid.row_solid_angle[index / std::size_t(map.width)];
+            }
+        }
+        constexpr int steps = 20000;
+        double normalisation = 0.0;
+        for (int k = 0; k < steps; ++k) {
+            const double theta = (k + 0.5) * (kPi / 2.0) / steps;
+            normalisation += kernel(theta, roughness) * std::sin(theta);
+        }
+        return sum / (2.0 * kPi * normalisation * (kPi / 2.0) / steps);
+    };
+    const auto towards = [&](const glm::dvec3& axis, double degrees) {
+        return glm::normalize(std::cos(glm::radians(degrees)) * centre +
+                              std::sin(glm::radians(degrees)) * axis);
+    };
+    for (int level = 1; level < lights.levels; ++level) {
+        const double roughness = roughness_of_level(level, lights.levels);
+        const double peak = exact(centre, roughness);
+        double worst = 0.0;
+        for (const double degrees : {0.0, 6.0, 12.0, 18.0, 25.0}) {
+            for (const glm::dvec3& axis : {across, up}) {
+                const glm::dvec3 d = towards(axis, degrees);
+                worst = std::max(
+                    worst, std::abs(sample_cube(lights, d, level).g - exact(d, roughness)) / peak);
+            }
+        }
+        // The shape: 12 degrees along the box against 12 degrees across it.
+        const double along = sample_cube(lights, towards(across, 12.0), level).g;
+        const double sideways = sample_cube(lights, towards(up, 12.0), level).g;
+        std::printf(
+            "[ measured ] soft box, roughness %.2f: worst error %.4f of the peak %.3f; at 12 "
+            "degrees along it %.3f, across it %.3f (exact %.3f, %.3f)\n",
+            roughness, worst, peak, along, sideways, exact(towards(across, 12.0), roughness),
+            exact(towards(up, 12.0), roughness));
+        EXPECT_LT(worst, 0.02) << "roughness " << roughness;
+    }
+    // Level 0 is the box itself: inside and outside each of its edges.
+    EXPECT_NEAR(sample_cube(lights, centre, 0.0).g, radiance.g, 0.01 * radiance.g);
+    EXPECT_NEAR(sample_cube(lights, towards(across, 12.0), 0.0).g, radiance.g, 0.01 * radiance.g);
+    EXPECT_LT(sample_cube(lights, towards(up, 6.0), 0.0).g, 0.01 * radiance.g);
+    EXPECT_LT(sample_cube(lights, towards(across, 18.0), 0.0).g, 0.01 * radiance.g);
 }
 
 // Faces in GL's order and orientation: a map coloured by the dominant axis of each direction
@@ -316,24 +460,38 @@ TEST(SpecularEnvironment, RoughnessOfLevelIsLevelOverLastLevel) {
     EXPECT_NE(error_of([] { roughness_of_level(0, 1); }).find("1 levels"), std::string::npos);
 }
 
+// The disc's map with its rig: one light.
+SpecularEnvironment one_disc_specular() {
+    const HdrImage map = one_disc_map();
+    const Rig rig = build_rig(map, RepairCounts{}, RigOptions{});
+    return prefilter_specular(map, rig, small_options());
+}
+
 TEST(SpecularEnvironment, EncodeDecodeRoundTripsByteExact) {
-    const PrefilteredCube cube = prefilter_map(one_disc_map(), small_options());
-    const std::string bytes = encode_prefiltered_cube(cube);
-    EXPECT_EQ(bytes.substr(0, 8), "OERSPEC1");
-    EXPECT_EQ(bytes.size(), 16 + cube.byte_size());
-    EXPECT_EQ(cube.byte_size(), std::size_t(2 * 3 * 6 * (32 * 32 + 16 * 16 + 8 * 8 + 4 * 4)));
-    const PrefilteredCube decoded = decode_prefiltered_cube(bytes);
-    EXPECT_EQ(decoded.face_size, cube.face_size);
-    EXPECT_EQ(decoded.levels, cube.levels);
-    EXPECT_EQ(decoded.rgb_half, cube.rgb_half);
-    EXPECT_EQ(encode_prefiltered_cube(decoded), bytes);
+    const SpecularEnvironment specular = one_disc_specular();
+    ASSERT_EQ(specular.lights.layers, 1);
+    const std::string bytes = encode_specular_environment(specular);
+    EXPECT_EQ(bytes.substr(0, 8), "OERSPEC2");
+    EXPECT_EQ(bytes.size(), 32 + specular.byte_size());
+    EXPECT_EQ(specular.residual.byte_size(),
+              std::size_t(2 * 3 * 6 * (32 * 32 + 16 * 16 + 8 * 8 + 4 * 4)));
+    EXPECT_EQ(specular.lights.byte_size(),
+              std::size_t(2 * 3 * 6 * (16 * 16 + 8 * 8 + 4 * 4 + 2 * 2)));
+    const SpecularEnvironment decoded = decode_specular_environment(bytes);
+    for (const auto& [got, want] : {std::pair{&decoded.residual, &specular.residual},
+                                    std::pair{&decoded.lights, &specular.lights}}) {
+        EXPECT_EQ(got->face_size, want->face_size);
+        EXPECT_EQ(got->levels, want->levels);
+        EXPECT_EQ(got->layers, want->layers);
+        EXPECT_EQ(got->rgb_half, want->rgb_half);
+    }
+    EXPECT_EQ(encode_specular_environment(decoded), bytes);
 }
 
 TEST(SpecularEnvironment, DecodeRefusesDamagedBytes) {
-    const std::string bytes =
-        encode_prefiltered_cube(prefilter_map(one_disc_map(), small_options()));
+    const std::string bytes = encode_specular_environment(one_disc_specular());
     const auto refused = [](std::string damaged) {
-        return error_of([&] { decode_prefiltered_cube(damaged); });
+        return error_of([&] { decode_specular_environment(damaged); });
     };
     const auto with_u32 = [&](std::size_t offset, std::uint32_t value) {
         std::string damaged = bytes;
@@ -344,27 +502,34 @@ TEST(SpecularEnvironment, DecodeRefusesDamagedBytes) {
     };
     const auto with_texel = [&](std::size_t index, std::uint16_t value) {
         std::string damaged = bytes;
-        damaged[16 + 2 * index] = char(value & 0xffu);
-        damaged[16 + 2 * index + 1] = char(value >> 8);
+        damaged[32 + 2 * index] = char(value & 0xffu);
+        damaged[32 + 2 * index + 1] = char(value >> 8);
         return damaged;
     };
     EXPECT_NE(refused(bytes.substr(0, 10)).find("truncated: 10 bytes"), std::string::npos);
     EXPECT_NE(refused(bytes.substr(0, bytes.size() - 1)).find("(truncated)"), std::string::npos);
-    EXPECT_NE(refused(bytes + "x").find(std::to_string(bytes.size() + 1) + " bytes, but a cube"),
+    EXPECT_NE(refused(bytes + "x").find(std::to_string(bytes.size() + 1) + " bytes, but its cubes"),
               std::string::npos);
     std::string magic = bytes;
     magic[0] = 'X';
     EXPECT_NE(refused(magic).find("wrong magic"), std::string::npos);
     std::string version = bytes;
-    version[7] = '2';
-    EXPECT_NE(refused(version).find("version '2'"), std::string::npos);
-    EXPECT_NE(refused(with_u32(8, 48)).find("face_size 48"), std::string::npos);
-    EXPECT_NE(refused(with_u32(8, 64)).find("takes"), std::string::npos);  // sizes vs length
+    version[7] = '1';  // the residual's cube alone, before each light had its own
+    EXPECT_NE(refused(version).find("version '1'"), std::string::npos);
+    EXPECT_NE(refused(with_u32(8, 48)).find("the residual's cube: face_size 48"),
+              std::string::npos);
+    EXPECT_NE(refused(with_u32(8, 64)).find("take"), std::string::npos);  // sizes vs length
     EXPECT_NE(refused(with_u32(12, 7)).find("levels 7"), std::string::npos);
+    EXPECT_NE(refused(with_u32(16, 2)).find("the residual's cube: 2 layers"), std::string::npos);
+    EXPECT_NE(refused(with_u32(32 - 4, 65)).find("the lights' cube: 65 layers, at most 64"),
+              std::string::npos);
+    EXPECT_NE(refused(with_u32(32 - 4, 2)).find("take"), std::string::npos);
+    EXPECT_NE(refused(with_u32(24, 3)).find("the lights' cube has 3 levels, the residual's 4"),
+              std::string::npos);
     EXPECT_NE(refused(with_texel(5, 0x7c00)).find("level 0 value 5 is inf"), std::string::npos);
     EXPECT_NE(refused(with_texel(6, 0x7e00)).find("finite and non-negative"), std::string::npos);
     EXPECT_NE(refused(with_texel(7, 0xbc00)).find("value 7 is -1"), std::string::npos);
-    EXPECT_NO_THROW(decode_prefiltered_cube(with_texel(8, 0x8000)));  // -0 is not negative
+    EXPECT_NO_THROW(decode_specular_environment(with_texel(8, 0x8000)));  // -0 is not negative
 }
 
 TEST(SpecularEnvironment, RefusesOptionsOutOfRangeAndThesisRigs) {

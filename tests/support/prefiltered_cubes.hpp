@@ -3,7 +3,8 @@
 // tests, exact by construction: a map of constant radiance L prefilters to L at every level
 // and direction, whatever the filter, and a residual map that is black (every non-zero pixel
 // the lights') to 0; and any map's level 0 (roughness 0, the map itself) from its radiance at
-// each texel's direction.
+// each texel's direction. specular_of wraps a residual cube into what a frame reads, with a
+// black cube for each of the rig's lights (tests that do not reflect them).
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -19,21 +20,36 @@
 
 namespace oer::testing {
 
-inline std::shared_ptr<const PrefilteredCube> constant_cube(glm::vec3 radiance, int face_size = 16,
-                                                            int levels = 5) {
-    auto cube = std::make_shared<PrefilteredCube>();
-    cube->face_size = face_size;
-    cube->levels = levels;
+inline PrefilteredCube constant_cube(glm::vec3 radiance, int face_size = 16, int levels = 5) {
+    PrefilteredCube cube;
+    cube.face_size = face_size;
+    cube.levels = levels;
     const std::uint16_t rgb[3] = {glm::packHalf1x16(radiance.r), glm::packHalf1x16(radiance.g),
                                   glm::packHalf1x16(radiance.b)};
     for (int level = 0; level < levels; ++level) {
         const std::size_t side = std::size_t(face_size >> level);
-        std::vector<std::uint16_t>& texels = cube->rgb_half.emplace_back();
+        std::vector<std::uint16_t>& texels = cube.rgb_half.emplace_back();
         for (std::size_t i = 0; i < 6 * side * side; ++i) {
             texels.insert(texels.end(), rgb, rgb + 3);
         }
     }
     return cube;
+}
+
+// `residual` and, for each of the rig's `lights`, a black light cube of its levels.
+inline std::shared_ptr<const SpecularEnvironment> specular_of(PrefilteredCube residual,
+                                                              std::size_t lights = 0) {
+    PrefilteredCube black = constant_cube(glm::vec3(0.0f), residual.face_size, residual.levels);
+    black.layers = int(lights);
+    for (std::vector<std::uint16_t>& level : black.rgb_half) {
+        const std::vector<std::uint16_t> one = level;
+        level.clear();
+        for (std::size_t k = 0; k < lights; ++k) {
+            level.insert(level.end(), one.begin(), one.end());
+        }
+    }
+    return std::make_shared<const SpecularEnvironment>(
+        SpecularEnvironment{std::move(residual), std::move(black)});
 }
 
 // The direction of texel (i, j) of face `face` of an n x n face, rows from t = 0: the OpenGL
@@ -49,15 +65,14 @@ inline glm::dvec3 cube_texel_direction(int face, int i, int j, int n) {
 // Every level's texels at radiance(direction): level 0 is then exact for that map; the levels
 // above are what a mirror would see at their resolution, not the map prefiltered, so tests
 // read them only at roughness 0 or for maps that prefiltering leaves unchanged.
-inline std::shared_ptr<const PrefilteredCube> cube_of(
-    const std::function<glm::vec3(const glm::dvec3&)>& radiance, int face_size = 64,
-    int levels = 5) {
-    auto cube = std::make_shared<PrefilteredCube>();
-    cube->face_size = face_size;
-    cube->levels = levels;
+inline PrefilteredCube cube_of(const std::function<glm::vec3(const glm::dvec3&)>& radiance,
+                               int face_size = 64, int levels = 5) {
+    PrefilteredCube cube;
+    cube.face_size = face_size;
+    cube.levels = levels;
     for (int level = 0; level < levels; ++level) {
         const int side = face_size >> level;
-        std::vector<std::uint16_t>& texels = cube->rgb_half.emplace_back();
+        std::vector<std::uint16_t>& texels = cube.rgb_half.emplace_back();
         for (int face = 0; face < 6; ++face) {
             for (int j = 0; j < side; ++j) {
                 for (int i = 0; i < side; ++i) {

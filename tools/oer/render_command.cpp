@@ -44,8 +44,8 @@ int render_command(const std::vector<std::string>& arguments) {
     double specular_ms = -1.0;
     if (needs_specular(request)) {
         const auto specular_start = std::chrono::steady_clock::now();
-        request.specular = std::make_shared<const PrefilteredCube>(
-            prefilter_residual(*request.environment_map, *rig));
+        request.specular = std::make_shared<const SpecularEnvironment>(
+            prefilter_specular(*request.environment_map, *rig));
         specular_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
                                                                 specular_start)
                           .count();

@@ -11,7 +11,7 @@
 // SPECULAR 0), reflects base E u_albedo_scale. A metallic-roughness material (glTF 2.0
 // Appendix B, SPECULAR 1) reflects, by the split sum with multiple scattering (brdf.glsl),
 //   FssEss P(r) so + (Fms Ems + c_diff (1 - FssEss - Fms Ems)) E / pi ao + emissive,
-// P(r) being the prefiltered radiance of the residual map plus each light's lobes weighted by
+// P(r) being the prefiltered radiance of the residual map plus each light's own, weighted by
 // the same w_k v_k as its diffuse light (specular_lighting.glsl), so that switching, dimming or
 // shadowing a light takes its reflection with it; so is the specular occlusion of ao. With
 // an opaque floor, what a reflection sees below the horizon is the floor, not the map
@@ -25,7 +25,7 @@
 // transmittance (KHR_materials_transmission, _volume); a sheen lobe sheen E_sheen E / pi ao over
 // the rest scaled by 1 - max(sheen) E_sheen (KHR_materials_sheen); and a clear coat, c E_c
 // P_c(r_c) with E_c = 0.04 A_c + B_c, over the rest and the emission scaled by 1 - c E_c
-// (KHR_materials_clearcoat). P(-v) and P_c hold each light's lobes with the same w_k v_k as P(r),
+// (KHR_materials_clearcoat). P(-v) and P_c hold each light's cube with the same w_k v_k as P(r),
 // and the sheen's E holds them as the diffuse light does: every lobe keeps the lights'
 // switching, dimming and shadows.
 #include "math_constants.glsl"
@@ -97,15 +97,16 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
     bool glossy = metallic >= 0.0;
     vec3 view = normalize(u_eye - position);
     vec3 r = reflect(-view, n);
+    vec3 r_map = map_direction(r);
     float alpha = roughness * roughness;
     vec3 lights_reflected = vec3(0.0);
 #if MATERIAL_LAYERS
     // The coat reflects about its own normal at its own roughness; the thin wall transmits
     // straight through, along -v.
-    vec3 coat_r = reflect(-view, layers.clearcoat_normal);
+    vec3 coat_r_map = map_direction(reflect(-view, layers.clearcoat_normal));
     float coat_alpha = layers.clearcoat_roughness * layers.clearcoat_roughness;
     float through_roughness = transmission_roughness(roughness, layers.ior);
-    float through_alpha = through_roughness * through_roughness;
+    vec3 through_map = map_direction(-view);
     vec3 lights_coat = vec3(0.0);
     vec3 lights_through = vec3(0.0);
 #endif
@@ -121,16 +122,15 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
         E -= (1.0 - v) * light_irradiance;
         attenuation -= (1.0 - v) * u_light_share[k];
 #if SPECULAR
-        // w_k is in the lobes' energies: v_k w_k P(k), only where the light reaches.
+        // v_k w_k P(k), only where the light reaches.
         if (glossy && v > 0.0) {
-            lights_reflected += v * light_reflection(k, u_light_direction[k], r, alpha);
+            lights_reflected += v * light_reflection(k, r_map, roughness);
 #if MATERIAL_LAYERS
             if (layers.clearcoat > 0.0) {
-                lights_coat += v * light_reflection(k, u_light_direction[k], coat_r, coat_alpha);
+                lights_coat += v * light_reflection(k, coat_r_map, layers.clearcoat_roughness);
             }
             if (layers.transmission > 0.0) {
-                lights_through +=
-                    v * light_reflection(k, u_light_direction[k], -view, through_alpha);
+                lights_through += v * light_reflection(k, through_map, through_roughness);
             }
 #endif
         }
@@ -144,7 +144,7 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
         split_sum_weights(specular_f0(layers, base, metallic), specular_f90(layers, metallic),
                           split_sum_dfg(n_dot_v, roughness), single_scattering,
                           multiple_scattering);
-        vec3 prefiltered = mix(residual_reflection(map_direction(r), roughness) + lights_reflected,
+        vec3 prefiltered = mix(residual_reflection(r_map, roughness) + lights_reflected,
                                u_floor.rgb, floor_share(position, r, alpha));
         // What the specular lobe leaves to the diffuse one (and to the transmitted one).
         vec3 under_specular = diffuse_color(base, metallic) *
@@ -156,8 +156,7 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
                                     under_specular * (1.0 - layers.transmission)) *
                                        diffuse_irradiance;
         if (layers.transmission > 0.0) {
-            vec3 behind = residual_reflection(map_direction(-view), through_roughness) +
-                          lights_through;
+            vec3 behind = residual_reflection(through_map, through_roughness) + lights_through;
             radiance += under_specular * layers.transmission * layers.volume_transmittance *
                         behind;
         }
@@ -171,8 +170,7 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
             float coat_n_dot_v = clamp(dot(layers.clearcoat_normal, view), 1e-4, 1.0);
             vec2 coat_dfg = split_sum_dfg(coat_n_dot_v, layers.clearcoat_roughness);
             vec3 coat_prefiltered =
-                residual_reflection(map_direction(coat_r), layers.clearcoat_roughness) +
-                lights_coat;
+                residual_reflection(coat_r_map, layers.clearcoat_roughness) + lights_coat;
             float coat_albedo = layers.clearcoat * clearcoat_albedo(coat_dfg);
             radiance = radiance * (1.0 - coat_albedo) +
                        coat_albedo * coat_prefiltered *

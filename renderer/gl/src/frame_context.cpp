@@ -10,7 +10,6 @@
 
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
-#include "oer/lighting/light_lobe.hpp"
 #include "oer/lighting/light_location.hpp"
 #include "oer/mesh/mesh_refinement.hpp"
 #include "oer/scene/scene_rules.hpp"
@@ -169,16 +168,6 @@ void add_shadow_views(FrameContext& frame) {
         frame.light_spreads.push_back(request.shadows.softness *
                                       float(std::tan(std::min(radius, 1.2))));
         frame.light_core_shares.push_back(float(profile.core_share));
-        if (frame.specular) {
-            // The lobes' axes are the light's direction; light_directions turns it by the yaw.
-            const LightLobes lobes =
-                light_lobes(frame.rig.lights[k], profile, frame.rig.source_width);
-            const double weight = frame.weights[k];
-            frame.lobe_sharpness.emplace_back(float(lobes.core.sharpness),
-                                              float(lobes.glow.sharpness));
-            frame.core_energies.push_back(glm::vec3(lobes.core.energy * weight));
-            frame.glow_energies.push_back(glm::vec3(lobes.glow.energy * weight));
-        }
     }
     frame.normal_offset = 1.5f * 2.0f * frame.scene.radius / float(resolution);
     frame.specular_define = "#define SPECULAR " + std::to_string(frame.specular ? 1 : 0) + "\n";

@@ -96,11 +96,6 @@ struct FrameContext {
     std::vector<float> light_spreads;
     std::vector<float> light_core_shares;
     float normal_offset = 0.0f;  // receiver offset against acne, world units
-    // Specular frames only, per light that is on: its lobes (light_lobe.hpp) about
-    // light_directions, sharpness (core, glow) and energies times the light's weight.
-    std::vector<glm::vec2> lobe_sharpness;
-    std::vector<glm::vec3> core_energies;
-    std::vector<glm::vec3> glow_energies;
     // SH_ORDER, LIGHTS_ON, SHADOWS and PCF for every program that lights (frame_programs.cpp).
     std::string lighting_defines;
     // "#define SPECULAR 0|1\n" for the programs that shade objects (frame.specular).

@@ -10,7 +10,7 @@
 // 1: filtered), ENVIRONMENT_BACKGROUND (1: the map behind the scene, 0: nothing, alpha 0),
 // DISPLAY_OUTPUT (1: tone-mapped sRGB, 0: linear radiance), SURFACE (the shading pass's
 // surface: 0 background, 1 objects, 2 ground plane), SPECULAR (1: glossy materials, with the
-// specular cube, DFG table and lights' lobes; 0: every material Lambertian), ALPHA_TEST
+// specular cubes and DFG table; 0: every material Lambertian), ALPHA_TEST
 // (1: fragments under the material's alpha cutoff are discarded), MATERIAL_TEXTURES (0: a
 // material without textures, whose program reads no uv or tangent) and MATERIAL_LAYERS (1: a
 // material with the extensions' layers, mesh.hpp's Material::layered).

@@ -38,34 +38,55 @@ bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// The cube's sizes as GL will read them: a texture of face_size texels square per face and
-// `levels` levels, each of its six faces' RGB half floats.
-void validate_cube(const PrefilteredCube& cube, int max_texture_size) {
+// A cube's sizes as GL will read them: a texture of face_size texels square per face and
+// `levels` levels, each of its layers' six faces' RGB half floats. `which` names it.
+void validate_cube(const PrefilteredCube& cube, const std::string& which, int max_texture_size) {
     if (cube.face_size < 1 || cube.face_size > max_texture_size) {
-        fail("specular", "the cube's face size must be in 1.." + std::to_string(max_texture_size) +
-                             ", got " + std::to_string(cube.face_size));
+        fail("specular", which + ": the face size must be in 1.." +
+                             std::to_string(max_texture_size) + ", got " +
+                             std::to_string(cube.face_size));
     }
     int largest_levels = 1;
     while ((cube.face_size >> largest_levels) > 0) {
         ++largest_levels;
     }
     if (cube.levels < 1 || cube.levels > largest_levels) {
-        fail("specular", "a cube of face size " + std::to_string(cube.face_size) + " has 1.." +
-                             std::to_string(largest_levels) + " levels, got " +
+        fail("specular", which + ": a cube of face size " + std::to_string(cube.face_size) +
+                             " has 1.." + std::to_string(largest_levels) + " levels, got " +
                              std::to_string(cube.levels));
     }
     if (cube.rgb_half.size() != std::size_t(cube.levels)) {
-        fail("specular", "the cube has " + std::to_string(cube.levels) + " levels but " +
+        fail("specular", which + ": " + std::to_string(cube.levels) + " levels but " +
                              std::to_string(cube.rgb_half.size()) + " level buffers");
     }
     for (int level = 0; level < cube.levels; ++level) {
         const std::size_t side = std::size_t(cube.face_size >> level);
-        const std::size_t expected = 6 * side * side * 3;
+        const std::size_t expected = std::size_t(cube.layers) * 6 * side * side * 3;
         if (cube.rgb_half[std::size_t(level)].size() != expected) {
-            fail("specular", "level " + std::to_string(level) + " of the cube holds " +
+            fail("specular", which + ": level " + std::to_string(level) + " holds " +
                                  std::to_string(cube.rgb_half[std::size_t(level)].size()) +
-                                 " half floats, its six faces need " + std::to_string(expected));
+                                 " half floats, its " + std::to_string(cube.layers) +
+                                 " layers' faces need " + std::to_string(expected));
         }
+    }
+}
+
+// The residual's cube and one light cube per rig light, of the same levels (one lod reads both).
+void validate_specular(const SpecularEnvironment& specular, const Rig& rig, int max_texture_size) {
+    validate_cube(specular.residual, "the residual's cube", max_texture_size);
+    validate_cube(specular.lights, "the lights' cube", max_texture_size);
+    if (specular.residual.layers != 1) {
+        fail("specular", "the residual's cube has " + std::to_string(specular.residual.layers) +
+                             " layers, not 1");
+    }
+    if (std::size_t(specular.lights.layers) != rig.lights.size()) {
+        fail("specular", "the lights' cube has " + std::to_string(specular.lights.layers) +
+                             " layers for a rig of " + std::to_string(rig.lights.size()) +
+                             " lights: it was prefiltered for another rig");
+    }
+    if (specular.lights.levels != specular.residual.levels) {
+        fail("specular", "the lights' cube has " + std::to_string(specular.lights.levels) +
+                             " levels, the residual's " + std::to_string(specular.residual.levels));
     }
 }
 
@@ -196,10 +217,7 @@ void validate_frame_request(const FrameRequest& request, const FrameLimits& limi
             fail("specular",
                  "the scene has glossy materials but no prefiltered environment was given");
         }
-        validate_cube(*request.specular, max_texture_size);
-        if (request.rig->source_width < 1) {
-            fail("environment", "the rig's source width is needed for its lights' reflections");
-        }
+        validate_specular(*request.specular, *request.rig, max_texture_size);
     }
     // A color outside [0, 1] is clamped by the 8-bit output; only a NaN would spread.
     if (!finite(request.background.color)) {

@@ -45,9 +45,11 @@ inline constexpr Binding kEnvironment{"ENVIRONMENT_UNIT", BindingKind::TextureUn
 inline constexpr Binding kShadowMaps{"SHADOW_MAPS_UNIT", BindingKind::TextureUnit, 4};
 inline constexpr Binding kShadowDepths{"SHADOW_DEPTHS_UNIT", BindingKind::TextureUnit, 6};
 inline constexpr Binding kGroundVisibility{"GROUND_VISIBILITY_UNIT", BindingKind::TextureUnit, 5};
-// A specular frame's prefiltered cube and the split sum's DFG table (specular_lighting.glsl).
+// A specular frame's prefiltered cubes, the residual's and the lights' array, and the split
+// sum's DFG table (specular_lighting.glsl).
 inline constexpr Binding kSpecularCube{"SPECULAR_CUBE_UNIT", BindingKind::TextureUnit, 8};
 inline constexpr Binding kDfgTable{"DFG_TABLE_UNIT", BindingKind::TextureUnit, 9};
+inline constexpr Binding kLightCubes{"LIGHT_CUBES_UNIT", BindingKind::TextureUnit, 26};
 // A material's textures (material.glsl), in the order of its references
 // (Material::texture_references): the core five, then the layers' nine (MATERIAL_LAYERS 1).
 inline constexpr std::array<Binding, 14> kMaterialTextures{{
@@ -74,15 +76,17 @@ inline constexpr Binding kResolveRadiance{"RESOLVE_RADIANCE_UNIT", BindingKind::
 inline constexpr Binding kIrradianceSets{"IRRADIANCE_SETS_BINDING", BindingKind::ShaderStorage, 0};
 
 // Every binding above.
-inline constexpr std::array<Binding, 29> kBindings{
-    kGBufferPositions,     kGBufferNormals,       kGBufferAlbedos,       kGBufferEmissive,
-    kGBufferTransferred,   kGroundTransfer,       kEnvironment,          kShadowMaps,
-    kShadowDepths,         kGroundVisibility,     kSpecularCube,         kDfgTable,
-    kMaterialTextures[0],  kMaterialTextures[1],  kMaterialTextures[2],  kMaterialTextures[3],
-    kMaterialTextures[4],  kMaterialTextures[5],  kMaterialTextures[6],  kMaterialTextures[7],
-    kMaterialTextures[8],  kMaterialTextures[9],  kMaterialTextures[10], kMaterialTextures[11],
-    kMaterialTextures[12], kMaterialTextures[13], kSheenAlbedo,          kResolveRadiance,
-    kIrradianceSets};
+inline constexpr std::array<Binding, 30> kBindings{
+    kGBufferPositions,     kGBufferNormals,       kGBufferAlbedos,
+    kGBufferEmissive,      kGBufferTransferred,   kGroundTransfer,
+    kEnvironment,          kShadowMaps,           kShadowDepths,
+    kGroundVisibility,     kSpecularCube,         kDfgTable,
+    kMaterialTextures[0],  kMaterialTextures[1],  kMaterialTextures[2],
+    kMaterialTextures[3],  kMaterialTextures[4],  kMaterialTextures[5],
+    kMaterialTextures[6],  kMaterialTextures[7],  kMaterialTextures[8],
+    kMaterialTextures[9],  kMaterialTextures[10], kMaterialTextures[11],
+    kMaterialTextures[12], kMaterialTextures[13], kSheenAlbedo,
+    kResolveRadiance,      kIrradianceSets,       kLightCubes};
 
 // Pairs of bindings that share their point within one program because no variant of it reads
 // both (#if branches apart).

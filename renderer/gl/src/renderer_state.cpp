@@ -119,7 +119,44 @@ GLuint RendererState::environment(const std::shared_ptr<const HdrImage>& owner) 
     return found->second.texture.get();
 }
 
-GLuint RendererState::specular(const std::shared_ptr<const PrefilteredCube>& owner) {
+namespace {
+
+// A cube (its layers x 6 faces per level) as a trilinear RGB16F texture of `target`: a cube
+// map for one layer, a cube-map array for any number. A cube map's faces, and an array's
+// layer-faces, are the layers of its storage (GL 4.5 section 8.5.3), in the order of
+// specular_environment.hpp. An array of no layer gets one black layer.
+gl::Object cube_texture(const PrefilteredCube& cube, GLenum target) {
+    gl::Object texture = gl::create_texture(target);
+    const int layer_faces = 6 * std::max(cube.layers, 1);
+    if (target == GL_TEXTURE_CUBE_MAP) {
+        glTextureStorage2D(texture.get(), cube.levels, GL_RGB16F, cube.face_size, cube.face_size);
+    } else {
+        glTextureStorage3D(texture.get(), cube.levels, GL_RGB16F, cube.face_size, cube.face_size,
+                           layer_faces);
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    for (int level = 0; level < cube.levels; ++level) {
+        const int size = cube.face_size >> level;
+        const std::vector<std::uint16_t>& texels = cube.rgb_half[std::size_t(level)];
+        if (cube.layers == 0) {
+            const std::vector<std::uint16_t> black(std::size_t(6) * size * size * 3, 0);
+            glTextureSubImage3D(texture.get(), level, 0, 0, 0, size, size, 6, GL_RGB, GL_HALF_FLOAT,
+                                black.data());
+        } else {
+            glTextureSubImage3D(texture.get(), level, 0, 0, 0, size, size, layer_faces, GL_RGB,
+                                GL_HALF_FLOAT, texels.data());
+        }
+    }
+    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAX_LEVEL, cube.levels - 1);
+    return texture;
+}
+
+}  // namespace
+
+RendererState::SpecularTextures RendererState::specular(
+    const std::shared_ptr<const SpecularEnvironment>& owner) {
     auto found = speculars_.find(owner.get());
     if (found != speculars_.end() && found->second.owner.expired()) {
         speculars_.erase(found);
@@ -127,24 +164,15 @@ GLuint RendererState::specular(const std::shared_ptr<const PrefilteredCube>& own
     }
     if (found == speculars_.end()) {
         release_unowned_speculars();
-        const PrefilteredCube& cube = *owner;
-        gl::Object texture = gl::create_texture(GL_TEXTURE_CUBE_MAP);
-        glTextureStorage2D(texture.get(), cube.levels, GL_RGB16F, cube.face_size, cube.face_size);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-        for (int level = 0; level < cube.levels; ++level) {
-            const int size = cube.face_size >> level;
-            // A cube map's faces are the layers of its storage (GL 4.5 section 8.6), in the
-            // order of specular_environment.hpp.
-            glTextureSubImage3D(texture.get(), level, 0, 0, 0, size, size, 6, GL_RGB, GL_HALF_FLOAT,
-                                cube.rgb_half[std::size_t(level)].data());
-        }
-        glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-        glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTextureParameteri(texture.get(), GL_TEXTURE_MAX_LEVEL, cube.levels - 1);
         ++specular_uploads;
-        found = speculars_.emplace(owner.get(), CachedSpecular{owner, std::move(texture)}).first;
+        found =
+            speculars_
+                .emplace(owner.get(),
+                         CachedSpecular{owner, cube_texture(owner->residual, GL_TEXTURE_CUBE_MAP),
+                                        cube_texture(owner->lights, GL_TEXTURE_CUBE_MAP_ARRAY)})
+                .first;
     }
-    return found->second.texture.get();
+    return {found->second.residual.get(), found->second.lights.get()};
 }
 
 void RendererState::release_unowned_speculars() {

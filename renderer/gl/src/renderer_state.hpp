@@ -42,9 +42,15 @@ struct RendererState {
     CachedMesh& mesh(const std::shared_ptr<const Mesh>& owner);
     // The map as a linear RGB32F texture, repeating in x, uploaded likewise.
     GLuint environment(const std::shared_ptr<const HdrImage>& owner);
-    // The prefiltered cube (specular_environment.hpp) as a seamless RGB16F cube map with its
-    // levels, trilinear, uploaded likewise; counted in specular_uploads.
-    GLuint specular(const std::shared_ptr<const PrefilteredCube>& owner);
+    // The prefiltered cubes (specular_environment.hpp): the residual as a seamless RGB16F cube
+    // map with its levels, the lights' as a cube-map array of one layer per light (none: an
+    // array of one black layer, so that the sampler is complete), trilinear, uploaded likewise;
+    // counted in specular_uploads.
+    struct SpecularTextures {
+        GLuint residual = 0;
+        GLuint lights = 0;
+    };
+    SpecularTextures specular(const std::shared_ptr<const SpecularEnvironment>& owner);
     // The split sum's DFG table (dfg_table(32, 1024)) as an RG32F texture, bilinear and
     // clamped, computed and uploaded on first use.
     GLuint dfg();
@@ -90,10 +96,11 @@ struct RendererState {
     std::uint64_t next_mesh_id_ = 1;
     std::map<const HdrImage*, CachedEnvironment> environments_;
     struct CachedSpecular {
-        std::weak_ptr<const PrefilteredCube> owner;
-        gl::Object texture;
+        std::weak_ptr<const SpecularEnvironment> owner;
+        gl::Object residual;
+        gl::Object lights;
     };
-    std::map<const PrefilteredCube*, CachedSpecular> speculars_;
+    std::map<const SpecularEnvironment*, CachedSpecular> speculars_;
     gl::Object dfg_;
     gl::Object sheen_albedo_;
     std::vector<std::pair<TextureSampler, gl::Object>> samplers_;

@@ -12,7 +12,9 @@ void bind_specular_textures(const FrameContext& frame, RendererState& state) {
     if (!frame.specular) {
         return;
     }
-    glBindTextureUnit(gl_bindings::kSpecularCube.index, state.specular(frame.request.specular));
+    const RendererState::SpecularTextures cubes = state.specular(frame.request.specular);
+    glBindTextureUnit(gl_bindings::kSpecularCube.index, cubes.residual);
+    glBindTextureUnit(gl_bindings::kLightCubes.index, cubes.lights);
     glBindTextureUnit(gl_bindings::kDfgTable.index, state.dfg());
     if (frame.layered) {
         glBindTextureUnit(gl_bindings::kSheenAlbedo.index, state.sheen_albedo());
@@ -38,7 +40,8 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
     if (!frame.specular) {
         return;
     }
-    glUniform1f(program.uniform("u_specular_max_lod"), float(frame.request.specular->levels - 1));
+    glUniform1f(program.uniform("u_specular_max_lod"),
+                float(frame.request.specular->residual.levels - 1));
     // The opaque floor as reflections see it (surface_shading.glsl, floor_share): the open
     // floor's radiance, albedo kGroundAlbedo under the light the ground pass gives a point that
     // nothing shadows (set 0, the transfer's open ground, no light below the plane's horizon),
@@ -63,13 +66,12 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
     }
     glUniform4fv(program.uniform("u_floor"), 1, glm::value_ptr(floor));
     glUniform4fv(program.uniform("u_floor_fade"), 1, glm::value_ptr(floor_fade));
+    // Light k's reflection is layer k of the lights' cube, by its weight (its visibility is
+    // the shader's).
     for (std::size_t i = 0; i < frame.lit.size(); ++i) {
-        glUniform2fv(program.uniform(element("u_lobe_sharpness", i)), 1,
-                     glm::value_ptr(frame.lobe_sharpness[i]));
-        glUniform3fv(program.uniform(element("u_core_energy", i)), 1,
-                     glm::value_ptr(frame.core_energies[i]));
-        glUniform3fv(program.uniform(element("u_glow_energy", i)), 1,
-                     glm::value_ptr(frame.glow_energies[i]));
+        const std::size_t k = frame.lit[i];
+        glUniform1i(program.uniform(element("u_light_cube_layer", i)), GLint(k));
+        glUniform1f(program.uniform(element("u_light_weight", i)), float(frame.weights[k]));
     }
 }
 

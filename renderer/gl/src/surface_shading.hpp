@@ -1,8 +1,8 @@
 #pragma once
 // The uniforms and textures of surface_shading.glsl, which shades objects in the deferred
 // shading pass and the transparent pass alike: the lights (set_light_uniforms), the yaw, the
-// eye, the lighting model's scales, and in a specular frame the prefiltered cube, the DFG
-// table and the lights' lobes.
+// eye, the lighting model's scales, and in a specular frame the prefiltered cubes (the
+// residual's and each light's), their lights' layers and weights, and the DFG table.
 #include "frame_context.hpp"
 #include "gl_program.hpp"
 #include "renderer_state.hpp"

@@ -55,10 +55,14 @@ constexpr int kMaxFaceSize = 2048;
 constexpr int kMaxSamples = 4096;
 constexpr int kSubsamplesPerAxis = 4;  // per texel of the unfiltered cube
 constexpr float kMaxHalf = 65504.0f;
+// The most layers a stored lights' cube may claim: the renderer's most lights per frame
+// (kMaxFrameLights, renderer/gl/src/frame_programs.hpp); a rig has at most 16.
+constexpr int kMaxStoredLights = 64;
 
 constexpr char kMagic[] = "OERSPEC";  // 7 bytes, then the version character
-constexpr char kVersion = '1';
-constexpr std::size_t kHeaderBytes = 16;  // magic, version, face_size and levels (uint32 LE)
+constexpr char kVersion = '2';
+// Magic and version, then face_size, levels and layers (uint32 LE) of each of the two cubes.
+constexpr std::size_t kHeaderBytes = 32;
 
 [[noreturn]] void invalid(const std::string& what) {
     throw Error(ErrorKind::InvalidInput, what);
@@ -277,14 +281,27 @@ struct SubsamplePositions {
     }
 };
 
-// Step 1, faces [face_begin, face_end): the map area-averaged over each texel.
-void resample_faces(const HdrImage& map, const SubsamplePositions& positions, FloatLevel& cube,
-                    int face_begin, int face_end) {
+// Where a map can be non-zero: texel directions whose dot with axis is below cos_limit see
+// black only (the whole sphere: cos_limit -2).
+struct SupportCone {
+    glm::vec3 axis{0.0f, 1.0f, 0.0f};
+    float cos_limit = -2.0f;
+};
+
+// Step 1, faces [face_begin, face_end): the map area-averaged over each texel; 0 outside the
+// map's support.
+void resample_faces(const HdrImage& map, const SubsamplePositions& positions,
+                    const SupportCone& support, FloatLevel& cube, int face_begin, int face_end) {
     const int n = cube.size;
     constexpr int k = kSubsamplesPerAxis;
     for (int face = face_begin; face < face_end; ++face) {
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
+                if (support.cos_limit > -1.0f &&
+                    glm::dot(glm::vec3(detail::cube_direction(face, (i + 0.5) / n, (j + 0.5) / n)),
+                             support.axis) < support.cos_limit) {
+                    continue;  // the level starts black
+                }
                 glm::vec3 sum(0.0f);
                 float weight_sum = 0.0f;
                 for (int b = j * k; b < (j + 1) * k; ++b) {
@@ -470,8 +487,7 @@ std::size_t level_values(int face_size, int level) {
 }
 
 // Step 4, faces [face_begin, face_end) of one level, its border left out.
-void to_half(const FloatLevel& level, std::vector<std::uint16_t>& out, int face_begin,
-             int face_end) {
+void to_half(const FloatLevel& level, std::uint16_t* out, int face_begin, int face_end) {
     const int n = level.size;
     for (int face = face_begin; face < face_end; ++face) {
         for (int j = 0; j < n; ++j) {
@@ -484,38 +500,203 @@ void to_half(const FloatLevel& level, std::vector<std::uint16_t>& out, int face_
     }
 }
 
-PrefilteredCube prefilter(const HdrImage& map, const SpecularOptions& options) {
-    const int face_size = options.face_size;
+// Steps 1 and 2: the map resampled to a cube of face_size, and its pyramid.
+Pyramid resampled_pyramid(const HdrImage& map, int face_size, const SupportCone& support = {}) {
     Pyramid pyramid(face_size);
     const SubsamplePositions positions(face_size, map);
     detail::split_on_two_threads(6, 3, [&](int begin, int end) {
-        resample_faces(map, positions, pyramid.levels[0], begin, end);
+        resample_faces(map, positions, support, pyramid.levels[0], begin, end);
         downsample_faces(pyramid, begin, end);
     });
     for (FloatLevel& level : pyramid.levels) {
         fill_border(level);
     }
+    return pyramid;
+}
 
-    std::vector<std::vector<LobeSample>> samples;
+// The first texel of layer `layer` of level `level` of a cube whose levels are allocated for
+// all its layers.
+std::uint16_t* layer_texels(PrefilteredCube& cube, int level, int layer) {
+    return cube.rgb_half[std::size_t(level)].data() +
+           std::size_t(layer) * level_values(cube.face_size, level);
+}
+
+// Steps 1 to 4 of the map at face_size, written as layer `layer` of `cube`.
+void prefilter_into(const HdrImage& map, int face_size, int samples, PrefilteredCube& cube,
+                    int layer) {
+    const Pyramid pyramid = resampled_pyramid(map, face_size);
+    std::vector<std::vector<LobeSample>> level_samples;
     std::vector<FloatLevel> filtered;
-    PrefilteredCube cube;
-    cube.face_size = face_size;
-    cube.levels = options.levels;
-    cube.rgb_half.emplace_back(level_values(face_size, 0));
-    for (int level = 1; level < options.levels; ++level) {
-        samples.push_back(lobe_samples(roughness_of_level(level, options.levels), options.samples,
-                                       face_size, int(pyramid.levels.size())));
+    for (int level = 1; level < cube.levels; ++level) {
+        level_samples.push_back(lobe_samples(roughness_of_level(level, cube.levels), samples,
+                                             face_size, int(pyramid.levels.size())));
         filtered.emplace_back(face_size >> level, 0);
-        cube.rgb_half.emplace_back(level_values(face_size, level));
     }
     detail::split_on_two_threads(6, 3, [&](int begin, int end) {
-        to_half(pyramid.levels[0], cube.rgb_half[0], begin, end);
+        to_half(pyramid.levels[0], layer_texels(cube, 0, layer), begin, end);
         for (std::size_t k = 0; k < filtered.size(); ++k) {
-            prefilter_faces(pyramid, samples[k], filtered[k], begin, end);
-            to_half(filtered[k], cube.rgb_half[k + 1], begin, end);
+            prefilter_faces(pyramid, level_samples[k], filtered[k], begin, end);
+            to_half(filtered[k], layer_texels(cube, int(k) + 1, layer), begin, end);
         }
     });
+}
+
+// A light's cube (prefilter_lights): a light is a small bright region on black, which GGX
+// importance sampling with filtered importance sampling estimates badly at high roughness (its
+// 64 samples read pyramid levels of 2 x 2 texels, and a soft box's reflection came out 25 %
+// off its peak and lopsided). So levels 1 and above are instead the exact sum over the light's
+// texels at a level of the pyramid fine enough for the lobe,
+//   P(r) = sum_t K(r, l_t) L_t dOmega_t / Z,   K(r, l) = D(h) (r.l),   Z = integral of K,
+// K being the kernel the sampled prefiltering estimates (n = v = r, D of alpha = roughness^2,
+// (n.h)^2 = (1 + r.l) / 2), so that the lights' cubes and the residual's are the same filter.
+// The source level has texels of at most alpha / 2 radians across (n >= pi / alpha), and at
+// least 16 a face (5.6 degrees), which keeps each texel's energy near its place for the
+// widest lobes.
+struct LightTexel {
+    glm::vec3 direction;
+    glm::vec3 energy;  // radiance times solid angle
+};
+
+std::vector<LightTexel> light_texels(const Pyramid& pyramid, std::size_t level) {
+    const FloatLevel& texels = pyramid.levels[level];
+    const std::vector<double>& solid_angles = pyramid.solid_angles[level];
+    const int n = texels.size;
+    std::vector<LightTexel> result;
+    for (int face = 0; face < 6; ++face) {
+        for (int j = 0; j < n; ++j) {
+            for (int i = 0; i < n; ++i) {
+                const float* p = texels.texel(face, i, j);
+                if (p[0] > 0.0f || p[1] > 0.0f || p[2] > 0.0f) {
+                    const float solid_angle = float(solid_angles[std::size_t(j) * n + i]);
+                    result.push_back(
+                        {glm::vec3(detail::cube_direction(face, (i + 0.5) / n, (j + 0.5) / n)),
+                         solid_angle * glm::vec3(p[0], p[1], p[2])});
+                }
+            }
+        }
+    }
+    return result;
+}
+
+// Z(alpha): the integral of K over the hemisphere about r, 2 pi times the integral of K over
+// c = r.l in [0, 1] (midpoint rule; the lobe's peak at c = 1 is 1 - c ~ 2 alpha^2 wide).
+double kernel_integral(double alpha) {
+    const double a2 = alpha * alpha;
+    constexpr int kSteps = 1 << 16;
+    double sum = 0.0;
+    for (int k = 0; k < kSteps; ++k) {
+        const double c = (k + 0.5) / kSteps;
+        const double q = 0.5 * (1.0 + c) * (a2 - 1.0) + 1.0;
+        sum += a2 / (pi * q * q) * c;
+    }
+    return 2.0 * pi * sum / kSteps;
+}
+
+void prefilter_light_faces(const std::vector<LightTexel>& texels, double alpha, FloatLevel& out,
+                           int face_begin, int face_end) {
+    const float a2 = float(alpha * alpha);
+    const float scale = float(1.0 / (pi * kernel_integral(alpha)));
+    const int n = out.size;
+    for (int face = face_begin; face < face_end; ++face) {
+        for (int j = 0; j < n; ++j) {
+            for (int i = 0; i < n; ++i) {
+                const glm::vec3 r(detail::cube_direction(face, (i + 0.5) / n, (j + 0.5) / n));
+                glm::vec3 sum(0.0f);
+                for (const LightTexel& texel : texels) {
+                    const float c = glm::dot(r, texel.direction);
+                    if (c > 0.0f) {
+                        const float q = 0.5f * (1.0f + c) * (a2 - 1.0f) + 1.0f;
+                        sum += (c / (q * q)) * texel.energy;
+                    }
+                }
+                float* value = out.texel(face, i, j);
+                const glm::vec3 radiance = a2 * scale * sum;
+                value[0] = radiance.r, value[1] = radiance.g, value[2] = radiance.b;
+            }
+        }
+    }
+}
+
+// The cone about a light's direction that holds its pixels, widened by what reaches a texel's
+// subsamples from outside it: two map pixels (bilinear reads) and one texel's diagonal.
+SupportCone light_support(const Light& light, const HdrImage& map, int face_size) {
+    const equirect::Grid grid(map.width, map.height);
+    const glm::dvec3 axis = light.direction;
+    double widest = 0.0;
+    for (const std::uint32_t index : light.pixels) {
+        widest = std::max(widest,
+                          std::acos(std::clamp(glm::dot(grid.direction(index), axis), -1.0, 1.0)));
+    }
+    const double margin = 2.0 * 2.0 * pi / map.width + std::sqrt(2.0) * (pi / 2.0) / face_size;
+    const double limit = widest + margin;
+    return limit >= pi ? SupportCone{} : SupportCone{glm::vec3(axis), float(std::cos(limit))};
+}
+
+// Light k's pixels alone (black elsewhere) into layer `layer` of `cube`: level 0 resampled as
+// every cube's, the levels above by prefilter_light_faces.
+void prefilter_light_into(const HdrImage& alone, const SupportCone& support, PrefilteredCube& cube,
+                          int layer) {
+    const Pyramid pyramid = resampled_pyramid(alone, cube.face_size, support);
+    std::vector<std::vector<LightTexel>> sources;
+    std::vector<FloatLevel> filtered;
+    for (int level = 1; level < cube.levels; ++level) {
+        const double alpha = std::pow(roughness_of_level(level, cube.levels), 2.0);
+        const int wanted =
+            std::clamp(int(std::bit_ceil(unsigned(std::ceil(pi / alpha)))), 16, cube.face_size);
+        sources.push_back(light_texels(pyramid, std::size_t(log2_of(cube.face_size / wanted))));
+        filtered.emplace_back(cube.face_size >> level, 0);
+    }
+    detail::split_on_two_threads(6, 3, [&](int begin, int end) {
+        to_half(pyramid.levels[0], layer_texels(cube, 0, layer), begin, end);
+        for (std::size_t k = 0; k < filtered.size(); ++k) {
+            const double alpha = std::pow(roughness_of_level(int(k) + 1, cube.levels), 2.0);
+            prefilter_light_faces(sources[k], alpha, filtered[k], begin, end);
+            to_half(filtered[k], layer_texels(cube, int(k) + 1, layer), begin, end);
+        }
+    });
+}
+
+// A cube of `layers` layers with every level allocated (zero).
+PrefilteredCube allocate_cube(int face_size, int levels, int layers) {
+    PrefilteredCube cube;
+    cube.face_size = face_size;
+    cube.levels = levels;
+    cube.layers = layers;
+    for (int level = 0; level < levels; ++level) {
+        cube.rgb_half.emplace_back(std::size_t(layers) * level_values(face_size, level));
+    }
     return cube;
+}
+
+PrefilteredCube prefilter(const HdrImage& map, const SpecularOptions& options) {
+    PrefilteredCube cube = allocate_cube(options.face_size, options.levels, 1);
+    prefilter_into(map, options.face_size, options.samples, cube, 0);
+    return cube;
+}
+
+// The checks prefilter_residual and prefilter_lights share: options, model, map.
+void validate_rig_map(const HdrImage& map, const Rig& rig, const SpecularOptions& options) {
+    validate_options(options);
+    if (rig.model != LightingModel::Hdr) {
+        invalid("specular cube: the rig's lighting model is " + to_string(rig.model) +
+                ", which has no specular term (only hdr has)");
+    }
+    if (map.width != rig.source_width || map.height != rig.source_height) {
+        invalid("specular cube: the map is " + std::to_string(map.width) + "x" +
+                std::to_string(map.height) + ", the rig was built from a " +
+                std::to_string(rig.source_width) + "x" + std::to_string(rig.source_height) +
+                " map");
+    }
+    validate_map(map);
+    for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+        for (const std::uint32_t index : rig.lights[k].pixels) {
+            if (index >= map.pixel_count()) {
+                invalid("specular cube: light " + std::to_string(k) + " has pixel index " +
+                        std::to_string(index) + ", the map has " +
+                        std::to_string(map.pixel_count()) + " pixels");
+            }
+        }
+    }
 }
 
 void put_u32(std::string& out, std::uint32_t value) {
@@ -542,6 +723,10 @@ std::size_t PrefilteredCube::byte_size() const {
     return values * sizeof(std::uint16_t);
 }
 
+std::size_t SpecularEnvironment::byte_size() const {
+    return residual.byte_size() + lights.byte_size();
+}
+
 double roughness_of_level(int level, int levels) {
     if (levels < 2 || level < 0 || level >= levels) {
         invalid("roughness_of_level: level " + std::to_string(level) + " of a cube of " +
@@ -558,50 +743,74 @@ PrefilteredCube prefilter_map(const HdrImage& map, const SpecularOptions& option
 
 PrefilteredCube prefilter_residual(const HdrImage& map, const Rig& rig,
                                    const SpecularOptions& options) {
-    validate_options(options);
-    if (rig.model != LightingModel::Hdr) {
-        invalid("specular cube: the rig's lighting model is " + to_string(rig.model) +
-                ", which has no specular term (only hdr has)");
-    }
-    if (map.width != rig.source_width || map.height != rig.source_height) {
-        invalid("specular cube: the map is " + std::to_string(map.width) + "x" +
-                std::to_string(map.height) + ", the rig was built from a " +
-                std::to_string(rig.source_width) + "x" + std::to_string(rig.source_height) +
-                " map");
-    }
-    validate_map(map);
+    validate_rig_map(map, rig, options);
     HdrImage residual = map;
-    for (std::size_t k = 0; k < rig.lights.size(); ++k) {
-        for (const std::uint32_t index : rig.lights[k].pixels) {
-            if (index >= residual.pixel_count()) {
-                invalid("specular cube: light " + std::to_string(k) + " has pixel index " +
-                        std::to_string(index) + ", the map has " +
-                        std::to_string(residual.pixel_count()) + " pixels");
-            }
+    for (const Light& light : rig.lights) {
+        for (const std::uint32_t index : light.pixels) {
             residual.set(index, glm::vec3(0.0f));
         }
     }
     return prefilter(residual, options);
 }
 
-glm::dvec3 sample_cube(const PrefilteredCube& cube, const glm::dvec3& d, double lod) {
+PrefilteredCube prefilter_lights(const HdrImage& map, const Rig& rig,
+                                 const SpecularOptions& options) {
+    validate_rig_map(map, rig, options);
+    // The lights' cube has the residual's levels, so that one lod reads both.
+    const int min_light_face = 1 << (options.levels - 1);
+    if (!is_power_of_two(options.light_face_size) || options.light_face_size < min_light_face ||
+        options.light_face_size > options.face_size) {
+        invalid("specular cube: light_face_size " + std::to_string(options.light_face_size) +
+                " is not a power of two in [" + std::to_string(min_light_face) + ", " +
+                std::to_string(options.face_size) + "] (levels " + std::to_string(options.levels) +
+                ", face_size " + std::to_string(options.face_size) + ")");
+    }
+    PrefilteredCube cube =
+        allocate_cube(options.light_face_size, options.levels, int(rig.lights.size()));
+    // One map holds each light's pixels in turn, black elsewhere.
+    HdrImage alone(map.width, map.height);
+    for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+        for (const std::uint32_t index : rig.lights[k].pixels) {
+            alone.set(index, map.rgb(index));
+        }
+        prefilter_light_into(alone, light_support(rig.lights[k], map, cube.face_size), cube,
+                             int(k));
+        for (const std::uint32_t index : rig.lights[k].pixels) {
+            alone.set(index, glm::vec3(0.0f));
+        }
+    }
+    return cube;
+}
+
+SpecularEnvironment prefilter_specular(const HdrImage& map, const Rig& rig,
+                                       const SpecularOptions& options) {
+    return {prefilter_residual(map, rig, options), prefilter_lights(map, rig, options)};
+}
+
+glm::dvec3 sample_cube(const PrefilteredCube& cube, const glm::dvec3& d, double lod, int layer) {
     if (cube.levels < 1 || int(cube.rgb_half.size()) != cube.levels ||
         cube.face_size >> (cube.levels - 1) < 1) {
         invalid("sample_cube: a cube of face_size " + std::to_string(cube.face_size) + ", " +
                 std::to_string(cube.levels) + " levels has " +
                 std::to_string(cube.rgb_half.size()) + " levels of texels");
     }
+    if (layer < 0 || layer >= cube.layers) {
+        invalid("sample_cube: layer " + std::to_string(layer) + " of a cube of " +
+                std::to_string(cube.layers) + " layers");
+    }
     for (int level = 0; level < cube.levels; ++level) {
-        if (cube.rgb_half[std::size_t(level)].size() != level_values(cube.face_size, level)) {
+        const std::size_t expected = std::size_t(cube.layers) * level_values(cube.face_size, level);
+        if (cube.rgb_half[std::size_t(level)].size() != expected) {
             invalid("sample_cube: level " + std::to_string(level) + " has " +
                     std::to_string(cube.rgb_half[std::size_t(level)].size()) + " values, not " +
-                    std::to_string(level_values(cube.face_size, level)));
+                    std::to_string(expected));
         }
     }
     const detail::CubeFaceCoordinates c = detail::cube_lookup(d);
     const auto read_level = [&](int level) {
         const int n = cube.face_size >> level;
-        const std::vector<std::uint16_t>& texels = cube.rgb_half[std::size_t(level)];
+        const std::uint16_t* texels = cube.rgb_half[std::size_t(level)].data() +
+                                      std::size_t(layer) * level_values(cube.face_size, level);
         return glm::dvec3(bilinear_face(n, float(c.s), float(c.t), [&](int i, int j) {
             const std::size_t at = ((std::size_t(c.face) * n + j) * n + i) * 3;
             return glm::vec3(glm::unpackHalf1x16(texels[at]), glm::unpackHalf1x16(texels[at + 1]),
@@ -618,24 +827,29 @@ glm::dvec3 sample_cube(const PrefilteredCube& cube, const glm::dvec3& d, double 
     return result;
 }
 
-std::string encode_prefiltered_cube(const PrefilteredCube& cube) {
+std::string encode_specular_environment(const SpecularEnvironment& environment) {
     std::string out;
-    out.reserve(kHeaderBytes + cube.byte_size());
+    out.reserve(kHeaderBytes + environment.byte_size());
     out.append(kMagic, 7);
     out.push_back(kVersion);
-    put_u32(out, std::uint32_t(cube.face_size));
-    put_u32(out, std::uint32_t(cube.levels));
-    for (const std::vector<std::uint16_t>& level : cube.rgb_half) {
-        for (const std::uint16_t value : level) {
-            out.push_back(char(value & 0xffu));
-            out.push_back(char(value >> 8));
+    for (const PrefilteredCube* cube : {&environment.residual, &environment.lights}) {
+        put_u32(out, std::uint32_t(cube->face_size));
+        put_u32(out, std::uint32_t(cube->levels));
+        put_u32(out, std::uint32_t(cube->layers));
+    }
+    for (const PrefilteredCube* cube : {&environment.residual, &environment.lights}) {
+        for (const std::vector<std::uint16_t>& level : cube->rgb_half) {
+            for (const std::uint16_t value : level) {
+                out.push_back(char(value & 0xffu));
+                out.push_back(char(value >> 8));
+            }
         }
     }
     return out;
 }
 
-PrefilteredCube decode_prefiltered_cube(std::string_view bytes) {
-    const std::string what = "stored specular cube: ";
+SpecularEnvironment decode_specular_environment(std::string_view bytes) {
+    const std::string what = "stored specular environment: ";
     if (bytes.size() < kHeaderBytes) {
         invalid(what + "truncated: " + std::to_string(bytes.size()) +
                 " bytes, the header alone is " + std::to_string(kHeaderBytes));
@@ -647,47 +861,71 @@ PrefilteredCube decode_prefiltered_cube(std::string_view bytes) {
         invalid(what + "version '" + std::string(1, bytes[7]) + "' is not the supported '" +
                 std::string(1, kVersion) + "'");
     }
-    const std::uint32_t face_size = get_u32(bytes, 8), levels = get_u32(bytes, 12);
-    if (face_size < std::uint32_t(kMinFaceSize) || face_size > std::uint32_t(kMaxFaceSize) ||
-        !std::has_single_bit(face_size)) {
-        invalid(what + "face_size " + std::to_string(face_size) + " is not a power of two in [" +
-                std::to_string(kMinFaceSize) + ", " + std::to_string(kMaxFaceSize) + "]");
-    }
-    const int max_levels = log2_of(int(face_size)) + 1;
-    if (levels < 2 || levels > std::uint32_t(max_levels)) {
-        invalid(what + "levels " + std::to_string(levels) + " is not in [2, " +
-                std::to_string(max_levels) + "] for face_size " + std::to_string(face_size));
-    }
+    SpecularEnvironment environment;
     std::size_t expected = kHeaderBytes;
-    for (int level = 0; level < int(levels); ++level) {
-        expected += level_values(int(face_size), level) * sizeof(std::uint16_t);
+    const char* names[2] = {"the residual's cube", "the lights' cube"};
+    PrefilteredCube* cubes[2] = {&environment.residual, &environment.lights};
+    for (int c = 0; c < 2; ++c) {
+        const std::size_t at = 8 + 12 * std::size_t(c);
+        const std::uint32_t face_size = get_u32(bytes, at), levels = get_u32(bytes, at + 4),
+                            layers = get_u32(bytes, at + 8);
+        const std::string cube_what = what + names[c] + ": ";
+        if (face_size < 1 || face_size > std::uint32_t(kMaxFaceSize) ||
+            !std::has_single_bit(face_size)) {
+            invalid(cube_what + "face_size " + std::to_string(face_size) +
+                    " is not a power of two in [1, " + std::to_string(kMaxFaceSize) + "]");
+        }
+        const int max_levels = log2_of(int(face_size)) + 1;
+        if (levels < 2 || levels > std::uint32_t(max_levels)) {
+            invalid(cube_what + "levels " + std::to_string(levels) + " is not in [2, " +
+                    std::to_string(max_levels) + "] for face_size " + std::to_string(face_size));
+        }
+        // The residual is one cube; the lights' are at most a rig's lights.
+        const std::uint32_t max_layers = c == 0 ? 1 : std::uint32_t(kMaxStoredLights);
+        if ((c == 0 && layers != 1) || layers > max_layers) {
+            invalid(cube_what + std::to_string(layers) + " layers, at most " +
+                    std::to_string(max_layers) + (c == 0 ? " (exactly 1)" : ""));
+        }
+        cubes[c]->face_size = int(face_size);
+        cubes[c]->levels = int(levels);
+        cubes[c]->layers = int(layers);
+        for (int level = 0; level < int(levels); ++level) {
+            expected +=
+                std::size_t(layers) * level_values(int(face_size), level) * sizeof(std::uint16_t);
+        }
+    }
+    if (environment.lights.levels != environment.residual.levels) {
+        invalid(what + "the lights' cube has " + std::to_string(environment.lights.levels) +
+                " levels, the residual's " + std::to_string(environment.residual.levels) +
+                ": one lod reads both");
     }
     if (bytes.size() != expected) {
-        invalid(what + std::to_string(bytes.size()) + " bytes, but a cube of face_size " +
-                std::to_string(face_size) + " and " + std::to_string(levels) + " levels takes " +
+        invalid(what + std::to_string(bytes.size()) + " bytes, but its cubes' sizes take " +
                 std::to_string(expected) + (bytes.size() < expected ? " (truncated)" : ""));
     }
-    PrefilteredCube cube;
-    cube.face_size = int(face_size);
-    cube.levels = int(levels);
     std::size_t offset = kHeaderBytes;
-    for (int level = 0; level < cube.levels; ++level) {
-        std::vector<std::uint16_t> texels(level_values(cube.face_size, level));
-        for (std::size_t i = 0; i < texels.size(); ++i, offset += 2) {
-            const std::uint16_t value =
-                std::uint16_t(std::uint8_t(bytes[offset]) | (std::uint8_t(bytes[offset + 1]) << 8));
-            const bool not_finite = (value & 0x7c00u) == 0x7c00u;
-            const bool negative = (value & 0x8000u) != 0 && (value & 0x7fffu) != 0;
-            if (not_finite || negative) {
-                invalid(what + "level " + std::to_string(level) + " value " + std::to_string(i) +
-                        " is " + std::to_string(glm::unpackHalf1x16(value)) +
-                        ": texels must be finite and non-negative");
+    for (int c = 0; c < 2; ++c) {
+        PrefilteredCube& cube = *cubes[c];
+        for (int level = 0; level < cube.levels; ++level) {
+            std::vector<std::uint16_t> texels(std::size_t(cube.layers) *
+                                              level_values(cube.face_size, level));
+            for (std::size_t i = 0; i < texels.size(); ++i, offset += 2) {
+                const std::uint16_t value = std::uint16_t(std::uint8_t(bytes[offset]) |
+                                                          (std::uint8_t(bytes[offset + 1]) << 8));
+                const bool not_finite = (value & 0x7c00u) == 0x7c00u;
+                const bool negative = (value & 0x8000u) != 0 && (value & 0x7fffu) != 0;
+                if (not_finite || negative) {
+                    invalid(what + names[c] + " level " + std::to_string(level) + " value " +
+                            std::to_string(i) + " is " +
+                            std::to_string(glm::unpackHalf1x16(value)) +
+                            ": texels must be finite and non-negative");
+                }
+                texels[i] = value;
             }
-            texels[i] = value;
+            cube.rgb_half.push_back(std::move(texels));
         }
-        cube.rgb_half.push_back(std::move(texels));
     }
-    return cube;
+    return environment;
 }
 
 }  // namespace oer

@@ -90,7 +90,7 @@ struct FrameRequest {
     // The rig's residual map prefiltered (specular_environment.hpp): needed when an object has
     // a glossy material (Material::glossy) and the rig's model is Hdr, else unused and best
     // left null, so that a scene without glossy materials costs no specular memory.
-    std::shared_ptr<const PrefilteredCube> specular;
+    std::shared_ptr<const SpecularEnvironment> specular;
     // Occlusion of the residual map and the ground as lighting (docs/design.md section 2): true,
     // the residual map (the rig's radiance minus its lights' pixels) reaches objects and ground
     // through `transfer`, baked for this request's objects, transforms and ground
