@@ -244,7 +244,9 @@ TEST_F(MaterialShadingTest, AMirrorReflectsTheLightWhereItIsAndLosesItWithTheLig
                 dimmed_ratio);
     EXPECT_NEAR(dimmed_ratio, 0.5, 0.01);
 
-    // The light switched off: its highlight gone, the rest of the sphere unchanged.
+    // The light switched off: its highlight gone, the rest of the sphere unchanged but for the
+    // GGX tail of the light (a pixel's lobe is widened by its normals' spread, material.glsl):
+    // each pixel within 1e-4 of the light's radiance.
     const Pixel off_peak = brightest(off);
     EXPECT_LT(linear_rgb(off, off_peak.x, off_peak.y).g, 0.01 * peak_radiance);
     int rest = 0;
@@ -256,20 +258,22 @@ TEST_F(MaterialShadingTest, AMirrorReflectsTheLightWhereItIsAndLosesItWithTheLig
                 continue;
             }
             const glm::dvec3 ray = pixel_ray(camera, size, size, x, y);
-            if (glm::dot(glm::reflect(ray, *n), l) > std::cos(0.5)) {
+            // Away from the silhouette too, where a pixel spans normals whose reflections reach
+            // the light (geometric specular antialiasing widens the lobe there, material.glsl).
+            if (glm::dot(glm::reflect(ray, *n), l) > std::cos(0.5) || glm::dot(*n, -ray) < 0.5) {
                 continue;
             }
             const double on_value = linear_rgb(lit, x, y).g, off_value = linear_rgb(off, x, y).g;
-            worst_rest = std::max(worst_rest, std::abs(on_value / off_value - 1.0));
+            worst_rest = std::max(worst_rest, std::abs(on_value - off_value) / light.radiance);
             ++rest;
         }
     }
     std::printf(
         "[ measured ] light off: peak %.4f; %d pixels away from the highlight differ by "
-        "at most %.5f\n",
+        "at most %.5f of the light's radiance\n",
         linear_rgb(off, off_peak.x, off_peak.y).g, rest, worst_rest);
-    EXPECT_GT(rest, 20000);
-    EXPECT_LT(worst_rest, 0.01);
+    EXPECT_GT(rest, 15000);
+    EXPECT_LT(worst_rest, 1e-4);
 
     // The plate's shadow: each highlight pixel predicted in it by ray casting (away from the
     // predicted edge) loses its highlight, each predicted lit keeps it.

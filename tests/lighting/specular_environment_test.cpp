@@ -159,8 +159,8 @@ TEST(SpecularEnvironment, FurnaceEveryTexelOfEveryLevelIsTheConstant) {
     const glm::vec3 constant(0.5f, 1.0f, 2.0f);
     const PrefilteredCube cube = prefilter_map(constant_map(512, 256, constant));
     ASSERT_EQ(cube.face_size, 256);
-    ASSERT_EQ(cube.levels, 5);
-    ASSERT_EQ(cube.rgb_half.size(), 5u);
+    ASSERT_EQ(cube.levels, 6);
+    ASSERT_EQ(cube.rgb_half.size(), 6u);
     double worst = 0.0;
     for (int level = 0; level < cube.levels; ++level) {
         const int n = cube.face_size >> level;
@@ -190,9 +190,10 @@ TEST(SpecularEnvironment, SmallDiscKeepsItsRadianceEnergyAndPlace) {
     const HdrImage map = one_disc_map();
     const PrefilteredCube cube = prefilter_map(map);
     EXPECT_NEAR(sample_cube(cube, kDiscDirection, 0.0).r / kDiscRadiance, 1.0, 0.05);
-    EXPECT_NEAR(sample_cube(cube, kDiscDirection, 1.0).r /
-                    disc_centre_radiance(kDiscRadiance, kDiscRadius, roughness_of_level(1, 5)),
-                1.0, 0.05);
+    EXPECT_NEAR(
+        sample_cube(cube, kDiscDirection, 1.0).r /
+            disc_centre_radiance(kDiscRadiance, kDiscRadius, roughness_of_level(1, cube.levels)),
+        1.0, 0.05);
 
     const double mean_l = map_mean(map).g;
     double previous_peak = 1e30;
@@ -297,7 +298,7 @@ TEST(SpecularEnvironment, EachLightsLayerIsItsPixelsAlonePrefiltered) {
             "[ measured ] level %d: residual and lights over the whole map %.4f %.4f %.4f\n", level,
             parts.r / expected.r, parts.g / expected.g, parts.b / expected.b);
         for (int c = 0; c < 3; ++c) {
-            EXPECT_NEAR(parts[c] / expected[c], 1.0, 0.03) << "level " << level;
+            EXPECT_NEAR(parts[c] / expected[c], 1.0, 0.04) << "level " << level;
         }
     }
 }
@@ -306,7 +307,8 @@ TEST(SpecularEnvironment, EachLightsLayerIsItsPixelsAlonePrefiltered) {
 // cube: at every level its prefiltered radiance along the box's long and short axes is the
 // exact integral of its pixels under the prefiltering kernel, so its reflection is as long and
 // as narrow as the box at every roughness (a lobe about its direction would be round).
-// Tolerance: 2 % of the level's peak (measured 0.7 to 1.2 %: the half floats, the source
+// Tolerance: 5 % of the level's peak (measured 1.2 to 4.5 %, the most at the coarse levels,
+// 8 and 4 texels a face at roughness 0.55 and 1, read bilinearly; and the half floats, the source
 // texels' size and the 128 texels' bilinear reads).
 TEST(SpecularEnvironment, ASoftBoxKeepsItsShapeAtEveryRoughness) {
     const oer::testing::SoftBoxLight box{glm::normalize(glm::dvec3(0.4, 0.5, -0.7)),
@@ -380,7 +382,7 @@ TEST(SpecularEnvironment, ASoftBoxKeepsItsShapeAtEveryRoughness) {
             "degrees along it %.3f, across it %.3f (exact %.3f, %.3f)\n",
             roughness, worst, peak, along, sideways, exact(towards(across, 12.0), roughness),
             exact(towards(up, 12.0), roughness));
-        EXPECT_LT(worst, 0.02) << "roughness " << roughness;
+        EXPECT_LT(worst, 0.05) << "roughness " << roughness;
     }
     // Level 0 is the box itself: inside and outside each of its edges.
     EXPECT_NEAR(sample_cube(lights, centre, 0.0).g, radiance.g, 0.01 * radiance.g);
@@ -451,10 +453,19 @@ TEST(SpecularEnvironment, SampleCubeBlendsLevels) {
     EXPECT_EQ(sample_cube(cube, d, 10.0), sample_cube(cube, d, cube.levels - 1.0));
 }
 
-TEST(SpecularEnvironment, RoughnessOfLevelIsLevelOverLastLevel) {
+// The levels are denser at low roughness, and the lod of a level's roughness is the level.
+TEST(SpecularEnvironment, RoughnessOfLevelAndLodOfRoughnessAreInverses) {
     EXPECT_EQ(roughness_of_level(0, 5), 0.0);
-    EXPECT_EQ(roughness_of_level(1, 5), 0.25);
+    EXPECT_NEAR(roughness_of_level(1, 5), 1.0 - std::sqrt(0.75), 1e-15);  // 0.134
+    EXPECT_EQ(roughness_of_level(2, 5), 1.0 - std::sqrt(0.5));
     EXPECT_EQ(roughness_of_level(4, 5), 1.0);
+    for (int levels = 2; levels <= 8; ++levels) {
+        for (int level = 0; level < levels; ++level) {
+            EXPECT_NEAR(lod_of_roughness(roughness_of_level(level, levels), levels), level, 1e-12);
+        }
+    }
+    EXPECT_EQ(lod_of_roughness(2.0, 5), 4.0);  // clamped to roughness 1
+    EXPECT_EQ(lod_of_roughness(-1.0, 5), 0.0);
     EXPECT_NE(error_of([] { roughness_of_level(5, 5); }).find("level 5 of a cube of 5 levels"),
               std::string::npos);
     EXPECT_NE(error_of([] { roughness_of_level(0, 1); }).find("1 levels"), std::string::npos);

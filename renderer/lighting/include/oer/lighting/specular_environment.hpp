@@ -15,7 +15,7 @@
 //
 // The cube map: face order and orientation of the OpenGL cube-map table (as
 // environment_layouts.hpp), level i of face size face_size >> i holding the radiance
-// prefiltered with the GGX lobe of perceptual roughness i / (levels - 1), with n = v = r
+// prefiltered with the GGX lobe of perceptual roughness roughness_of_level(i), with n = v = r
 // (Karis's assumption), weighted by n.l:
 //   P(r, alpha) = sum_l L(l) D(h) (n.l) / sum_l D(h) (n.l),   alpha = roughness^2,
 // integrated by GGX importance sampling with filtered importance sampling (J. Krivanek and
@@ -34,7 +34,7 @@ namespace oer {
 
 struct SpecularOptions {
     int face_size = 256;  // level 0, a power of two in [4, 2048]
-    int levels = 5;       // in [2, log2(face_size) + 1]; level levels - 1 is roughness 1
+    int levels = 6;       // in [2, log2(face_size) + 1]; level levels - 1 is roughness 1
     int samples = 64;     // GGX samples per texel of levels 1 and above, in [1, 4096]
     // Level 0 of each light's cube: a power of two in [2^(levels - 1), face_size]. A light
     // is bright against its surroundings, so a texel of 0.7 degrees (128) keeps a soft box's
@@ -58,7 +58,7 @@ struct PrefilteredCube {
 
 // What a glossy frame reads: P(residual), and P(k) for every light k of the rig as layer k of
 // `lights` (layers = the rig's lights; none: a cube of 0 layers), both of the same levels, so
-// that one lod = roughness * (levels - 1) reads both.
+// that one lod (lod_of_roughness) reads both.
 struct SpecularEnvironment {
     PrefilteredCube residual;
     PrefilteredCube lights;
@@ -66,9 +66,16 @@ struct SpecularEnvironment {
     std::size_t byte_size() const;
 };
 
-// The perceptual roughness that level `level` of a cube of `levels` levels is prefiltered for,
-// and back (the shader reads lod = roughness * (levels - 1)).
+// The perceptual roughness r that level `level` of a cube of `levels` levels is prefiltered
+// for, and the fractional level a roughness reads: lod = (levels - 1) r (2 - r), inverted
+// r = 1 - sqrt(1 - level / (levels - 1)) (Filament's perceptualRoughnessToLod, a fit of
+// log2 of the lobe's width). The default seven levels hold roughness 0, 0.087, 0.184, 0.293,
+// 0.423, 0.592 and 1: denser where a reflection changes fastest. Five levels at i / 4 left a
+// mirror at roughness 0.1 a blend of a sharp image and one at 0.25, 21 % under its light's
+// radiance, and a blend of levels far apart has the sharp one's peak, so that a highlight
+// at 0.25 looked no wider than at 0. The shader's specular_lod is lod_of_roughness.
 double roughness_of_level(int level, int levels);
+double lod_of_roughness(double roughness, int levels);
 
 // The residual map (every rig light's pixels set to 0) prefiltered. The map must be the one
 // the rig was built from (same size; rig.model Hdr: the thesis model has no specular term).
