@@ -827,7 +827,9 @@ export class OerViewer extends HTMLElement {
     cancelAnimationFrame(table.frame);
     table.frame = 0;
     if (this.#connected && this.hasAttribute('auto-rotate')) {
-      table.last = performance.now();
+      // Set by the first animation frame: its timestamp (the frame's start) may precede
+      // performance.now() here, which would make the first turn no turn at all.
+      table.last = null;
       table.frame = requestAnimationFrame(this.#turn);
     } else if (turning && this.#connected) {
       this.#rest();
@@ -841,8 +843,11 @@ export class OerViewer extends HTMLElement {
   #turn = (now) => {
     const table = this.#turntable;
     table.frame = requestAnimationFrame(this.#turn);
-    const seconds = Math.max(0, now - table.last) / 1000;
+    const seconds = table.last === null ? 0 : Math.max(0, now - table.last) / 1000;
     table.last = now;
+    if (seconds === 0) {
+      return;
+    }
     if (this.#pointers.size > 0 || now < table.heldUntil) {
       return;
     }
