@@ -39,7 +39,11 @@ const showState = () => {
 };
 showState();
 
-new MutationObserver(() => {
+// The link also names the uploads it shows (`mesh-name`, `environment-name`: the user's file
+// names, which the server does not keep), so that whoever opens it sees them in the pickers.
+// uploadNames is filled below, from the link and from this page's uploads.
+const uploadNames = { mesh: new Map(), environment: new Map() };
+const writeLink = () => {
   const next = new URLSearchParams();
   for (const name of stateAttributes) {
     const value = viewer.getAttribute(name);
@@ -47,8 +51,17 @@ new MutationObserver(() => {
       next.set(name, value);
     }
   }
+  for (const attribute of ['mesh', 'environment']) {
+    const name = uploadNames[attribute].get(viewer.getAttribute(attribute));
+    if (name) {
+      next.set(`${attribute}-name`, name);
+    }
+  }
   const text = next.toString();
   history.replaceState(null, '', text ? `?${text}` : location.pathname);
+};
+new MutationObserver(() => {
+  writeLink();
   showState();
 }).observe(viewer, { attributes: true, attributeFilter: stateAttributes });
 
@@ -292,10 +305,29 @@ document.getElementById('all-off').addEventListener('click', () =>
 
 // The status line: size, bytes, time in the browser and on the server (or that the server's
 // cache answered), and while dragging the previews shown per second since the press.
+// The status is a live region: it changes only on settled states (a full frame, an error), so
+// that a screen reader is not flooded with every preview; the previews' rate while dragging goes
+// beside it, shown but not announced.
 const status = document.getElementById('status');
+const previewRate = document.getElementById('preview-rate');
+const setStatus = (text, { error = false } = {}) => {
+  if (status.textContent !== text) {
+    status.textContent = text;
+  }
+  status.classList.toggle('error', error);
+};
 let drag = { started: 0, previews: 0 };
 viewer.addEventListener('pointerdown', () => { drag = { started: performance.now(), previews: 0 }; });
+viewer.addEventListener('pointerup', () => { previewRate.textContent = ''; });
 viewer.addEventListener('load', ({ detail }) => {
+  if (detail.stage === 'preview' && viewer.hasAttribute('dragging')) {
+    drag.previews += 1;
+    const seconds = (performance.now() - drag.started) / 1000;
+    previewRate.textContent = `${(drag.previews / seconds).toFixed(1)} fps`;
+  }
+  if (detail.stage !== 'full' || detail.preliminary) {
+    return;  // not settled yet
+  }
   // Server-Timing lists the passes, their `total`, then `encode` (server/README.md); a frame
   // from the server's cache has none.
   const timing = Object.fromEntries((detail.serverTiming ?? '').split(',').map((entry) => {
@@ -304,19 +336,12 @@ viewer.addEventListener('load', ({ detail }) => {
     return [name, Number(duration?.slice(4) ?? 0)];
   }));
   const server = (timing.total ?? 0) + (timing.encode ?? 0);
-  const parts = [
-    `${detail.width}×${detail.height}${detail.stage === 'full' ? '' : ` ${detail.stage}`}`,
+  setStatus([
+    `${detail.width}×${detail.height}`,
     `${(detail.bytes / 1024).toFixed(0)} KiB`,
     `${detail.milliseconds.toFixed(0)} ms`,
     detail.cache === 'hit' ? 'cached' : `server ${server.toFixed(0)} ms`,
-  ];
-  if (detail.stage === 'preview' && viewer.hasAttribute('dragging')) {
-    drag.previews += 1;
-    const seconds = (performance.now() - drag.started) / 1000;
-    parts.push(`${(drag.previews / seconds).toFixed(1)} fps`);
-  }
-  status.textContent = parts.join(', ');
-  status.classList.remove('error');
+  ].join(', '));
 });
 // The frame in view at full quality (PNG, 4 samples), saved through a temporary link.
 const download = document.getElementById('download');
@@ -331,17 +356,14 @@ download.addEventListener('click', async () => {
     // The download has taken the Blob by then; a minute is ample.
     setTimeout(() => URL.revokeObjectURL(link.href), 60000);
   } catch (error) {
-    status.textContent = error.message;
-    status.classList.add('error');
+    setStatus(`The PNG could not be made: ${error.message}`, { error: true });
   } finally {
     download.disabled = false;
   }
 });
 
-viewer.addEventListener('error', ({ detail }) => {
-  status.textContent = detail.detail;
-  status.classList.add('error');
-});
+// The element shows the failure over the view; the status repeats its plain words, announced.
+viewer.addEventListener('error', ({ detail }) => setStatus(detail.message, { error: true }));
 
 // Presets and uploads. The Product and Environment pickers list the server's presets
 // (GET /v1/presets), what was uploaded in this page, and the element's id when it is neither
@@ -383,13 +405,21 @@ const uploads = { mesh: [], environment: [] };
 const shortName = (value) =>
   value.split(/\s+/).filter(Boolean).map((id) => (/^[0-9a-f]{64}$/.test(id) ? id.slice(0, 8) : id))
     .join(' + ');
+// A shared link's uploads, by the names it carries.
+for (const attribute of ['mesh', 'environment']) {
+  const name = initialQuery.get(`${attribute}-name`);
+  if (name && viewer.hasAttribute(attribute)) {
+    uploadNames[attribute].set(viewer.getAttribute(attribute), name);
+    uploads[attribute].push({ id: viewer.getAttribute(attribute), name });
+  }
+}
 
 const showPicked = (attribute) => {
   const picker = pickers[attribute];
   const current = viewer[attribute];  // 'default' when the attribute is absent
   const choices = [...presets[attribute], ...uploads[attribute]];
   if (!choices.some((choice) => choice.id === current)) {
-    choices.push({ id: current, name: shortName(current) });
+    choices.push({ id: current, name: uploadNames[attribute].get(current) ?? shortName(current) });
   }
   picker.replaceChildren(...choices.map(({ id, name, description }) => {
     const option = new Option(name, id);
@@ -556,6 +586,35 @@ async function followPreparation(id, name) {
   }
 }
 
+// Resolves once the view shows `id` as its `attribute` (a frame of it, not a preliminary one),
+// or once the view has moved on to another; rejects with the element's error meanwhile. Until
+// then the upload is not "done": the previous product or environment is still on screen.
+// Listening starts before the attribute is set, so that no frame is missed.
+function shownInView(attribute, id) {
+  const parameter = attribute === 'mesh' ? 'mesh' : 'environment';
+  const holds = (value) => (value ?? '').split(/\s+/).includes(id);
+  return new Promise((resolve, reject) => {
+    const done = (settle, value) => {
+      viewer.removeEventListener('load', onLoad);
+      viewer.removeEventListener('error', onError);
+      settle(value);
+    };
+    const onLoad = ({ detail }) => {
+      const query = new URL(detail.url, location.href).searchParams;
+      if (!holds(viewer.getAttribute(attribute))) {
+        done(resolve);  // another was picked meanwhile
+      } else if (!detail.preliminary && query.getAll(parameter).includes(id)) {
+        done(resolve);
+      }
+    };
+    const onError = ({ detail }) => done(reject, new Error(detail.message));
+    viewer.addEventListener('load', onLoad);
+    viewer.addEventListener('error', onError);
+  });
+}
+
+const plural = (count, noun) => `${count.toLocaleString('en-US')} ${noun}${count === 1 ? '' : 's'}`;
+
 async function upload(file) {
   if (refuseWhileUploading(file.name)) {
     return;
@@ -584,10 +643,16 @@ async function upload(file) {
     uploadProgress.hidden = true;
     endUpload();
   };
+  // The bar follows every byte; the status (announced) every 10 %.
+  let announcedTenth = 0;
   request.upload.addEventListener('progress', (event) => {
     if (event.lengthComputable) {
       uploadProgress.value = event.loaded / event.total;
-      say(`Uploading ${file.name}: ${Math.round((100 * event.loaded) / event.total)} %`);
+      const percent = Math.round((100 * event.loaded) / event.total);
+      if (Math.floor(percent / 10) !== announcedTenth) {
+        announcedTenth = Math.floor(percent / 10);
+        say(`Uploading ${file.name}: ${percent} %`);
+      }
     }
   });
   // Every byte is sent; the answer comes once the server has read the file (an environment's
@@ -615,18 +680,36 @@ async function upload(file) {
     if (!uploads[kind.attribute].some((choice) => choice.id === asset.id)) {
       uploads[kind.attribute].push({ id: asset.id, name: file.name });
     }
+    uploadNames[kind.attribute].set(asset.id, file.name);
+    // Listening before the view changes; the same file again leaves the view as it is.
+    const alreadyShown = viewer.getAttribute(kind.attribute) === asset.id;
+    const shown = alreadyShown ? Promise.resolve() : shownInView(kind.attribute, asset.id);
+    let onScreen = alreadyShown;
+    shown.then(() => { onScreen = true; }, () => {});  // a failure is handled below
     show(kind.attribute, asset.id);
-    if (kind.attribute === 'environment') {
-      finish(`${file.name}: ${asset.lights.length} lights`);
+    writeLink();  // the name too, even when the id was already the view's
+    const summary = kind.attribute === 'environment'
+      ? `${file.name}: ${plural(asset.lights.length, 'light')}`
+      : `${file.name}: ${plural(asset.counts.triangles, 'triangle')}`;
+    try {
+      if (kind.attribute === 'mesh') {
+        await followPreparation(asset.id, file.name);
+      }
+    } catch (error) {
+      finish(`${summary}; its preparation's progress did not load: ${error.message}`,
+             { error: true });
       return;
     }
-    const triangles = `${file.name}: ${asset.counts.triangles.toLocaleString('en-US')} triangles`;
+    // Prepared; "done" only once it is on screen.
+    if (!onScreen) {
+      uploadProgress.removeAttribute('value');
+      say(`Showing ${file.name}…`);
+    }
     try {
-      await followPreparation(asset.id, file.name);
-      finish(triangles);
+      await shown;
+      finish(summary);
     } catch (error) {
-      finish(`${triangles}; its preparation's progress did not load: ${error.message}`,
-             { error: true });
+      finish(`${file.name} was uploaded but cannot be shown: ${error.message}`, { error: true });
     }
   });
   request.addEventListener('error', () =>

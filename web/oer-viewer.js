@@ -80,19 +80,57 @@ export function linearFromHex(text) {
   });
 }
 
+// Before the first frame the element is never an empty box: a placeholder (a soft gradient, the
+// poster over it) with a loading indicator; without a `poster` attribute the poster is a small
+// frame of the same view (the preview recipe at this fraction of the CSS size: about 50 ms on
+// llvmpipe against 250 ms for the sharp frame, and cached by the browser and the server alike).
+const POSTER_SCALE = 0.2;
+// Without a size from the page, the element is as wide as its container (or 300 px where it
+// shrinks to fit, as <canvas> does) at this aspect ratio; a page's width or height overrides it.
+const DEFAULT_ASPECT_RATIO = '4 / 3';
+const DEFAULT_WIDTH_PX = 300;
+
 const STYLE = `
   :host { display: block; position: relative; overflow: hidden; touch-action: none;
-          min-width: 1px; min-height: 1px; cursor: grab; outline: none; }
+          aspect-ratio: ${DEFAULT_ASPECT_RATIO}; cursor: grab; outline: none; }
   :host(:focus-visible) { box-shadow: inset 0 0 0 3px #4d90fe; }
   :host([dragging]) { cursor: grabbing; }
-  img { display: block; width: 100%; height: 100%; user-select: none;
-        -webkit-user-drag: none; pointer-events: none; }
+  /* In flow, no height: gives the element a width where it would shrink to its content. */
+  .sizer { width: ${DEFAULT_WIDTH_PX}px; max-width: 100%; height: 0; }
+  /* Every layer is out of flow, so that none stretches an element sized by its aspect ratio. */
+  .frame, .placeholder, .poster, .message { position: absolute; inset: 0; }
+  .frame { display: block; width: 100%; height: 100%; user-select: none;
+           -webkit-user-drag: none; pointer-events: none; }
+  .frame:not([src]) { visibility: hidden; }
+  .placeholder { background: radial-gradient(circle at 50% 40%, #7a7a7a, #3a3a3a);
+                 pointer-events: none; }
+  :host([loaded]) .placeholder { display: none; }
+  .poster { width: 100%; height: 100%; object-fit: cover; }
+  .poster:not([src]), .poster.broken { visibility: hidden; }
+  .loading { position: absolute; left: 50%; top: 50%; transform: translate(-50%, -50%);
+             display: flex; align-items: center; gap: 0.6em; padding: 0.5em 0.9em;
+             border-radius: 999px; background: rgb(0 0 0 / 0.6); color: #fff;
+             font: 14px/1.3 system-ui, sans-serif; white-space: nowrap; }
+  .spinner { width: 1em; height: 1em; border-radius: 50%; border: 2px solid rgb(255 255 255 / 0.35);
+             border-top-color: #fff; animation: spin 0.9s linear infinite; }
+  @keyframes spin { to { transform: rotate(360deg); } }
+  :host([failed]) .loading { display: none; }
   .waiting { display: none; position: absolute; left: 0; top: 0; height: 4px; width: 30%;
              background: #4d90fe; animation: waiting 1.2s ease-in-out infinite; }
   :host([waiting]) .waiting { display: block; }
   @keyframes waiting { from { left: -30%; } to { left: 100%; } }
+  /* A failure, in words, over whatever is shown: never a silent black or empty box. */
+  .message { display: none; margin: auto; width: fit-content; max-width: calc(100% - 2em);
+             height: fit-content; max-height: calc(100% - 2em); overflow: auto; padding: 0.8em 1em;
+             border-radius: 6px; background: rgb(20 20 20 / 0.88); color: #fff;
+             border-left: 4px solid #ff8a80; font: 14px/1.4 system-ui, sans-serif;
+             cursor: default; }
+  :host([failed]) .message { display: block; }
+  .message strong { display: block; font-size: 15px; margin-bottom: 0.25em; }
+  .message p { margin: 0; overflow-wrap: anywhere; }
   @media (prefers-reduced-motion: reduce) {
     .waiting { width: 100%; animation: none; opacity: 0.6; }
+    .spinner { animation: none; border-top-color: rgb(255 255 255 / 0.35); }
   }
 `;
 
@@ -100,11 +138,16 @@ export class OerViewer extends HTMLElement {
   static observedAttributes = [
     'server', 'mesh', 'environment', 'lights', 'camera-orbit', 'camera-target', 'camera-asset',
     'exposure', 'background', 'ground', 'shadows', 'shadow-intensity', 'shadow-softness',
-    'environment-yaw', 'base-color', 'base-color-material', 'variant', 'auto-rotate',
+    'environment-yaw', 'base-color', 'base-color-material', 'variant', 'auto-rotate', 'poster',
   ];
 
   #image;
-  #waitingBar;
+  #poster;
+  #posterController = null;  // the server's small poster frame, in flight
+  #posterObjectUrl = null;
+  #messageHeadline;
+  #messageText;
+  #failures = 0;  // counts failures and shown frames, so that a late explanation shows only if still true
   #showingPreliminary = false;
   #controller = null;  // the one request in flight
   // The scenes (transferKey) whose whole frame came: a frame of any other asks with
@@ -133,13 +176,40 @@ export class OerViewer extends HTMLElement {
     const root = this.attachShadow({ mode: 'open' });
     const style = document.createElement('style');
     style.textContent = STYLE;
+    const sizer = document.createElement('div');
+    sizer.className = 'sizer';
     this.#image = document.createElement('img');
     this.#image.alt = '';
+    this.#image.className = 'frame';
     this.#image.part = 'frame';
-    this.#waitingBar = document.createElement('div');
-    this.#waitingBar.className = 'waiting';
-    this.#waitingBar.part = 'waiting';
-    root.append(style, this.#image, this.#waitingBar);
+    // Until the first frame: the poster and a loading indicator over a soft gradient.
+    const placeholder = document.createElement('div');
+    placeholder.className = 'placeholder';
+    placeholder.part = 'placeholder';
+    this.#poster = document.createElement('img');
+    this.#poster.alt = '';
+    this.#poster.className = 'poster';
+    this.#poster.part = 'poster';
+    this.#poster.addEventListener('error', () => this.#poster.classList.add('broken'));
+    this.#poster.addEventListener('load', () => this.#poster.classList.remove('broken'));
+    const loading = document.createElement('div');
+    loading.className = 'loading';
+    loading.part = 'loading';
+    const spinner = document.createElement('span');
+    spinner.className = 'spinner';
+    loading.append(spinner, 'Loading 3D view…');
+    placeholder.append(this.#poster, loading);
+    const waitingBar = document.createElement('div');
+    waitingBar.className = 'waiting';
+    waitingBar.part = 'waiting';
+    // A failure in plain words (the error event's `message`), over the view.
+    const message = document.createElement('div');
+    message.className = 'message';
+    message.part = 'message';
+    this.#messageHeadline = document.createElement('strong');
+    this.#messageText = document.createElement('p');
+    message.append(this.#messageHeadline, this.#messageText);
+    root.append(style, sizer, this.#image, placeholder, waitingBar, message);
     this.#resizeObserver = new ResizeObserver(() => this.#requestFrame('sharp'));
     // Here rather than on connection, so that moving the element does not add them twice.
     this.addEventListener('pointerdown', this.#onPointerDown);
@@ -158,6 +228,8 @@ export class OerViewer extends HTMLElement {
     if (!this.hasAttribute('role')) {
       this.setAttribute('role', 'img');
     }
+    this.#showPoster();
+    this.#setWaiting(this.hasAttribute('waiting'));
     this.#resizeObserver.observe(this);
     this.#loadLights();
     this.#updateTurntable();
@@ -168,6 +240,8 @@ export class OerViewer extends HTMLElement {
     this.#resizeObserver.disconnect();
     this.#controller?.abort();
     this.#controller = null;
+    this.#posterController?.abort();
+    this.#posterController = null;
     clearTimeout(this.#restTimer);
     this.#updateTurntable();
   }
@@ -184,6 +258,10 @@ export class OerViewer extends HTMLElement {
     }
     if (name === 'auto-rotate') {
       this.#updateTurntable();
+      return;
+    }
+    if (name === 'poster') {
+      this.#showPoster();
       return;
     }
     // A drag, the wheel, a key or adjust() asks for its own frames; the attribute only records
@@ -274,10 +352,16 @@ export class OerViewer extends HTMLElement {
     if (!['preview', 'sharp', 'full'].includes(stage)) {
       throw new RangeError(`frameUrl: stage is 'preview', 'sharp' or 'full', not '${stage}'`);
     }
-    const preview = stage === 'preview';
+    return this.#urlFor(stage);
+  }
+
+  // frameUrl's, and also for stage 'poster': the preview recipe at POSTER_SCALE of the CSS size
+  // (whatever devicePixelRatio: it is shown blurred, for a moment).
+  #urlFor(stage) {
+    const preview = stage === 'preview' || stage === 'poster';
     const rect = this.getBoundingClientRect();
-    const ratio = window.devicePixelRatio || 1;
-    const scale = preview ? PREVIEW.scale : 1;
+    const ratio = stage === 'poster' ? 1 : window.devicePixelRatio || 1;
+    const scale = { preview: PREVIEW.scale, poster: POSTER_SCALE }[stage] ?? 1;
     const side = (css) =>
       Math.max(1, Math.round(Math.min(MAX_FRAME_SIDE, Math.max(1, css) * ratio) * scale));
     const query = new URLSearchParams();
@@ -385,7 +469,9 @@ export class OerViewer extends HTMLElement {
       this.#dispatchLightsChange();
     } catch (error) {
       this.#lightsFor = null;
-      this.#dispatchError(error, url);
+      // The frame's own request shows a failure that keeps the view away; the lights' alone
+      // (the view is drawn) is only reported.
+      this.#report(error, url, { show: false });
     }
   }
 
@@ -396,18 +482,111 @@ export class OerViewer extends HTMLElement {
     }));
   }
 
-  #dispatchError(error, url) {
+  // A failure, as the error event (its `code` and plain-language `message`, with the server's
+  // problem verbatim) and, with show, as the message over the view until a frame is shown.
+  async #report(error, url, { show = true } = {}) {
+    const failure = ++this.#failures;
     const detail = error instanceof ProblemError
       ? { status: error.status, type: error.type, title: error.title, detail: error.message, url }
       : { status: 0, type: null, title: 'Network error', detail: String(error.message ?? error), url };
+    const { code, headline, explanation } = await this.#explain(error, detail, url);
+    detail.code = code;
+    detail.message = `${headline}. ${explanation}`;
+    if (show && failure === this.#failures && this.#connected) {
+      this.#messageHeadline.textContent = headline;
+      this.#messageText.textContent = explanation;
+      this.setAttribute('failed', code);
+      this.#setWaiting(false);
+    }
     this.dispatchEvent(new CustomEvent('error', { detail }));
   }
 
+  // What went wrong, for a shopper: a code to switch on, a headline and one or two sentences.
+  // fetch() says nothing of why a request failed; for another origin, two probes tell apart a
+  // server that is down (even a no-cors request fails) from one that refuses this page's origin
+  // (the no-cors request passes, a CORS one fails).
+  async #explain(error, detail, url) {
+    const target = new URL(url, location.href);
+    const host = target.host;
+    if (error instanceof ProblemError) {
+      const code = PROBLEM_CODES[error.type] ??
+        (error.status === 401 || error.status === 403 ? 'unauthorized'
+          : error.status === 404 ? 'not-found'
+            : error.status === 429 || error.status === 503 ? 'busy'
+              : error.status < 500 ? 'invalid' : 'server');
+      return { code, ...PLAIN_WORDS[code](detail) };
+    }
+    if (!(error instanceof TypeError)) {
+      // Not a network failure: an answer the browser could not use (not an image, say).
+      return { code: 'server', ...PLAIN_WORDS.server(detail) };
+    }
+    let code = 'unreachable';
+    if (target.origin !== location.origin) {
+      const probe = `${this.server}/readyz`;
+      const reaches = (mode) => fetch(probe, { mode, cache: 'no-store' }).then(() => true, () => false);
+      if (await reaches('no-cors')) {
+        code = await reaches('cors') ? 'network' : 'cors';
+      }
+    }
+    return { code, ...PLAIN_WORDS[code]({ ...detail, host }) };
+  }
+
+  // The poster: the `poster` attribute's image, else (asked for with the first frame) a small
+  // frame of the view from the server.
+  #showPoster() {
+    const poster = this.getAttribute('poster');
+    if (poster) {
+      this.#posterController?.abort();
+      this.#poster.src = new URL(poster, document.baseURI).href;
+    } else if (!this.#posterObjectUrl) {
+      this.#poster.removeAttribute('src');
+    }
+  }
+
+  async #requestPoster() {
+    if (this.hasAttribute('poster') || this.hasAttribute('loaded') || this.#posterController ||
+        this.#posterObjectUrl) {
+      return;
+    }
+    const controller = new AbortController();
+    this.#posterController = controller;
+    const url = this.#urlFor('poster');
+    try {
+      const headers = this.#refinedScenes.has(transferKey(url)) ? {} : { Prefer: 'wait=1' };
+      const response = await fetch(url, { signal: controller.signal, headers });
+      if (response.ok) {
+        const blob = await response.blob();
+        if (!controller.signal.aborted && !this.hasAttribute('loaded') && !this.hasAttribute('poster')) {
+          this.#posterObjectUrl = URL.createObjectURL(blob);
+          this.#poster.src = this.#posterObjectUrl;
+        }
+      }
+    } catch {
+      // The frame's own request, asked for at the same time, reports a failure.
+    } finally {
+      if (this.#posterController === controller) {
+        this.#posterController = null;
+      }
+    }
+  }
+
+  // The first frame is shown: the placeholder goes, for good.
+  #firstFrameShown() {
+    this.setAttribute('loaded', '');
+    this.#posterController?.abort();
+    this.#posterController = null;
+    if (this.#posterObjectUrl) {
+      URL.revokeObjectURL(this.#posterObjectUrl);
+      this.#posterObjectUrl = null;
+      this.#poster.removeAttribute('src');
+    }
+  }
+
   // The waiting bar and aria-busy: on while a frame is longer than WAITING_MS in coming, or the
-  // one shown is preliminary.
+  // one shown is preliminary; aria-busy also until the first frame (unless it failed).
   #setWaiting(on) {
     this.toggleAttribute('waiting', on);
-    if (on) {
+    if (on || (!this.hasAttribute('loaded') && !this.hasAttribute('failed'))) {
       this.setAttribute('aria-busy', 'true');
     } else {
       this.removeAttribute('aria-busy');
@@ -424,6 +603,9 @@ export class OerViewer extends HTMLElement {
     const controller = new AbortController();
     this.#controller = controller;
     const url = this.frameUrl(stage);
+    if (!this.hasAttribute('loaded')) {
+      this.#requestPoster();
+    }
     const started = performance.now();
     const waiting = setTimeout(() => {
       if (this.#controller === controller) {
@@ -448,6 +630,11 @@ export class OerViewer extends HTMLElement {
       }
       this.#controller = null;
       this.#image.src = objectUrl;
+      this.#failures += 1;  // an explanation still on its way is no longer true
+      this.removeAttribute('failed');
+      if (!this.hasAttribute('loaded')) {
+        this.#firstFrameShown();
+      }
       if (this.#objectUrl) {
         URL.revokeObjectURL(this.#objectUrl);
       }
@@ -493,7 +680,7 @@ export class OerViewer extends HTMLElement {
       if (controller === this.#controller) {
         this.#controller = null;
       }
-      this.#dispatchError(error, url);
+      this.#report(error, url);
     } finally {
       clearTimeout(waiting);
       if (this.#controller === null) {
@@ -640,7 +827,9 @@ export class OerViewer extends HTMLElement {
     cancelAnimationFrame(table.frame);
     table.frame = 0;
     if (this.#connected && this.hasAttribute('auto-rotate')) {
-      table.last = performance.now();
+      // Set by the first animation frame: its timestamp (the frame's start) may precede
+      // performance.now() here, which would make the first turn no turn at all.
+      table.last = null;
       table.frame = requestAnimationFrame(this.#turn);
     } else if (turning && this.#connected) {
       this.#rest();
@@ -654,8 +843,11 @@ export class OerViewer extends HTMLElement {
   #turn = (now) => {
     const table = this.#turntable;
     table.frame = requestAnimationFrame(this.#turn);
-    const seconds = Math.max(0, now - table.last) / 1000;
+    const seconds = table.last === null ? 0 : Math.max(0, now - table.last) / 1000;
     table.last = now;
+    if (seconds === 0) {
+      return;
+    }
     if (this.#pointers.size > 0 || now < table.heldUntil) {
       return;
     }
@@ -706,6 +898,60 @@ function cameraDistance(header) {
   const distance = Math.hypot(...eye.map((value, axis) => value - target[axis]));
   return Number.isFinite(distance) ? distance : null;
 }
+
+// The error event's `code` for the server's problem types (api/openapi.yaml); other answers go by
+// their status.
+const PROBLEM_CODES = {
+  '/v1/problems/unknown-id': 'not-found',
+  '/v1/problems/not-found': 'not-found',
+  '/v1/problems/map-not-stored': 'not-found',
+  '/v1/problems/invalid-parameter': 'invalid',
+  '/v1/problems/malformed-request': 'invalid',
+  '/v1/problems/limit-exceeded': 'invalid',
+  '/v1/problems/uri-too-long': 'invalid',
+  '/v1/problems/unauthorized': 'unauthorized',
+  '/v1/problems/too-many-renders': 'busy',
+  '/v1/problems/too-many-connections': 'busy',
+  '/v1/problems/unavailable': 'busy',
+};
+
+// Per code, the words a shopper reads over the view (and the error event's `message`); the
+// server's own `detail` stays verbatim where it says what a person can act on.
+const PLAIN_WORDS = {
+  unreachable: ({ host }) => ({
+    headline: 'The 3D view cannot load',
+    explanation: `Its server (${host}) does not answer. Check the connection, then reload the page.`,
+  }),
+  cors: ({ host }) => ({
+    headline: 'The 3D view cannot load on this site',
+    explanation: `Its server (${host}) does not allow pages of ${location.origin}. The site's ` +
+      `owner can allow them: oer-server --cors-origins ${location.origin}.`,
+  }),
+  network: () => ({
+    headline: 'The 3D view stopped loading',
+    explanation: 'The connection to its server broke off. Reload the page to try again.',
+  }),
+  'not-found': ({ detail }) => ({
+    headline: 'This product or environment is not available',
+    explanation: `It may have been removed, or the link is old or mistyped (${detail}).`,
+  }),
+  invalid: ({ detail }) => ({
+    headline: 'This view cannot be shown',
+    explanation: `The link or a setting asks for something the server refuses: ${detail}`,
+  }),
+  unauthorized: () => ({
+    headline: 'The 3D view\'s server refused this page',
+    explanation: 'It asks for a key that this page does not have.',
+  }),
+  busy: () => ({
+    headline: 'The 3D view\'s server is busy',
+    explanation: 'Try again in a moment.',
+  }),
+  server: ({ status, detail }) => ({
+    headline: 'The 3D view could not be drawn',
+    explanation: `${status ? `The server failed (${status}): ` : ''}${detail}`,
+  }),
+};
 
 // An answer that is not 2xx, with the problem+json `detail` verbatim when there is one, and its
 // `type` (what a page switches on; RFC 9457: absent means about:blank).

@@ -90,6 +90,13 @@ void add_web_routes(Router& router) {
                                        "no web file is named " + request.matches[1].str());
                    }
                    answer_file(file->second, request, response);
+                   // Public code, readable from any origin: a shop's page loads the element's
+                   // module (a CORS request) even when --cors-origins does not list it, so that
+                   // the element can say in the view why its frames are refused instead of
+                   // never appearing. The API's answers stay under --cors-origins.
+                   if (!response.has_header("Access-Control-Allow-Origin")) {
+                       response.set_header("Access-Control-Allow-Origin", "*");
+                   }
                });
     auto spec =
         std::make_shared<const ServedFile>(served_files(api_spec_files()).at("openapi.yaml"));

@@ -56,3 +56,24 @@ TEST(Cors, NoOriginsConfiguredMeansNoCorsHeaders) {
     EXPECT_EQ(result->status, 200);
     EXPECT_FALSE(result->has_header("Access-Control-Allow-Origin"));
 }
+
+// The element's module is public code: any origin may load it, so that on a page the server
+// does not allow the element still runs and says why its frames are refused (web/README.md).
+TEST(Cors, WebFilesAreReadableFromAnyOrigin) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.cors_origins = {"https://shop.example"};
+    TestServer server(config);
+    auto client = server.client();
+    const auto module = client->Get("/web/oer-viewer.js", {{"Origin", "https://other.example"}});
+    ASSERT_TRUE(module);
+    EXPECT_EQ(module->status, 200);
+    EXPECT_EQ(module->get_header_value("Access-Control-Allow-Origin"), "*");
+    const auto allowed = client->Get("/web/oer-viewer.js", {{"Origin", "https://shop.example"}});
+    ASSERT_TRUE(allowed);
+    EXPECT_EQ(allowed->get_header_value("Access-Control-Allow-Origin"), "https://shop.example");
+    EXPECT_EQ(allowed->get_header_value_count("Access-Control-Allow-Origin"), 1U);
+    const auto frame = client->Get("/v1/presets", {{"Origin", "https://other.example"}});
+    ASSERT_TRUE(frame);
+    EXPECT_FALSE(frame->has_header("Access-Control-Allow-Origin"));
+}

@@ -24,19 +24,104 @@ async function check(name, body) {
   console.log(`ok ${passed} - ${name} (${Date.now() - started} ms)`);
 }
 
-// A second origin for the embedding page: web/embed-test.html, with the server's port filled
-// in once the server (told to allow this origin) listens.
+// A second origin for the embedding pages, filled in once the server (told to allow this
+// origin, http://127.0.0.1:port; http://localhost:port is another, which it does not allow)
+// listens: / is web/embed-test.html; /bare.html a viewer the page gives no CSS size, with a
+// poster; /unreachable.html the same, its `server` a loopback port where nothing listens.
 async function startShop() {
   const template = readFileSync(join(here, '..', 'embed-test.html'), 'utf8');
-  let page = null;
+  const bare = (origin, viewerServer) => `<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>A shop page with a bare viewer</title>
+<script type="module" src="${origin}/web/oer-viewer.js"></script></head>
+<body><main><h1>Dress form</h1><div style="width: 560px">
+<oer-viewer server="${viewerServer}" poster="${origin}/v1/environments/default/preview.jpg"
+            aria-label="The dress form; drag to turn it"></oer-viewer>
+</div></main></body></html>`;
+  let pages = null;
   const shop = createServer((request, response) => {
+    const page = pages?.[new URL(request.url, 'http://shop').pathname];
     response.writeHead(page ? 200 : 503, { 'Content-Type': 'text/html; charset=utf-8' });
     response.end(page ?? 'the oer-server is not up yet');
   });
   shop.listen(0, '127.0.0.1');
   await once(shop, 'listening');
-  shop.serveFor = (serverPort) => { page = template.replaceAll('PORT', String(serverPort)); };
+  // A loopback port nothing listens on: one just closed.
+  const closed = createServer().listen(0, '127.0.0.1');
+  await once(closed, 'listening');
+  const deadPort = closed.address().port;
+  closed.close();
+  shop.serveFor = (serverPort) => {
+    const origin = `http://127.0.0.1:${serverPort}`;
+    pages = {
+      '/': template.replaceAll('PORT', String(serverPort)),
+      '/bare.html': bare(origin, origin),
+      '/unreachable.html': bare(origin, `http://127.0.0.1:${deadPort}`),
+    };
+  };
   return shop;
+}
+
+// Records, from the page's start, when the element first shows visible feedback (its loading
+// indicator; its poster) and when it shows its first frame, in performance.now() milliseconds,
+// polled every animation frame: window.oerFeedback.
+const RECORD_FEEDBACK = () => {
+  window.oerFeedback = { indicatorAt: null, posterAt: null, posterSrc: null };
+  const poll = () => {
+    const viewer = document.querySelector('oer-viewer');
+    const root = viewer?.shadowRoot;
+    const feedback = window.oerFeedback;
+    if (root && !viewer.hasAttribute('loaded')) {
+      const now = performance.now();
+      if (feedback.indicatorAt === null && root.querySelector('.loading')?.checkVisibility()) {
+        feedback.indicatorAt = now;
+      }
+      const poster = root.querySelector('.poster');
+      if (feedback.posterAt === null && poster?.complete && poster.naturalWidth > 0 &&
+          poster.checkVisibility({ visibilityProperty: true })) {
+        feedback.posterAt = now;
+        feedback.posterSrc = poster.src;
+        feedback.posterWidth = poster.naturalWidth;
+      }
+    }
+    if (!viewer?.hasAttribute('loaded')) {
+      requestAnimationFrame(poll);
+    }
+  };
+  requestAnimationFrame(poll);
+};
+
+// What the element shows over the view before and besides its frame: the placeholder (poster
+// and loading indicator) and the failure message, whether visible and what the message says.
+async function overlays(page) {
+  return page.evaluate(() => {
+    const root = document.querySelector('oer-viewer').shadowRoot;
+    const visible = (selector) => root.querySelector(selector).checkVisibility({ visibilityProperty: true });
+    return {
+      placeholder: visible('.placeholder'),
+      indicator: visible('.loading'),
+      poster: visible('.poster'),
+      message: visible('.message'),
+      messageText: root.querySelector('.message').textContent,
+    };
+  });
+}
+
+// The moderate, serious and critical violations axe-core finds on the page (WCAG 2.0 to 2.2 A
+// and AA, and best practices), each as `id (impact): targets`.
+const AXE_SOURCE = readFileSync(join(here, 'node_modules', 'axe-core', 'axe.min.js'), 'utf8');
+async function axeViolations(page) {
+  await page.addScriptTag({ content: AXE_SOURCE });
+  const results = await page.evaluate(() => window.axe.run(document, {
+    runOnly: { type: 'tag', values: ['wcag2a', 'wcag2aa', 'wcag21a', 'wcag21aa', 'wcag22aa', 'best-practice'] },
+  }));
+  return {
+    passes: results.passes.length,
+    serious: results.violations
+      .filter((violation) => ['moderate', 'serious', 'critical'].includes(violation.impact))
+      .map((violation) => `${violation.id} (${violation.impact}): ` +
+        violation.nodes.map((node) => node.target.join(' ')).join(', ')),
+    minor: results.violations.filter((violation) => violation.impact === 'minor').map((violation) => violation.id),
+  };
 }
 
 // The server's upload limit in this test: small enough to refuse a generated file before
@@ -110,6 +195,7 @@ try {
 
   const desktop = await browser.newContext({ viewport: { width: 1280, height: 800 } });
   await desktop.addInitScript(RECORD_EVENTS);
+  await desktop.addInitScript(RECORD_FEEDBACK);
   // The browser's own complaints, for a failure's log.
   desktop.on('console', (message) => console.error(`browser console: ${message.text()}`));
   desktop.on('weberror', (error) => console.error(`browser error: ${error.error()}`));
@@ -128,6 +214,55 @@ try {
     assert.match(first.etag ?? '', /^"[0-9a-f]{64}"$/);
     assert.ok(first.serverTiming !== null, 'Server-Timing reaches the load event');
     assertRealFrame(await shownImage(page), 'first frame');
+    // The first visible feedback, against the first frame (a cold server: its first scene).
+    const { feedback, firstShown } = await page.evaluate(() =>
+      ({ feedback: window.oerFeedback, firstShown: window.oerFrames[0].shownAt }));
+    console.log(`  first visible feedback: loading indicator ${feedback.indicatorAt?.toFixed(0)} ms, ` +
+                `poster ${feedback.posterAt?.toFixed(0) ?? 'not before the frame'} ms; ` +
+                `first frame ${firstShown.toFixed(0)} ms, full frame ${first.shownAt.toFixed(0)} ms ` +
+                '(since navigation)');
+    assert.ok(feedback.indicatorAt !== null && feedback.indicatorAt < firstShown,
+              `the loading indicator at ${feedback.indicatorAt} ms, the first frame at ${firstShown} ms`);
+  });
+
+  await check('before the first frame: a poster (a small frame of the view) and a loading indicator',
+              async () => {
+    // A fresh page whose full-size frames the test holds back 1 s (the poster, a small preview
+    // with quality=50, passes at once): both must show meanwhile, and go with the first frame.
+    const waiting = await desktop.newPage();
+    const held = [];
+    await waiting.route('**/v1/render?**', async (route) => {
+      if (!route.request().url().includes('quality=')) {
+        held.push(route.request().url());
+        await new Promise((resolve) => setTimeout(resolve, 1000));
+      }
+      await route.continue().catch(() => {});
+    });
+    await waiting.goto(`${server.url}/?camera-orbit=10+20`);
+    await waiting.waitForFunction(() => window.oerFeedback.posterAt !== null, null, { timeout: 10000 });
+    const before = await overlays(waiting);
+    const framesBefore = await waiting.evaluate(() => window.oerFrames.length);
+    const busy = await waiting.locator('oer-viewer').getAttribute('aria-busy');
+    await fullFrame(waiting);
+    const after = await overlays(waiting);
+    const { feedback, firstShown } = await waiting.evaluate(() =>
+      ({ feedback: window.oerFeedback, firstShown: window.oerFrames[0].shownAt }));
+    const cssWidth = await waiting.evaluate(() => document.querySelector('oer-viewer').clientWidth);
+    await waiting.close();
+    console.log(`  with the frame held back: indicator ${feedback.indicatorAt.toFixed(0)} ms, ` +
+                `poster ${feedback.posterAt.toFixed(0)} ms (${feedback.posterWidth} px wide), ` +
+                `first frame ${firstShown.toFixed(0)} ms`);
+    assert.equal(framesBefore, 0, 'the poster came before any frame');
+    assert.deepEqual({ placeholder: before.placeholder, indicator: before.indicator, poster: before.poster },
+                     { placeholder: true, indicator: true, poster: true });
+    assert.equal(busy, 'true', 'aria-busy until the first frame');
+    assert.match(feedback.posterSrc, /^blob:/, 'the poster is the server\'s small frame');
+    assert.ok(Math.abs(feedback.posterWidth - Math.round(cssWidth * 0.2)) <= 1,
+              `a poster ${feedback.posterWidth} px wide for a ${cssWidth} px view`);
+    assert.ok(feedback.posterAt < firstShown && feedback.indicatorAt < firstShown);
+    assert.ok(held.length >= 1, 'the full frame was held back');
+    assert.deepEqual({ placeholder: after.placeholder, message: after.message },
+                     { placeholder: false, message: false });
   });
 
   await check('the element exposes the environment\'s lights and accepts lights="1,0,1"',
@@ -198,6 +333,13 @@ try {
     const frames = await page.evaluate(() => window.oerFrames.length);
     const x = box.x + box.width / 2;
     const y = box.y + box.height / 2;
+    // The live status region's changes during the drag: none for the previews.
+    await page.evaluate(() => {
+      window.statusChanges = 0;
+      window.statusObserver = new MutationObserver((records) => { window.statusChanges += records.length; });
+      window.statusObserver.observe(document.getElementById('status'),
+                                    { childList: true, characterData: true, subtree: true });
+    });
     await page.mouse.move(x, y);
     await page.mouse.down();
     const firstDragRequest = renders.length;
@@ -208,9 +350,14 @@ try {
     }
     const dragSeconds = (Date.now() - dragStarted) / 1000;
     const duringDrag = renders.slice(firstDragRequest);
-    const dragStatus = await page.locator('#status').textContent();
+    const dragStatus = await page.locator('#preview-rate').textContent();
+    const statusChangesWhileDragging = await page.evaluate(() => window.statusChanges);
     await page.mouse.up();
     afterDrag = await fullFrame(page, frames);
+    const statusChangesAfterRelease = await page.evaluate(() => {
+      window.statusObserver.disconnect();
+      return window.statusChanges;
+    });
     const frameDetails = await page.evaluate((count) => window.oerFrames.slice(count), frames);
     assert.ok(duringDrag.length >= 1, 'requests while dragging');
     for (const url of duringDrag) {
@@ -221,10 +368,16 @@ try {
     console.log(`  ${previews.length} previews shown in a ${dragSeconds.toFixed(2)} s drag ` +
                 `(${(previews.length / dragSeconds).toFixed(1)}/s; ${duringDrag.length} requests), ` +
                 `full frame ${afterDrag.milliseconds.toFixed(0)} ms after release`);
-    assert.ok(previews.length >= 1, 'a preview was shown while dragging');
-    // Frames per second in the status line while dragging, near the previews shown per second.
-    const fps = Number(/ preview, .*, (\d+\.\d) fps$/.exec(dragStatus)?.[1]);
-    assert.ok(fps > 0 && fps < 2 * previews.length / dragSeconds + 1, `status "${dragStatus}"`);
+    assert.ok(previews.length >= 3, `${previews.length} previews shown while dragging`);
+    // Frames per second beside the status while dragging, near the previews shown per second.
+    const fps = Number(/^(\d+\.\d) fps$/.exec(dragStatus)?.[1]);
+    assert.ok(fps > 0 && fps < 2 * previews.length / dragSeconds + 1, `preview rate "${dragStatus}"`);
+    // The status (role=status, announced) is quiet through the previews and changes once settled.
+    console.log(`  status changes: ${statusChangesWhileDragging} during the drag's ` +
+                `${previews.length} previews, ${statusChangesAfterRelease} once settled`);
+    assert.equal(statusChangesWhileDragging, 0, 'the status changed with the previews');
+    assert.ok(statusChangesAfterRelease >= 1, 'the status shows the settled frame');
+    assert.equal(await page.locator('#status').getAttribute('aria-live'), 'polite');
     assert.doesNotMatch(afterDrag.url, /samples=1/);
     const orbit = await page.evaluate(() => document.querySelector('oer-viewer').orbit);
     // 24 steps of 7.5 px right and 2 px down from the default orbit (30, 15), 0.4 degree a pixel.
@@ -609,13 +762,20 @@ try {
   // Presets and uploads. The page's upload status, every text it showed since
   // watchUploadStatus(), and the end of an upload (its group no longer aria-busy).
   const uploadStatus = page.locator('#upload-status');
+  // Each text also records the frame on screen when it appeared (window.uploadSeen).
   const watchUploadStatus = () => page.evaluate(() => {
+    window.uploadObserver?.disconnect();
     window.uploadTexts = [];
-    new MutationObserver((records) => {
+    window.uploadSeen = [];
+    window.uploadObserver = new MutationObserver((records) => {
       for (const record of records) {
-        window.uploadTexts.push(...[...record.addedNodes].map((node) => node.data));
+        for (const node of record.addedNodes) {
+          window.uploadTexts.push(node.data);
+          window.uploadSeen.push({ text: node.data, shownUrl: window.oerFrames.at(-1)?.url ?? '' });
+        }
       }
-    }).observe(document.getElementById('upload-status'), { childList: true });
+    });
+    window.uploadObserver.observe(document.getElementById('upload-status'), { childList: true });
   });
   const uploadEnded = () => page.waitForFunction(
     () => !document.getElementById('upload-group').hasAttribute('aria-busy'), null, { timeout: 30000 });
@@ -688,7 +848,13 @@ try {
     console.log(`  upload status: ${texts.join(' | ')}`);
     assert.equal(texts[0], `Uploading ${name}: 0 %`);
     assert.ok(texts.includes(`Uploading ${name}: 100 %`), texts.join(' | '));
-    assert.deepEqual(texts.slice(-2), ['Preprocessing lights…', `${name}: ${rig.lights.length} lights`]);
+    assert.ok(texts.includes('Preprocessing lights…'), texts.join(' | '));
+    assert.equal(texts.at(-1), `${name}: ${rig.lights.length} lights`);
+    // "Done" only with the new environment on screen, never over the previous one's frame.
+    const done = await page.evaluate(() => window.uploadSeen.at(-1));
+    assert.match(done.shownUrl, new RegExp(`[?&]environment=${rig.id}(&|$)`), JSON.stringify(done));
+    // The link names the upload, for whoever opens it.
+    assert.match(page.url(), new RegExp(`[?&]environment-name=${name}(&|$)`), page.url());
     assert.equal(await page.locator('#upload-progress').isHidden(), true, 'the progress is gone');
     assert.equal(await viewerAttribute('environment'), rig.id);
     assert.equal(await page.locator('#environment-picker').inputValue(), rig.id);
@@ -739,6 +905,8 @@ try {
       .test(text)), texts.join(' | '));
     assert.equal(await viewerAttribute('mesh'), mesh.id);
     assert.equal(await page.locator('#mesh-picker option:checked').textContent(), 'cube.obj');
+    const done = await page.evaluate(() => window.uploadSeen.at(-1));
+    assert.match(done.shownUrl, new RegExp(`[?&]mesh=${mesh.id}(&|$)`), JSON.stringify(done));
     const handle = await page.waitForFunction(
       ([count, id]) => window.oerFrames.slice(count).find((frame) => !frame.preview &&
         frame.url.includes(`mesh=${id}`)) ?? false, [frames, mesh.id], { timeout: 30000 });
@@ -820,10 +988,13 @@ try {
     handle = await page.waitForFunction((count) => window.oerFrames.slice(count).find((frame) =>
       !frame.preview && frame.url.includes('mesh=default')) ?? false, frames, { timeout: 30000 });
     assert.match((await handle.jsonValue()).url, /[?&]environment=default(&|$)/);
-    // A shared link to an upload this page never saw: the picker names it by its short id.
+    // A shared link to an upload this page never saw: the picker names it by the name the link
+    // carries, else by its short id.
     const again = await desktop.newPage();
-    await again.goto(`${server.url}/?environment=${uploadedEnvironment}`);
+    await again.goto(`${server.url}/?environment=${uploadedEnvironment}&environment-name=studio.exr`);
     assert.equal(await again.locator('#environment-picker').inputValue(), uploadedEnvironment);
+    assert.equal(await again.locator('#environment-picker option:checked').textContent(), 'studio.exr');
+    await again.goto(`${server.url}/?environment=${uploadedEnvironment}`);
     assert.equal(await again.locator('#environment-picker option:checked').textContent(),
                  uploadedEnvironment.slice(0, 8));
     await again.close();
@@ -843,7 +1014,22 @@ try {
     assert.equal(error.type, '/v1/problems/unknown-id');
     assert.equal(error.type, problem.type);
     assert.equal(error.detail, problem.detail);
-    assert.equal(await page.locator('#status').textContent(), problem.detail);
+    // In plain words, over the view as well as in the page's status.
+    assert.equal(error.code, 'not-found');
+    assert.ok(error.message.startsWith('This product or environment is not available. ') &&
+              error.message.includes(problem.detail), error.message);
+    assert.equal(await page.locator('#status').textContent(), error.message);
+    const shown = await overlays(page);
+    assert.equal(shown.message, true, 'the message is visible in the view');
+    assert.equal(shown.messageText, error.message.replace('. ', ''));
+    assert.equal(await page.locator('oer-viewer').getAttribute('failed'), 'not-found');
+    // A frame again takes the message away.
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await page.evaluate(() => document.querySelector('oer-viewer').setAttribute('environment', 'default'));
+    await page.waitForFunction((count) => window.oerFrames.slice(count).some((frame) =>
+      frame.url.includes('environment=default')), frames, { timeout: 30000 });
+    assert.equal((await overlays(page)).message, false);
+    assert.equal(await page.locator('oer-viewer').getAttribute('failed'), null);
   });
 
   await check('desktop screenshot (1280x800)', async () => {
@@ -852,6 +1038,22 @@ try {
     // The lights come from their own request, which may end after a cached frame's.
     await page.locator('#light-switches input').first().waitFor();
     await page.screenshot({ path: join(artifacts, 'desktop-1280x800.png') });
+  });
+
+  await check('axe-core finds no violation of moderate or higher impact on the page', async () => {
+    const found = await axeViolations(page);
+    console.log(`  axe-core ${JSON.parse(readFileSync(join(here, 'node_modules', 'axe-core', 'package.json'), 'utf8')).version}: ` +
+                `${found.passes} rules pass; minor: ${found.minor.join(', ') || 'none'}`);
+    assert.deepEqual(found.serious, []);
+    // The landmarks and the heading, and touch targets of 24x24 CSS px (WCAG 2.2, 2.5.8).
+    assert.equal(await page.locator('main h1').count(), 1);
+    const small = await page.evaluate(() => [...document.querySelectorAll(
+      '#controls input[type=checkbox], #controls input[type=radio], #controls button, #controls select')]
+      .filter((element) => element.checkVisibility())
+      .map((element) => ({ name: element.id || element.value, box: element.getBoundingClientRect() }))
+      .filter(({ box }) => box.width < 24 || box.height < 24)
+      .map(({ name, box }) => `${name} ${box.width}x${box.height}`));
+    assert.deepEqual(small, []);
   });
 
   await check('the lights panel fills when the lights come before the page\'s script', async () => {
@@ -926,7 +1128,85 @@ try {
       assert.match(frame.serverTiming ?? '', /encode;dur=/, 'Server-Timing exposed to the other origin');
     }
     assertRealFrame(await shownImage(embedding), 'embedded frame');
+    const found = await axeViolations(embedding);
+    assert.deepEqual(found.serious, [], 'axe-core on the shop\'s page');
     await context.close();
+  });
+
+  await check('a viewer without a CSS size gets a 4:3 box, and its poster attribute until the frame',
+              async () => {
+    const context = await browser.newContext({ viewport: { width: 800, height: 600 } });
+    await context.addInitScript(RECORD_EVENTS);
+    await context.addInitScript(RECORD_FEEDBACK);
+    const bare = await context.newPage();
+    const posters = [];
+    await bare.route('**/v1/render?**', async (route) => {
+      if (route.request().url().includes('quality=')) {
+        posters.push(route.request().url());
+      } else {
+        await new Promise((resolve) => setTimeout(resolve, 600));
+      }
+      await route.continue().catch(() => {});
+    });
+    await bare.goto(`${shopUrl}/bare.html`);
+    await bare.waitForFunction(() => window.oerFeedback.posterAt !== null, null, { timeout: 10000 });
+    const before = await overlays(bare);
+    const frame = await fullFrame(bare);
+    const { feedback } = await bare.evaluate(() => ({ feedback: window.oerFeedback }));
+    const box = await bare.locator('oer-viewer').boundingBox();
+    assert.deepEqual({ width: box.width, height: box.height }, { width: 560, height: 420 },
+                     'the container\'s width at 4:3');
+    assert.deepEqual({ width: frame.width, height: frame.height }, { width: 560, height: 420 });
+    assert.equal(feedback.posterSrc, `${server.url}/v1/environments/default/preview.jpg`);
+    assert.deepEqual(posters, [], 'no poster frame asked for when the page gives one');
+    assert.deepEqual({ indicator: before.indicator, poster: before.poster }, { indicator: true, poster: true });
+    assert.equal((await overlays(bare)).placeholder, false);
+    await context.close();
+  });
+
+  // The element's failure: its error event (code and message) and the message over the view,
+  // on a shop's page whose viewer never gets a frame.
+  const failureOn = async (url) => {
+    const context = await browser.newContext({ viewport: { width: 800, height: 600 } });
+    await context.addInitScript(RECORD_EVENTS);
+    const failing = await context.newPage();
+    await failing.goto(url);
+    const error = await (await failing.waitForFunction(
+      () => window.oerErrors.find((reported) => reported.url.includes('/v1/render')) ?? false,
+      null, { timeout: 15000 })).jsonValue();
+    await failing.waitForFunction(() => document.querySelector('oer-viewer').hasAttribute('failed'));
+    const shown = await overlays(failing);
+    const box = await failing.locator('oer-viewer').boundingBox();
+    const busy = await failing.locator('oer-viewer').getAttribute('aria-busy');
+    await context.close();
+    return { error, shown, box, busy };
+  };
+
+  await check('an unreachable server gives an error event and a plain message in the view', async () => {
+    const { error, shown, box, busy } = await failureOn(`${shopUrl}/unreachable.html`);
+    console.log(`  unreachable: "${error.message}"`);
+    assert.equal(error.code, 'unreachable');
+    assert.equal(error.status, 0);
+    assert.match(error.message, /^The 3D view cannot load\. Its server \(127\.0\.0\.1:\d+\) does not answer/);
+    assert.equal(shown.message, true);
+    assert.equal(shown.messageText, error.message.replace('. ', ''));
+    assert.equal(shown.indicator, false, 'no loading indicator once it failed');
+    assert.equal(busy, null);
+    assert.deepEqual({ width: box.width, height: box.height }, { width: 560, height: 420 });
+  });
+
+  await check('a page the server does not allow (CORS) gives an error event and a plain message',
+              async () => {
+    // http://localhost:port is another origin than the allowed http://127.0.0.1:port.
+    const origin = `http://localhost:${shop.address().port}`;
+    const { error, shown, box } = await failureOn(`${origin}/bare.html`);
+    console.log(`  CORS refusal: "${error.message}"`);
+    assert.equal(error.code, 'cors');
+    assert.ok(error.message.includes(`does not allow pages of ${origin}`), error.message);
+    assert.equal(shown.message, true);
+    assert.equal(shown.messageText, error.message.replace('. ', ''));
+    assert.deepEqual({ width: box.width, height: box.height }, { width: 560, height: 420 },
+                     'the element is there, not absent');
   });
 
   console.log(`browser test: ${passed} checks passed in ${((Date.now() - started) / 1000).toFixed(1)} s; ` +
