@@ -75,6 +75,21 @@ float sheen_albedo(float n_dot_v, float sheen_roughness) {
 }
 #endif
 
+#if SPECULAR
+// The share of the residual map's irradiance that reaches the point (TRANSFER 1): the
+// transfer's, which holds the occluders' shadow and their bounce, over the open residual's
+// (the last irradiance set, frame_context.cpp), in luminance; 1 without occlusion.
+float residual_visibility(vec3 transferred, float Y[SH_COUNT]) {
+#if TRANSFER
+    const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);
+    float open = dot(irradiance(LIGHTS_ON + 1, Y), kLuminance);
+    return open > 1e-6 ? clamp(dot(transferred, kLuminance) / open, 0.0, 1.0) : 1.0;
+#else
+    return 1.0;
+#endif
+}
+#endif
+
 // A world direction in the map's own frame: the environment turned by the yaw lights
 // direction d as the unturned one lights d turned back.
 vec3 map_direction(vec3 d) {
@@ -144,12 +159,18 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
         split_sum_weights(specular_f0(layers, base, metallic), specular_f90(layers, metallic),
                           split_sum_dfg(n_dot_v, roughness), single_scattering,
                           multiple_scattering);
-        vec3 prefiltered = mix(residual_reflection(r_map, roughness) + lights_reflected,
-                               u_floor.rgb, floor_share(position, r, alpha));
+        float floor_weight = floor_share(position, r, alpha);
+        // The lights' reflections are shadowed (v_k above); the residual's is occluded by what
+        // the transfer says reaches the point of the residual map's light (its bounce off the
+        // occluders included), as Lagarde's approximation takes an ambient occlusion.
+        vec3 prefiltered =
+            mix(residual_reflection(r_map, roughness), u_floor.rgb, floor_weight) *
+                specular_occlusion(n_dot_v, ao * residual_visibility(transferred, Y), alpha) +
+            (1.0 - floor_weight) * lights_reflected * specular_occlusion(n_dot_v, ao, alpha);
         // What the specular lobe leaves to the diffuse one (and to the transmitted one).
         vec3 under_specular = diffuse_color(base, metallic) *
                               (1.0 - single_scattering - multiple_scattering);
-        vec3 specular = single_scattering * prefiltered * specular_occlusion(n_dot_v, ao, alpha);
+        vec3 specular = single_scattering * prefiltered;
         vec3 diffuse_irradiance = E * (ao / PI);
 #if MATERIAL_LAYERS
         vec3 radiance = specular + (multiple_scattering +

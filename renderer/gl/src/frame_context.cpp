@@ -68,6 +68,17 @@ void add_lights(FrameContext& frame) {
         }
         frame.irradiance_sets.push_back(std::move(weighted));
     }
+    // Specular frames under occlusion: the open residual map's irradiance, E(all) - sum_k E(k),
+    // last, against which surface_shading.glsl's residual_visibility measures the transfer's.
+    if (frame.transfer && frame.specular) {
+        ShRgb residual = rig.sh.all;
+        for (std::size_t k = 0; k < light_count; ++k) {
+            ShRgb light = rig.sh.per_light[k];
+            light *= -1.0;
+            residual += light;
+        }
+        frame.irradiance_sets.push_back(irradiance_coefficients(residual, rig.window));
+    }
     if (rig.model == LightingModel::Thesis) {
         for (std::size_t k = 0; k < light_count; ++k) {
             frame.attenuation_base -=

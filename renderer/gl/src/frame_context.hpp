@@ -46,7 +46,9 @@ struct FrameContext {
     // [E(all) - sum_k (1 - w_k) E(k)] - sum_k (1 - v_k) w_k E(k), since
     // 1 - w v = (1 - w) + w (1 - v): set 0 is the bracket, constant over the frame, and set
     // i + 1 is w_k E(k) for the i-th lit light k, which the shading pass takes off in its shadow
-    // exactly as it took off an on light's E(k) before weights.
+    // exactly as it took off an on light's E(k) before weights. A specular frame under
+    // occlusion has one more, last: the open residual map's E(all) - sum_k E(k), against which
+    // the shading measures how much of the residual's light the transfer lets through.
     std::vector<ShRgb> irradiance_sets;
     // Thesis model: 1 - sum_k (1 - w_k) luminance_share_k, split as the irradiance is.
     double attenuation_base = 1.0;
