@@ -215,17 +215,24 @@ std::vector<std::vector<std::uint8_t>> sphere_masks(const oer::Mesh& mesh,
     return masks;
 }
 
+// The pixels wholly on the object in both frames.
+std::vector<std::uint8_t> object_mask(const oer::ReferenceFrame& frame,
+                                      const std::vector<float>& ours_rgba) {
+    std::vector<std::uint8_t> mask(ours_rgba.size() / 4, 0);
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        mask[i] = frame.surfaces[i] == oer::ReferenceSurface::Object &&
+                  ours_rgba[i * 4 + 3] >= 0.999f && frame.linear[i * 4 + 3] >= 0.999f;
+    }
+    return mask;
+}
+
 // The relative RMS of luminance of ours against the reference over 4 x 4 blocks wholly on the
 // object in both frames, and the reference's own noise there.
 std::pair<double, double> block_error(const std::vector<double>& ours,
                                       const std::vector<double>& reference,
                                       const oer::ReferenceFrame& frame,
                                       const std::vector<float>& ours_rgba) {
-    std::vector<std::uint8_t> mask(ours.size(), 0);
-    for (std::size_t i = 0; i < mask.size(); ++i) {
-        mask[i] = frame.surfaces[i] == oer::ReferenceSurface::Object &&
-                  ours_rgba[i * 4 + 3] >= 0.999f && frame.linear[i * 4 + 3] >= 0.999f;
-    }
+    const std::vector<std::uint8_t> mask = object_mask(frame, ours_rgba);
     const oer::bench::BlockGrid grid{frame.width, frame.height, 4};
     const std::vector<std::uint8_t> blocks = oer::bench::whole_blocks(mask, grid);
     return {oer::bench::relative_rms_error(oer::bench::block_means(ours, grid),
@@ -352,9 +359,18 @@ std::string error_tables(oer::bench::BenchRenderer& renderer, const std::vector<
     }
     std::vector<std::vector<std::string>> cells(rows.size());
     std::vector<std::vector<Measured>> measured(rows.size());
+    // The products' sRGB frames (the service's display transform) by the 3D Commerce measures.
+    std::vector<std::string> products;
+    for (const ErrorScene& scene : scenes) {
+        if (!scene.per_sphere) {
+            products.push_back(scene.title.substr(0, scene.title.find(", 4x4 blocks")));
+        }
+    }
+    std::vector<std::vector<std::string>> display_cells(products.size());
+    double lowest_psnr = HUGE_VAL, lowest_ssim = HUGE_VAL;
     std::string times = "| frame ms: ours / reference |";
     for (const World& world : worlds) {
-        std::size_t row = 0;
+        std::size_t row = 0, product = 0;
         double ours_ms = 0.0, reference_ms = 0.0;
         for (const ErrorScene& scene : scenes) {
             const oer::FrameRequest request = error_request(scene, world, arguments.size);
@@ -383,6 +399,20 @@ std::string error_tables(oer::bench::BenchRenderer& renderer, const std::vector<
             } else {
                 const auto [error, noise] = block_error(ours, truth, reference, frame.linear);
                 add(error, noise);
+                const auto display = [&](const std::vector<float>& rgba) {
+                    return oer::bench::display_image(rgba, arguments.size, arguments.size, 1.0, 0.0,
+                                                     oer::ToneMapper::Neutral);
+                };
+                const oer::Rgba8Image ours_srgb = display(frame.linear);
+                const oer::Rgba8Image truth_srgb = display(reference.linear);
+                const std::vector<std::uint8_t> mask = object_mask(reference, frame.linear);
+                const double psnr = oer::bench::psnr_db(ours_srgb, truth_srgb, mask);
+                const double ssim = oer::bench::ssim(ours_srgb, truth_srgb, mask);
+                lowest_psnr = std::min(lowest_psnr, psnr);
+                lowest_ssim = std::min(lowest_ssim, ssim);
+                char text[64];
+                std::snprintf(text, sizeof text, "%.1f dB / %.3f", psnr, ssim);
+                display_cells[product++].push_back(text);
             }
             std::printf("%-12s %-50s ours %6.1f ms, reference %7.0f ms\n", world.name.c_str(),
                         scene.title.c_str(), color_pass_ms(frame), reference.render_ms);
@@ -420,6 +450,31 @@ std::string error_tables(oer::bench::BenchRenderer& renderer, const std::vector<
         page << "\n";
     }
     page << times << "\n";
+    page << "\nThe Khronos 3D Commerce certification's measures of the products' frames against "
+            "the reference's, both through the service's display transform (Khronos PBR "
+            "Neutral, exposure 0, sRGB), on the luma of the pixels on the product: PSNR and "
+            "SSIM (Wang, Bovik, Sheikh and Simoncelli 2004; 11x11 Gaussian window). The "
+            "certification asks PSNR > 20 dB and SSIM > 0.70.\n\n| product |";
+    for (const World& world : worlds) {
+        page << " " << world.name << " |";
+    }
+    page << "\n|---|";
+    for (std::size_t i = 0; i < worlds.size(); ++i) {
+        page << "---|";
+    }
+    page << "\n";
+    for (std::size_t i = 0; i < products.size(); ++i) {
+        page << "| " << products[i] << " |";
+        for (const std::string& cell : display_cells[i]) {
+            page << " " << cell << " |";
+        }
+        page << "\n";
+    }
+    char lowest[160];
+    std::snprintf(lowest, sizeof lowest,
+                  "\nLowest over the products and worlds: PSNR %.1f dB, SSIM %.3f.\n", lowest_psnr,
+                  lowest_ssim);
+    page << lowest;
     page << target_summary(rows, measured, worlds.size());
     return page.str();
 }

@@ -6,10 +6,6 @@
 #
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]     (default: 15 s each, every target)
 #
-# OER_FUZZ_BUILD=DIR fuzzes in a clang sanitizer build configured with the tests instead
-# (CMakeLists.txt builds the targets there; scripts/test.sh uses its build-sanitize/), without
-# configuring build-fuzz/; what is said of build-fuzz/ below then holds of DIR.
-#
 # Kept between runs in build-fuzz/ (never committed): corpus/TARGET, the inputs each run found
 # new coverage with (the next run starts from them and the seeds); findings/TARGET, the input
 # of each finding (crash-*, timeout-*, oom-*, leak-*); logs/TARGET.log, libFuzzer's output.
@@ -44,20 +40,14 @@ fi
 # the gcc build, which treats them as errors: clang 14 warns on the vendored MikkTSpace.
 # A new build folder uses Ninja and unity batches (CMakeLists.txt's OER_UNITY_BUILD), as the
 # test builds do: this folder is mostly built from clean.
-if [[ -n "${OER_FUZZ_BUILD:-}" ]]; then
-    # A clang sanitizer build that already holds the targets (scripts/test.sh's build-sanitize,
-    # CMakeLists.txt): only what changed since is built.
-    build=$OER_FUZZ_BUILD
-else
-    generator=()
-    if [[ ! -f "$build/CMakeCache.txt" ]] && command -v ninja >/dev/null; then
-        generator=(-G Ninja)
-    fi
-    cmake -S "$root" -B "$build" "${generator[@]}" -DOER_FUZZ=ON -DOER_UNITY_BUILD=ON \
-        -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-        -DCMAKE_BUILD_TYPE=None -DCMAKE_C_FLAGS=-O1 -DCMAKE_CXX_FLAGS=-O1 \
-        >/dev/null
+generator=()
+if [[ ! -f "$build/CMakeCache.txt" ]] && command -v ninja >/dev/null; then
+    generator=(-G Ninja)
 fi
+cmake -S "$root" -B "$build" "${generator[@]}" -DOER_FUZZ=ON -DOER_UNITY_BUILD=ON \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_BUILD_TYPE=None -DCMAKE_C_FLAGS=-O1 -DCMAKE_CXX_FLAGS=-O1 \
+    >/dev/null
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}

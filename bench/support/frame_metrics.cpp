@@ -203,6 +203,103 @@ double fidelity_db(const Rgba8Image& image, const Rgba8Image& reference,
     return ratio > 0.0 ? 10.0 * std::log10(ratio) : -std::numeric_limits<double>::infinity();
 }
 
+namespace {
+
+// The luma of each pixel of an 8-bit sRGB image (psnr_db, ssim).
+std::vector<double> luma(const Rgba8Image& image) {
+    std::vector<double> out(image.pixels.size() / 4);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const std::uint8_t* p = &image.pixels[4 * i];
+        out[i] = 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+    }
+    return out;
+}
+
+void check_images(const Rgba8Image& image, const Rgba8Image& reference,
+                  std::span<const std::uint8_t> mask, const char* what) {
+    if (image.width != reference.width || image.height != reference.height) {
+        throw Error(ErrorKind::InvalidInput, std::string(what) + ": images of different sizes");
+    }
+    check_sizes(image.pixels.size() / 4, reference.pixels.size() / 4, mask.size(), what);
+    if (std::none_of(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; })) {
+        throw Error(ErrorKind::InvalidInput, std::string(what) + ": no pixel selected");
+    }
+}
+
+}  // namespace
+
+double psnr_db(const Rgba8Image& image, const Rgba8Image& reference,
+               std::span<const std::uint8_t> mask) {
+    check_images(image, reference, mask, "psnr_db");
+    const std::vector<double> a = luma(image), b = luma(reference);
+    double square_sum = 0.0;
+    std::size_t selected = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (mask[i] != 0) {
+            square_sum += (a[i] - b[i]) * (a[i] - b[i]);
+            ++selected;
+        }
+    }
+    const double mean_square = square_sum / double(selected);
+    return mean_square > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mean_square)
+                             : std::numeric_limits<double>::infinity();
+}
+
+double ssim(const Rgba8Image& image, const Rgba8Image& reference,
+            std::span<const std::uint8_t> mask) {
+    check_images(image, reference, mask, "ssim");
+    const std::vector<double> a = luma(image), b = luma(reference);
+    constexpr int kRadius = 5;
+    constexpr double kSigma = 1.5;
+    const double c1 = (0.01 * 255.0) * (0.01 * 255.0), c2 = (0.03 * 255.0) * (0.03 * 255.0);
+    double weights[2 * kRadius + 1];
+    for (int k = -kRadius; k <= kRadius; ++k) {
+        weights[k + kRadius] = std::exp(-0.5 * k * k / (kSigma * kSigma));
+    }
+    const int width = image.width, height = image.height;
+    double sum = 0.0;
+    std::size_t selected = 0;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+            if (mask[i] == 0) {
+                continue;
+            }
+            double w_sum = 0.0, mean_a = 0.0, mean_b = 0.0;
+            double square_a = 0.0, square_b = 0.0, product = 0.0;
+            for (int dy = -kRadius; dy <= kRadius; ++dy) {
+                const int wy = y + dy;
+                if (wy < 0 || wy >= height) {
+                    continue;
+                }
+                for (int dx = -kRadius; dx <= kRadius; ++dx) {
+                    const int wx = x + dx;
+                    if (wx < 0 || wx >= width) {
+                        continue;
+                    }
+                    const double w = weights[dy + kRadius] * weights[dx + kRadius];
+                    const std::size_t j = std::size_t(wy) * std::size_t(width) + std::size_t(wx);
+                    w_sum += w;
+                    mean_a += w * a[j];
+                    mean_b += w * b[j];
+                    square_a += w * a[j] * a[j];
+                    square_b += w * b[j] * b[j];
+                    product += w * a[j] * b[j];
+                }
+            }
+            mean_a /= w_sum;
+            mean_b /= w_sum;
+            const double variance_a = square_a / w_sum - mean_a * mean_a;
+            const double variance_b = square_b / w_sum - mean_b * mean_b;
+            const double covariance = product / w_sum - mean_a * mean_b;
+            sum += (2.0 * mean_a * mean_b + c1) * (2.0 * covariance + c2) /
+                   ((mean_a * mean_a + mean_b * mean_b + c1) * (variance_a + variance_b + c2));
+            ++selected;
+        }
+    }
+    return sum / double(selected);
+}
+
 Rgba8Image display_image(std::span<const float> rgba, int width, int height, double scale,
                          double exposure, ToneMapper mapper) {
     HdrImage linear(width, height);

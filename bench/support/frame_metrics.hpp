@@ -78,6 +78,21 @@ double yiq_delta(const std::uint8_t* a, const std::uint8_t* b);  // RGBA, 4 byte
 double fidelity_db(const Rgba8Image& image, const Rgba8Image& reference,
                    std::span<const std::uint8_t> mask);
 
+// The Khronos 3D Commerce certification's measures of a render against a reference, on the
+// 8-bit sRGB images' luma (Y' = 0.299 R' + 0.587 G' + 0.114 B', of 0 to 255):
+// PSNR, 10 log10(255^2 / mean squared difference) over the masked pixels, in dB (+infinity for
+// equal images); and SSIM (Z. Wang, A. C. Bovik, H. R. Sheikh and E. P. Simoncelli, "Image
+// Quality Assessment: From Error Visibility to Structural Similarity", IEEE TIP 2004): the
+// mean over the masked pixels of
+//   (2 mu_a mu_b + C1)(2 sigma_ab + C2) / ((mu_a^2 + mu_b^2 + C1)(sigma_a^2 + sigma_b^2 + C2))
+// in an 11 x 11 Gaussian window of sigma 1.5 about the pixel (clipped at the image's edges,
+// renormalised), C1 = (0.01 255)^2, C2 = (0.03 255)^2: 1 for equal images. Sizes must match and
+// a pixel must be selected (else oer::Error InvalidInput).
+double psnr_db(const Rgba8Image& image, const Rgba8Image& reference,
+               std::span<const std::uint8_t> mask);
+double ssim(const Rgba8Image& image, const Rgba8Image& reference,
+            std::span<const std::uint8_t> mask);
+
 // An RGBA linear frame (alpha the coverage) to 8-bit sRGB through the service's display
 // transform (exposure, tone mapper, sRGB), each pixel's radiance first multiplied by `scale`.
 Rgba8Image display_image(std::span<const float> rgba, int width, int height, double scale,

@@ -142,4 +142,44 @@ TEST(FrameMetrics, ErrorMapIsRedWhereBrighterBlueWhereDarkerWhiteWhereEqual) {
     EXPECT_EQ(pixel(3), (std::vector<int>{128, 128, 128}));  // outside the mask
 }
 
+// PSNR of luma: a uniform difference of 10 (grey 100 against 110) is 10 log10(255^2 / 100);
+// equal images are +infinity; pixels outside the mask do not count.
+TEST(FrameMetrics, PsnrIsTheLumasPeakSignalToNoiseOverTheMask) {
+    const oer::Rgba8Image grey = flat(8, 8, 100, 100, 100), lighter = flat(8, 8, 110, 110, 110);
+    const std::vector<std::uint8_t> all(64, 1);
+    EXPECT_NEAR(oer::bench::psnr_db(lighter, grey, all), 10.0 * std::log10(255.0 * 255.0 / 100.0),
+                1e-9);
+    EXPECT_EQ(oer::bench::psnr_db(grey, grey, all), INFINITY);
+    oer::Rgba8Image one_off = grey;
+    one_off.pixels[0] = 0;  // pixel 0's red: luma 100 - 0.299 x 100
+    std::vector<std::uint8_t> but_the_first = all;
+    but_the_first[0] = 0;
+    EXPECT_EQ(oer::bench::psnr_db(one_off, grey, but_the_first), INFINITY);
+    EXPECT_NEAR(oer::bench::psnr_db(one_off, grey, all),
+                10.0 * std::log10(255.0 * 255.0 / (29.9 * 29.9 / 64.0)), 1e-9);
+    EXPECT_THROW(oer::bench::psnr_db(grey, grey, std::vector<std::uint8_t>(64, 0)), oer::Error);
+}
+
+// SSIM: 1 for equal images; a uniform offset leaves only the luminance term,
+// (2 mu_a mu_b + C1) / (mu_a^2 + mu_b^2 + C1); a checkerboard against its inverse (the same
+// means and contrasts, the structure reversed) is below 0.
+TEST(FrameMetrics, SsimIsWangEtAlsStructuralSimilarity) {
+    const oer::Rgba8Image grey = flat(16, 16, 100, 100, 100), lighter = flat(16, 16, 110, 110, 110);
+    const std::vector<std::uint8_t> all(256, 1);
+    const double c1 = (0.01 * 255.0) * (0.01 * 255.0);
+    EXPECT_NEAR(oer::bench::ssim(grey, grey, all), 1.0, 1e-12);
+    EXPECT_NEAR(oer::bench::ssim(lighter, grey, all),
+                (2.0 * 100.0 * 110.0 + c1) / (100.0 * 100.0 + 110.0 * 110.0 + c1), 1e-9);
+    oer::Rgba8Image checker = grey, inverse = grey;
+    for (int i = 0; i < 256; ++i) {
+        const bool odd = ((i % 16) + (i / 16)) % 2 == 1;
+        for (int c = 0; c < 3; ++c) {
+            checker.pixels[4 * i + c] = odd ? 200 : 50;
+            inverse.pixels[4 * i + c] = odd ? 50 : 200;
+        }
+    }
+    EXPECT_LT(oer::bench::ssim(checker, inverse, all), 0.0);
+    EXPECT_NEAR(oer::bench::ssim(checker, checker, all), 1.0, 1e-12);
+}
+
 }  // namespace

@@ -286,7 +286,13 @@ struct SubsamplePositions {
 struct SupportCone {
     glm::vec3 axis{0.0f, 1.0f, 0.0f};
     float cos_limit = -2.0f;
+    double angle = pi;  // acos(cos_limit), or pi for the whole sphere
 };
+
+// The cone about `cone`'s axis of the given half angle (the whole sphere from pi on).
+SupportCone widened(const SupportCone& cone, double angle) {
+    return angle >= pi ? SupportCone{} : SupportCone{cone.axis, float(std::cos(angle)), angle};
+}
 
 // Step 1, faces [face_begin, face_end): the map area-averaged over each texel; 0 outside the
 // map's support.
@@ -595,15 +601,23 @@ double kernel_integral(double alpha) {
 // Each output texel is the mean of P over it, from k x k directions across it: k = 2 where the
 // lobe (about 2 alpha wide) is narrower than two texels, which a texel's centre alone would
 // miss or overweigh (a level's energy was then 1.4 % off at roughness 0.087 on 64 texels).
-void prefilter_light_faces(const std::vector<LightTexel>& texels, double alpha, FloatLevel& out,
+// Texels whose direction lies outside `reach` get 0: no texel of the light is within the angle
+// where the kernel falls under a millionth of its peak (kernel_reach).
+void prefilter_light_faces(const std::vector<LightTexel>& texels, double alpha,
+                           double normalisation, const SupportCone& reach, FloatLevel& out,
                            int face_begin, int face_end) {
     const float a2 = float(alpha * alpha);
-    const float scale = float(1.0 / (pi * kernel_integral(alpha)));
+    const float scale = float(1.0 / (pi * normalisation));
     const int n = out.size;
     const int k = (pi / 2.0) / n > alpha ? 2 : 1;
     for (int face = face_begin; face < face_end; ++face) {
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
+                if (reach.cos_limit > -1.0f &&
+                    glm::dot(glm::vec3(detail::cube_direction(face, (i + 0.5) / n, (j + 0.5) / n)),
+                             reach.axis) < reach.cos_limit) {
+                    continue;  // the level starts black
+                }
                 glm::vec3 sum(0.0f);
                 for (int b = 0; b < k; ++b) {
                     for (int a = 0; a < k; ++a) {
@@ -626,6 +640,14 @@ void prefilter_light_faces(const std::vector<LightTexel>& texels, double alpha, 
     }
 }
 
+// The angle from a direction beyond which the kernel of alpha is under 1e-6 of its peak:
+// D(h) / D(0) ~ (alpha / tan theta_h)^4, so tan theta_h = 31.6 alpha, theta = 2 theta_h, plus
+// one output texel's diagonal (`texel`). What lies beyond carries under 0.1 % of the lobe's
+// energy (alpha^2 / (alpha^2 + tan^2 theta_h)).
+double kernel_reach(double alpha, double texel) {
+    return 2.0 * std::atan(std::sqrt(1e3) * alpha) + texel;
+}
+
 // The cone about a light's direction that holds its pixels, widened by what reaches a texel's
 // subsamples from outside it: two map pixels (bilinear reads) and one texel's diagonal.
 SupportCone light_support(const Light& light, const HdrImage& map, int face_size) {
@@ -637,8 +659,7 @@ SupportCone light_support(const Light& light, const HdrImage& map, int face_size
                           std::acos(std::clamp(glm::dot(grid.direction(index), axis), -1.0, 1.0)));
     }
     const double margin = 2.0 * 2.0 * pi / map.width + std::sqrt(2.0) * (pi / 2.0) / face_size;
-    const double limit = widest + margin;
-    return limit >= pi ? SupportCone{} : SupportCone{glm::vec3(axis), float(std::cos(limit))};
+    return widened(SupportCone{glm::vec3(axis), 0.0f}, widest + margin);
 }
 
 // Light k's pixels alone (black elsewhere) into layer `layer` of `cube`: level 0 resampled as
@@ -648,18 +669,28 @@ void prefilter_light_into(const HdrImage& alone, const SupportCone& support, Pre
     const Pyramid pyramid = resampled_pyramid(alone, cube.face_size, support);
     std::vector<std::vector<LightTexel>> sources;
     std::vector<FloatLevel> filtered;
+    std::vector<double> alphas, normalisations;
     for (int level = 1; level < cube.levels; ++level) {
         const double alpha = std::pow(roughness_of_level(level, cube.levels), 2.0);
+        alphas.push_back(alpha);
+        normalisations.push_back(kernel_integral(alpha));
+        // Sources no finer than half the face: a quarter of the texels of the finest at the
+        // first level, whose lobe (0.64 degrees at roughness 0.11) the output's 2 x 2 directions
+        // per texel of 1.4 degrees resolve no better.
         const int wanted =
-            std::clamp(int(std::bit_ceil(unsigned(std::ceil(pi / alpha)))), 32, cube.face_size);
+            std::clamp(int(std::bit_ceil(unsigned(std::ceil(pi / alpha)))), 32, cube.face_size / 2);
         sources.push_back(light_texels(pyramid, std::size_t(log2_of(cube.face_size / wanted))));
         filtered.emplace_back(cube.face_size >> level, 0);
     }
     detail::split_on_two_threads(6, 3, [&](int begin, int end) {
         to_half(pyramid.levels[0], layer_texels(cube, 0, layer), begin, end);
         for (std::size_t k = 0; k < filtered.size(); ++k) {
-            const double alpha = std::pow(roughness_of_level(int(k) + 1, cube.levels), 2.0);
-            prefilter_light_faces(sources[k], alpha, filtered[k], begin, end);
+            const double alpha = alphas[k];
+            const SupportCone reach = widened(
+                support, support.angle +
+                             kernel_reach(alpha, std::sqrt(2.0) * (pi / 2.0) / filtered[k].size));
+            prefilter_light_faces(sources[k], alpha, normalisations[k], reach, filtered[k], begin,
+                                  end);
             to_half(filtered[k], layer_texels(cube, int(k) + 1, layer), begin, end);
         }
     });
