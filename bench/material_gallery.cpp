@@ -316,6 +316,29 @@ std::shared_ptr<const oer::Mesh> primitive_alone(const oer::Mesh& mesh, std::siz
     return std::make_shared<const oer::Mesh>(std::move(alone));
 }
 
+// The rest of a markdown table whose first header cell is written: a column per world, then
+// a row per name with its cells.
+std::string table_body(const std::vector<World>& worlds, const std::vector<std::string>& names,
+                       const std::vector<std::vector<std::string>>& cells) {
+    std::ostringstream table;
+    for (const World& world : worlds) {
+        table << " " << world.name << " |";
+    }
+    table << "\n|---|";
+    for (std::size_t i = 0; i < worlds.size(); ++i) {
+        table << "---|";
+    }
+    table << "\n";
+    for (std::size_t row = 0; row < names.size(); ++row) {
+        table << "| " << names[row] << " |";
+        for (const std::string& cell : cells[row]) {
+            table << " " << cell << " |";
+        }
+        table << "\n";
+    }
+    return table.str();
+}
+
 // The tables of ours against the reference, per world.
 std::string error_tables(oer::bench::BenchRenderer& renderer, const std::vector<World>& worlds,
                          const Arguments& arguments) {
@@ -434,42 +457,14 @@ std::string error_tables(oer::bench::BenchRenderer& renderer, const std::vector<
             "4x4 blocks. Targets (docs/design.md section 8): metal at "
             "roughness 0.3 at most 0.15, dielectric (plastic) at 0.5 at most 0.06, mirror "
             "(metal at 0.05) at most 0.30.\n\n| scene |";
-    for (const World& world : worlds) {
-        page << " " << world.name << " |";
-    }
-    page << "\n|---|";
-    for (std::size_t i = 0; i < worlds.size(); ++i) {
-        page << "---|";
-    }
-    page << "\n";
-    for (std::size_t row = 0; row < rows.size(); ++row) {
-        page << "| " << rows[row] << " |";
-        for (const std::string& cell : cells[row]) {
-            page << " " << cell << " |";
-        }
-        page << "\n";
-    }
+    page << table_body(worlds, rows, cells);
     page << times << "\n";
     page << "\nThe Khronos 3D Commerce certification's measures of the products' frames against "
             "the reference's, both through the service's display transform (Khronos PBR "
             "Neutral, exposure 0, sRGB), on the luma of the pixels on the product: PSNR and "
             "SSIM (Wang, Bovik, Sheikh and Simoncelli 2004; 11x11 Gaussian window). The "
             "certification asks PSNR > 20 dB and SSIM > 0.70.\n\n| product |";
-    for (const World& world : worlds) {
-        page << " " << world.name << " |";
-    }
-    page << "\n|---|";
-    for (std::size_t i = 0; i < worlds.size(); ++i) {
-        page << "---|";
-    }
-    page << "\n";
-    for (std::size_t i = 0; i < products.size(); ++i) {
-        page << "| " << products[i] << " |";
-        for (const std::string& cell : display_cells[i]) {
-            page << " " << cell << " |";
-        }
-        page << "\n";
-    }
+    page << table_body(worlds, products, display_cells);
     char lowest[160];
     std::snprintf(lowest, sizeof lowest,
                   "\nLowest over the products and worlds: PSNR %.1f dB, SSIM %.3f.\n", lowest_psnr,

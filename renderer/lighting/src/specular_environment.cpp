@@ -287,6 +287,13 @@ struct SupportCone {
     glm::vec3 axis{0.0f, 1.0f, 0.0f};
     float cos_limit = -2.0f;
     double angle = pi;  // acos(cos_limit), or pi for the whole sphere
+
+    // Whether the centre of texel (i, j) of an n x n face lies outside the cone.
+    bool excludes(int face, int i, int j, int n) const {
+        return cos_limit > -1.0f &&
+               glm::dot(glm::vec3(detail::cube_direction(face, (i + 0.5) / n, (j + 0.5) / n)),
+                        axis) < cos_limit;
+    }
 };
 
 // The cone about `cone`'s axis of the given half angle (the whole sphere from pi on).
@@ -303,9 +310,7 @@ void resample_faces(const HdrImage& map, const SubsamplePositions& positions,
     for (int face = face_begin; face < face_end; ++face) {
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
-                if (support.cos_limit > -1.0f &&
-                    glm::dot(glm::vec3(detail::cube_direction(face, (i + 0.5) / n, (j + 0.5) / n)),
-                             support.axis) < support.cos_limit) {
+                if (support.excludes(face, i, j, n)) {
                     continue;  // the level starts black
                 }
                 glm::vec3 sum(0.0f);
@@ -613,9 +618,7 @@ void prefilter_light_faces(const std::vector<LightTexel>& texels, double alpha,
     for (int face = face_begin; face < face_end; ++face) {
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
-                if (reach.cos_limit > -1.0f &&
-                    glm::dot(glm::vec3(detail::cube_direction(face, (i + 0.5) / n, (j + 0.5) / n)),
-                             reach.axis) < reach.cos_limit) {
+                if (reach.excludes(face, i, j, n)) {
                     continue;  // the level starts black
                 }
                 glm::vec3 sum(0.0f);
