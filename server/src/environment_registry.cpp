@@ -87,8 +87,6 @@ EnvironmentRegistry::EnvironmentRegistry(AssetStore& store, ServiceMetrics& metr
     const std::string id(api::kDefaultPresetId);
     rigs_.set_preset(
         std::make_shared<const Environment>(Environment{id, rig, api::rig_to_json(*rig, id), ""}));
-    preset_specular_ =
-        std::make_shared<const SpecularEnvironment>(prefilter_specular(*image, *rig));
     preset_image_ = std::move(image);
 }
 
@@ -259,6 +257,11 @@ std::shared_ptr<const SpecularEnvironment> EnvironmentRegistry::specular(
     }
     const std::string& id = environment.id;
     if (id == api::kDefaultPresetId) {
+        // Prefiltered at its first glossy frame, not at start: a server (or a test) that draws
+        // only matte frames never pays for it (0.5 s optimised, several under AddressSanitizer).
+        // An exception leaves the flag unset, so that the next frame tries again.
+        std::call_once(preset_specular_once_,
+                       [&] { preset_specular_ = prefilter_timed(*preset_image_, environment); });
         return preset_specular_;
     }
     return specular_
@@ -303,16 +306,7 @@ std::shared_ptr<const SpecularEnvironment> EnvironmentRegistry::compute_specular
              " cannot be computed: its source " + environment.source_id + " is no longer stored");
         return nullptr;
     }
-    const auto start = std::chrono::steady_clock::now();
-    auto cube =
-        std::make_shared<const SpecularEnvironment>(prefilter_specular(*image, *environment.rig));
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    metrics_.specular_computed.increment();
-    metrics_.specular_seconds.observe(seconds);
-    log_("environments: specular cube of rig " + environment.id + " computed in " +
-         std::to_string(int(std::lround(seconds * 1000.0))) + " ms, " +
-         std::to_string(cube->byte_size()) + " bytes");
+    auto cube = prefilter_timed(*image, environment);
     // Kept only while the rig is: a frame of an environment removed meanwhile still gets its
     // cube, which the store and memory then no longer hold (remove() waits for this
     // computation, under specular_'s lock, and removes what it stored).
@@ -321,6 +315,21 @@ std::shared_ptr<const SpecularEnvironment> EnvironmentRegistry::compute_specular
                                    encode_specular_environment(*cube));
         specular_.remember(environment.id, cube, cube->byte_size());
     }
+    return cube;
+}
+
+std::shared_ptr<const SpecularEnvironment> EnvironmentRegistry::prefilter_timed(
+    const HdrImage& image, const Environment& environment) {
+    const auto start = std::chrono::steady_clock::now();
+    auto cube =
+        std::make_shared<const SpecularEnvironment>(prefilter_specular(image, *environment.rig));
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    metrics_.specular_computed.increment();
+    metrics_.specular_seconds.observe(seconds);
+    log_("environments: specular cube of rig " + environment.id + " computed in " +
+         std::to_string(int(std::lround(seconds * 1000.0))) + " ms, " +
+         std::to_string(cube->byte_size()) + " bytes");
     return cube;
 }
 

@@ -13,6 +13,7 @@
 // space, uploads do.
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 
@@ -95,6 +96,9 @@ class EnvironmentRegistry {
     void remember(const std::shared_ptr<const Environment>& environment);
     std::shared_ptr<const SpecularEnvironment> load_stored_specular(const std::string& id);
     std::shared_ptr<const SpecularEnvironment> compute_specular(const Environment& environment);
+    // prefilter_specular, counted in the metrics and logged with its time and size.
+    std::shared_ptr<const SpecularEnvironment> prefilter_timed(const HdrImage& image,
+                                                               const Environment& environment);
     std::shared_ptr<const Environment> preprocess(
         std::string_view bytes, const std::string& extension, const RigOptions& options,
         const std::string& source_id, const std::string& rig_id, const std::string& file_name);
@@ -107,6 +111,7 @@ class EnvironmentRegistry {
     const Log log_;
     const ImageLimits limits_;
     std::shared_ptr<const HdrImage> preset_image_;
+    std::once_flag preset_specular_once_;
     std::shared_ptr<const SpecularEnvironment> preset_specular_;
     AssetRegistry<Environment> rigs_;
     SharedLruCache<HdrImage> images_;

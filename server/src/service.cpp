@@ -141,19 +141,32 @@ struct Service::Impl {
     bool stopping = false;
 };
 
-// The default scene (the preset environment and product, untransformed, on the ground, with
-// occlusion and one bounce): its transfer is the default frame's, so baking it here, before the
-// service is ready, spares the first user frame the bake.
+// The renderer's test frame. Warm (config.warm_default_scene): the default scene (the preset
+// environment and product, untransformed, on the ground, with occlusion and one bounce), whose
+// transfer is the default frame's and whose product is glossy, so that making this frame
+// spares the first user frame the bake and the studio's prefilter. Otherwise a matte copy of
+// the default product without occlusion, which needs neither.
 FrameRequest Service::Impl::test_frame_request() {
     const std::string preset(api::kDefaultPresetId);
     const auto environment = environments.find(preset);
     FrameRequest request;
     request.rig = environment->rig;
     request.environment_map = environments.source_image(*environment);
-    request.specular = environments.specular(*environment);  // the default product is glossy
-    request.objects.push_back({meshes.find(preset)->mesh, glm::mat4(1.0f), std::nullopt});
-    request.occlusion = true;
-    request.transfer = transfers.transfer(request, {preset});
+    std::shared_ptr<const Mesh> product = meshes.find(preset)->mesh;
+    if (config.warm_default_scene) {
+        request.specular = environments.specular(*environment);
+    } else {
+        auto matte = std::make_shared<Mesh>(*product);
+        for (Material& material : matte->materials) {
+            material.model = ShadingModel::Lambertian;
+        }
+        product = std::move(matte);
+    }
+    request.objects.push_back({product, glm::mat4(1.0f), std::nullopt});
+    request.occlusion = config.warm_default_scene;
+    if (request.occlusion) {
+        request.transfer = transfers.transfer(request, {preset});
+    }
     request.width = kTestFrameSize;
     request.height = kTestFrameSize;
     request.samples = 1;

@@ -30,6 +30,21 @@ struct Option {
     std::function<std::string(const ServiceConfig&)> show;
 };
 
+// An on|off option.
+Option switch_option(std::string_view flag, std::string_view meaning, bool ServiceConfig::*member) {
+    return Option{
+        flag, "on|off", meaning,
+        [member](ServiceConfig& config, const std::string& source, const std::string& text) {
+            if (text != "on" && text != "off") {
+                throw InvalidParameter(source, "expected on or off, got " + quoted_excerpt(text));
+            }
+            config.*member = text == "on";
+        },
+        [member](const ServiceConfig& config) {
+            return std::string(config.*member ? "on" : "off");
+        }};
+}
+
 template <class Integer>
 Option integer_option(std::string_view flag, std::string_view value_name, std::string_view meaning,
                       Integer ServiceConfig::*member, std::uint64_t low, std::uint64_t high) {
@@ -246,17 +261,12 @@ const std::vector<Option>& options() {
                        "disk for stored occlusion transfers; past it the least recently used are "
                        "removed (and baked again when a frame needs one)",
                        &ServiceConfig::transfer_store_bytes, 1ull << 20, 1ull << 44),
-        Option{"access-log", "on|off", "one line per request on stderr",
-               [](ServiceConfig& config, const std::string& source, const std::string& text) {
-                   if (text != "on" && text != "off") {
-                       throw InvalidParameter(source,
-                                              "expected on or off, got " + quoted_excerpt(text));
-                   }
-                   config.access_log = text == "on";
-               },
-               [](const ServiceConfig& config) {
-                   return std::string(config.access_log ? "on" : "off");
-               }},
+        switch_option("access-log", "one line per request on stderr", &ServiceConfig::access_log),
+        switch_option("warm-default-scene",
+                      "make the default scene's occlusion transfer and reflection cube before the "
+                      "service is ready, so that its first frame waits for neither; off: a matte "
+                      "test frame checks the renderer and the first default frame makes them",
+                      &ServiceConfig::warm_default_scene),
     };
     return table;
 }

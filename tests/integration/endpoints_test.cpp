@@ -50,6 +50,7 @@ class Endpoints : public ::testing::Test {
         config.max_frame_width = 2000;  // distinguishable from the defaults in /v1/info
         config.max_frame_height = 1500;
         config.max_upload_bytes = 64ull << 20;
+        config.warm_default_scene = true;  // as deployed: the metrics test counts on it
         server_ = new TestServer(config);
     }
     static void TearDownTestSuite() {

@@ -89,10 +89,13 @@ server::ServiceConfig test_config(const std::filesystem::path& data_dir) {
     config.port = 0;
     config.data_dir = data_dir;
     config.render_workers = 1;
-    // Every test server bakes the default scene's transfer before it is ready: the smallest
-    // budget (64 rays a point) keeps that to a fraction of a second, under the sanitizers too
-    // (at the default budget it was about 13 s there, for each of some 50 servers).
+    // Test servers do not warm the default scene before they are ready: the studio's prefilter
+    // took 1.4 s under the sanitizers, the bake 0.5 s, for each of some 100 servers; the frames
+    // that need them make them. The smallest transfer budget (64 rays a point) keeps every
+    // bake to a fraction of a second, under the sanitizers too (at the default budget the
+    // default scene's took about 13 s there).
     config.transfer_ray_budget = 100'000;
+    config.warm_default_scene = false;
     // The tests render many uncached frames from one address; the per-client share of
     // rendering is tested where it is set (render_budget_test.cpp).
     config.client_render_rate = 0.0;

@@ -2,7 +2,8 @@
 // has a glossy material (the default product's stand), stored by rig id beside the rig, read
 // back after a restart without recomputation, recomputed when its stored entry is damaged,
 // made once for concurrent frames, and never made for a Lambertian scene (an OBJ) or a
-// thesis-model rig.
+// thesis-model rig; the built-in studio's cube is made before a warm server is ready, and
+// otherwise at its first glossy frame.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -152,4 +153,37 @@ TEST(Specular, LambertianSceneAndThesisRigMakeNoCube) {
     EXPECT_FALSE(std::filesystem::exists(specular_entry(root, lambertian_id)));
     EXPECT_FALSE(std::filesystem::exists(specular_entry(root, thesis_id)));
     EXPECT_TRUE(std::filesystem::is_empty(root.data() / "specular"));
+}
+
+TEST(Specular, TheBuiltInStudioIsPrefilteredAtItsFirstGlossyFrameNotAtStart) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const Json mesh =
+        upload_mesh(*client, box_obj({-0.5, 0.0, -0.5}, {0.5, 1.0, 0.5}), "model/obj");
+    ASSERT_TRUE(mesh.is_object());
+    expect_rendered(render(*client, "default", mesh.at("id")));
+    EXPECT_EQ(specular_computed(*client), 0.0) << "a matte frame prefiltered the studio";
+
+    expect_rendered(render(*client, "default", "default"));
+    expect_rendered(render(*client, "default", "default", 64));
+    EXPECT_EQ(specular_computed(*client), 1.0);
+    bool logged = false;
+    for (const std::string& line : server.log_lines()) {
+        logged =
+            logged || line.find("specular cube of rig default computed in") != std::string::npos;
+    }
+    EXPECT_TRUE(logged) << "no log line for the studio's prefilter";
+}
+
+TEST(Specular, AWarmServerPrefiltersTheStudioAndBakesTheDefaultSceneBeforeItIsReady) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.warm_default_scene = true;
+    TestServer server(config);
+    auto client = server.client();
+    EXPECT_EQ(specular_computed(*client), 1.0);
+    EXPECT_EQ(scrape(*client).sum("oer_transfers_computed_total"), 1.0);
+    expect_rendered(render(*client, "default", "default"));
+    EXPECT_EQ(specular_computed(*client), 1.0) << "the first default frame prefiltered again";
 }

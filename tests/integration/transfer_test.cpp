@@ -85,7 +85,9 @@ std::string new_entry(const std::set<std::string>& before, const std::set<std::s
 
 TEST(Transfer, TheSwitchesReadInBothFormsAndBadValuesAreProblems) {
     TempRoot root;
-    TestServer server(test_config(root.data()));
+    server::ServiceConfig config = test_config(root.data());
+    config.warm_default_scene = true;  // the default scene's transfer is baked at start-up
+    TestServer server(config);
     auto client = server.client();
     const double at_start = transfers_computed(*client);
     Json body = box_scene("default");
@@ -149,7 +151,9 @@ TEST(Transfer, TheSwitchesChangeTheFrame) {
 
 TEST(Transfer, AFrameWithOcclusionBakesItsSceneOnce) {
     TempRoot root;
-    TestServer server(test_config(root.data()));
+    server::ServiceConfig config = test_config(root.data());
+    config.warm_default_scene = true;  // the default scene's transfer is baked at start-up
+    TestServer server(config);
     auto client = server.client();
     // The default scene's transfer is there from start-up: the default request bakes nothing.
     const double at_start = transfers_computed(*client);
@@ -367,7 +371,9 @@ TEST(Transfer, AnEntryOfAnotherSceneIsBakedAgainNeverServed) {
     TempRoot root;
     std::string mesh, first_frame, box_entry, default_entry;
     {
-        TestServer first(test_config(root.data()));
+        server::ServiceConfig warm = test_config(root.data());
+        warm.warm_default_scene = true;  // the default scene's entry is the other scene's
+        TestServer first(warm);
         auto client = first.client();
         const std::set<std::string> at_start = transfer_entries(root);
         ASSERT_EQ(at_start.size(), 1u);
@@ -400,7 +406,9 @@ TEST(TransferStore, OverItsQuotaTheLeastRecentlyUsedAreRemoved) {
     const std::string mesh = "default";
     double default_bytes = 0.0, moved_bytes = 0.0;
     {
-        TestServer first(test_config(root.data()));
+        server::ServiceConfig warm = test_config(root.data());
+        warm.warm_default_scene = true;  // the default scene's transfer is stored at start-up
+        TestServer first(warm);
         auto client = first.client();
         default_bytes = stored_transfer_bytes(*client);
         ASSERT_GT(default_bytes, 0.0) << "the default scene's transfer is stored at start-up";
@@ -412,6 +420,7 @@ TEST(TransferStore, OverItsQuotaTheLeastRecentlyUsedAreRemoved) {
     server::ServiceConfig config = test_config(root.data());
     config.transfer_store_bytes = std::uint64_t(default_bytes + 2.5 * moved_bytes);
     config.frame_cache_bytes = 0;  // every frame uses its transfer
+    config.warm_default_scene = true;
     TestServer second(config);
     auto client = second.client();
     EXPECT_EQ(stored_transfer_bytes(*client), default_bytes + moved_bytes);

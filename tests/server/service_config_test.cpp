@@ -77,6 +77,7 @@ const std::vector<std::string> kEveryFlag{
     "max-transfer-bytes",
     "transfer-store-bytes",
     "access-log",
+    "warm-default-scene",
 };
 
 // One value per flag, none of them a default, in kEveryFlag's order.
@@ -86,7 +87,7 @@ const std::vector<std::string> kEveryValue{
     "https://a.example, http://b.example:3000",
     "1000", "2000", "3000", "3", "5000000", "20",
     "640", "480", "4", "2", "60", "10", "7", "50", "16", "8", "0", "250000",
-    "1073741824", "20", "0.25", "33554432", "268435456", "off",
+    "1073741824", "20", "0.25", "33554432", "268435456", "off", "off",
 };
 // clang-format on
 
@@ -122,6 +123,7 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.max_transfer_bytes, 32u << 20);
     EXPECT_EQ(config.transfer_store_bytes, 256u << 20);
     EXPECT_FALSE(config.access_log);
+    EXPECT_FALSE(config.warm_default_scene);
 }
 
 }  // namespace
@@ -158,6 +160,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.max_transfer_bytes, 64u << 20);
     EXPECT_EQ(config.transfer_store_bytes, 1u << 30);
     EXPECT_TRUE(config.access_log);
+    EXPECT_TRUE(config.warm_default_scene);
 }
 
 TEST(ServiceConfig, EveryFlagAsNameSpaceValue) {

@@ -75,6 +75,12 @@ struct ServiceConfig {
     // a proxy that shares out its own clients).
     double client_render_rate = 1.0;
     bool access_log = true;  // one line per request on stderr
+    // Before the service is ready, the default scene's transfer is baked and the built-in
+    // studio's reflection cube prefiltered (both by the renderer's test frame), so that the
+    // dressing room's first frame waits for neither. Off: the test frame is a matte copy of the
+    // default product without occlusion, and the first default frame makes both (a replica
+    // that serves only uploads; the tests' servers, which start by the hundred).
+    bool warm_default_scene = true;
 };
 
 // The value of an environment variable, or nullopt when it is not set. Tests pass a map's
