@@ -10,6 +10,9 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/frame_encoding.hpp"
 #include "oer/core/cancellation.hpp"
+#include "oer/mesh/camera_rays.hpp"
+#include "oer/reference/embree_scene.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "oer/scene/scene_rules.hpp"
 
 namespace oer::server {
@@ -274,6 +277,11 @@ Frame FrameService::rendered(std::shared_ptr<FrameRequest> request,
             throw;
         }
     });
+    return awaited(pending, stop, client);
+}
+
+Frame FrameService::awaited(std::future<Frame>& pending, std::stop_source& stop,
+                            const Client& client) {
     const auto deadline = Clock::now() + deadline_;
     while (pending.wait_for(kClientPollInterval) != std::future_status::ready) {
         if (Clock::now() >= deadline) {
@@ -289,6 +297,54 @@ Frame FrameService::rendered(std::shared_ptr<FrameRequest> request,
         }
     }
     return pending.get();
+}
+
+api::RenderSpec FrameService::geometry_only(const api::RenderSpec& spec) {
+    api::RenderSpec geometry = spec;
+    geometry.occlusion = false;
+    geometry.samples = 1;
+    geometry.shadows.enabled = false;
+    geometry.background = Background{BackgroundKind::Color, glm::vec3(0.0f)};
+    return geometry;
+}
+
+HotspotPlacements FrameService::place_hotspots(const api::HotspotRequest& hotspots,
+                                               RequestForm form, const Client& client) {
+    const api::RenderSpec spec = geometry_only(hotspots.render);
+    const ResolvedRender resolved = resolve(spec, form);
+    const auto points = std::make_shared<const std::vector<ScenePoint>>(
+        api::hotspot_points(hotspots, resolved.meshes, form == RequestForm::Query));
+    const auto request = std::make_shared<const FrameRequest>(frame_request(resolved));
+    auto placements = std::make_shared<std::vector<PointPlacement>>();
+    std::stop_source stop;
+    // The pool's jobs make frames; this one's product is the placements it leaves.
+    std::future<Frame> pending = pool_.submit(
+        [request, points, placements, stop = stop.get_token()](FrameRenderer& renderer) {
+            *placements = renderer.place_points(*request, *points, stop);
+            return Frame{};
+        });
+    awaited(pending, stop, client);
+    return {resolved.camera, std::move(*placements)};
+}
+
+PickedSurface FrameService::pick(const api::PickRequest& pick, RequestForm form) {
+    const api::RenderSpec spec = geometry_only(pick.render);
+    const ResolvedRender resolved = resolve(spec, form);
+    const FrameRequest request = frame_request(resolved);
+    const reference::EmbreeScene scene(request, scene_bounds(request.objects),
+                                       reference::GroundTracing::PlaneOnly);
+    const CameraRays rays = camera_rays(resolved.camera, spec.width, spec.height);
+    PickedSurface picked{resolved.camera, std::nullopt, {}};
+    const auto hit = scene.intersect(rays.eye, rays.direction(pick.pixel.x, pick.pixel.y), 0.0,
+                                     reference::GroundReach::Drawn);
+    if (hit && !hit->ground) {
+        const api::SurfaceSpot spot{
+            hit->object, hit->primitive, hit->triangle, {1.0 - hit->u - hit->v, hit->u, hit->v}};
+        picked.point = api::surface_point(*resolved.meshes.at(spot.object),
+                                          request.objects.at(spot.object).transform, spot);
+        picked.spot = spot;
+    }
+    return picked;
 }
 
 EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
