@@ -376,7 +376,9 @@ placeHotspot.addEventListener('click', () => {
   placing = !placing;
   placeHotspot.setAttribute('aria-pressed', String(placing));
   viewer.toggleAttribute('placing', placing);
-  setStatus(placing ? 'Click the product where a hotspot goes.' : status.textContent);
+  if (placing) {
+    setStatus('Click the product where a hotspot goes.');
+  }
 });
 clearHotspots.addEventListener('click', () => {
   viewer.querySelectorAll('.hotspot').forEach((hotspot) => hotspot.remove());

@@ -196,6 +196,14 @@ Json take_member(Json& body, const char* name) {
     return member;
 }
 
+// The render request of a query that carries its own parameter `own` beside the render's.
+RenderSpec render_query_beside(const RenderQuery& query, const char* own,
+                               const RenderLimits& limits) {
+    RenderQuery render_query = query;
+    render_query.erase(own);
+    return parse_render_query(render_query, limits);
+}
+
 // "x,y" inside the frame: the pick's pixel, in either form, named `parameter`.
 glm::dvec2 checked_pixel(const std::string& parameter, const glm::dvec2& pixel,
                          const RenderSpec& render) {
@@ -224,10 +232,8 @@ HotspotRequest parse_hotspot_json(std::string_view body, const RenderLimits& lim
 }
 
 HotspotRequest parse_hotspot_query(const RenderQuery& query, const RenderLimits& limits) {
-    RenderQuery render_query = query;
-    render_query.erase("hotspot");
     HotspotRequest request;
-    request.render = parse_render_query(render_query, limits);
+    request.render = render_query_beside(query, "hotspot", limits);
     const auto [first, last] = query.equal_range("hotspot");
     check_hotspot_count("hotspot", std::size_t(std::distance(first, last)), limits);
     for (auto it = first; it != last; ++it) {
@@ -254,10 +260,8 @@ PickRequest parse_pick_json(std::string_view body, const RenderLimits& limits) {
 }
 
 PickRequest parse_pick_query(const RenderQuery& query, const RenderLimits& limits) {
-    RenderQuery render_query = query;
-    render_query.erase("pixel");
     PickRequest request;
-    request.render = parse_render_query(render_query, limits);
+    request.render = render_query_beside(query, "pixel", limits);
     const auto [first, last] = query.equal_range("pixel");
     if (first == last) {
         throw InvalidParameter("pixel", "required");
