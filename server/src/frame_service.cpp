@@ -299,6 +299,29 @@ Frame FrameService::awaited(std::future<Frame>& pending, std::stop_source& stop,
     return pending.get();
 }
 
+void FrameService::hold_past_share(const Client& client) {
+    if (const auto wait = client_work_.wait_before_work(client.address)) {
+        // Held first (client_work_budget.hpp), in slices that watch for the client leaving.
+        const auto held_until =
+            Clock::now() +
+            std::min(
+                std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*wait)),
+                std::chrono::duration_cast<Clock::duration>(ClientWorkBudget::kRefusalHold));
+        while (Clock::now() < held_until && !(client.gone && client.gone())) {
+            std::this_thread::sleep_for(
+                std::min<Clock::duration>(kClientPollInterval, held_until - Clock::now()));
+        }
+        const double left =
+            *wait - std::chrono::duration<double>(ClientWorkBudget::kRefusalHold).count();
+        const int seconds = std::max(1, int(std::ceil(left)));
+        throw HttpError(problem(ProblemKind::TooManyRenders,
+                                "this client's share of uncached rendering is used up for " +
+                                    std::to_string(seconds) +
+                                    " s; frames already rendered are served meanwhile"),
+                        {{"Retry-After", std::to_string(seconds)}});
+    }
+}
+
 api::RenderSpec FrameService::geometry_only(const api::RenderSpec& spec) {
     api::RenderSpec geometry = spec;
     geometry.occlusion = false;
@@ -312,18 +335,24 @@ HotspotPlacements FrameService::place_hotspots(const api::HotspotRequest& hotspo
                                                RequestForm form, const Client& client) {
     const api::RenderSpec spec = geometry_only(hotspots.render);
     const ResolvedRender resolved = resolve(spec, form);
+    hold_past_share(client);
     const auto points = std::make_shared<const std::vector<ScenePoint>>(
         api::hotspot_points(hotspots, resolved.meshes, form == RequestForm::Query));
     const auto request = std::make_shared<const FrameRequest>(frame_request(resolved));
     auto placements = std::make_shared<std::vector<PointPlacement>>();
+    auto work_ms = std::make_shared<double>(0.0);
     std::stop_source stop;
-    // The pool's jobs make frames; this one's product is the placements it leaves.
+    // The pool's jobs make frames; this one's products are the placements and the time it
+    // took, which the client's share of render work (client_work_budget.hpp) pays for.
     std::future<Frame> pending = pool_.submit(
-        [request, points, placements, stop = stop.get_token()](FrameRenderer& renderer) {
+        [request, points, placements, work_ms, stop = stop.get_token()](FrameRenderer& renderer) {
+            const auto start = Clock::now();
             *placements = renderer.place_points(*request, *points, stop);
+            *work_ms = milliseconds_since(start);
             return Frame{};
         });
     awaited(pending, stop, client);
+    client_work_.charge(client.address, *work_ms / 1000.0);
     return {resolved.camera, std::move(*placements)};
 }
 
@@ -365,26 +394,7 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         return result;
     }
     metrics_.cache(CacheName::Frame, false);
-    if (const auto wait = client_work_.wait_before_work(client.address)) {
-        // Held first (client_work_budget.hpp), in slices that watch for the client leaving.
-        const auto held_until =
-            Clock::now() +
-            std::min(
-                std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*wait)),
-                std::chrono::duration_cast<Clock::duration>(ClientWorkBudget::kRefusalHold));
-        while (Clock::now() < held_until && !(client.gone && client.gone())) {
-            std::this_thread::sleep_for(
-                std::min<Clock::duration>(kClientPollInterval, held_until - Clock::now()));
-        }
-        const double left =
-            *wait - std::chrono::duration<double>(ClientWorkBudget::kRefusalHold).count();
-        const int seconds = std::max(1, int(std::ceil(left)));
-        throw HttpError(problem(ProblemKind::TooManyRenders,
-                                "this client's share of uncached rendering is used up for " +
-                                    std::to_string(seconds) +
-                                    " s; frames already rendered are served meanwhile"),
-                        {{"Retry-After", std::to_string(seconds)}});
-    }
+    hold_past_share(client);
     // The work charged to the client: its frame's preparation on this thread (a specular cube,
     // as long as it took) and its work on the worker (its transfer and the frame's "total", not
     // the time it waited in the queue behind other clients' frames).

@@ -143,7 +143,8 @@ class FrameService {
     // Where the frame that request.render draws shows each hotspot: that frame's depth
     // (FrameRenderer::place_points) from its geometry pass alone, at one sample a pixel,
     // without shadow maps or transfer (its cost estimated and charged as such a frame's), on a
-    // worker of the pool while the client waits. Throws as render does, and InvalidParameter
+    // worker of the pool while the client waits, charged to its share of render work. Throws as
+    // render does, and InvalidParameter
     // for a hotspot on a primitive or triangle its object's mesh lacks.
     HotspotPlacements place_hotspots(const api::HotspotRequest& request, RequestForm form,
                                      const Client& client);
@@ -194,6 +195,9 @@ class FrameService {
     // the same camera, meshes and ground, at one sample a pixel, without shadows, transfer or
     // the environment's map behind.
     static api::RenderSpec geometry_only(const api::RenderSpec& spec);
+    // Past the client's share of uncached render work (client_work_budget.hpp): held a moment,
+    // watching for the client leaving, then 429 with Retry-After.
+    void hold_past_share(const Client& client);
 
     EnvironmentRegistry& environments_;
     MeshRegistry& meshes_;

@@ -52,7 +52,7 @@ std::string rejected_query(const std::multimap<std::string, std::string>& query)
 
 TEST(HotspotRequest, BothFormsReadTheSameHotspots) {
     const api::HotspotRequest body =
-        api::parse_hotspot_json(with_hotspots({kSurface, kPoint}).dump());
+        api::parse_hotspot_json(with_hotspots(Json::array({kSurface, kPoint})).dump());
     const api::HotspotRequest query =
         api::parse_hotspot_query({{"environment", "default"},
                                   {"mesh", "default"},
@@ -75,7 +75,7 @@ TEST(HotspotRequest, BothFormsReadTheSameHotspots) {
 TEST(HotspotRequest, EachBadMemberIsNamed) {
     const auto changed = [](Json hotspot, const std::string& member, const Json& value) {
         hotspot[member] = value;
-        return with_hotspots({hotspot});
+        return with_hotspots(Json::array({hotspot}));
     };
     EXPECT_EQ(rejected(changed(kSurface, "object", 1)), "hotspots/0/object");
     EXPECT_EQ(rejected(changed(kSurface, "object", -1)), "hotspots/0/object");
@@ -86,26 +86,26 @@ TEST(HotspotRequest, EachBadMemberIsNamed) {
     EXPECT_EQ(rejected(changed(kSurface, "barycentric", {0.9, 0.9, 0.1})),
               "hotspots/0/barycentric");
     EXPECT_EQ(rejected(changed(kSurface, "barycentric", {-0.1, 0.6, 0.5})),
-              "hotspots/0/barycentric");
+              "hotspots/0/barycentric/0");
     EXPECT_EQ(rejected(changed(kSurface, "name", "")), "hotspots/0/name");
     EXPECT_EQ(rejected(changed(kSurface, "name", std::string(65, 'a'))), "hotspots/0/name");
     EXPECT_EQ(rejected(changed(kSurface, "name", "a\"b")), "hotspots/0/name");
     EXPECT_EQ(rejected(changed(kSurface, "name", 7)), "hotspots/0/name");
     EXPECT_EQ(rejected(changed(kSurface, "position", {0, 0, 0})), "hotspots/0");
-    EXPECT_EQ(rejected(changed(kSurface, "colour", "red")), "hotspots/0");
+    EXPECT_EQ(rejected(changed(kSurface, "colour", "red")), "hotspots/0/colour");
     EXPECT_EQ(rejected(changed(kPoint, "normal", {0, 0, 0})), "hotspots/0/normal");
-    EXPECT_EQ(rejected(changed(kPoint, "position", {0, 1e7, 0})), "hotspots/0/position");
+    EXPECT_EQ(rejected(changed(kPoint, "position", {0, 1e7, 0})), "hotspots/0/position/1");
     EXPECT_EQ(rejected(changed(kPoint, "position", {0, "1", 0})), "hotspots/0/position/1");
-    EXPECT_EQ(rejected(with_hotspots({kSurface, kSurface})), "hotspots/1/name");
+    EXPECT_EQ(rejected(with_hotspots(Json::array({kSurface, kSurface}))), "hotspots/1/name");
     EXPECT_EQ(rejected(with_hotspots(Json::array({1}))), "hotspots/0");
     EXPECT_EQ(rejected(with_hotspots(Json::object())), "hotspots");
-    Json without = with_hotspots({});
+    Json without = with_hotspots(Json::array());
     without.erase("hotspots");
     EXPECT_EQ(rejected(without), "hotspots");
-    Json typo = with_hotspots({kSurface});
+    Json typo = with_hotspots(Json::array({kSurface}));
     typo["hotspot"] = Json::array();
-    EXPECT_EQ(rejected(typo), "body") << "an unknown member beside the render's";
-    EXPECT_EQ(rejected(with_hotspots({})), "") << "no hotspot is a valid, empty request";
+    EXPECT_EQ(rejected(typo), "hotspot") << "an unknown member beside the render's";
+    EXPECT_EQ(rejected(with_hotspots(Json::array())), "") << "no hotspot is a valid, empty request";
 
     const std::multimap<std::string, std::string> base = {{"environment", "default"},
                                                           {"mesh", "default"}};
@@ -213,7 +213,8 @@ TEST(HotspotRequest, ASurfaceHotspotIsItsTrianglesPointAndFront) {
               1e-5);
     EXPECT_LT(glm::length(mirrored.normal - glm::dvec3(-front.x, front.y, front.z)), 1e-6);
 
-    api::HotspotRequest request = api::parse_hotspot_json(with_hotspots({kSurface, kPoint}).dump());
+    api::HotspotRequest request =
+        api::parse_hotspot_json(with_hotspots(Json::array({kSurface, kPoint})).dump());
     const std::vector<std::shared_ptr<const Mesh>> meshes = {std::make_shared<const Mesh>(mesh)};
     EXPECT_EQ(api::hotspot_points(request, meshes, false).size(), 2u);
     std::get<api::SurfaceSpot>(request.hotspots[0].place).triangle = 1u << 30;
