@@ -793,8 +793,7 @@ export class OerViewer extends HTMLElement {
     try {
       const scene = transferKey(url);
       const headers = this.#refinedScenes.has(scene) ? {} : { Prefer: 'wait=1' };
-      // The hotspots' placement in this frame, asked for beside it (it needs no image), shown
-      // with it.
+      // The hotspots' placement in this frame, asked for beside it.
       this.#placementController?.abort();
       this.#placementController = null;
       const placements = this.#placements(url, controller.signal);
@@ -807,6 +806,9 @@ export class OerViewer extends HTMLElement {
       const next = new Image();
       next.src = objectUrl;
       await next.decode();
+      // The frame and its hotspots are shown together (the placement needs no image, and is
+      // usually there first).
+      const placed = await placements;
       if (controller !== this.#controller) {
         URL.revokeObjectURL(objectUrl);
         return;
@@ -814,7 +816,7 @@ export class OerViewer extends HTMLElement {
       this.#controller = null;
       this.#image.src = objectUrl;
       this.#shownUrl = url;
-      this.#applyPlacements(await placements);
+      this.#applyPlacements(placed);
       this.#failures += 1;  // an explanation still on its way is no longer true
       this.removeAttribute('failed');
       if (!this.hasAttribute('loaded')) {
