@@ -1,10 +1,9 @@
 // FrameRenderer::place_points: the frame's geometry pass alone, then its depth buffer read back
-// around each point. Only 2x2 samples a point cross the bus (glReadPixels), never the whole
+// at each point. Only one sample a point crosses the bus (glReadnPixels), never the whole
 // buffer: a 4096x4096 frame's depth is 64 MiB of floats.
 #include <GL/glcorearb.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 
@@ -75,22 +74,19 @@ std::vector<PointPlacement> FrameRenderer::place_points(const FrameRequest& requ
                                  image->y < request.height;
         }
         if (placement.in_frame) {
-            // The 2x2 samples whose centres surround the point, in GL's rows (bottom up).
-            const double sample_x = image->x * scale - 0.5;
-            const double sample_y = (request.height - image->y) * scale - 0.5;
-            const int column = std::clamp(int(std::floor(sample_x)), 0, frame.samples_wide - 2);
-            const int row = std::clamp(int(std::floor(sample_y)), 0, frame.samples_high - 2);
-            std::array<float, 4> window_depths{};
-            glReadnPixels(column, row, 2, 2, GL_DEPTH_COMPONENT, GL_FLOAT,
-                          GLsizei(sizeof window_depths), window_depths.data());
-            double farthest = 0.0;
-            for (int i = 0; i < 4; ++i) {
-                farthest =
-                    std::max(farthest, surface_depth(frame, clip_to_world, rays, column + i % 2,
-                                                     row + i / 2, window_depths[std::size_t(i)]));
-            }
-            placement.unoccluded =
-                unoccluded_by(image->depth, farthest, rays.pixel_size_per_depth());
+            // The (super)sample whose centre is nearest the point, in GL's rows (bottom up).
+            const int column =
+                std::clamp(int(std::floor(image->x * scale)), 0, frame.samples_wide - 1);
+            const int row = std::clamp(int(std::floor((request.height - image->y) * scale)), 0,
+                                       frame.samples_high - 1);
+            float window_depth = 1.0f;
+            glReadnPixels(column, row, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, sizeof window_depth,
+                          &window_depth);
+            const double tolerance =
+                occlusion_tolerance_pixels(point.normal, glm::normalize(rays.eye - point.position));
+            placement.unoccluded = unoccluded_by(
+                image->depth, surface_depth(frame, clip_to_world, rays, column, row, window_depth),
+                rays.pixel_size_per_depth(), tolerance);
         }
         placements.push_back(placement);
     }

@@ -72,7 +72,7 @@ struct RenderLimits {
     int max_shadow_resolution = 8192;
     std::size_t max_body_bytes = 256 << 10;  // 64 transformed objects: about 30 KiB compact
     // Hotspots placed by one request (POST and GET /v1/hotspots): 256 take about 30 KiB of
-    // JSON and 1024 reads of 2x2 depth samples, a few milliseconds.
+    // JSON and 256 reads of one depth sample each.
     std::size_t max_hotspots = 256;
 };
 

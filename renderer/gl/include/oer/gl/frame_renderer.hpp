@@ -31,9 +31,9 @@ class FrameRenderer {
 
     // Where each point lands in the frame `request` draws, and whether that frame shows it
     // (point_placement.hpp): the frame's geometry pass alone (no shadow maps, no shading), its
-    // depth read back at the four (super)samples around each point in the frame, the farthest
-    // of them against the point's depth. The same camera, levels of detail, alpha tests and
-    // ground as render's. Throws as render does.
+    // depth read back at the (super)sample nearest each point in the frame, against the point's
+    // depth. The same camera, levels of detail, alpha tests and ground as render's. Throws as
+    // render does.
     std::vector<PointPlacement> place_points(const FrameRequest& request,
                                              std::span<const ScenePoint> points,
                                              const std::stop_token& stop = {});

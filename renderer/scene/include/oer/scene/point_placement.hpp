@@ -3,6 +3,11 @@
 // image and whether the frame shows it, from the frame's depth buffer (FrameRenderer::
 // place_points). Plain data and the visibility rule, so that the service, its tests and the
 // reference's ray casts state one rule.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 namespace oer {
@@ -29,17 +34,32 @@ struct PointPlacement {
 
 // How far in front of a point (in pixel footprints at its depth) a surface of the depth buffer
 // may lie and the point still count as shown. The buffer holds the surfaces as drawn, whose
-// levels of detail deviate from the full mesh by up to a pixel's footprint
-// (sample_lod_error), and at the pixel centres around the point, where a slanted surface is
-// nearer than at the point itself; three footprints hold both. Beyond them a surface hides the
-// point.
+// levels of detail deviate from the full mesh by up to a pixel's footprint (sample_lod_error),
+// and is read at the pixel centre nearest the point, up to half a pixel's diagonal away, where
+// a surface slanted away from the eye is nearer or farther than at the point itself by that
+// distance times the tangent of its slant: three footprints, plus the slant's share for the
+// point's own surface (its normal against the direction to the eye, the slant taken at most
+// kMaxSlantDegrees: a surface seen more edge-on than that is at its silhouette, where either
+// answer may be right).
 inline constexpr double kOcclusionTolerancePixels = 3.0;
+inline constexpr double kMaxSlantDegrees = 80.0;
+
+// The tolerance, in pixel footprints, for a point whose unit normal is `normal`, seen along the
+// unit direction `to_eye` from the point to the eye.
+inline double occlusion_tolerance_pixels(const glm::dvec3& normal, const glm::dvec3& to_eye) {
+    constexpr double kHalfDiagonal = 0.7072;
+    const double min_cos = std::cos(kMaxSlantDegrees * std::numbers::pi / 180.0);
+    const double cos_slant = std::clamp(std::abs(glm::dot(normal, to_eye)), min_cos, 1.0);
+    return kOcclusionTolerancePixels +
+           kHalfDiagonal * std::sqrt(1.0 - cos_slant * cos_slant) / cos_slant;
+}
 
 // Whether a point at `point_depth` shows past a surface at `surface_depth` (both along the view
-// direction), a pixel's footprint being `pixel_size_per_depth` times the depth.
-inline bool unoccluded_by(double point_depth, double surface_depth, double pixel_size_per_depth) {
-    return point_depth <=
-           surface_depth + kOcclusionTolerancePixels * pixel_size_per_depth * point_depth;
+// direction, or both along the ray through the point), a pixel's footprint being
+// `pixel_size_per_depth` times the depth, within `tolerance_pixels` footprints.
+inline bool unoccluded_by(double point_depth, double surface_depth, double pixel_size_per_depth,
+                          double tolerance_pixels = kOcclusionTolerancePixels) {
+    return point_depth <= surface_depth + tolerance_pixels * pixel_size_per_depth * point_depth;
 }
 
 }  // namespace oer
