@@ -359,7 +359,9 @@ HotspotPlacements FrameService::place_hotspots(const api::HotspotRequest& hotspo
 PickedSurface FrameService::pick(const api::PickRequest& pick, RequestForm form) {
     const api::RenderSpec spec = geometry_only(pick.render);
     const ResolvedRender resolved = resolve(spec, form);
-    const FrameRequest request = frame_request(resolved);
+    // The surfaces alone: neither the map nor a specular cube, which frame_request would fetch.
+    const FrameRequest request = api::to_frame_request(
+        spec, resolved.camera, resolved.environment->rig, nullptr, resolved.meshes);
     const reference::EmbreeScene scene(request, scene_bounds(request.objects),
                                        reference::GroundTracing::PlaneOnly);
     const CameraRays rays = camera_rays(resolved.camera, spec.width, spec.height);

@@ -48,12 +48,11 @@ std::vector<PointPlacement> FrameRenderer::place_points(const FrameRequest& requ
     validate_frame_request(request, state_->limits, state_->max_texture_size);
     RendererState& state = *state_;
     throw_if_stopped(stop, "the hotspots' placement");
-    const FrameContext frame = make_frame_context(request, state.transferred);
+    FrameContext frame = make_frame_context(request, state.transferred);
     // The geometry pass reads the lighting buffers only for an occlusion frame's transferred
     // irradiance, which depth does not need.
-    FrameContext depth_frame = frame;
-    depth_frame.transfer = false;
-    const RenderTargets& targets = render_geometry(depth_frame, FrameLightingBuffers{}, state);
+    frame.transfer = false;
+    const RenderTargets& targets = render_geometry(frame, FrameLightingBuffers{}, state);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, targets.geometry_framebuffer.get());
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
 
