@@ -35,20 +35,9 @@ namespace {
 // The camera of an X-Oer-Camera header (`eye=x,y,z; target=...; up=...; fov_y=f`).
 Camera camera_of(const std::string& header) {
     Camera camera;
-    const auto vector = [&](const std::string& name) {
-        glm::vec3 v{0.0f};
-        const std::size_t at = header.find(name + "=");
-        EXPECT_NE(at, std::string::npos) << header;
-        if (at != std::string::npos) {
-            EXPECT_EQ(
-                std::sscanf(header.c_str() + at + name.size() + 1, "%f,%f,%f", &v.x, &v.y, &v.z),
-                3);
-        }
-        return v;
-    };
-    camera.eye = vector("eye");
-    camera.target = vector("target");
-    camera.up = vector("up");
+    camera.eye = glm::vec3(camera_vector(header, "eye"));
+    camera.target = glm::vec3(camera_vector(header, "target"));
+    camera.up = glm::vec3(camera_vector(header, "up"));
     const std::size_t fov = header.find("fov_y=");
     EXPECT_NE(fov, std::string::npos) << header;
     camera.fov_y = fov == std::string::npos ? 45.0f : std::stof(header.substr(fov + 6));
