@@ -132,10 +132,11 @@ Spot random_surface_spot(std::mt19937& random, const LocalScene& scene, const st
 }  // namespace
 
 // Random views (orbits at random yaw, pitch, distance, field of view and frame shape, with and
-// without the floor), random points on both objects' triangles and random points in the scene's
-// box facing the eye: every position within half a pixel of the projection with the answer's
-// camera, and every visibility as a ray cast says, but within two pixels of a silhouette or a
-// pixel footprint of the tolerance's edge (at most 5 % of them).
+// without the floor), random points on both objects' triangles, and points facing the eye in the
+// scene's box and just behind the surfaces (which only the depth can hide): every position within
+// half a pixel of the projection with the answer's camera, and every visibility as a ray cast says,
+// but within two pixels of a silhouette or a pixel footprint of the tolerance's edge (at most 5 %
+// of them).
 TEST(HotspotsPlacement, PositionsAreTheCameraProjectionAndVisibilityAgreesWithRayCasting) {
     TempRoot root;
     TestServer server(test_config(root.data()));
