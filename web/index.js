@@ -362,6 +362,57 @@ download.addEventListener('click', async () => {
   }
 });
 
+// Hotspots. In the place mode a click on the product (a press released where it began, not a
+// drag) asks the server which point of its surface the pixel shows (viewer.pick) and adds a
+// numbered hotspot there: a point of a triangle, which stays on that point of the surface
+// through every orbit and hides whenever the product is in front of it.
+const placeHotspot = document.getElementById('place-hotspot');
+const clearHotspots = document.getElementById('clear-hotspots');
+const CLICK_SLOP_PX = 4;
+let placing = false;
+let pressedAt = null;
+let hotspotsPlaced = 0;
+placeHotspot.addEventListener('click', () => {
+  placing = !placing;
+  placeHotspot.setAttribute('aria-pressed', String(placing));
+  viewer.toggleAttribute('placing', placing);
+  if (placing) {
+    setStatus('Click the product where a hotspot goes.');
+  }
+});
+clearHotspots.addEventListener('click', () => {
+  viewer.querySelectorAll('.hotspot').forEach((hotspot) => hotspot.remove());
+  clearHotspots.hidden = true;
+});
+viewer.addEventListener('pointerdown', (event) => { pressedAt = { x: event.clientX, y: event.clientY }; });
+viewer.addEventListener('click', async (event) => {
+  const still = pressedAt &&
+    Math.hypot(event.clientX - pressedAt.x, event.clientY - pressedAt.y) <= CLICK_SLOP_PX;
+  if (!placing || !still || event.target !== viewer) {
+    return;  // a drag, or a click on a hotspot itself
+  }
+  try {
+    const surface = await viewer.pick(event.clientX, event.clientY);
+    if (!surface) {
+      setStatus('No product there: click the product itself to place a hotspot.');
+      return;
+    }
+    hotspotsPlaced += 1;
+    const hotspot = document.createElement('button');
+    hotspot.type = 'button';
+    hotspot.className = 'hotspot';
+    hotspot.slot = `hotspot-${hotspotsPlaced}`;
+    hotspot.dataset.surface = surface.surface;
+    hotspot.textContent = String(hotspotsPlaced);
+    hotspot.setAttribute('aria-label', `Hotspot ${hotspotsPlaced}`);
+    viewer.append(hotspot);
+    clearHotspots.hidden = false;
+    setStatus(`Hotspot ${hotspotsPlaced} placed: data-surface="${surface.surface}"`);
+  } catch (error) {
+    setStatus(`The hotspot could not be placed: ${error.message}`, { error: true });
+  }
+});
+
 // The element shows the failure over the view; the status repeats its plain words, announced.
 viewer.addEventListener('error', ({ detail }) => setStatus(detail.message, { error: true }));
 

@@ -84,6 +84,11 @@ export function linearFromHex(text) {
 // poster over it) with a loading indicator; without a `poster` attribute the poster is a small
 // frame of the same view (the preview recipe at this fraction of the CSS size: about 50 ms on
 // llvmpipe against 250 ms for the sharp frame, and cached by the browser and the server alike).
+// A hotspot's name as the server takes it (api/openapi.yaml, HotspotName): its slot is
+// `hotspot-NAME`.
+const HOTSPOT_SLOT = /^hotspot-([A-Za-z0-9_-]{1,64})$/;
+const HOTSPOT_ATTRIBUTES = ['slot', 'data-position', 'data-normal', 'data-surface'];
+
 const POSTER_SCALE = 0.2;
 // Without a size from the page, the element is as wide as its container (or 300 px where it
 // shrinks to fit, as <canvas> does) at this aspect ratio; a page's width or height overrides it.
@@ -128,6 +133,11 @@ const STYLE = `
   :host([failed]) .message { display: block; }
   .message strong { display: block; font-size: 15px; margin-bottom: 0.25em; }
   .message p { margin: 0; overflow-wrap: anywhere; }
+  /* Slotted hotspots (<button slot="hotspot-NAME" data-position=... data-normal=...>), each
+     centred on its point; hidden while the product hides it or before its first placement. */
+  .hotspots { position: absolute; inset: 0; pointer-events: none; }
+  .hotspot { position: absolute; left: 0; top: 0; pointer-events: auto; }
+  .hotspot[hidden] { display: none; }
   @media (prefers-reduced-motion: reduce) {
     .waiting { width: 100%; animation: none; opacity: 0.6; }
     .spinner { animation: none; border-top-color: rgb(255 255 255 / 0.35); }
@@ -170,6 +180,11 @@ export class OerViewer extends HTMLElement {
   #pendingPreview = false;
   #resizeObserver;
   #connected = false;
+  #hotspotLayer;
+  #hotspotWrappers = new Map();  // hotspot name -> its positioned wrapper holding its slot
+  #hotspotObserver;
+  #placementController = null;  // the hotspots' placement in flight apart from a frame's
+  #shownUrl = null;  // the URL of the frame shown
 
   constructor() {
     super();
@@ -209,7 +224,11 @@ export class OerViewer extends HTMLElement {
     this.#messageHeadline = document.createElement('strong');
     this.#messageText = document.createElement('p');
     message.append(this.#messageHeadline, this.#messageText);
-    root.append(style, sizer, this.#image, placeholder, waitingBar, message);
+    this.#hotspotLayer = document.createElement('div');
+    this.#hotspotLayer.className = 'hotspots';
+    this.#hotspotLayer.part = 'hotspots';
+    root.append(style, sizer, this.#image, this.#hotspotLayer, placeholder, waitingBar, message);
+    this.#hotspotObserver = new MutationObserver(() => this.#syncHotspots());
     this.#resizeObserver = new ResizeObserver(() => this.#requestFrame('sharp'));
     // Here rather than on connection, so that moving the element does not add them twice.
     this.addEventListener('pointerdown', this.#onPointerDown);
@@ -231,6 +250,10 @@ export class OerViewer extends HTMLElement {
     this.#showPoster();
     this.#setWaiting(this.hasAttribute('waiting'));
     this.#resizeObserver.observe(this);
+    this.#hotspotObserver.observe(this, {
+      childList: true, subtree: true, attributes: true, attributeFilter: HOTSPOT_ATTRIBUTES,
+    });
+    this.#syncHotspots();
     this.#loadLights();
     this.#updateTurntable();
   }
@@ -238,6 +261,8 @@ export class OerViewer extends HTMLElement {
   disconnectedCallback() {
     this.#connected = false;
     this.#resizeObserver.disconnect();
+    this.#hotspotObserver.disconnect();
+    this.#placementController?.abort();
     this.#controller?.abort();
     this.#controller = null;
     this.#posterController?.abort();
@@ -444,6 +469,159 @@ export class OerViewer extends HTMLElement {
     return response.blob();
   }
 
+  // The surface of the product at a point of the element (clientX, clientY: a pointer
+  // event's), as GET /v1/pick names it for the full frame's camera: a Promise of
+  // { object, primitive, triangle, barycentric, position, normal, surface } (`surface` the
+  // data-surface text that places a hotspot there), or of null where no product is seen. It
+  // rejects with the server's problem.
+  async pick(clientX, clientY) {
+    const rect = this.getBoundingClientRect();
+    const url = new URL(this.frameUrl('full'), location.href);
+    const width = Number(url.searchParams.get('width'));
+    const height = Number(url.searchParams.get('height'));
+    const x = ((clientX - rect.left) / rect.width) * width;
+    const y = ((clientY - rect.top) / rect.height) * height;
+    if (!(x >= 0 && x < width && y >= 0 && y < height)) {
+      return null;
+    }
+    url.pathname = url.pathname.replace(/\/v1\/render$/, '/v1/pick');
+    url.searchParams.set('pixel', `${x},${y}`);
+    const response = await fetch(url);
+    if (!response.ok) {
+      throw await problemOf(response, url.href);
+    }
+    const picked = await response.json();
+    if (!picked.hit) {
+      return null;
+    }
+    const surface = [picked.object, picked.primitive, picked.triangle, ...picked.barycentric].join(' ');
+    return { ...picked, surface };
+  }
+
+  // The slotted hotspots: children whose slot is `hotspot-NAME`, each with data-surface
+  // ("OBJECT PRIMITIVE TRIANGLE A B C": a point of a triangle, as pick() names it) or
+  // data-position and data-normal ("x y z" each, world space), as the `hotspot` parameters of
+  // GET /v1/hotspots. Children whose point is missing or malformed are left hidden.
+  #hotspotParameters() {
+    const numbers = (text, count) => {
+      const values = (text ?? '').trim().split(/[\s,]+/).map(Number);
+      return values.length === count && values.every(Number.isFinite) ? values.join(',') : null;
+    };
+    const parameters = new Map();
+    for (const child of this.children) {
+      const name = HOTSPOT_SLOT.exec(child.slot)?.[1];
+      if (!name) {
+        continue;
+      }
+      const surface = numbers(child.dataset.surface, 6);
+      const position = numbers(child.dataset.position, 3);
+      const normal = numbers(child.dataset.normal, 3);
+      if (surface) {
+        parameters.set(name, `${name}:surface:${surface}`);
+      } else if (position && normal) {
+        parameters.set(name, `${name}:point:${position},${normal}`);
+      }
+    }
+    return parameters;
+  }
+
+  // One positioned wrapper with a named slot per slotted hotspot (a slot must exist for a
+  // child to show), then their placement in the shown frame.
+  #syncHotspots() {
+    const names = new Set();
+    for (const child of this.children) {
+      const name = HOTSPOT_SLOT.exec(child.slot)?.[1];
+      if (name) {
+        names.add(name);
+      }
+    }
+    for (const [name, wrapper] of this.#hotspotWrappers) {
+      if (!names.has(name)) {
+        wrapper.remove();
+        this.#hotspotWrappers.delete(name);
+      }
+    }
+    for (const name of names) {
+      if (!this.#hotspotWrappers.has(name)) {
+        const wrapper = document.createElement('div');
+        wrapper.className = 'hotspot';
+        wrapper.hidden = true;
+        const slot = document.createElement('slot');
+        slot.name = `hotspot-${name}`;
+        wrapper.append(slot);
+        this.#hotspotLayer.append(wrapper);
+        this.#hotspotWrappers.set(name, wrapper);
+      }
+    }
+    if (this.#shownUrl) {
+      this.#placementController?.abort();
+      const controller = new AbortController();
+      this.#placementController = controller;
+      this.#placements(this.#shownUrl, controller.signal).then((placed) => {
+        if (controller === this.#placementController) {
+          this.#placementController = null;
+          this.#applyPlacements(placed);
+        }
+      });
+    }
+  }
+
+  // Where the frame of `frameUrl` shows each slotted hotspot (GET /v1/hotspots with the
+  // frame's own parameters), or null without hotspots or when the placement failed (the
+  // hotspots are then hidden: a hotspot shown where the product may hide it is worse).
+  async #placements(frameUrl, signal) {
+    const parameters = this.#hotspotParameters();
+    if (parameters.size === 0) {
+      return { url: frameUrl, answer: null };
+    }
+    const url = new URL(frameUrl, location.href);
+    url.pathname = url.pathname.replace(/\/v1\/render$/, '/v1/hotspots');
+    for (const parameter of parameters.values()) {
+      url.searchParams.append('hotspot', parameter);
+    }
+    try {
+      const response = await fetch(url, { signal });
+      if (!response.ok) {
+        throw await problemOf(response, url.href);
+      }
+      return { url: frameUrl, answer: await response.json() };
+    } catch (error) {
+      if (!signal.aborted) {
+        console.warn(`oer-viewer: hotspots not placed: ${error.message}`);
+      }
+      return { url: frameUrl, answer: null };
+    }
+  }
+
+  // Each slotted hotspot at its point of the shown frame (scaled from the frame's pixels to
+  // the element's CSS pixels), `data-visible` on those the frame shows; the others hidden.
+  #applyPlacements({ url, answer }) {
+    if (this.#hotspotWrappers.size === 0) {
+      return;
+    }
+    const rect = this.getBoundingClientRect();
+    const placed = new Map((answer?.hotspots ?? []).map((hotspot) => [hotspot.name, hotspot]));
+    for (const child of this.children) {
+      const name = HOTSPOT_SLOT.exec(child.slot)?.[1];
+      const wrapper = name && this.#hotspotWrappers.get(name);
+      if (!wrapper) {
+        continue;
+      }
+      const hotspot = placed.get(name);
+      const visible = Boolean(hotspot?.visible);
+      if (hotspot) {
+        const x = (hotspot.x * rect.width) / answer.width;
+        const y = (hotspot.y * rect.height) / answer.height;
+        wrapper.style.transform = `translate(${x}px, ${y}px) translate(-50%, -50%)`;
+      }
+      wrapper.hidden = !visible;
+      child.toggleAttribute('data-visible', visible);
+    }
+    this.dispatchEvent(new CustomEvent('hotspots-change', {
+      detail: { url, hotspots: answer?.hotspots ?? [] },
+    }));
+  }
+
   #weights() {
     const text = this.getAttribute('lights');
     return text ? text.split(',').map(Number) : [];
@@ -615,6 +793,10 @@ export class OerViewer extends HTMLElement {
     try {
       const scene = transferKey(url);
       const headers = this.#refinedScenes.has(scene) ? {} : { Prefer: 'wait=1' };
+      // The hotspots' placement in this frame, asked for beside it.
+      this.#placementController?.abort();
+      this.#placementController = null;
+      const placements = this.#placements(url, controller.signal);
       const response = await fetch(url, { signal: controller.signal, headers });
       if (!response.ok) {
         throw await problemOf(response, url);
@@ -624,12 +806,17 @@ export class OerViewer extends HTMLElement {
       const next = new Image();
       next.src = objectUrl;
       await next.decode();
+      // The frame and its hotspots are shown together (the placement needs no image, and is
+      // usually there first).
+      const placed = await placements;
       if (controller !== this.#controller) {
         URL.revokeObjectURL(objectUrl);
         return;
       }
       this.#controller = null;
       this.#image.src = objectUrl;
+      this.#shownUrl = url;
+      this.#applyPlacements(placed);
       this.#failures += 1;  // an explanation still on its way is no longer true
       this.removeAttribute('failed');
       if (!this.hasAttribute('loaded')) {

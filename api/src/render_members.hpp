@@ -5,6 +5,7 @@
 // them apart, render_request.hpp), the lights' weights.
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "request_values.hpp"
@@ -26,6 +27,12 @@ Camera to_camera(const LookAtSpec& look_at, double fov_y);
 void read_json_lights(RenderSpec& spec, const Json& value, const std::string& path,
                       const RenderLimits& limits);
 Json lights_json(const std::vector<double>& lights);
+
+// A render request's body parsed, bounded by what a request within `limits` can hold plus
+// `extra_values` JSON values (the members of their own that the hotspots' and the pick's bodies
+// carry beside the render's). Throws as parse_render_json does.
+Json read_render_body(std::string_view body, const RenderLimits& limits,
+                      std::size_t extra_values = 0);
 
 // The body's members, each read by its row of the table (render_parameters.cpp, which defines
 // this): unknown members and a missing required one are errors.

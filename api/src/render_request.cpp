@@ -40,21 +40,24 @@ constexpr EnumNames<GroundChoice, 3> kGroundNames = {
 // numbers, its base_color array and 3 numbers, its base_color_material and variant), one per
 // light switch, and 44 others (the body, its 13 scalar members, the objects and lights arrays,
 // the camera's 22 with its vectors and orbit, shadows' 6): under 64.
-checked_json::JsonBounds request_bounds(const RenderLimits& limits) {
+checked_json::JsonBounds request_bounds(const RenderLimits& limits, std::size_t extra_values) {
     checked_json::JsonBounds bounds;
     bounds.max_depth = 16;
-    bounds.max_elements = 64 + 25 * limits.max_objects + limits.max_lights;
+    bounds.max_elements = 64 + 25 * limits.max_objects + limits.max_lights + extra_values;
     return bounds;
 }
 
-Json read_body(std::string_view body, const RenderLimits& limits) {
+}  // namespace
+
+Json render_members::read_render_body(std::string_view body, const RenderLimits& limits,
+                                      std::size_t extra_values) {
     if (body.size() > limits.max_body_bytes) {
         throw Error(ErrorKind::LimitExceeded,
                     "render request: the body has " + std::to_string(body.size()) +
                         " bytes, over the limit of " + std::to_string(limits.max_body_bytes));
     }
     try {
-        return checked_json::parse_bounded(body, request_bounds(limits));
+        return checked_json::parse_bounded(body, request_bounds(limits, extra_values));
     } catch (const checked_json::JsonParseError& error) {
         if (error.cause() == checked_json::JsonParseError::Cause::TooMany) {
             throw Error(ErrorKind::LimitExceeded,
@@ -67,6 +70,8 @@ Json read_body(std::string_view body, const RenderLimits& limits) {
         throw MalformedRequest(error.what());
     }
 }
+
+namespace {
 
 // The GET form's names: every parameter known, and given once but for a repeatable one (mesh).
 void check_query_names(const std::multimap<std::string, std::string>& query) {
@@ -292,7 +297,7 @@ const std::vector<std::string>& render_query_parameters() {
 
 RenderSpec parse_render_json(std::string_view body, const RenderLimits& limits) {
     RenderSpec spec;
-    render_members::read_body_members(spec, read_body(body, limits), limits);
+    render_members::read_body_members(spec, render_members::read_render_body(body, limits), limits);
     return spec;
 }
 

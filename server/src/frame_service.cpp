@@ -10,6 +10,9 @@
 #include "oer/api/content_id.hpp"
 #include "oer/api/frame_encoding.hpp"
 #include "oer/core/cancellation.hpp"
+#include "oer/mesh/camera_rays.hpp"
+#include "oer/reference/embree_scene.hpp"
+#include "oer/scene/scene_bounds.hpp"
 #include "oer/scene/scene_rules.hpp"
 
 namespace oer::server {
@@ -274,6 +277,11 @@ Frame FrameService::rendered(std::shared_ptr<FrameRequest> request,
             throw;
         }
     });
+    return awaited(pending, stop, client);
+}
+
+Frame FrameService::awaited(std::future<Frame>& pending, std::stop_source& stop,
+                            const Client& client) {
     const auto deadline = Clock::now() + deadline_;
     while (pending.wait_for(kClientPollInterval) != std::future_status::ready) {
         if (Clock::now() >= deadline) {
@@ -291,24 +299,7 @@ Frame FrameService::rendered(std::shared_ptr<FrameRequest> request,
     return pending.get();
 }
 
-EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
-                                  RequestForm form, const Client& client,
-                                  bool preliminary_allowed) {
-    EncodedFrame result;
-    result.etag = etag;
-    result.content_type = api::content_type_of(spec.format);
-    // The environment and meshes are found before the cache, so that a frame of one removed
-    // since (DELETE) is 404, never served from the cache; and a cached frame names its camera
-    // too (a few map lookups).
-    const ResolvedRender resolved = resolve(spec, form);
-    result.camera = resolved.camera;
-    if (auto cached = frames_.get(result.etag)) {
-        metrics_.cache(CacheName::Frame, true);
-        result.bytes = std::move(cached);
-        result.cache_hit = true;
-        return result;
-    }
-    metrics_.cache(CacheName::Frame, false);
+void FrameService::hold_past_share(const Client& client) {
     if (const auto wait = client_work_.wait_before_work(client.address)) {
         // Held first (client_work_budget.hpp), in slices that watch for the client leaving.
         const auto held_until =
@@ -329,6 +320,83 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
                                     " s; frames already rendered are served meanwhile"),
                         {{"Retry-After", std::to_string(seconds)}});
     }
+}
+
+api::RenderSpec FrameService::geometry_only(const api::RenderSpec& spec) {
+    api::RenderSpec geometry = spec;
+    geometry.occlusion = false;
+    geometry.samples = 1;
+    geometry.shadows.enabled = false;
+    geometry.background = Background{BackgroundKind::Color, glm::vec3(0.0f)};
+    return geometry;
+}
+
+HotspotPlacements FrameService::place_hotspots(const api::HotspotRequest& hotspots,
+                                               RequestForm form, const Client& client) {
+    const api::RenderSpec spec = geometry_only(hotspots.render);
+    const ResolvedRender resolved = resolve(spec, form);
+    hold_past_share(client);
+    const auto points = std::make_shared<const std::vector<ScenePoint>>(
+        api::hotspot_points(hotspots, resolved.meshes, form == RequestForm::Query));
+    const auto request = std::make_shared<const FrameRequest>(frame_request(resolved));
+    auto placements = std::make_shared<std::vector<PointPlacement>>();
+    auto work_ms = std::make_shared<double>(0.0);
+    std::stop_source stop;
+    // The pool's jobs make frames; this one's products are the placements and the time it
+    // took, which the client's share of render work (client_work_budget.hpp) pays for.
+    std::future<Frame> pending = pool_.submit(
+        [request, points, placements, work_ms, stop = stop.get_token()](FrameRenderer& renderer) {
+            const auto start = Clock::now();
+            *placements = renderer.place_points(*request, *points, stop);
+            *work_ms = milliseconds_since(start);
+            return Frame{};
+        });
+    awaited(pending, stop, client);
+    client_work_.charge(client.address, *work_ms / 1000.0);
+    return {resolved.camera, std::move(*placements)};
+}
+
+PickedSurface FrameService::pick(const api::PickRequest& pick, RequestForm form) {
+    const api::RenderSpec spec = geometry_only(pick.render);
+    const ResolvedRender resolved = resolve(spec, form);
+    // The surfaces alone: neither the map nor a specular cube, which frame_request would fetch.
+    const FrameRequest request = api::to_frame_request(
+        spec, resolved.camera, resolved.environment->rig, nullptr, resolved.meshes);
+    const reference::EmbreeScene scene(request, scene_bounds(request.objects),
+                                       reference::GroundTracing::PlaneOnly);
+    const CameraRays rays = camera_rays(resolved.camera, spec.width, spec.height);
+    PickedSurface picked{resolved.camera, std::nullopt, {}};
+    const auto hit = scene.intersect(rays.eye, rays.direction(pick.pixel.x, pick.pixel.y), 0.0,
+                                     reference::GroundReach::Drawn);
+    if (hit && !hit->ground) {
+        const api::SurfaceSpot spot{
+            hit->object, hit->primitive, hit->triangle, {1.0 - hit->u - hit->v, hit->u, hit->v}};
+        picked.point = api::surface_point(*resolved.meshes.at(spot.object),
+                                          request.objects.at(spot.object).transform, spot);
+        picked.spot = spot;
+    }
+    return picked;
+}
+
+EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string& etag,
+                                  RequestForm form, const Client& client,
+                                  bool preliminary_allowed) {
+    EncodedFrame result;
+    result.etag = etag;
+    result.content_type = api::content_type_of(spec.format);
+    // The environment and meshes are found before the cache, so that a frame of one removed
+    // since (DELETE) is 404, never served from the cache; and a cached frame names its camera
+    // too (a few map lookups).
+    const ResolvedRender resolved = resolve(spec, form);
+    result.camera = resolved.camera;
+    if (auto cached = frames_.get(result.etag)) {
+        metrics_.cache(CacheName::Frame, true);
+        result.bytes = std::move(cached);
+        result.cache_hit = true;
+        return result;
+    }
+    metrics_.cache(CacheName::Frame, false);
+    hold_past_share(client);
     // The work charged to the client: its frame's preparation on this thread (a specular cube,
     // as long as it took) and its work on the worker (its transfer and the frame's "total", not
     // the time it waited in the queue behind other clients' frames).

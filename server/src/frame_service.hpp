@@ -46,6 +46,7 @@
 #include "client_work_budget.hpp"
 #include "environment_registry.hpp"
 #include "mesh_registry.hpp"
+#include "oer/api/hotspot_request.hpp"
 #include "oer/api/render_request.hpp"
 #include "oer/server/byte_lru_cache.hpp"
 #include "render_cost.hpp"
@@ -76,6 +77,20 @@ struct ResolvedRender {
     std::vector<std::shared_ptr<const Mesh>> meshes;  // one per object, in order
     std::vector<std::string> mesh_ids;
     Camera camera;
+};
+
+// Where the frame of a hotspots request shows each of them (POST and GET /v1/hotspots).
+struct HotspotPlacements {
+    Camera camera;                           // the frame's (api::resolved_camera)
+    std::vector<PointPlacement> placements;  // one per hotspot, in the request's order
+};
+
+// The surface of the product a pixel shows (POST /v1/pick): where on which mesh, and the point
+// there as a surface hotspot names it; no spot where the pixel shows no object.
+struct PickedSurface {
+    Camera camera;
+    std::optional<api::SurfaceSpot> spot;
+    ScenePoint point;
 };
 
 // Where the bake ahead of one scene's transfer stands: queued, baking, ready, or not prepared
@@ -125,6 +140,20 @@ class FrameService {
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
                         const Client& client, bool preliminary_allowed = false);
 
+    // Where the frame that request.render draws shows each hotspot: that frame's depth
+    // (FrameRenderer::place_points) from its geometry pass alone, at one sample a pixel,
+    // without shadow maps or transfer (its cost estimated and charged as such a frame's), on a
+    // worker of the pool while the client waits, charged to its share of render work. Throws as
+    // render does, and InvalidParameter
+    // for a hotspot on a primitive or triangle its object's mesh lacks.
+    HotspotPlacements place_hotspots(const api::HotspotRequest& request, RequestForm form,
+                                     const Client& client);
+    // The surface the pixel's centre shows in the frame that request.render draws: a ray cast on
+    // the HTTP thread against the objects' triangles (the reference renderer's Embree scene;
+    // alpha-tested and blended surfaces let it through as the reference does), the ground never
+    // counting as the product. Throws as render does before it renders.
+    PickedSurface pick(const api::PickRequest& request, RequestForm form);
+
     // Bakes ahead, on the bake lane (bake_lane.hpp), the transfer of mesh_id's standard scene (the
     // mesh alone, untransformed, on the ground, one bounce: the scene of a product's first frames),
     // so that they find it ready instead of baking it; then the same scene's without the floor,
@@ -159,6 +188,16 @@ class FrameService {
     // the client waits and within the deadline (503 past either).
     Frame rendered(std::shared_ptr<FrameRequest> request, std::vector<std::string> mesh_ids,
                    const Client& client);
+    // The job's result once a worker has run it, while the client waits and within the
+    // deadline: past either, `stop` is requested and 503 thrown.
+    Frame awaited(std::future<Frame>& pending, std::stop_source& stop, const Client& client);
+    // The spec of the frame whose depth places hotspots and whose camera a pick sees through:
+    // the same camera, meshes and ground, at one sample a pixel, without shadows, transfer or
+    // the environment's map behind.
+    static api::RenderSpec geometry_only(const api::RenderSpec& spec);
+    // Past the client's share of uncached render work (client_work_budget.hpp): held a moment,
+    // watching for the client leaving, then 429 with Retry-After.
+    void hold_past_share(const Client& client);
 
     EnvironmentRegistry& environments_;
     MeshRegistry& meshes_;

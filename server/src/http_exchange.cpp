@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <ctime>
 #include <string_view>
 
@@ -157,6 +158,25 @@ bool etag_matches(const httplib::Request& request, const std::string& etag) {
         start = end + 1;
     }
     return false;
+}
+
+void require_json_body(const httplib::Request& request, const std::string& what) {
+    if (const std::string type = media_type(request); type != "application/json") {
+        throw HttpError(problem(ProblemKind::UnsupportedMediaType,
+                                what + " is application/json, not '" + api::excerpt(type) + "'"));
+    }
+}
+
+std::string camera_header(const Camera& camera) {
+    const auto vector = [](const glm::vec3& v) {
+        char text[96];
+        std::snprintf(text, sizeof text, "%.9g,%.9g,%.9g", double(v.x), double(v.y), double(v.z));
+        return std::string(text);
+    };
+    char fov_y[32];
+    std::snprintf(fov_y, sizeof fov_y, "%.9g", double(camera.fov_y));
+    return "eye=" + vector(camera.eye) + "; target=" + vector(camera.target) +
+           "; up=" + vector(camera.up) + "; fov_y=" + fov_y;
 }
 
 }  // namespace oer::server

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "http_errors.hpp"
+#include "oer/mesh/look_at_camera.hpp"
 
 namespace oer::server {
 
@@ -28,8 +29,18 @@ void send_upload(httplib::Response& response, nlohmann::json asset, bool cached,
 std::string upload_file_name(const std::map<std::string, std::string>& query,
                              const std::string& extension);
 
+// X-Oer-Camera, and the `camera` of the hotspots' and the pick's answers: the camera a frame is
+// seen from, in the query's notation, so that a client can continue from the automatic framing
+// (zoom from its distance, say) without a jump, or draw an asset camera's frame again
+// explicitly: `eye=0,1.2,3.4; target=0,0.8,0; up=0,1,0; fov_y=45`. Nine significant digits:
+// every float reads back as itself, so the same camera given explicitly draws the same pixels.
+std::string camera_header(const Camera& camera);
+
 // The Content-Type's media type, lowercase, without parameters ("" when absent).
 std::string media_type(const httplib::Request& request);
+
+// Throws 415 unless the body is application/json, naming `what` ("a render request").
+void require_json_body(const httplib::Request& request, const std::string& what);
 
 // The query parameters, each at most once and each one of `allowed` (else 422 naming it).
 std::map<std::string, std::string> single_query(const httplib::Request& request,

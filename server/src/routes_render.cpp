@@ -1,10 +1,8 @@
 // POST /v1/render (JSON body) and GET /v1/render (query parameters)
-#include <cstdio>
 #include <optional>
 #include <string>
 
 #include "http_exchange.hpp"
-#include "oer/api/parameter_text.hpp"
 #include "request_state.hpp"
 #include "service_context.hpp"
 
@@ -15,23 +13,6 @@ namespace {
 // Frames are addressed by their request (ids are content hashes; the ETag holds the version):
 // caches may keep them a day, then revalidate with the ETag for a cheap 304.
 constexpr const char* kFrameCacheControl = "public, max-age=86400";
-
-// X-Oer-Camera: the camera the frame is seen from, in the query's notation, so that a client
-// can continue from the automatic framing (zoom from its distance, say) without a jump, or draw
-// an asset camera's frame again explicitly:
-// `eye=0,1.2,3.4; target=0,0.8,0; up=0,1,0; fov_y=45`. Nine significant digits: every float
-// reads back as itself, so the same camera given explicitly draws the same pixels.
-std::string camera_header(const Camera& camera) {
-    const auto vector = [](const glm::vec3& v) {
-        char text[96];
-        std::snprintf(text, sizeof text, "%.9g,%.9g,%.9g", double(v.x), double(v.y), double(v.z));
-        return std::string(text);
-    };
-    char fov_y[32];
-    std::snprintf(fov_y, sizeof fov_y, "%.9g", double(camera.fov_y));
-    return "eye=" + vector(camera.eye) + "; target=" + vector(camera.target) +
-           "; up=" + vector(camera.up) + "; fov_y=" + fov_y;
-}
 
 // The client's `Prefer: wait=N` (RFC 7240 section 4.3: it would rather have an answer within N
 // seconds than the full work), as its seconds; nullopt without one. Other preferences are left
@@ -100,11 +81,7 @@ void add_render_routes(Router& router, ServiceContext& context) {
     router.post(
         "/v1/render", RoutePolicy{.max_body = context.render_limits.max_body_bytes},
         [](const httplib::Request& request, httplib::Response&) {
-            if (const std::string type = media_type(request); type != "application/json") {
-                throw HttpError(problem(
-                    ProblemKind::UnsupportedMediaType,
-                    "a render request is application/json, not '" + api::excerpt(type) + "'"));
-            }
+            require_json_body(request, "a render request");
         },
         [&context](const httplib::Request& request, httplib::Response& response,
                    const std::string& body) {

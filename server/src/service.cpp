@@ -208,6 +208,7 @@ void Service::Impl::start() {
     add_environment_routes(*api.routes, *context);
     add_mesh_routes(*api.routes, *context);
     add_render_routes(*api.routes, *context);
+    add_hotspot_routes(*api.routes, *context);
     add_service_routes(*api.routes, *context);
     add_web_routes(*api.routes);
     if (config.admin_port >= 0) {

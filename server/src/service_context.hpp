@@ -33,6 +33,7 @@ struct ServiceContext {
 void add_environment_routes(Router& router, ServiceContext& context);
 void add_mesh_routes(Router& router, ServiceContext& context);
 void add_render_routes(Router& router, ServiceContext& context);
+void add_hotspot_routes(Router& router, ServiceContext& context);
 void add_service_routes(Router& router, ServiceContext& context);  // with the probes
 // GET /healthz, /readyz, /metrics: also the whole of the admin listener.
 void add_probe_routes(Router& router, ServiceContext& context);

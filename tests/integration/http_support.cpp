@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -849,6 +850,16 @@ ShRgb sh_of(const Json& coefficients) {
                               coefficients[i][2].get<double>()};
     }
     return sh;
+}
+
+glm::dvec3 camera_vector(const std::string& header, const std::string& name) {
+    const std::size_t at = header.find(name + "=");
+    glm::dvec3 v(0.0);
+    if (at == std::string::npos ||
+        std::sscanf(header.c_str() + at + name.size() + 1, "%lf,%lf,%lf", &v.x, &v.y, &v.z) != 3) {
+        ADD_FAILURE() << "no " << name << " in X-Oer-Camera '" << header << "'";
+    }
+    return v;
 }
 
 }  // namespace oer::itest

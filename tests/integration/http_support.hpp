@@ -208,6 +208,10 @@ double percentile(std::vector<double> values, double fraction);
 
 // Seconds of the steady clock since `start`.
 double seconds_since(std::chrono::steady_clock::time_point start);
+// The three numbers of `name=x,y,z` in an X-Oer-Camera header (a failure of the test without
+// them).
+glm::dvec3 camera_vector(const std::string& header, const std::string& name);
+
 // SH coefficients as the API writes them (an array of [r, g, b], l (l + 1) + m order).
 ShRgb sh_of(const Json& coefficients);
 

@@ -651,20 +651,7 @@ TEST(RenderDeadline, FramesWhoseRequestGaveUpAreSkipped) {
     EXPECT_GE(skipped, double(refused - 1));
 }
 
-namespace {
-
-// The three numbers of `name=x,y,z` in an X-Oer-Camera header.
-glm::dvec3 camera_vector(const std::string& header, const std::string& name) {
-    const std::size_t at = header.find(name + "=");
-    glm::dvec3 v(0.0);
-    if (at == std::string::npos ||
-        std::sscanf(header.c_str() + at + name.size() + 1, "%lf,%lf,%lf", &v.x, &v.y, &v.z) != 3) {
-        ADD_FAILURE() << "no " << name << " in X-Oer-Camera '" << header << "'";
-    }
-    return v;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 // A frame names the camera it is seen from (X-Oer-Camera), the automatic framing's included, and
 // a cached frame too: an orbit built from that header draws the same pixels, and so continues

@@ -751,7 +751,8 @@ try {
     }
     const names = seen.map((control) => control.name);
     for (const expected of ['Product', 'Environment', 'Upload…', 'Reset view', 'Background', 'Ground',
-                            'Shadows', 'Turntable', 'Download PNG', 'Light 1 weight', 'All on',
+                            'Shadows', 'Turntable', 'Download PNG', 'Place hotspot',
+                            'Light 1 weight', 'All on',
                             'All off']) {
       assert.ok(names.includes(expected), `Tab never reaches ${expected}: ${names.join(' | ')}`);
     }
@@ -1030,6 +1031,90 @@ try {
       frame.url.includes('environment=default')), frames, { timeout: 30000 });
     assert.equal((await overlays(page)).message, false);
     assert.equal(await page.locator('oer-viewer').getAttribute('failed'), null);
+  });
+
+  await check('a hotspot behind the product is hidden and one in front is shown, for several orbits',
+              async () => {
+    await page.goto(`${server.url}/?camera-orbit=0+10`);
+    await fullFrame(page);
+    const viewer = page.locator('oer-viewer');
+    const box = await viewer.boundingBox();
+    // Sets the orbit; resolves with the first placement of the hotspots in a frame of that yaw.
+    const placedAt = (yaw) => page.evaluate((orbitYaw) => new Promise((resolve) => {
+      const element = document.querySelector('oer-viewer');
+      const listener = ({ detail }) => {
+        if (new URL(detail.url, location.href).searchParams.get('yaw') === String(orbitYaw)) {
+          element.removeEventListener('hotspots-change', listener);
+          resolve(detail.hotspots);
+        }
+      };
+      element.addEventListener('hotspots-change', listener);
+      element.setAttribute('camera-orbit', `${orbitYaw} 10`);
+    }), yaw);
+    // The page's place mode: a click on the product's front (yaw 0), then on its back (yaw 180).
+    await page.locator('#place-hotspot').click();
+    const click = async (count) => {
+      await page.mouse.click(box.x + box.width / 2, box.y + box.height * 0.4);
+      await page.waitForFunction((n) => document.querySelectorAll('oer-viewer > .hotspot').length === n,
+                                 count, { timeout: 15000 });
+    };
+    await click(1);
+    await placedAt(180);
+    await click(2);
+    await page.locator('#place-hotspot').click();
+    const [front, back] = await page.evaluate(() =>
+      [...document.querySelectorAll('oer-viewer > .hotspot')].map((hotspot) => hotspot.slot));
+    // A third, between the two (inside the product, from their positions as the element's
+    // pick() names them), its normal the front's: it faces the front's camera, so that only
+    // the depth can hide it there.
+    await page.evaluate(async () => {
+      const element = document.querySelector('oer-viewer');
+      const rect = element.getBoundingClientRect();
+      const at = (yaw) => {
+        element.setAttribute('camera-orbit', `${yaw} 10`);
+        return element.pick(rect.left + rect.width / 2, rect.top + rect.height * 0.4);
+      };
+      const [a, b] = [await at(0), await at(180)];
+      const inside = document.createElement('span');
+      inside.slot = 'hotspot-inside';
+      inside.className = 'hotspot-inside';
+      inside.dataset.position = a.position.map((value, axis) => (value + b.position[axis]) / 2).join(' ');
+      inside.dataset.normal = a.normal.join(' ');
+      element.append(inside);
+    });
+    const slots = { [front]: 'front', [back]: 'back', 'hotspot-inside': 'inside' };
+    for (const [yaw, shown] of [[0, 'front'], [25, 'front'], [-30, 'front'], [180, 'back'],
+                                [150, 'back'], [-160, 'back']]) {
+      const placed = await placedAt(yaw);
+      const states = await page.evaluate(() => Object.fromEntries(
+        [...document.querySelectorAll('oer-viewer > [slot^="hotspot-"]')].map((hotspot) => {
+          const rect = hotspot.getBoundingClientRect();
+          return [hotspot.slot, { visible: hotspot.hasAttribute('data-visible'),
+                                  shown: rect.width > 0 && rect.height > 0,
+                                  x: rect.x + rect.width / 2, y: rect.y + rect.height / 2 }];
+        })));
+      for (const [slot, name] of Object.entries(slots)) {
+        const expected = name === shown;
+        assert.equal(states[slot].visible, expected, `yaw ${yaw}: ${name} data-visible`);
+        assert.equal(states[slot].shown, expected, `yaw ${yaw}: ${name} shown`);
+        if (expected) {
+          assert.ok(states[slot].x > box.x && states[slot].x < box.x + box.width &&
+                    states[slot].y > box.y && states[slot].y < box.y + box.height,
+                    `yaw ${yaw}: ${name} inside the view at ${states[slot].x}, ${states[slot].y}`);
+        }
+      }
+      const inside = placed.find((hotspot) => hotspot.name === 'inside');
+      if (yaw === 0) {
+        assert.ok(inside.facing && inside.in_frame && !inside.visible,
+                  `the inside point faces the camera and only the product hides it: ${JSON.stringify(inside)}`);
+        const [x, y] = [states[front].x - box.x, states[front].y - box.y];
+        assert.ok(Math.abs(x - box.width / 2) < 2 && Math.abs(y - box.height * 0.4) < 2,
+                  `the front hotspot stays where it was placed: ${x}, ${y}`);
+      }
+    }
+    await page.locator('#clear-hotspots').click();
+    await page.evaluate(() => document.querySelector('.hotspot-inside').remove());
+    assert.equal(await page.locator('oer-viewer > [slot^="hotspot-"]').count(), 0);
   });
 
   await check('desktop screenshot (1280x800)', async () => {

@@ -17,6 +17,7 @@
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/light_location.hpp"
 #include "oer/lighting/sampling.hpp"
+#include "oer/mesh/camera_rays.hpp"
 #include "oer/reference/embree_scene.hpp"
 #include "oer/reference/metallic_roughness_brdf.hpp"
 #include "oer/reference/pixel_random.hpp"
@@ -123,32 +124,6 @@ class Tracer {
     const ReferenceOptions& options_;
     double offset_;
 };
-
-struct CameraRays {
-    glm::dvec3 eye, forward, right, up;
-    double tan_half_fov = 1.0, aspect = 1.0;
-    int width = 1, height = 1;
-
-    // Through image position (x, y) in pixels, y down from the top row.
-    glm::dvec3 direction(double x, double y) const {
-        const double nx = (2.0 * x / width - 1.0) * tan_half_fov * aspect;
-        const double ny = (1.0 - 2.0 * y / height) * tan_half_fov;
-        return glm::normalize(forward + nx * right + ny * up);
-    }
-};
-
-CameraRays camera_rays(const Camera& camera, int width, int height) {
-    CameraRays rays;
-    rays.eye = glm::dvec3(camera.eye);
-    rays.forward = glm::normalize(glm::dvec3(camera.target) - rays.eye);
-    rays.right = glm::normalize(glm::cross(rays.forward, glm::dvec3(camera.up)));
-    rays.up = glm::cross(rays.right, rays.forward);
-    rays.tan_half_fov = std::tan(glm::radians(double(camera.fov_y)) / 2.0);
-    rays.aspect = double(width) / double(height);
-    rays.width = width;
-    rays.height = height;
-    return rays;
-}
 
 void validate(const FrameRequest& request, const ReferenceOptions& options) {
     if (!request.rig) {

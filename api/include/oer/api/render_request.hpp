@@ -71,6 +71,9 @@ struct RenderLimits {
     std::size_t max_lights = 64;  // switches in one request, far above any rig's light count
     int max_shadow_resolution = 8192;
     std::size_t max_body_bytes = 256 << 10;  // 64 transformed objects: about 30 KiB compact
+    // Hotspots placed by one request (POST and GET /v1/hotspots): 256 take about 30 KiB of
+    // JSON and 256 reads of one depth sample each.
+    std::size_t max_hotspots = 256;
 };
 
 // Positions (eye, target) and transform entries stay within +-kMaxCoordinate: far inside float.

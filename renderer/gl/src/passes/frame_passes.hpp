@@ -106,8 +106,11 @@ GLuint resolve_supersamples(const FrameContext& frame, GLuint shaded, const Rend
                             RendererState& state);
 
 // Readback: the finished frame, the texture `finished` of the request's size, into
-// result.display or result.linear, top row first; leaves the default framebuffer, no program
-// and no shadow sampler bound.
+// result.display or result.linear, top row first; then leave_frame_state.
 void read_back(const FrameRequest& request, GLuint finished, Frame& result);
+
+// GL as a frame found it: the default framebuffer, depth writes on, no vertex array, program or
+// shadow sampler bound.
+void leave_frame_state();
 
 }  // namespace oer

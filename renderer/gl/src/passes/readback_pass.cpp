@@ -35,6 +35,10 @@ void read_back(const FrameRequest& request, GLuint finished, Frame& result) {
                         &pixels[std::size_t(request.height - 1 - y) * row_values], row_values);
         }
     }
+    leave_frame_state();
+}
+
+void leave_frame_state() {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDepthMask(GL_TRUE);
     glBindVertexArray(0);

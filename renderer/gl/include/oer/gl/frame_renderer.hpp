@@ -6,9 +6,12 @@
 // A FrameRenderer holds GL objects (meshes, environment textures, cached shadow maps): create
 // and use it on one thread with a current GL context (inside RenderThread jobs).
 #include <memory>
+#include <span>
 #include <stop_token>
+#include <vector>
 
 #include "oer/scene/frame_request.hpp"
+#include "oer/scene/point_placement.hpp"
 
 namespace oer {
 
@@ -25,6 +28,15 @@ class FrameRenderer {
     // LimitExceeded past the limits, Internal on a GL error, Cancelled once stop is requested
     // (looked at between passes and between lights' shadow maps: oer/core/cancellation.hpp).
     Frame render(const FrameRequest& request, const std::stop_token& stop = {});
+
+    // Where each point lands in the frame `request` draws, and whether that frame shows it
+    // (point_placement.hpp): the frame's geometry pass alone (no shadow maps, no shading), its
+    // depth read back at the (super)sample nearest each point in the frame, against the point's
+    // depth. The same camera, levels of detail, alpha tests and ground as render's. Throws as
+    // render does.
+    std::vector<PointPlacement> place_points(const FrameRequest& request,
+                                             std::span<const ScenePoint> points,
+                                             const std::stop_token& stop = {});
 
     std::size_t cached_shadow_maps() const;
     // Prefiltered cubes (FrameRequest::specular) uploaded so far: only frames with glossy
