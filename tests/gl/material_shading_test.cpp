@@ -923,8 +923,12 @@ TEST_F(MaterialShadingTest, DebiansGltfSamplesRender) {
 // The switchable split of the specular lighting against the unsplit one: a metal sphere lit by
 // the residual map's cube plus the light's own cube (the renderer's way, the light
 // switchable), and the same sphere lit by the whole map prefiltered into one cube with no light
-// taken out (the viewers' way). Over the whole sphere and at the light's highlight they agree
-// within the cubes' resolution, from a mirror to roughness 1.
+// taken out (the viewers' way). Over the whole sphere they agree within the cubes' resolution,
+// from a mirror to roughness 1. At the light's highlight they agree at the levels (roughness 0
+// and 1); between levels the light's layer is read at light_lod, which keeps a compact light's
+// peak, and the whole cube at the lod's fraction, whose blend overshoots it: there the peaks'
+// ratio is the one the cubes give on the CPU in the light's direction (the shader's light_lod
+// is the library's).
 TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered) {
     const SmallLight light{glm::normalize(glm::dvec3(0.35, 0.6, 1.0)), 0.1, 100.0f, 0.05f};
     const HdrImage map = small_light_map(light);
@@ -961,8 +965,21 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
             "[ measured ] roughness %.2f: the sphere's radiance summed, split / unsplit "
             "%.4f; its peak %.3f split, %.3f unsplit\n",
             roughness, sum_split / sum_reference, peak_split, peak_reference);
+        const int levels = split_cubes->lights.levels;
+        const double lod = lod_of_roughness(roughness, levels);
+        const double expected_ratio =
+            (sample_cube(split_cubes->lights, light.direction,
+                         light_lod(roughness, levels, rig->lights[0].angular_radius))
+                 .g +
+             sample_cube(split_cubes->residual, light.direction, lod).g) /
+            sample_cube(whole->residual, light.direction, lod).g;
+        std::printf("[ measured ] roughness %.2f: peaks' ratio %.4f, the cubes' %.4f\n", roughness,
+                    peak_split / peak_reference, expected_ratio);
         EXPECT_NEAR(sum_split / sum_reference, 1.0, 0.02) << roughness;
-        EXPECT_NEAR(peak_split / peak_reference, 1.0, 0.12) << roughness;
+        // 0.08: the frame's peak pixel is read at its antialiased roughness (material.glsl), a
+        // little above the nominal one the CPU's ratio is taken at (measured 0.002 to 0.067 off;
+        // reading the light's layer at the lod's fraction instead would be 0.21 off at 0.5).
+        EXPECT_NEAR(peak_split / peak_reference, expected_ratio, 0.08) << roughness;
     }
 }
 

@@ -5,6 +5,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gl_bindings.hpp"
+#include "oer/lighting/specular_environment.hpp"
 
 namespace oer {
 
@@ -72,6 +73,8 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
         const std::size_t k = frame.lit[i];
         glUniform1i(program.uniform(element("u_light_cube_layer", i)), GLint(k));
         glUniform1f(program.uniform(element("u_light_weight", i)), float(frame.weights[k]));
+        glUniform1f(program.uniform(element("u_light_cap_tan2", i)),
+                    float(light_cap_tan2(frame.rig.lights[k].angular_radius)));
     }
 }
 

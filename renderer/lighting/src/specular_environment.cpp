@@ -783,6 +783,29 @@ double lod_of_roughness(double roughness, int levels) {
     return double(levels - 1) * r * (2.0 - r);
 }
 
+double light_cap_tan2(double angular_radius) {
+    // At least a microradian: a light has pixels, and T > 0 keeps light_lod's shares defined.
+    return std::pow(std::tan(0.5 * std::clamp(angular_radius, 1e-6, 3.0)), 2.0);
+}
+
+double light_lod(double roughness, int levels, double angular_radius) {
+    const double lod = lod_of_roughness(roughness, levels);
+    const int below = int(std::floor(lod));
+    if (below >= levels - 1) {
+        return double(levels - 1);
+    }
+    const double cap_tan2 = light_cap_tan2(angular_radius);
+    const auto share = [cap_tan2](double r) { return cap_tan2 / (std::pow(r, 4.0) + cap_tan2); };
+    const double sharp = share(roughness_of_level(below, levels));
+    const double span = share(roughness_of_level(below + 1, levels)) - sharp;
+    // Peaks within 1e-4 of each other (a light far larger than both lobes): the levels agree,
+    // any weight will do, and the lod's fraction is better conditioned.
+    if (std::abs(span) < 1e-4 * sharp) {
+        return lod;
+    }
+    return below + std::clamp((share(std::clamp(roughness, 0.0, 1.0)) - sharp) / span, 0.0, 1.0);
+}
+
 PrefilteredCube prefilter_map(const HdrImage& map, const SpecularOptions& options) {
     validate_options(options);
     validate_map(map);

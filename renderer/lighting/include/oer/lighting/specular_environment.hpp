@@ -69,13 +69,28 @@ struct SpecularEnvironment {
 // The perceptual roughness r that level `level` of a cube of `levels` levels is prefiltered
 // for, and the fractional level a roughness reads: lod = (levels - 1) r (2 - r), inverted
 // r = 1 - sqrt(1 - level / (levels - 1)) (Filament's perceptualRoughnessToLod, a fit of
-// log2 of the lobe's width). The default seven levels hold roughness 0, 0.087, 0.184, 0.293,
-// 0.423, 0.592 and 1: denser where a reflection changes fastest. Five levels at i / 4 left a
-// mirror at roughness 0.1 a blend of a sharp image and one at 0.25, 21 % under its light's
-// radiance, and a blend of levels far apart has the sharp one's peak, so that a highlight
-// at 0.25 looked no wider than at 0. The shader's specular_lod is lod_of_roughness.
+// log2 of the lobe's width). The default six levels hold roughness 0, 0.11, 0.23, 0.37, 0.55
+// and 1: denser where a reflection changes fastest. Five levels at i / 4 left a mirror at
+// roughness 0.1 a blend of a sharp image and one at 0.25, 21 % under its light's radiance.
+// The residual's cube is read at this lod; the shader's specular_lod is lod_of_roughness.
 double roughness_of_level(int level, int levels);
 double lod_of_roughness(double roughness, int levels);
+
+// The fractional level at which a light's layer is read for roughness r: between the levels
+// a and a + 1 around lod_of_roughness, the blend weight that gives the reflection's peak of a
+// disc of the light's angular radius rho exactly, instead of the lod's fraction. The peak of
+// a light of radiance L prefiltered at GGX's alpha = r^2 is about L F(alpha), F the lobe's
+// share within rho: for D(h) (n.h) about the reflection, whose half vectors lie within rho / 2,
+// F = T / (alpha^2 + T), T = tan^2(rho / 2) (the GGX distribution's cumulative integral,
+// Walter et al. 2007). The weight w = (F(alpha) - F(alpha_a)) / (F(alpha_b) - F(alpha_a)) then
+// makes (1 - w) P_a + w P_b peak at L F(alpha). A linear blend of levels whose peaks differ
+// tenfold (a compact light between roughness 0.23 and 0.37) is the sharp level's peak diluted
+// once: 1.4 times the true peak at roughness 0.3 for a disc of 2 degrees, 1.7 at 0.2 for one
+// degree; a blend of two levels keeps each level's energy whatever its weight. A light as
+// large as the lobe has equal peaks at both levels: w is then the lod's fraction. The shader's
+// light_lod is this function, given light_cap_tan2 (T) per light.
+double light_lod(double roughness, int levels, double angular_radius);
+double light_cap_tan2(double angular_radius);
 
 // The residual map (every rig light's pixels set to 0) prefiltered. The map must be the one
 // the rig was built from (same size; rig.model Hdr: the thesis model has no specular term).
