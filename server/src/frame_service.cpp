@@ -44,14 +44,16 @@ std::string server_timing(const Frame& frame, double encode_ms) {
 }  // namespace
 
 FrameService::FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
-                           TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
-                           ServiceMetrics& metrics, std::chrono::seconds deadline,
-                           RenderBudgets budgets, double transfer_rays_per_phase,
-                           ClientWorkBudget& client_work, std::function<void(std::string_view)> log)
+                           TransferRegistry& transfers, RenderPool& pool, RenderPool& batch_pool,
+                           ByteLruCache& frames, ServiceMetrics& metrics,
+                           std::chrono::seconds deadline, RenderBudgets budgets,
+                           double transfer_rays_per_phase, ClientWorkBudget& client_work,
+                           std::function<void(std::string_view)> log)
     : environments_(environments),
       meshes_(meshes),
       transfers_(transfers),
       pool_(pool),
+      batch_pool_(batch_pool),
       frames_(frames),
       metrics_(metrics),
       deadline_(deadline),
@@ -246,37 +248,40 @@ Frame FrameService::rendered(std::shared_ptr<FrameRequest> request,
     // skips it, and one under way stops it (its answer, a 503, has gone already, or nobody
     // reads it).
     std::stop_source stop;
-    std::future<Frame> pending = pool_.submit([this, request, ids = std::move(mesh_ids),
-                                               stop = stop.get_token()](FrameRenderer& renderer) {
-        if (stop.stop_requested()) {
-            metrics_.renders_skipped.increment();
-            throw_if_stopped(stop, "the frame");
-        }
-        try {
-            double transfer_ms = 0.0;
-            if (request->occlusion) {
-                const auto transfer_start = Clock::now();
-                request->transfer = transfers_.transfer(*request, ids, stop);
-                transfer_ms = milliseconds_since(transfer_start);
-            }
-            const auto start = Clock::now();
-            Frame frame = renderer.render(*request, stop);
-            metrics_.render_seconds.observe(
-                std::chrono::duration<double>(Clock::now() - start).count());
-            if (request->occlusion) {
-                frame.timings_ms["transfer"] = transfer_ms;
-            }
-            return frame;
-        } catch (const Error& error) {
-            if (error.kind() == ErrorKind::Cancelled) {
-                metrics_.renders_stopped.increment();
-            }
-            throw;
-        }
-    });
+    const bool batch = client.lane == Lane::Batch;
+    std::future<Frame> pending =
+        (batch ? batch_pool_ : pool_)
+            .submit([this, request, ids = std::move(mesh_ids),
+                     stop = stop.get_token()](FrameRenderer& renderer) {
+                if (stop.stop_requested()) {
+                    metrics_.renders_skipped.increment();
+                    throw_if_stopped(stop, "the frame");
+                }
+                try {
+                    double transfer_ms = 0.0;
+                    if (request->occlusion) {
+                        const auto transfer_start = Clock::now();
+                        request->transfer = transfers_.transfer(*request, ids, stop);
+                        transfer_ms = milliseconds_since(transfer_start);
+                    }
+                    const auto start = Clock::now();
+                    Frame frame = renderer.render(*request, stop);
+                    metrics_.render_seconds.observe(
+                        std::chrono::duration<double>(Clock::now() - start).count());
+                    if (request->occlusion) {
+                        frame.timings_ms["transfer"] = transfer_ms;
+                    }
+                    return frame;
+                } catch (const Error& error) {
+                    if (error.kind() == ErrorKind::Cancelled) {
+                        metrics_.renders_stopped.increment();
+                    }
+                    throw;
+                }
+            });
     const auto deadline = Clock::now() + deadline_;
     while (pending.wait_for(kClientPollInterval) != std::future_status::ready) {
-        if (Clock::now() >= deadline) {
+        if (!batch && Clock::now() >= deadline) {
             stop.request_stop();
             throw unavailable(
                 "the frame was not rendered within " + std::to_string(deadline_.count()) + " s",
@@ -309,7 +314,9 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
         return result;
     }
     metrics_.cache(CacheName::Frame, false);
-    if (const auto wait = client_work_.wait_before_work(client.address)) {
+    const bool interactive = client.lane == Lane::Interactive;
+    const auto wait = interactive ? client_work_.wait_before_work(client.address) : std::nullopt;
+    if (wait) {
         // Held first (client_work_budget.hpp), in slices that watch for the client leaving.
         const auto held_until =
             Clock::now() +
@@ -334,9 +341,12 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
     // the time it waited in the queue behind other clients' frames).
     class ChargeOnExit {
       public:
-        ChargeOnExit(ClientWorkBudget& budget, const std::string& client)
-            : budget_(budget), client_(client) {}
+        ChargeOnExit(ClientWorkBudget& budget, const std::string& client, bool charged)
+            : budget_(budget), client_(client), charged_(charged) {}
         ~ChargeOnExit() {
+            if (!charged_) {
+                return;
+            }
             budget_.charge(
                 client_,
                 (preparation_ms.value_or(milliseconds_since(start_)) + render_ms) / 1000.0);
@@ -348,14 +358,15 @@ EncodedFrame FrameService::render(const api::RenderSpec& spec, const std::string
       private:
         ClientWorkBudget& budget_;
         const std::string& client_;
+        const bool charged_;
         const Clock::time_point start_ = Clock::now();
-    } work(client_work_, client.address);
+    } work(client_work_, client.address, interactive);
     auto request = std::make_shared<FrameRequest>(frame_request(resolved));
     // The preliminary frame is kept under its own key while the transfer bakes: the viewer asks
     // again every 0.5 s until the whole frame comes, and drawing it again each time would take
     // the cores from the bake it waits for (the bake lane runs at the lowest priority).
     const std::string preliminary_key = result.etag + " preliminary";
-    if (preliminary_allowed && request->occlusion &&
+    if (interactive && preliminary_allowed && request->occlusion &&
         !transfers_.ready(transfers_.id_of(*request, resolved.mesh_ids))) {
         if (auto kept = frames_.get(preliminary_key)) {
             result.bytes = std::move(kept);

@@ -98,18 +98,25 @@ struct MeshPreparation {
 // How the request named its members, for the `parameter` of a 404.
 enum class RequestForm { Json, Query };
 
+// Which workers draw a frame: the interactive pool, or the batch jobs' own worker below it
+// (job_service.hpp), so that a batch frame never holds a place an interactive one waits for.
+enum class Lane { Interactive, Batch };
+
 class FrameService {
   public:
     FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
-                 TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
-                 ServiceMetrics& metrics, std::chrono::seconds deadline, RenderBudgets budgets,
-                 double transfer_rays_per_phase, ClientWorkBudget& client_work,
-                 std::function<void(std::string_view)> log);
+                 TransferRegistry& transfers, RenderPool& pool, RenderPool& batch_pool,
+                 ByteLruCache& frames, ServiceMetrics& metrics, std::chrono::seconds deadline,
+                 RenderBudgets budgets, double transfer_rays_per_phase,
+                 ClientWorkBudget& client_work, std::function<void(std::string_view)> log);
 
-    // Who asks: the client's address (its share of render work) and whether it has gone.
+    // Who asks: the client's address (its share of render work) and whether it has gone. A
+    // batch job's frame is bounded by the job's own limits, not the client's share of
+    // rendering, and waits for its worker without the request deadline (until `gone`).
     struct Client {
         std::string address;
         std::function<bool()> gone;
+        Lane lane = Lane::Interactive;
     };
 
     // etag: api::render_etag(spec), computed once by the caller (which answers 304 with it).
@@ -124,6 +131,11 @@ class FrameService {
     // for it.
     EncodedFrame render(const api::RenderSpec& spec, const std::string& etag, RequestForm form,
                         const Client& client, bool preliminary_allowed = false);
+
+    // What render checks before any work: the ids known (404), the cost within the budgets
+    // (413), the variants and materials in the meshes (422), each named as a JSON request names
+    // it. For a batch job's frames, when it is submitted.
+    void check(const api::RenderSpec& spec) { resolve(spec, RequestForm::Json); }
 
     // Bakes ahead, on the bake lane (bake_lane.hpp), the transfer of mesh_id's standard scene (the
     // mesh alone, untransformed, on the ground, one bounce: the scene of a product's first frames),
@@ -164,6 +176,7 @@ class FrameService {
     MeshRegistry& meshes_;
     TransferRegistry& transfers_;
     RenderPool& pool_;
+    RenderPool& batch_pool_;
     ByteLruCache& frames_;
     ServiceMetrics& metrics_;
     const std::chrono::seconds deadline_;
