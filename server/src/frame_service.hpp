@@ -168,9 +168,14 @@ class FrameService {
     // them (404 when the store no longer holds the map); its transfer comes on the worker.
     FrameRequest frame_request(const ResolvedRender& resolved);
     // The frame a worker renders from request, with its transfer when occlusion is on, while
-    // the client waits and within the deadline (503 past either).
-    Frame rendered(std::shared_ptr<FrameRequest> request, std::vector<std::string> mesh_ids,
+    // the client waits and within the deadline (503 past either); a batch frame yields to
+    // interactive ones (rendered_once again until one try is not stopped for them).
+    Frame rendered(std::shared_ptr<FrameRequest> request, const std::vector<std::string>& mesh_ids,
                    const Client& client);
+    // One try: nullopt when a batch frame was stopped to let an interactive frame go first.
+    std::optional<Frame> rendered_once(std::shared_ptr<FrameRequest> request,
+                                       const std::vector<std::string>& mesh_ids,
+                                       const Client& client);
 
     EnvironmentRegistry& environments_;
     MeshRegistry& meshes_;

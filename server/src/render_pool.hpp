@@ -97,6 +97,8 @@ class RenderPool {
     std::future<Frame> submit(Job job);
 
     std::size_t waiting() const;  // jobs accepted but not yet started
+    // No job accepted and unfinished: what a batch frame waits for (FrameService::rendered).
+    bool idle() const { return in_flight_.load() == 0; }
     int worker_count() const { return started() ? int(workers_.size()) : 0; }
     // The first worker's GL; nullptr before the pool has started.
     const GlInfo* info() const;

@@ -43,6 +43,7 @@ class ServiceMetrics {
     // and queued frames found stored already (by another replica, or before a restart).
     Counter& job_frames_stored;
     Counter& job_frames_skipped;
+    Counter& batch_frames_yielded;  // batch frames stopped to let interactive frames go first
     Histogram& preprocess_seconds;  // decoding a map and building its rig
     Counter& rigs_computed;         // each rig actually computed, never a cache hit
     Histogram& specular_seconds;    // prefiltering a rig's residual map (specular cube)
