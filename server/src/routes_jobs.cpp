@@ -1,11 +1,18 @@
 // POST /v1/jobs, GET and DELETE /v1/jobs/{id}, GET /v1/jobs/{id}/events (server-sent events),
-// GET /v1/jobs/{id}/frames/{name}, GET /v1/jobs/{id}/zip (job_service.hpp, docs/jobs.md)
+// GET /v1/jobs/{id}/frames/{name}, GET /v1/jobs/{id}/zip, GET /v1/jobs/{id}/sequences/{name}
+// (job_service.hpp, docs/jobs.md)
+#include <charconv>
+#include <cmath>
 #include <memory>
 #include <string>
 
 #include "http_exchange.hpp"
+#include "oer/api/frame_encoding.hpp"
+#include "oer/api/invalid_parameter.hpp"
 #include "oer/api/parameter_text.hpp"
+#include "oer/image/image_encoding.hpp"
 #include "service_context.hpp"
+#include "spin_set.hpp"
 #include "zip_archive.hpp"
 
 namespace oer::server {
@@ -49,6 +56,26 @@ void require_settled(const nlohmann::json& status) {
                                               ? status.at("seconds_left").get<double>()
                                               : 1.0)));
     }
+}
+
+// The most pixels a sprite sheet (every view of a sequence) may hold: the decoders' own limit,
+// so that any sheet served can be read back.
+constexpr std::uint64_t kMaxSpinSetPixels = 64ull << 20;
+
+int integer_parameter(const std::map<std::string, std::string>& query, const std::string& name,
+                      int fallback, int low, int high) {
+    const auto given = query.find(name);
+    if (given == query.end()) {
+        return fallback;
+    }
+    int value = 0;
+    const std::string& text = given->second;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size() || value < low || value > high) {
+        throw api::InvalidParameter(
+            name, "expected an integer " + std::to_string(low) + ".." + std::to_string(high));
+    }
+    return value;
 }
 
 }  // namespace
@@ -199,6 +226,69 @@ void add_job_routes(Router& router, ServiceContext& context) {
                     name + "." + api::to_string(frame->spec.format), bytes.value_or(""));
                 return sink.write(entry.data(), entry.size());
             });
+    });
+
+    router.get("/v1/jobs/{id}/sequences/{name}", [&context](const httplib::Request& request,
+                                                            httplib::Response& response) {
+        const auto query = single_query(request, {"format", "frame_ms", "columns", "quality"});
+        const std::string id = request.matches[1];
+        const std::string name = request.matches[2];
+        const nlohmann::json status = job_status(context, id, false);
+        const auto spec = context.jobs.spec(id);
+        const auto sequence =
+            std::find_if(spec->sequences.begin(), spec->sequences.end(),
+                         [&](const api::JobSequence& candidate) { return candidate.name == name; });
+        if (sequence == spec->sequences.end()) {
+            throw not_found(ProblemKind::NotFound,
+                            "job " + id + " has no sequence named '" + api::excerpt(name) + "'");
+        }
+        const std::string format = query.contains("format") ? query.at("format") : "webp";
+        if (format != "webp" && format != "png" && format != "jpeg") {
+            throw api::InvalidParameter("format", "expected webp, png or jpeg");
+        }
+        const int frame_ms = integer_parameter(query, "frame_ms", 100, 1, 65535);
+        const int quality = integer_parameter(query, "quality", 85, 1, 100);
+        std::vector<Rgba8Image> views;
+        std::uint64_t pixels = 0;
+        for (const std::string& frame_name : sequence->frames) {
+            const auto frame = context.jobs.frame(id, frame_name);
+            if (!frame) {
+                if (!settled(status)) {
+                    require_settled(status);
+                }
+                throw not_found(ProblemKind::NotFound,
+                                "the view " + frame_name + " of the sequence was not rendered");
+            }
+            views.push_back(
+                decode_8bit(std::vector<std::uint8_t>(frame->bytes.begin(), frame->bytes.end())));
+            pixels += std::uint64_t(views.back().width) * std::uint64_t(views.back().height);
+            if (pixels > kMaxSpinSetPixels) {
+                throw api::InvalidParameter("name",
+                                            "the sequence's views hold more than " +
+                                                std::to_string(kMaxSpinSetPixels) +
+                                                " pixels, more than one image of it may",
+                                            ErrorKind::LimitExceeded);
+            }
+        }
+        // A spin set is what its views are: the same whenever they are all rendered.
+        response.set_header("Cache-Control", "public, max-age=86400, immutable");
+        if (format == "webp") {
+            response.set_content(animated_webp(views, frame_ms, quality), "image/webp");
+            return;
+        }
+        const int columns =
+            integer_parameter(query, "columns", int(std::ceil(std::sqrt(double(views.size())))), 1,
+                              int(views.size()));
+        Frame sheet;
+        sheet.display = sprite_sheet(views, columns);
+        sheet.width = sheet.display.width;
+        sheet.height = sheet.display.height;
+        const api::ImageFormat image_format =
+            format == "png" ? api::ImageFormat::Png : api::ImageFormat::Jpeg;
+        const std::vector<std::uint8_t> bytes = api::encode(sheet, image_format, quality);
+        response.set_header("X-Oer-Sprite-Columns", std::to_string(columns));
+        response.set_content(std::string(bytes.begin(), bytes.end()),
+                             api::content_type_of(image_format));
     });
 }
 

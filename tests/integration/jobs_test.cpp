@@ -15,6 +15,8 @@
 #include <string>
 #include <thread>
 
+#include <webp/demux.h>
+
 #include "../mesh/gltf_test_assets.hpp"
 #include "http_support.hpp"
 #include "oer/mesh/camera.hpp"
@@ -78,6 +80,35 @@ Json wait_until_settled(httplib::Client& client, const std::string& id) {
 
 double stored_frames(httplib::Client& client) {
     return scrape(client).sum("oer_job_frames_stored_total");
+}
+
+// The views of an animated WebP, decoded by libwebpdemux's animation decoder.
+std::vector<Rgba8Image> webp_views(const std::string& bytes) {
+    WebPData data{reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()};
+    WebPAnimDecoderOptions options;
+    WebPAnimDecoderOptionsInit(&options);
+    options.color_mode = MODE_RGBA;
+    std::vector<Rgba8Image> views;
+    WebPAnimDecoder* decoder = WebPAnimDecoderNew(&data, &options);
+    if (!decoder) {
+        ADD_FAILURE() << "not an animated WebP";
+        return views;
+    }
+    WebPAnimInfo info;
+    WebPAnimDecoderGetInfo(decoder, &info);
+    while (WebPAnimDecoderHasMoreFrames(decoder)) {
+        std::uint8_t* pixels = nullptr;
+        int timestamp = 0;
+        if (!WebPAnimDecoderGetNext(decoder, &pixels, &timestamp)) {
+            ADD_FAILURE() << "a view does not decode";
+            break;
+        }
+        views.push_back({int(info.canvas_width), int(info.canvas_height),
+                         std::vector<std::uint8_t>(pixels, pixels + std::size_t(info.canvas_width) *
+                                                                        info.canvas_height * 4)});
+    }
+    WebPAnimDecoderDelete(decoder);
+    return views;
 }
 
 // The ZIP's entries by name, read from its central directory (the archive's own index).
@@ -178,6 +209,30 @@ TEST(Jobs, TurntableOf36ViewsAndTwoVariantsCompletes) {
                    client->Get(("/v1/jobs/" + id + "/frames/Green-000").c_str()),
                    server::ProblemKind::NotFound);
 
+    // The sequence as an animated WebP (lossy: near its views) and as a sprite sheet (exactly
+    // its views, in rows of 6).
+    const auto webp = client->Get(("/v1/jobs/" + id + "/sequences/Blue?quality=100").c_str());
+    expect_conforms("GET", "/v1/jobs/{id}/sequences/{name}", webp);
+    ASSERT_TRUE(webp);
+    const std::vector<Rgba8Image> views = webp_views(webp->body);
+    ASSERT_EQ(views.size(), 36u);
+    EXPECT_EQ(views[9].width, 64);
+    EXPECT_LT(frame_difference(views[9], image).mean, 4.0);
+    const auto sheet = client->Get(("/v1/jobs/" + id + "/sequences/Blue?format=png").c_str());
+    expect_conforms("GET", "/v1/jobs/{id}/sequences/{name}", sheet);
+    ASSERT_TRUE(sheet);
+    EXPECT_EQ(sheet->get_header_value("X-Oer-Sprite-Columns"), "6");
+    const Rgba8Image sprites = decode_image(sheet);
+    ASSERT_EQ(sprites.width, 6 * 64);
+    ASSERT_EQ(sprites.height, 6 * 48);
+    for (int y = 0; y < 48; ++y) {  // view 9: row 1, column 3
+        const auto row = sprites.pixels.begin() + ((48 + y) * sprites.width + 3 * 64) * 4;
+        ASSERT_TRUE(std::equal(row, row + 64 * 4, image.pixels.begin() + y * 64 * 4)) << y;
+    }
+    expect_problem("GET", "/v1/jobs/{id}/sequences/{name}",
+                   client->Get(("/v1/jobs/" + id + "/sequences/Green").c_str()),
+                   server::ProblemKind::NotFound);
+
     const auto zip = client->Get(("/v1/jobs/" + id + "/zip").c_str());
     expect_conforms("GET", "/v1/jobs/{id}/zip", zip);
     ASSERT_TRUE(zip);
@@ -249,8 +304,6 @@ TEST(Jobs, CancelledJobRendersNoMoreFrames) {
     const Json status = job_status(*client, id);
     EXPECT_EQ(status.at("state"), "cancelled");
     EXPECT_LT(status.at("done").get<int>(), 400);
-    // Frames stored before stay readable; the rest are not found as never to come: 503 says
-    // "not yet", so a cancelled job's missing frame is 503 too, its status says why.
     expect_problem("DELETE", "/v1/jobs/{id}",
                    client->Delete("/v1/jobs/0123456789abcdef0123456789abcdef"),
                    server::ProblemKind::UnknownId);
@@ -369,9 +422,11 @@ TEST(Jobs, InteractiveLatencyWithAndWithoutAJobSlow) {
     const Json status = job_status(*client, id);
     EXPECT_EQ(status.at("state"), "running");
     const double job_rate = status.at("done").get<double>() / seconds_since(job_start);
+    const double yielded = scrape(*client).sum("oer_batch_frames_yielded_total");
     client->Delete(("/v1/jobs/" + id).c_str());
     std::printf(
         "[ jobs ] interactive 256x256 frame, median of 12: %.1f ms alone, %.1f ms beside a "
-        "running job (x%.2f); the job's 256x256 frames meanwhile: %.2f frames/s\n",
-        alone, beside_job, beside_job / alone, job_rate);
+        "running job (x%.2f); the job's 256x256 frames meanwhile: %.2f frames/s, %.0f "
+        "of them stopped to let an interactive frame go first\n",
+        alone, beside_job, beside_job / alone, job_rate, yielded);
 }
