@@ -257,6 +257,18 @@ const std::vector<Option>& options() {
         integer_option("client-job-pixels", "PIXELS",
                        "most pixels a client's unfinished batch jobs may still hold; more: 429",
                        &ServiceConfig::client_job_pixels, 1, 1ull << 44),
+        Option{"queue", "URL",
+               "redis://HOST:PORT: the Redis stream replicas share batch jobs' frames through; "
+               "empty: jobs stay in this replica",
+               [](ServiceConfig& config, const std::string& source, const std::string& text) {
+                   if (!text.empty() && !text.starts_with("redis://")) {
+                       throw InvalidParameter(
+                           source,
+                           "expected redis://HOST:PORT or nothing, got " + quoted_excerpt(text));
+                   }
+                   config.queue = text;
+               },
+               [](const ServiceConfig& config) { return config.queue; }},
         Option{"access-log", "on|off", "one line per request on stderr",
                [](ServiceConfig& config, const std::string& source, const std::string& text) {
                    if (text != "on" && text != "off") {
