@@ -349,6 +349,9 @@ bool JobService::render(const FrameQueue::Task& task) {
                                                         RequestForm::Json, client);
             store_.put_frame(task.job, task.frame, *encoded.bytes);
             metrics_.job_frames_stored.increment();
+            // One line a frame, as the access log has one a request: which replica rendered
+            // what, after a replica was killed mid-job.
+            log_("jobs: frame " + task.frame + " of job " + task.job + " stored");
             queue_->acknowledge(task);
             changed();
             return true;

@@ -1,6 +1,7 @@
 #include "oer/server/service.hpp"
 
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
@@ -30,6 +31,7 @@
 #include "oer/server/asset_store.hpp"
 #include "oer/server/byte_lru_cache.hpp"
 #include "oer/server/metrics.hpp"
+#include "redis_frame_queue.hpp"
 #include "render_pool.hpp"
 #include "request_state.hpp"
 #include "router.hpp"
@@ -108,6 +110,8 @@ struct Service::Impl {
     void retry_renderer(FrameRequest test_frame);
     // Starts the interactive workers, then the batch jobs' worker, each with the test frame.
     void start_pools(const FrameRequest& test_frame);
+    // The queue of batch jobs' frames: --queue's, or this process's own.
+    std::unique_ptr<FrameQueue> job_queue();
     // One HTTP listener: its server, its routes, the thread its accept loop runs on.
     struct Listener {
         std::unique_ptr<BoundedHttpServer> http;
@@ -192,7 +196,7 @@ void Service::Impl::start() {
         double(config.transfer_ray_budget), client_work, log);
     start_renderer();
     jobs = std::make_unique<JobService>(
-        jobs_store, *frame_service, std::make_unique<LocalFrameQueue>(), render_limits,
+        jobs_store, *frame_service, job_queue(), render_limits,
         JobBounds{api::JobLimits{config.job_max_frames, config.job_max_pixels},
                   config.client_job_frames, config.client_job_pixels},
         metrics, log);
@@ -240,6 +244,19 @@ void Service::Impl::start_renderer() {
         renderer_retries =
             std::thread([this, test_frame = std::move(test_frame)] { retry_renderer(test_frame); });
     }
+}
+
+std::unique_ptr<FrameQueue> Service::Impl::job_queue() {
+    if (config.queue.empty()) {
+        return std::make_unique<LocalFrameQueue>();
+    }
+    // This replica's name among the queue's consumers: its host (a pod's name) and process.
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    auto queue = std::make_unique<RedisFrameQueue>(
+        config.queue, std::string(host) + "-" + std::to_string(::getpid()));
+    log("jobs: frames shared through the queue at " + config.queue);
+    return queue;
 }
 
 void Service::Impl::start_pools(const FrameRequest& test_frame) {
