@@ -202,7 +202,15 @@ std::string JobService::submit(const api::JobSpec& spec, const std::string& clie
     for (const api::JobFrame& frame : spec.frames) {
         names.push_back(frame.name);
     }
-    queue_->push(id, names);
+    try {
+        queue_->push(id, names);
+    } catch (const Error& error) {
+        // Stored but never to be rendered: cancelled, so that it holds none of the client's
+        // bounds, and refused for now.
+        store_.cancel(id);
+        log_(std::string("jobs: job ") + id + " refused: " + error.what());
+        throw unavailable("the job queue cannot take the job now; try again", 5);
+    }
     changed();
     return id;
 }
@@ -313,12 +321,21 @@ std::optional<JobFrameBytes> JobService::frame(const std::string& id, const std:
 
 void JobService::run() {
     pthread_setname_np(pthread_self(), "oer-jobs");
+    std::string last_failure;
     while (!stopping_.load()) {
         std::optional<FrameQueue::Task> task;
         try {
             task = queue_->take(std::chrono::milliseconds(200));
+            if (!last_failure.empty()) {
+                log_("jobs: the queue answers again");
+                last_failure.clear();
+            }
         } catch (const std::exception& error) {
-            log_(std::string("jobs: the queue failed: ") + error.what());
+            // Each new cause once, not a line every pause.
+            if (error.what() != last_failure) {
+                last_failure = error.what();
+                log_("error: jobs: the queue failed: " + last_failure + "; trying again");
+            }
             std::this_thread::sleep_for(kRetryPause);
             continue;
         }

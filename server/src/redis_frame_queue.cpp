@@ -39,6 +39,23 @@ std::optional<FrameQueue::Task> task_of(const redisReply* entry) {
     return task;
 }
 
+// Made again after any failure of a take: a Redis restarted without its data has lost the
+// group too (NOGROUP), and the next take makes it again.
+class GroupCheck {
+  public:
+    explicit GroupCheck(bool& made) : made_(made) {}
+    ~GroupCheck() {
+        if (!passed_) {
+            made_ = false;
+        }
+    }
+    void passed() { passed_ = true; }
+
+  private:
+    bool& made_;
+    bool passed_ = false;
+};
+
 }  // namespace
 
 // One connection, made again after any failure (the server restarted, the network dropped),
@@ -157,10 +174,6 @@ RedisFrameQueue::RedisFrameQueue(const std::string& url, std::string consumer)
     pusher_ = std::make_unique<Connection>(host, port);
     taker_ = std::make_unique<Connection>(host, port);
     keeper_ = std::make_unique<Connection>(host, port);
-    // From the stream's first entry, so that frames added before any replica made the group are
-    // rendered too; a group made already (by another replica) is kept as it is.
-    taker_->run({"XGROUP", "CREATE", kStream, kGroup, "0", "MKSTREAM"}, std::chrono::seconds(5),
-                "BUSYGROUP");
     heartbeat_ = std::thread([this] { heartbeat(); });
 }
 
@@ -185,6 +198,14 @@ void RedisFrameQueue::push(const std::string& job, const std::vector<std::string
 std::optional<FrameQueue::Task> RedisFrameQueue::take(std::chrono::milliseconds wait) {
     const std::string idle =
         std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(kClaimAfter).count());
+    if (!group_made_) {
+        // From the stream's first entry, so that frames added before any replica made the
+        // group are rendered too; a group made already (by another replica) is kept as it is.
+        taker_->run({"XGROUP", "CREATE", kStream, kGroup, "0", "MKSTREAM"}, std::chrono::seconds(5),
+                    "BUSYGROUP");
+        group_made_ = true;
+    }
+    GroupCheck check(group_made_);
     std::optional<Task> task;
     // [next cursor, [entries], [deleted ids]]
     const Reply claimed =
@@ -204,6 +225,7 @@ std::optional<FrameQueue::Task> RedisFrameQueue::take(std::chrono::milliseconds 
             task = task_of(read->element[0]->element[1]->element[0]);
         }
     }
+    check.passed();
     if (task) {
         const std::lock_guard lock(current_mutex_);
         current_ = task->receipt;

@@ -32,8 +32,10 @@ class RedisFrameQueue : public FrameQueue {
     static constexpr std::chrono::seconds kHeartbeat{1};
     static constexpr std::chrono::seconds kClaimAfter{5};
 
-    // url: redis://HOST[:PORT] (6379 by default). Connects and makes the group if missing;
-    // throws oer::Error (Io) naming the server when it cannot, (InvalidInput) for a bad url.
+    // url: redis://HOST[:PORT] (6379 by default); throws oer::Error (InvalidInput) for a bad
+    // one. Connects at the first command, and again after any failure, so that a replica starts
+    // while its queue does not answer yet (a pod before the queue's) and carries on once it
+    // does; meanwhile each command throws oer::Error (Io) naming the server.
     // consumer: this replica's name in the group, unique among the replicas.
     RedisFrameQueue(const std::string& url, std::string consumer);
     ~RedisFrameQueue() override;
@@ -52,6 +54,7 @@ class RedisFrameQueue : public FrameQueue {
     std::unique_ptr<Connection> pusher_;  // HTTP threads' pushes, under push_mutex_
     std::unique_ptr<Connection> taker_;   // the runner's takes and acknowledgements
     std::unique_ptr<Connection> keeper_;  // the heartbeat's claims
+    bool group_made_ = false;             // by take(), on the runner's thread only
     std::mutex push_mutex_;
     std::mutex current_mutex_;
     std::condition_variable stopping_changed_;

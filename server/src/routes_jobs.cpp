@@ -129,6 +129,8 @@ void add_job_routes(Router& router, ServiceContext& context) {
         const std::string id = request.matches[1];
         job_status(context, id, false);  // 404 before the stream starts
         response.set_header("Cache-Control", kNoStore);
+        // Each event as it comes, not held in a proxy's buffer (nginx reads this header).
+        response.set_header("X-Accel-Buffering", "no");
         // Each change of the job's progress as one `progress` event, its data the job's
         // status (as GET /v1/jobs/{id} without frames); the stream ends after the event of
         // a settled job (done, failed, cancelled).
