@@ -26,12 +26,7 @@ RenderSpec parse_render_at(const Json& member, const std::string& prefix,
     try {
         return parse_render_json(member.dump(), limits);
     } catch (const InvalidParameter& invalid) {
-        const std::string message = invalid.what();
-        const std::string detail =
-            message.substr(std::min(message.size(), invalid.parameter().size() + 2));
-        const std::string parameter =
-            invalid.parameter() == "body" ? prefix : prefix + "/" + invalid.parameter();
-        throw InvalidParameter(parameter, detail, invalid.kind());
+        throw invalid.nested_in(prefix);
     } catch (const MalformedRequest&) {
         throw;
     } catch (const Error& error) {

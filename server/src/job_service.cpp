@@ -129,19 +129,16 @@ std::string JobService::submit(const api::JobSpec& spec, const std::string& clie
         if (!checked.insert(api::normalised_render_json(without_camera).dump()).second) {
             continue;
         }
-        const std::string at = "frames/" + std::to_string(i) + "/render/";
+        const std::string at = "frames/" + std::to_string(i) + "/render";
         try {
             frames_.check(spec.frames[i].spec);
         } catch (const api::InvalidParameter& invalid) {
-            const std::string message = invalid.what();
-            throw api::InvalidParameter(at + invalid.parameter(),
-                                        message.substr(invalid.parameter().size() + 2),
-                                        invalid.kind());
+            throw invalid.nested_in(at);
         } catch (const HttpError& refused) {
             Problem problem = refused.problem();
             if (problem.extensions.contains("parameter")) {
                 problem.extensions["parameter"] =
-                    at + problem.extensions["parameter"].get<std::string>();
+                    at + "/" + problem.extensions["parameter"].get<std::string>();
             }
             problem.detail = "frame " + spec.frames[i].name + ": " + problem.detail;
             throw HttpError(problem, refused.headers());
