@@ -12,7 +12,7 @@ foreach(test_and_seconds IN ITEMS
         KillRestart.Slow:81 RenderFlags:76 FrameSweepQuick:55 CompressedGltfToolsSlow.Slow:50
         Replicas:43 RenderCancellationSlow.Slow:42 FrameRendererTest:26 RenderBudget.Slow:20
         ShaderSourcesGlslang:16 OcclusionReferenceTest:15 Replicas.Slow:13
-        TransferPreliminarySlow.Slow:13 MaterialShadingTest:12 Cli:10 KillRestart:9
+        TransferPreliminarySlow.Slow:13 MaterialShadingTest:12 Cli:10 KillRestart:22
         OcclusionTest:8 RenderBudgetShare.Slow:8 HardCases.Slow:8 TransferPreparation.Slow:6
         HostileClients.Slow:5 FullDisk:5 ReferenceCommand:5 JobReplicas:21 Jobs.Slow:10
         # The sanitizer build's.
@@ -23,7 +23,7 @@ foreach(test_and_seconds IN ITEMS
         TransferBakeGround:11 ErrorsApiKey:10 Cors:10 Listening:10 RenderConcurrency:10
         TransferPreparation:9 RenderBudgetShare:8 ShadowCatcherOverHttp:8 RenderCaching:8
         RenderDeadline:8 HostileUploads:8 TransferBakeDeterminism:7 RigFromJson:6
-        StoredAssetsApiKey:6 Errors:6 RenderMaterials:5 Jobs:23)
+        StoredAssetsApiKey:6 Errors:6 RenderMaterials:5 Jobs:12)
     string(REPLACE ":" ";" test_and_seconds "${test_and_seconds}")
     list(GET test_and_seconds 0 test)
     list(GET test_and_seconds 1 seconds)

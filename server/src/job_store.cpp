@@ -15,6 +15,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::string_view kHiddenPrefix = ".";  // write_file_atomically's ".tmp-..."
+constexpr std::string_view kWriteTemporaryPrefix = ".tmp-";
 
 std::optional<std::string> read_whole(const fs::path& path) {
     std::ifstream file(path, std::ios::binary);
@@ -48,11 +49,26 @@ bool is_job_id(std::string_view text) {
     return text.size() == 32 && text.find_first_not_of("0123456789abcdef") == std::string::npos;
 }
 
-JobStore::JobStore(const fs::path& data_dir) : folder_(data_dir / "jobs") {
+JobStore::JobStore(const fs::path& data_dir, std::function<void(std::string_view)> log)
+    : folder_(data_dir / "jobs") {
     std::error_code error;
     fs::create_directories(folder_, error);
     if (error) {
         throw Error(ErrorKind::Io, "cannot create " + folder_.string() + ": " + error.message());
+    }
+    const auto abandoned_before = fs::file_time_type::clock::now() - kAbandonedTemporaryAge;
+    for (const std::string& id : names_in(folder_)) {
+        for (const char* sub : {"frames", "failed"}) {
+            for (const auto& entry : fs::directory_iterator(folder_ / id / sub, error)) {
+                std::error_code unreadable;
+                if (entry.path().filename().string().starts_with(kWriteTemporaryPrefix) &&
+                    entry.last_write_time(unreadable) < abandoned_before && !unreadable &&
+                    fs::remove(entry.path(), unreadable)) {
+                    log("jobs: removed " + entry.path().string() +
+                        ", left by an interrupted write");
+                }
+            }
+        }
     }
 }
 

@@ -11,6 +11,7 @@
 // (no slash, no leading dot), so that nothing is read or written outside DIR/jobs.
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -26,8 +27,11 @@ bool is_job_id(std::string_view text);
 
 class JobStore {
   public:
-    // Creates DIR/jobs if missing; throws oer::Error (Io) when it cannot.
-    explicit JobStore(const std::filesystem::path& data_dir);
+    // Creates DIR/jobs if missing (throws oer::Error (Io) when it cannot), and removes the
+    // temporary files of frame writes a killed process left, as the asset store does its own:
+    // those unmodified for kAbandonedTemporaryAge (younger ones may be another replica's writes
+    // in progress), each logged.
+    JobStore(const std::filesystem::path& data_dir, std::function<void(std::string_view)> log);
 
     // A new job's id, its record written whole before it returns.
     std::string create(const nlohmann::json& record);

@@ -87,7 +87,7 @@ struct Service::Impl {
           meshes(store, metrics, uploads, mesh_limits(config), kAssetCacheBytes / 2),
           transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget),
                     config.transfer_store_bytes),
-          jobs_store(config.data_dir),
+          jobs_store(config.data_dir, log),
           frames(config.frame_cache_bytes),
           client_work(config.client_render_rate, double(config.max_render_seconds)) {
         render_limits.max_width = config.max_frame_width;

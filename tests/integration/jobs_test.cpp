@@ -1,16 +1,12 @@
 // Batch jobs over HTTP (POST /v1/jobs, docs/jobs.md): a turntable of 36 views x 2 variants
-// followed to the end by its event stream, its frames by name and as a ZIP; a server stopped
-// mid-job and started again on its data folder finishes the job without rendering a stored
-// frame again (the frames' files untouched, the new server's count of stored frames the ones
-// missing); cancellation; the bounds per job and per client; malformed jobs named by member;
-// and the latency of interactive frames with and without a running job (printed).
+// followed to the end by its event stream, its frames by name, as spin sets and as a ZIP (a
+// server killed mid-job and started again: tests/process/kill_restart_test.cpp);
+// cancellation; the bounds per job and per client; malformed jobs named by member; and the
+// latency of interactive frames with and without a running job (printed).
 #include <gtest/gtest.h>
-
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <string>
 #include <thread>
@@ -60,22 +56,6 @@ std::string submit(httplib::Client& client, const Json& job) {
 
 Json job_status(httplib::Client& client, const std::string& id) {
     return expect_conforms("GET", "/v1/jobs/{id}", client.Get(("/v1/jobs/" + id).c_str()));
-}
-
-bool settled(const Json& status) {
-    const std::string state = status.is_object() ? status.value("state", "") : "";
-    return state == "done" || state == "failed" || state == "cancelled";
-}
-
-Json wait_until_settled(httplib::Client& client, const std::string& id) {
-    Json status;
-    EXPECT_TRUE(eventually(
-        [&] {
-            status = job_status(client, id);
-            return settled(status);
-        },
-        std::chrono::minutes(3)));
-    return status;
 }
 
 double stored_frames(httplib::Client& client) {
@@ -249,49 +229,6 @@ TEST(Jobs, TurntableOf36ViewsAndTwoVariantsCompletes) {
     EXPECT_EQ(entries.count("Red-000.png"), 1u);
     EXPECT_EQ(entries.at("Blue-009.png"), frame->body.size());
     EXPECT_NE(zip->body.find(frame->body), std::string::npos);
-}
-
-TEST(Jobs, ResumeAfterRestartRendersNoStoredFrameAgain) {
-    TempRoot root;
-    const server::ServiceConfig config = test_config(root.data());
-    std::string id;
-    std::map<std::string, std::pair<ino_t, std::int64_t>> stored;  // name -> inode, mtime (ns)
-    {
-        TestServer first(config);
-        auto client = first.client();
-        id = submit(*client, turntable(100));
-        ASSERT_FALSE(id.empty());
-        ASSERT_TRUE(eventually([&] { return job_status(*client, id).at("done") >= 6; },
-                               std::chrono::minutes(2)));
-    }  // stopped mid-job: its frame in flight is stopped, not stored
-    for (const auto& entry :
-         std::filesystem::directory_iterator(root.data() / "jobs" / id / "frames")) {
-        struct stat info {};
-        ASSERT_EQ(::stat(entry.path().c_str(), &info), 0);
-        stored[entry.path().filename().string()] = {
-            info.st_ino, std::int64_t(info.st_mtim.tv_sec) * 1'000'000'000 + info.st_mtim.tv_nsec};
-    }
-    ASSERT_GE(stored.size(), 6u);
-    ASSERT_LT(stored.size(), 100u) << "the job ended before the server was stopped";
-
-    TestServer second(config);
-    auto client = second.client();
-    const Json status = wait_until_settled(*client, id);
-    EXPECT_EQ(status.at("state"), "done");
-    EXPECT_EQ(status.at("done"), 100);
-    // Rendered here: exactly the frames the first server had not stored.
-    EXPECT_EQ(stored_frames_at_least(*client, double(100 - stored.size())),
-              double(100 - stored.size()));
-    for (const auto& [name, identity] : stored) {
-        struct stat info {};
-        ASSERT_EQ(::stat((root.data() / "jobs" / id / "frames" / name).c_str(), &info), 0);
-        EXPECT_EQ(info.st_ino, identity.first) << name << " was written again";
-        EXPECT_EQ(std::int64_t(info.st_mtim.tv_sec) * 1'000'000'000 + info.st_mtim.tv_nsec,
-                  identity.second)
-            << name << " was written again";
-    }
-    std::printf("[ jobs ] restart: %zu frames stored before it, %d after\n", stored.size(),
-                int(100 - stored.size()));
 }
 
 TEST(Jobs, CancelledJobRendersNoMoreFrames) {
