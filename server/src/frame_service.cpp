@@ -118,7 +118,7 @@ void FrameService::bake_ahead(std::shared_ptr<const FrameRequest> request,
     };
     // Kept until the bake has ended, not only until it starts: between the two the registry
     // may not say Baking yet, and a preparation must never read as not prepared meanwhile.
-    const bool queued = bake_lane_.submit([this, request, ids = mesh_ids, what,
+    const bool queued = bake_lane_.submit([this, request, ids = std::move(mesh_ids), what,
                                            dequeue](const std::stop_token& stop) {
         try {
             transfers_.transfer(*request, ids, stop, false);
@@ -277,36 +277,35 @@ std::optional<Frame> FrameService::rendered_once(std::shared_ptr<FrameRequest> r
     // reads it).
     std::stop_source stop;
     const bool batch = client.lane == Lane::Batch;
-    std::future<Frame> pending =
-        (batch ? batch_pool_ : pool_)
-            .submit(
-                [this, request, ids = mesh_ids, stop = stop.get_token()](FrameRenderer& renderer) {
-                    if (stop.stop_requested()) {
-                        metrics_.renders_skipped.increment();
-                        throw_if_stopped(stop, "the frame");
-                    }
-                    try {
-                        double transfer_ms = 0.0;
-                        if (request->occlusion) {
-                            const auto transfer_start = Clock::now();
-                            request->transfer = transfers_.transfer(*request, ids, stop);
-                            transfer_ms = milliseconds_since(transfer_start);
-                        }
-                        const auto start = Clock::now();
-                        Frame frame = renderer.render(*request, stop);
-                        metrics_.render_seconds.observe(
-                            std::chrono::duration<double>(Clock::now() - start).count());
-                        if (request->occlusion) {
-                            frame.timings_ms["transfer"] = transfer_ms;
-                        }
-                        return frame;
-                    } catch (const Error& error) {
-                        if (error.kind() == ErrorKind::Cancelled) {
-                            metrics_.renders_stopped.increment();
-                        }
-                        throw;
-                    }
-                });
+    RenderPool& pool = batch ? batch_pool_ : pool_;
+    std::future<Frame> pending = pool.submit(
+        [this, request, ids = mesh_ids, stop = stop.get_token()](FrameRenderer& renderer) {
+            if (stop.stop_requested()) {
+                metrics_.renders_skipped.increment();
+                throw_if_stopped(stop, "the frame");
+            }
+            try {
+                double transfer_ms = 0.0;
+                if (request->occlusion) {
+                    const auto transfer_start = Clock::now();
+                    request->transfer = transfers_.transfer(*request, ids, stop);
+                    transfer_ms = milliseconds_since(transfer_start);
+                }
+                const auto start = Clock::now();
+                Frame frame = renderer.render(*request, stop);
+                metrics_.render_seconds.observe(
+                    std::chrono::duration<double>(Clock::now() - start).count());
+                if (request->occlusion) {
+                    frame.timings_ms["transfer"] = transfer_ms;
+                }
+                return frame;
+            } catch (const Error& error) {
+                if (error.kind() == ErrorKind::Cancelled) {
+                    metrics_.renders_stopped.increment();
+                }
+                throw;
+            }
+        });
     const auto deadline = Clock::now() + deadline_;
     bool yielded = false;
     while (pending.wait_for(batch ? kBatchYieldInterval : kClientPollInterval) !=

@@ -108,7 +108,7 @@ class JobService {
     std::uint64_t wait_for_change(std::uint64_t seen, std::chrono::milliseconds wait);
 
     // A rendered frame; nullopt when the job has no frame of that name or it is not rendered
-    // yet (`rendered` says which).
+    // yet (`known`, when given, is set to whether the job has a frame of that name).
     std::optional<JobFrameBytes> frame(const std::string& id, const std::string& name,
                                        bool* known = nullptr);
     // The job's specification (nullopt: no such job).
