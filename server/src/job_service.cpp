@@ -8,6 +8,7 @@
 #include "http_errors.hpp"
 #include "oer/api/frame_encoding.hpp"
 #include "oer/api/invalid_parameter.hpp"
+#include "oer/core/thread_priority.hpp"
 
 namespace oer::server {
 
@@ -318,6 +319,13 @@ std::optional<JobFrameBytes> JobService::frame(const std::string& id, const std:
 
 void JobService::run() {
     pthread_setname_np(pthread_self(), "oer-jobs");
+    // The runner encodes and writes each frame itself: at the batch worker's priority, below
+    // the interactive workers, not at the HTTP threads' above them.
+    try {
+        lower_thread_priority(kBatchNice, "the batch jobs' runner");
+    } catch (const Error& error) {
+        log_(std::string("warning: jobs: ") + error.what());
+    }
     std::string last_failure;
     while (!stopping_.load()) {
         std::optional<FrameQueue::Task> task;
