@@ -7,7 +7,9 @@ set -euo pipefail
 # cmake/compiler_cache.cmake, which make a rebuild on the same machine cost hashes, not compiles;
 # lld, the linker of cmake/linker.cmake, several times faster than GNU ld over the tests.
 # libwebp-dev, libavif-dev: glTF's WebP and AVIF textures (EXT_texture_webp, EXT_texture_avif,
-# renderer/mesh/src/texture_webp.cpp, texture_avif.cpp).
+# renderer/mesh/src/texture_webp.cpp, texture_avif.cpp); libwebp-dev's libwebpmux also encodes
+# batch jobs' turntables as animated WebP (server/src/spin_set.cpp). libhiredis-dev: the Redis
+# client of the batch jobs' queue across replicas (server/src/redis_frame_queue.cpp).
 build_packages=(
     build-essential cmake ninja-build ccache lld pkg-config git clang-format
     libopenimageio-dev openimageio-tools libopenexr-dev
@@ -15,7 +17,7 @@ build_packages=(
     libmeshoptimizer-dev libdraco-dev libembree-dev libwebp-dev libavif-dev
     libcpp-httplib-dev libturbojpeg0-dev libjpeg62-turbo-dev
     libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev
-    libssl-dev libcli11-dev
+    libssl-dev libcli11-dev libhiredis-dev
     libgtest-dev libgmock-dev
     libyaml-cpp-dev
     glslang-tools binutils
@@ -32,8 +34,11 @@ build_packages=(
 # the deployment's docker/nginx/nginx.conf with Debian's /usr/sbin/nginx, in the foreground on a
 # loopback port; it needs no nginx service (on a machine with systemd, Debian's package starts
 # one on port 80: `systemctl disable --now nginx` stops it for good).
+# redis-server is the batch jobs' queue of the multi-replica job test
+# (tests/process/job_replicas_test.cpp), run in the foreground on a loopback port (Debian's
+# package also starts one on port 6379 where systemd runs: `systemctl disable --now redis-server`).
 test_packages=(blender-data glmark2-data assimp-testmodels chromium assimp-utils
-    python3-matplotlib clang libclang-rt-14-dev llvm nginx gltfpack)
+    python3-matplotlib clang libclang-rt-14-dev llvm nginx gltfpack redis-server)
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 with_test_data=false

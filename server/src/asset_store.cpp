@@ -128,10 +128,12 @@ void fsync_folder(const fs::path& folder) {
     }
 }
 
+}  // namespace
+
 // Writes bytes to a new temporary file beside path, flushes it, renames it over path and
 // flushes the folder, so that path holds either its old content or all of bytes. entry names
 // what is written, for StorageFull.
-void write_atomically(const fs::path& path, std::string_view bytes, const std::string& entry) {
+void write_file_atomically(const fs::path& path, std::string_view bytes, const std::string& entry) {
     std::string temporary = (path.parent_path() /
                              (std::string(kTemporaryPrefix) + path.filename().string() + "-XXXXXX"))
                                 .string();
@@ -162,6 +164,8 @@ void write_atomically(const fs::path& path, std::string_view bytes, const std::s
     }
     fsync_folder(path.parent_path());
 }
+
+namespace {
 
 // The whole file, or nullopt if it does not exist.
 std::optional<std::string> read_file(const fs::path& path) {
@@ -380,7 +384,7 @@ std::string AssetStore::put_source(SourceKind kind, std::string_view bytes,
                         std::string(kind_name(kind)) + " " + existing->filename().string() +
                         "; the same bytes cannot also be a ." + std::string(extension));
     }
-    write_atomically(path, bytes, entry_name(kind, id));
+    write_file_atomically(path, bytes, entry_name(kind, id));
     return id;
 }
 
@@ -407,7 +411,7 @@ void AssetStore::put_derived(DerivedKind kind, std::string_view id, std::string_
     const fs::path path = derived_path(kind, id);
     const std::string entry = seal(bytes);
     const std::lock_guard lock(lock_for(id));
-    write_atomically(path, entry, entry_name(kind, id));
+    write_file_atomically(path, entry, entry_name(kind, id));
 }
 
 bool AssetStore::put_derived_if_room(DerivedKind kind, std::string_view id,

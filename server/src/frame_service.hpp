@@ -113,18 +113,25 @@ struct MeshPreparation {
 // How the request named its members, for the `parameter` of a 404.
 enum class RequestForm { Json, Query };
 
+// Which workers draw a frame: the interactive pool, or the batch jobs' own worker below it
+// (job_service.hpp), so that a batch frame never holds a place an interactive one waits for.
+enum class Lane { Interactive, Batch };
+
 class FrameService {
   public:
     FrameService(EnvironmentRegistry& environments, MeshRegistry& meshes,
-                 TransferRegistry& transfers, RenderPool& pool, ByteLruCache& frames,
-                 ServiceMetrics& metrics, std::chrono::seconds deadline, RenderBudgets budgets,
-                 double transfer_rays_per_phase, ClientWorkBudget& client_work,
-                 std::function<void(std::string_view)> log);
+                 TransferRegistry& transfers, RenderPool& pool, RenderPool& batch_pool,
+                 ByteLruCache& frames, ServiceMetrics& metrics, std::chrono::seconds deadline,
+                 RenderBudgets budgets, double transfer_rays_per_phase,
+                 ClientWorkBudget& client_work, std::function<void(std::string_view)> log);
 
-    // Who asks: the client's address (its share of render work) and whether it has gone.
+    // Who asks: the client's address (its share of render work) and whether it has gone. A
+    // batch job's frame is bounded by the job's own limits, not the client's share of
+    // rendering, and waits for its worker without the request deadline (until `gone`).
     struct Client {
         std::string address;
         std::function<bool()> gone;
+        Lane lane = Lane::Interactive;
     };
 
     // etag: api::render_etag(spec), computed once by the caller (which answers 304 with it).
@@ -153,6 +160,10 @@ class FrameService {
     // alpha-tested and blended surfaces let it through as the reference does), the ground never
     // counting as the product. Throws as render does before it renders.
     PickedSurface pick(const api::PickRequest& request, RequestForm form);
+    // What render checks before any work: the ids known (404), the cost within the budgets
+    // (413), the variants and materials in the meshes (422), each named as a JSON request names
+    // it. For a batch job's frames, when it is submitted.
+    void check(const api::RenderSpec& spec) { resolve(spec, RequestForm::Json); }
 
     // Bakes ahead, on the bake lane (bake_lane.hpp), the transfer of mesh_id's standard scene (the
     // mesh alone, untransformed, on the ground, one bounce: the scene of a product's first frames),
@@ -185,12 +196,19 @@ class FrameService {
     // them (404 when the store no longer holds the map); its transfer comes on the worker.
     FrameRequest frame_request(const ResolvedRender& resolved);
     // The frame a worker renders from request, with its transfer when occlusion is on, while
-    // the client waits and within the deadline (503 past either).
-    Frame rendered(std::shared_ptr<FrameRequest> request, std::vector<std::string> mesh_ids,
+    // the client waits and within the deadline (503 past either); a batch frame yields to
+    // interactive ones (rendered_once again until one try is not stopped for them).
+    Frame rendered(std::shared_ptr<FrameRequest> request, const std::vector<std::string>& mesh_ids,
                    const Client& client);
+    // One try: nullopt when a batch frame was stopped to let an interactive frame go first.
+    std::optional<Frame> rendered_once(std::shared_ptr<FrameRequest> request,
+                                       const std::vector<std::string>& mesh_ids,
+                                       const Client& client);
     // The job's result once a worker has run it, while the client waits and within the
-    // deadline: past either, `stop` is requested and 503 thrown.
-    Frame awaited(std::future<Frame>& pending, std::stop_source& stop, const Client& client);
+    // deadline: past either, `stop` is requested and 503 thrown. A batch client's job is stopped
+    // when an interactive frame arrives: nullopt when it stopped before it finished.
+    std::optional<Frame> awaited(std::future<Frame>& pending, std::stop_source& stop,
+                                 const Client& client);
     // The spec of the frame whose depth places hotspots and whose camera a pick sees through:
     // the same camera, meshes and ground, at one sample a pixel, without shadows, transfer or
     // the environment's map behind.
@@ -203,6 +221,7 @@ class FrameService {
     MeshRegistry& meshes_;
     TransferRegistry& transfers_;
     RenderPool& pool_;
+    RenderPool& batch_pool_;
     ByteLruCache& frames_;
     ServiceMetrics& metrics_;
     const std::chrono::seconds deadline_;

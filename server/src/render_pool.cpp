@@ -6,17 +6,17 @@
 
 namespace oer::server {
 
-namespace {}  // namespace
-
 struct RenderPool::Worker {
-    RenderThread thread{kRenderNice};
+    explicit Worker(int nice) : thread(nice) {}
+    RenderThread thread;
     std::unique_ptr<FrameRenderer> renderer;  // touched only by jobs on `thread`
     std::atomic<std::size_t> pending{0};
 };
 
 RenderPool::RenderPool(int workers, int max_waiting, const FrameLimits& limits,
-                       DepthObserver observer, RenderAdmission admission)
+                       DepthObserver observer, RenderAdmission admission, int nice)
     : worker_target_(std::max(workers, 1)),
+      nice_(nice),
       capacity_(std::size_t(worker_target_) + std::size_t(std::max(max_waiting, 0))),
       limits_(limits),
       observer_(std::move(observer)),
@@ -35,7 +35,7 @@ void RenderPool::start(const Job& test) {
     }
     try {
         for (int i = 0; i < worker_target_; ++i) {
-            auto worker = std::make_unique<Worker>();
+            auto worker = std::make_unique<Worker>(nice_);
             Worker* raw = worker.get();
             workers_.push_back(std::move(worker));
             raw->thread

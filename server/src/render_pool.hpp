@@ -44,6 +44,10 @@ namespace oer::server {
 // clients' cached frames had a p99 of 6-12 ms at the same priority and 4-4.5 ms at 5 or 10
 // below (tests/integration/load_test.cpp); with no requests the renders have the CPU alone.
 inline constexpr int kRenderNice = 10;
+// The batch jobs' worker (job_service.hpp): the lowest priority, as the bake lane's, so that
+// an interactive frame takes the cores from a batch frame at once (nice 19 against 10 weighs
+// 15 against 110 in the kernel's fair scheduler: under 12 % of a contended core).
+inline constexpr int kBatchNice = 19;
 
 class QueueFull : public std::runtime_error {
   public:
@@ -70,8 +74,9 @@ class RenderPool {
     using DepthObserver = std::function<void(std::size_t waiting)>;
 
     // Makes no worker yet: start() does.
+    // nice: the workers' nice increment (kRenderNice; the batch jobs' pool, kBatchNice).
     RenderPool(int workers, int max_waiting, const FrameLimits& limits, DepthObserver observer = {},
-               RenderAdmission admission = {});
+               RenderAdmission admission = {}, int nice = kRenderNice);
     // Finishes the jobs in flight, then destroys each renderer on its own thread.
     ~RenderPool();
     RenderPool(const RenderPool&) = delete;
@@ -92,6 +97,8 @@ class RenderPool {
     std::future<Frame> submit(Job job);
 
     std::size_t waiting() const;  // jobs accepted but not yet started
+    // No job accepted and unfinished: what a batch frame waits for (FrameService::rendered).
+    bool idle() const { return in_flight_.load() == 0; }
     int worker_count() const { return started() ? int(workers_.size()) : 0; }
     // The first worker's GL; nullptr before the pool has started.
     const GlInfo* info() const;
@@ -109,6 +116,7 @@ class RenderPool {
     void free_place();
 
     const int worker_target_;
+    const int nice_;
     const std::size_t capacity_;
     const FrameLimits limits_;
     const DepthObserver observer_;

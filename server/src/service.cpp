@@ -1,6 +1,7 @@
 #include "oer/server/service.hpp"
 
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
@@ -19,6 +20,8 @@
 #include "environment_registry.hpp"
 #include "frame_service.hpp"
 #include "http_exchange.hpp"
+#include "job_service.hpp"
+#include "job_store.hpp"
 #include "listen_backlog.hpp"
 #include "mesh_registry.hpp"
 #include "oer/api/content_id.hpp"
@@ -28,6 +31,7 @@
 #include "oer/server/asset_store.hpp"
 #include "oer/server/byte_lru_cache.hpp"
 #include "oer/server/metrics.hpp"
+#include "redis_frame_queue.hpp"
 #include "render_pool.hpp"
 #include "request_state.hpp"
 #include "router.hpp"
@@ -83,6 +87,7 @@ struct Service::Impl {
           meshes(store, metrics, uploads, mesh_limits(config), kAssetCacheBytes / 2),
           transfers(store, metrics, log, kTransferCacheBytes, double(config.transfer_ray_budget),
                     config.transfer_store_bytes),
+          jobs_store(config.data_dir, log),
           frames(config.frame_cache_bytes),
           client_work(config.client_render_rate, double(config.max_render_seconds)) {
         render_limits.max_width = config.max_frame_width;
@@ -103,6 +108,10 @@ struct Service::Impl {
     // stops, renders answering 503 meanwhile.
     void start_renderer();
     void retry_renderer(FrameRequest test_frame);
+    // Starts the interactive workers, then the batch jobs' worker, each with the test frame.
+    void start_pools(const FrameRequest& test_frame);
+    // The queue of batch jobs' frames: --queue's, or this process's own.
+    std::unique_ptr<FrameQueue> job_queue();
     // One HTTP listener: its server, its routes, the thread its accept loop runs on.
     struct Listener {
         std::unique_ptr<BoundedHttpServer> http;
@@ -125,12 +134,15 @@ struct Service::Impl {
     EnvironmentRegistry environments;
     MeshRegistry meshes;
     TransferRegistry transfers;
+    JobStore jobs_store;
     ByteLruCache frames;
     ClientWorkBudget client_work;
     api::RenderLimits render_limits;
 
     std::unique_ptr<RenderPool> pool;
+    std::unique_ptr<RenderPool> batch_pool;  // batch jobs' frames, below the interactive ones
     std::unique_ptr<FrameService> frame_service;
+    std::unique_ptr<JobService> jobs;
     Listener api;
     Listener admin;  // no http when config.admin_port < 0
     std::unique_ptr<ServiceContext> context;
@@ -186,13 +198,21 @@ void Service::Impl::start() {
         [this](std::size_t waiting) { metrics.render_queue_depth.set(double(waiting)); },
         RenderAdmission{kRenderAdmissionWait, std::size_t(std::max(config.http_threads, 1) /
                                                           kRenderAdmissionThreadShare)});
+    // One worker with one frame waiting: a job's runner submits one frame at a time.
+    batch_pool = std::make_unique<RenderPool>(1, 1, frame_limits, RenderPool::DepthObserver{},
+                                              RenderAdmission{}, kBatchNice);
     frame_service = std::make_unique<FrameService>(
-        environments, meshes, transfers, *pool, frames, metrics,
+        environments, meshes, transfers, *pool, *batch_pool, frames, metrics,
         std::chrono::seconds(config.request_timeout_seconds),
         RenderBudgets{config.max_render_memory_bytes, double(config.max_render_seconds),
                       config.max_transfer_bytes},
         double(config.transfer_ray_budget), client_work, log);
     start_renderer();
+    jobs = std::make_unique<JobService>(
+        jobs_store, *frame_service, job_queue(), render_limits,
+        JobBounds{api::JobLimits{config.job_max_frames, config.job_max_pixels},
+                  config.client_job_frames, config.client_job_pixels},
+        metrics, log);
 
     const std::size_t max_body =
         std::max<std::size_t>(config.max_upload_bytes, render_limits.max_body_bytes);
@@ -202,13 +222,14 @@ void Service::Impl::start() {
     limits.header_deadline = std::chrono::seconds(config.header_timeout_seconds);
     limits.max_connections_per_client = std::size_t(config.max_connections_per_client);
     api = make_listener(limits, std::size_t(std::max(config.http_threads, 1)));
-    context = std::make_unique<ServiceContext>(ServiceContext{config, render_limits, metrics,
-                                                              environments, meshes, transfers,
-                                                              frames, *pool, *frame_service, log});
+    context = std::make_unique<ServiceContext>(
+        ServiceContext{config, render_limits, metrics, environments, meshes, transfers, frames,
+                       *pool, *frame_service, *jobs, log});
     add_environment_routes(*api.routes, *context);
     add_mesh_routes(*api.routes, *context);
     add_render_routes(*api.routes, *context);
     add_hotspot_routes(*api.routes, *context);
+    add_job_routes(*api.routes, *context);
     add_service_routes(*api.routes, *context);
     add_web_routes(*api.routes);
     if (config.admin_port >= 0) {
@@ -229,8 +250,7 @@ void Service::Impl::start() {
 void Service::Impl::start_renderer() {
     FrameRequest test_frame = test_frame_request();
     try {
-        pool->start([&test_frame](FrameRenderer& renderer) { return renderer.render(test_frame); });
-        metrics.render_workers_ready.set(pool->worker_count());
+        start_pools(test_frame);
     } catch (const std::exception& error) {
         log(std::string("error: the renderer could not start: ") + error.what() +
             "; renders answer 503 and /readyz is false until it does; trying again every " +
@@ -238,6 +258,28 @@ void Service::Impl::start_renderer() {
         renderer_retries =
             std::thread([this, test_frame = std::move(test_frame)] { retry_renderer(test_frame); });
     }
+}
+
+std::unique_ptr<FrameQueue> Service::Impl::job_queue() {
+    if (config.queue.empty()) {
+        return std::make_unique<LocalFrameQueue>();
+    }
+    // This replica's name among the queue's consumers: its host (a pod's name) and process.
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    auto queue = std::make_unique<RedisFrameQueue>(
+        config.queue, std::string(host) + "-" + std::to_string(::getpid()));
+    log("jobs: frames shared through the queue at " + config.queue);
+    return queue;
+}
+
+void Service::Impl::start_pools(const FrameRequest& test_frame) {
+    const RenderPool::Job test = [&test_frame](FrameRenderer& renderer) {
+        return renderer.render(test_frame);
+    };
+    pool->start(test);
+    batch_pool->start(test);
+    metrics.render_workers_ready.set(pool->worker_count());
 }
 
 void Service::Impl::retry_renderer(FrameRequest test_frame) {
@@ -251,9 +293,7 @@ void Service::Impl::retry_renderer(FrameRequest test_frame) {
             }
         }
         try {
-            pool->start(
-                [&test_frame](FrameRenderer& renderer) { return renderer.render(test_frame); });
-            metrics.render_workers_ready.set(pool->worker_count());
+            start_pools(test_frame);
             log("the renderer started at attempt " + std::to_string(attempt));
             return;
         } catch (const std::exception& error) {
@@ -450,9 +490,12 @@ void Service::Impl::stop() {
     context.reset();
     api = Listener{};
     admin = Listener{};
+    // Before the pools: its runner's frame in flight is stopped, left to the next start.
+    jobs.reset();
     // The pool first: a frame whose client timed out may still be running, and its job uses
     // the frame service.
     pool.reset();
+    batch_pool.reset();
     frame_service.reset();
     metrics.render_workers_ready.set(0);
 }

@@ -261,6 +261,29 @@ const std::vector<Option>& options() {
                        "disk for stored occlusion transfers; past it the least recently used are "
                        "removed (and baked again when a frame needs one)",
                        &ServiceConfig::transfer_store_bytes, 1ull << 20, 1ull << 44),
+        integer_option("job-max-frames", "COUNT", "most frames one batch job may hold; more: 413",
+                       &ServiceConfig::job_max_frames, 1, 100000),
+        integer_option("job-max-pixels", "PIXELS",
+                       "most pixels one batch job's frames may hold together; more: 413",
+                       &ServiceConfig::job_max_pixels, 1, 1ull << 40),
+        integer_option("client-job-frames", "COUNT",
+                       "most frames a client's unfinished batch jobs may still hold; more: 429",
+                       &ServiceConfig::client_job_frames, 1, 1000000),
+        integer_option("client-job-pixels", "PIXELS",
+                       "most pixels a client's unfinished batch jobs may still hold; more: 429",
+                       &ServiceConfig::client_job_pixels, 1, 1ull << 44),
+        Option{"queue", "URL",
+               "redis://HOST:PORT: the Redis stream replicas share batch jobs' frames through; "
+               "empty: jobs stay in this replica",
+               [](ServiceConfig& config, const std::string& source, const std::string& text) {
+                   if (!text.empty() && !text.starts_with("redis://")) {
+                       throw InvalidParameter(
+                           source,
+                           "expected redis://HOST:PORT or nothing, got " + quoted_excerpt(text));
+                   }
+                   config.queue = text;
+               },
+               [](const ServiceConfig& config) { return config.queue; }},
         switch_option("access-log", "one line per request on stderr", &ServiceConfig::access_log),
         switch_option("warm-default-scene",
                       "make the default scene's occlusion transfer and reflection cube before the "

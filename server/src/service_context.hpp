@@ -5,6 +5,7 @@
 
 #include "environment_registry.hpp"
 #include "frame_service.hpp"
+#include "job_service.hpp"
 #include "mesh_registry.hpp"
 #include "oer/api/render_request.hpp"
 #include "oer/server/byte_lru_cache.hpp"
@@ -26,6 +27,7 @@ struct ServiceContext {
     ByteLruCache& frames;  // encoded frames, and previews
     RenderPool& pool;
     FrameService& frame_service;
+    JobService& jobs;
     std::function<void(std::string_view)> log;
 };
 
@@ -34,6 +36,7 @@ void add_environment_routes(Router& router, ServiceContext& context);
 void add_mesh_routes(Router& router, ServiceContext& context);
 void add_render_routes(Router& router, ServiceContext& context);
 void add_hotspot_routes(Router& router, ServiceContext& context);
+void add_job_routes(Router& router, ServiceContext& context);
 void add_service_routes(Router& router, ServiceContext& context);  // with the probes
 // GET /healthz, /readyz, /metrics: also the whole of the admin listener.
 void add_probe_routes(Router& router, ServiceContext& context);

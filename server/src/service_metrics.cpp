@@ -41,6 +41,16 @@ ServiceMetrics::ServiceMetrics(MetricsRegistry& registry)
       renders_stopped(registry.counter("oer_renders_stopped_total",
                                        "Frames (and their transfer bakes) stopped part way because "
                                        "their request had stopped waiting")),
+      job_frames_stored(registry.counter(
+          "oer_job_frames_stored_total",
+          "Batch jobs' frames rendered (or taken from the frame cache) and stored")),
+      job_frames_skipped(registry.counter(
+          "oer_job_frames_skipped_total",
+          "Batch jobs' queued frames found stored already, and not rendered again")),
+      batch_frames_yielded(registry.counter(
+          "oer_batch_frames_yielded_total",
+          "Batch jobs' frames stopped part way to let interactive frames go first, and started "
+          "again")),
       preprocess_seconds(registry.histogram("oer_preprocess_seconds",
                                             "Time to decode an environment and build its rig",
                                             kLatencyBucketsSeconds)),

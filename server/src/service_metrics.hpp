@@ -39,6 +39,11 @@ class ServiceMetrics {
     // (its deadline passed or its client went).
     Counter& renders_skipped;
     Counter& renders_stopped;
+    // Batch jobs' frames (job_service.hpp): rendered (or taken from the frame cache) and stored,
+    // and queued frames found stored already (by another replica, or before a restart).
+    Counter& job_frames_stored;
+    Counter& job_frames_skipped;
+    Counter& batch_frames_yielded;  // batch frames stopped to let interactive frames go first
     Histogram& preprocess_seconds;  // decoding a map and building its rig
     Counter& rigs_computed;         // each rig actually computed, never a cache hit
     Histogram& specular_seconds;    // prefiltering a rig's residual map (specular cube)

@@ -482,7 +482,7 @@ TEST(OpenApi, DeclaresTheApiKeyOnExactlyTheUploadsAndDeletions) {
         }
     }
     EXPECT_GT(operations, 10);
-    EXPECT_EQ(keyed,
-              (std::set<std::string>{"post /v1/environments", "post /v1/meshes",
-                                     "delete /v1/environments/{id}", "delete /v1/meshes/{id}"}));
+    EXPECT_EQ(keyed, (std::set<std::string>{"post /v1/environments", "post /v1/meshes",
+                                            "post /v1/jobs", "delete /v1/environments/{id}",
+                                            "delete /v1/meshes/{id}", "delete /v1/jobs/{id}"}));
 }

@@ -556,15 +556,20 @@ std::optional<DeploymentView> check_deployment(const Image& image, const Objects
 }
 
 void check_service(const DeploymentView& deployment, const Objects& objects, Problems& problems) {
-    const std::vector<YAML::Node> services = objects.of_kind("Service");
+    // The replicas' Service: the one that selects their pods (the job queue's, redis.yaml,
+    // selects its own).
+    std::vector<YAML::Node> services;
+    for (const YAML::Node& service : objects.of_kind("Service")) {
+        if (labels_select(service["spec"]["selector"], deployment.pod["metadata"]["labels"])) {
+            services.push_back(service);
+        }
+    }
     if (services.size() != 1) {
-        problems.push_back("expected one Service, found " + std::to_string(services.size()));
+        problems.push_back("expected one Service selecting the Deployment's pods, found " +
+                           std::to_string(services.size()));
         return;
     }
     const YAML::Node spec = services[0]["spec"];
-    if (!labels_select(spec["selector"], deployment.pod["metadata"]["labels"])) {
-        problems.push_back("the Service's selector does not select the Deployment's pods");
-    }
     bool serves_api = false;
     for (const YAML::Node& port : spec["ports"]) {
         const YAML::Node target = port["targetPort"] ? port["targetPort"] : port["port"];
@@ -581,6 +586,40 @@ void check_service(const DeploymentView& deployment, const Objects& objects, Pro
     if (!serves_api) {
         problems.push_back("the Service has no port 80 onto OER_PORT " +
                            std::to_string(deployment.config.port));
+    }
+}
+
+// OER_QUEUE (redis://HOST:PORT) names a Service of the kustomization, on that port, selecting
+// the pods of the queue's StatefulSet (redis.yaml).
+void check_queue(const DeploymentView& deployment, const Objects& objects, Problems& problems) {
+    const std::string& url = deployment.config.queue;
+    if (url.empty()) {
+        return;
+    }
+    const std::string address = url.substr(std::string("redis://").size());
+    const std::string host = address.substr(0, address.find(':'));
+    const std::string port =
+        address.find(':') == std::string::npos ? "6379" : address.substr(address.find(':') + 1);
+    const auto service = objects.by_key.find("Service/" + host);
+    if (service == objects.by_key.end()) {
+        problems.push_back("OER_QUEUE names the Service " + host +
+                           ", which the kustomization does not make");
+        return;
+    }
+    bool has_port = false;
+    for (const YAML::Node& declared : service->second["spec"]["ports"]) {
+        has_port |= text_of(declared["port"]) == port;
+    }
+    if (!has_port) {
+        problems.push_back("the Service " + host + " has no port " + port);
+    }
+    bool selects = false;
+    for (const YAML::Node& set : objects.of_kind("StatefulSet")) {
+        selects |= labels_select(service->second["spec"]["selector"],
+                                 set["spec"]["template"]["metadata"]["labels"]);
+    }
+    if (!selects) {
+        problems.push_back("the Service " + host + " selects no StatefulSet's pods");
     }
 }
 
@@ -724,6 +763,7 @@ Problems manifest_problems(const Image& image, const Manifests& manifests, const
         return problems;
     }
     check_service(*deployment, manifests.base, problems);
+    check_queue(*deployment, manifests.base, problems);
     check_disruption_budget(*deployment, manifests.base, problems);
     check_autoscaler(*deployment, manifests, server, problems);
     check_gpu_overlay(image, *deployment, manifests, problems);
@@ -816,10 +856,11 @@ TEST_F(K8sManifests, KustomizationListsEveryManifestFile) {
             EXPECT_TRUE(resources.count(name)) << name << " is not in kustomization.yaml";
         }
     }
-    for (const char* kind : {"ConfigMap", "Deployment", "Service", "PersistentVolumeClaim",
-                             "HorizontalPodAutoscaler"}) {
+    for (const char* kind : {"ConfigMap", "Deployment", "PersistentVolumeClaim",
+                             "HorizontalPodAutoscaler", "StatefulSet"}) {
         EXPECT_EQ(manifests_.base.of_kind(kind).size(), 1u) << kind;
     }
+    EXPECT_EQ(manifests_.base.of_kind("Service").size(), 2u) << "the replicas' and the queue's";
 }
 
 TEST_F(K8sManifests, AgreeWithTheImageAndTheServer) {
@@ -925,7 +966,15 @@ TEST_F(K8sManifests, EachCheckFailsOnAManifestBrokenSo) {
          [](Manifests& m) {
              m.object("Service/oer")["spec"]["selector"]["app.kubernetes.io/name"] = "oer-server";
          },
-         "the Service's selector does not select"},
+         "expected one Service selecting the Deployment's pods, found 0"},
+        {"the job queue named by a Service that is not made",
+         [](Manifests& m) {
+             m.object("ConfigMap/oer-config")["data"]["OER_QUEUE"] = "redis://oer-queue:6379";
+         },
+         "OER_QUEUE names the Service oer-queue"},
+        {"the job queue's Service on another port",
+         [](Manifests& m) { m.object("Service/oer-redis")["spec"]["ports"][0]["port"] = 6380; },
+         "the Service oer-redis has no port 6379"},
         {"the disruption budget selecting other pods",
          [](Manifests& m) {
              m.object("PodDisruptionBudget/oer")["spec"]["selector"]["matchLabels"]

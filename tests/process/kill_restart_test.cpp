@@ -11,10 +11,12 @@
 // temporary files in-process.)
 #include <gtest/gtest.h>
 #include <sys/inotify.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstring>
+#include <map>
 #include <optional>
 #include <thread>
 
@@ -376,6 +378,64 @@ TEST_F(KillRestart, DuringAFramesSpecularCubeAndTransferBakeSlow) {
     server_->kill();
     restart();
     EXPECT_EQ(server_->stop(), 0);
+}
+
+// kill -9 mid-job (docs/jobs.md): the server started again on the folder finishes the job,
+// storing exactly the frames the killed one had not (its stored-frames counter) and rewriting
+// none of those it had (each file keeps its inode and time); a temporary file the killed frame
+// write left is removed at the start (dated back as restart() does).
+TEST_F(KillRestart, DuringABatchJob) {
+    start(root_.data());
+    ASSERT_FALSE(HasFatalFailure());
+    constexpr int kViews = 60;
+    const Json render = {{"environment", "default"},
+                         {"objects", Json::array({{{"mesh", "default"}}})},
+                         {"width", 64},
+                         {"height", 48},
+                         {"samples", 1},
+                         {"format", "png"}};
+    auto client = server_->client();
+    const Json created = expect_conforms(
+        "POST", "/v1/jobs",
+        post_json(*client, "/v1/jobs", {{"turntable", {{"render", render}, {"views", kViews}}}}));
+    ASSERT_TRUE(created.is_object());
+    const std::string id = created.at("id");
+    const auto status = [&] {
+        return expect_conforms("GET", "/v1/jobs/{id}",
+                               server_->client()->Get(("/v1/jobs/" + id).c_str()));
+    };
+    ASSERT_TRUE(eventually([&] { return status().at("done") >= 8; }, std::chrono::minutes(1)));
+    server_->kill();
+
+    const fs::path frames = root_.data() / "jobs" / id / "frames";
+    std::map<std::string, std::pair<ino_t, std::int64_t>> stored;  // name -> inode, mtime (ns)
+    const auto identity = [](const fs::path& path) {
+        struct stat info {};
+        EXPECT_EQ(::stat(path.c_str(), &info), 0) << path;
+        return std::pair<ino_t, std::int64_t>(
+            info.st_ino, std::int64_t(info.st_mtim.tv_sec) * 1'000'000'000 + info.st_mtim.tv_nsec);
+    };
+    for (const auto& entry : fs::directory_iterator(frames)) {
+        if (!entry.path().filename().string().starts_with(".")) {
+            stored[entry.path().filename().string()] = identity(entry.path());
+        }
+    }
+    ASSERT_LT(stored.size(), std::size_t(kViews)) << "the job ended before the kill";
+    set_untouched_for(temporary_files(root_.data()),
+                      server::kAbandonedTemporaryAge + std::chrono::minutes(1));
+
+    start(root_.data());
+    ASSERT_FALSE(HasFatalFailure());
+    ASSERT_TRUE(
+        eventually([&] { return status().at("state") == "done"; }, std::chrono::minutes(2)));
+    const double missing = double(kViews - int(stored.size()));
+    eventually([&] { return admin_metric(*server_, "oer_job_frames_stored_total") >= missing; },
+               std::chrono::seconds(5));
+    EXPECT_EQ(admin_metric(*server_, "oer_job_frames_stored_total"), missing);
+    for (const auto& [name, before] : stored) {
+        EXPECT_EQ(identity(frames / name), before) << name << " was written again";
+    }
+    EXPECT_EQ(temporary_files(root_.data()), std::vector<fs::path>{});
 }
 
 TEST_F(KillRestart, DuringAMeshStoreWriteSlow) {

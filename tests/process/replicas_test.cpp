@@ -51,21 +51,6 @@ long long milliseconds_since(Clock::time_point start) {
     return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start).count();
 }
 
-// A TCP port on 127.0.0.1 that nothing listens on now.
-int free_loopback_port() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof address;
-    const bool bound =
-        fd >= 0 && ::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0 &&
-        ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0;
-    ::close(fd);
-    EXPECT_TRUE(bound) << "no free loopback port: " << std::strerror(errno);
-    return ntohs(address.sin_port);
-}
-
 // docker/nginx/nginx.conf with each line marked "# DEPLOYMENT: <what>" made this test's. The
 // file and this test must agree on what a deployment changes: a marker this test does not know,
 // or one of its markers missing from the file, fails the test.

@@ -122,6 +122,9 @@ std::vector<std::filesystem::path> temporary_files(const std::filesystem::path& 
 // Sets each file's modification time so long before now (a file removed meanwhile is skipped).
 void set_untouched_for(const std::vector<std::filesystem::path>& files, std::chrono::minutes age);
 
+// A TCP port on 127.0.0.1 that nothing listens on now (a test failure when none is found).
+int free_loopback_port();
+
 // A file's whole content ("" when it cannot be read).
 std::string read_text(const std::filesystem::path& path);
 

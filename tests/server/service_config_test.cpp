@@ -76,6 +76,11 @@ const std::vector<std::string> kEveryFlag{
     "client-render-rate",
     "max-transfer-bytes",
     "transfer-store-bytes",
+    "job-max-frames",
+    "job-max-pixels",
+    "client-job-frames",
+    "client-job-pixels",
+    "queue",
     "access-log",
     "warm-default-scene",
 };
@@ -87,7 +92,8 @@ const std::vector<std::string> kEveryValue{
     "https://a.example, http://b.example:3000",
     "1000", "2000", "3000", "3", "5000000", "20",
     "640", "480", "4", "2", "60", "10", "7", "50", "16", "8", "0", "250000",
-    "1073741824", "20", "0.25", "33554432", "268435456", "off", "off",
+    "1073741824", "20", "0.25", "33554432", "268435456",
+    "500", "100000000", "900", "200000000", "redis://127.0.0.1:6390", "off", "off",
 };
 // clang-format on
 
@@ -122,6 +128,11 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.client_render_rate, 0.25);
     EXPECT_EQ(config.max_transfer_bytes, 32u << 20);
     EXPECT_EQ(config.transfer_store_bytes, 256u << 20);
+    EXPECT_EQ(config.job_max_frames, 500u);
+    EXPECT_EQ(config.job_max_pixels, 100'000'000u);
+    EXPECT_EQ(config.client_job_frames, 900u);
+    EXPECT_EQ(config.client_job_pixels, 200'000'000u);
+    EXPECT_EQ(config.queue, "redis://127.0.0.1:6390");
     EXPECT_FALSE(config.access_log);
     EXPECT_FALSE(config.warm_default_scene);
 }

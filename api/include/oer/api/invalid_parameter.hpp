@@ -16,11 +16,22 @@ class InvalidParameter : public Error {
     InvalidParameter(const std::string& parameter, const std::string& detail,
                      ErrorKind kind = ErrorKind::InvalidInput)
         : Error(kind, oer::detail::valid_utf8(parameter) + ": " + oer::detail::valid_utf8(detail)),
-          parameter_(oer::detail::valid_utf8(parameter)) {}
+          parameter_(oer::detail::valid_utf8(parameter)),
+          detail_(oer::detail::valid_utf8(detail)) {}
     const std::string& parameter() const { return parameter_; }
+    const std::string& detail() const { return detail_; }
+
+    // The same failure named from an enclosing document whose member `prefix` held the
+    // request (a batch job's "frames/3/render"): "frames/3/render/width"; "body", the request
+    // itself, becomes the prefix.
+    InvalidParameter nested_in(const std::string& prefix) const {
+        return InvalidParameter(parameter_ == "body" ? prefix : prefix + "/" + parameter_, detail_,
+                                kind());
+    }
 
   private:
     std::string parameter_;
+    std::string detail_;
 };
 
 }  // namespace oer::api

@@ -134,6 +134,13 @@ bool is_asset_id(std::string_view text);
 // rename fails, and the upload or computation reports the error instead of storing anything.
 inline constexpr std::chrono::minutes kAbandonedTemporaryAge{10};
 
+// Writes bytes to path as the store writes its entries: a new temporary file beside it (named
+// with the store's temporary prefix, so that a crash's leftover is swept at start-up),
+// flushed, renamed over path, the folder flushed; path then holds its old content or all of
+// bytes. entry names what is written, for StorageFull. For the job store's files too.
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes,
+                           const std::string& entry);
+
 // Lowercase, without the dot: environments exr, hdr, png, jpg, jpeg, tif, tiff;
 // meshes glb, gltf, obj.
 std::span<const std::string_view> allowed_extensions(SourceKind kind);

@@ -74,6 +74,15 @@ struct ServiceConfig {
     // (client_work_budget.hpp); past it, 429 with Retry-After. 0: no per-client limit (behind
     // a proxy that shares out its own clients).
     double client_render_rate = 1.0;
+    // Batch jobs (docs/jobs.md): the frames and pixels of one job (413 past them), and of a
+    // client's unfinished jobs together (429).
+    std::size_t job_max_frames = 1000;
+    std::uint64_t job_max_pixels = 256ull << 20;
+    std::size_t client_job_frames = 2000;
+    std::uint64_t client_job_pixels = 512ull << 20;
+    // The queue replicas share a job's frames through: "redis://HOST:PORT" (a Redis stream,
+    // redis_frame_queue.hpp); empty: this process's own queue, its jobs in its own store.
+    std::string queue;
     bool access_log = true;  // one line per request on stderr
     // Before the service is ready, the default scene's transfer is baked and the built-in
     // studio's reflection cube prefiltered (both by the renderer's test frame), so that the
