@@ -386,7 +386,7 @@ void Service::Impl::configure_server(httplib::Server& http, const Router& routes
 
     // Answers that cpp-httplib makes itself (no route, a malformed request) and routes that
     // set a status without a body become problem+json too.
-    http.set_error_handler(httplib::Server::HandlerWithResponse([this, &routes](
+    http.set_error_handler(httplib::Server::HandlerWithResponse([&routes](
                                                                     const httplib::Request& request,
                                                                     httplib::Response& response) {
         if (!response.body.empty()) {
