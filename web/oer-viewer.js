@@ -663,7 +663,10 @@ export class OerViewer extends HTMLElement {
   // A failure, as the error event (its `code` and plain-language `message`, with the server's
   // problem verbatim) and, with show, as the message over the view until a frame is shown.
   async #report(error, url, { show = true } = {}) {
-    const failure = ++this.#failures;
+    // Only failures that show count: a report that is not shown (the lights' rig failing beside
+    // the frame, as under a CORS refusal) must not silence the frame's, whose explanation may
+    // take longer (its probes).
+    const failure = show ? ++this.#failures : this.#failures;
     const detail = error instanceof ProblemError
       ? { status: error.status, type: error.type, title: error.title, detail: error.message, url }
       : { status: 0, type: null, title: 'Network error', detail: String(error.message ?? error), url };
