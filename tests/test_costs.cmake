@@ -14,7 +14,7 @@ foreach(test_and_seconds IN ITEMS
         ShaderSourcesGlslang:16 OcclusionReferenceTest:15 Replicas.Slow:13
         TransferPreliminarySlow.Slow:13 MaterialShadingTest:12 Cli:10 KillRestart:22
         OcclusionTest:8 RenderBudgetShare.Slow:8 HardCases.Slow:8 TransferPreparation.Slow:6
-        HostileClients.Slow:5 FullDisk:5 ReferenceCommand:5 JobReplicas:21 Jobs.Slow:10
+        HostileClients.Slow:5 FullDisk:5 ReferenceCommand:5 JobReplicas:21 Jobs.Slow:22
         # The sanitizer build's.
         DefaultExposure:77 Transfer:60 Specular:46 Store:43 Variants:43 ImageIo:42
         RenderBudget:39 TransferStore:30 ByteRanges:29 EnvironmentRegistryTest:24 AssetCamera:23
@@ -23,7 +23,7 @@ foreach(test_and_seconds IN ITEMS
         TransferBakeGround:11 ErrorsApiKey:10 Cors:10 Listening:10 RenderConcurrency:10
         TransferPreparation:9 RenderBudgetShare:8 ShadowCatcherOverHttp:8 RenderCaching:8
         RenderDeadline:8 HostileUploads:8 TransferBakeDeterminism:7 RigFromJson:6
-        StoredAssetsApiKey:6 Errors:6 RenderMaterials:5 Jobs:12
+        StoredAssetsApiKey:6 Errors:6 RenderMaterials:5 Jobs:6
         # Estimated, three times the optimised build's 5 s.
         HotspotsPlacement:15)
     string(REPLACE ":" ";" test_and_seconds "${test_and_seconds}")
