@@ -24,6 +24,7 @@
 #include "frame_test_support.hpp"
 #include "oer/core/error.hpp"
 #include "oer/gl/frame_renderer.hpp"
+#include "oer/lighting/compact_light.hpp"
 #include "oer/lighting/equirect.hpp"
 #include "oer/lighting/irradiance.hpp"
 #include "oer/lighting/rig.hpp"
@@ -331,7 +332,10 @@ TEST_F(MaterialShadingTest, AMirrorReflectsTheLightWhereItIsAndLosesItWithTheLig
 // sphere's highlight (the frame minus the frame with the light off: the light's own reflection,
 // and the multiple scattering's share of its diffuse) has a peak that falls and an area above
 // half its peak that grows with roughness. The dielectrics are black, as glossy black plastic:
-// a coloured one's diffuse, the same at every roughness, would hide the widest highlights.
+// a coloured one's diffuse, the same at every roughness, would hide the widest highlights. At
+// roughness 1 a dielectric's reflection of the light is the BRDF's (compact_light.hpp), whose
+// Fresnel rises towards the rim: its brightest pixels are no longer a disc about the
+// reflection, and their area is not compared (measured 1091 pixels at 1 against 1289 at 0.75).
 TEST_F(MaterialShadingTest, HighlightsDimAndWidenWithRoughness) {
     const SmallLight light{glm::normalize(glm::dvec3(0.3, 0.45, 1.0)), 0.06};
     const HdrImage map = small_light_map(light);
@@ -389,7 +393,9 @@ TEST_F(MaterialShadingTest, HighlightsDimAndWidenWithRoughness) {
                 row == 0 ? "dielectric" : "metal", column / double(kColumns - 1), peak, area,
                 highlight.size());
             EXPECT_LT(peak, previous_peak) << "row " << row << " column " << column;
-            EXPECT_GT(area, previous_area) << "row " << row << " column " << column;
+            if (row == 1 || column < kColumns - 1) {
+                EXPECT_GT(area, previous_area) << "row " << row << " column " << column;
+            }
             previous_peak = peak;
             previous_area = area;
         }
@@ -923,12 +929,15 @@ TEST_F(MaterialShadingTest, DebiansGltfSamplesRender) {
 // The switchable split of the specular lighting against the unsplit one: a metal sphere lit by
 // the residual map's cube plus the light's own cube (the renderer's way, the light
 // switchable), and the same sphere lit by the whole map prefiltered into one cube with no light
-// taken out (the viewers' way). Over the whole sphere they agree within the cubes' resolution,
-// from a mirror to roughness 1. At the light's highlight they agree at the levels (roughness 0
-// and 1); between levels the light's layer is read at light_lod, which keeps a compact light's
-// peak, and the whole cube at the lod's fraction, whose blend overshoots it: there the peaks'
-// ratio is the one the cubes give on the CPU in the light's direction (the shader's light_lod
-// is the library's).
+// taken out (the viewers' way). Where the light (a disc of 5.7 degrees) is wider than the lobe
+// they agree over the whole sphere within the cubes' resolution. Where it is not, the light's
+// reflection is turned into the BRDF's (compact_light.hpp), which the whole map's split sum is
+// not: over the sphere that adds 2 to 5.5 % (measured, at roughness 0.25 to 1). At the light's
+// highlight, between levels the light's layer is read at light_lod, which keeps a compact
+// light's peak, and the whole cube at the lod's fraction, whose blend overshoots it: there the
+// peaks' ratio is the one the cubes and the compact-light factor give on the CPU (the shader's
+// light_lod and compact_light_factor are the library's). At roughness 1 the BRDF's highlight
+// leans to the normal, away from the light's reflection direction, which the check reads.
 TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered) {
     const SmallLight light{glm::normalize(glm::dvec3(0.35, 0.6, 1.0)), 0.1, 100.0f, 0.05f};
     const HdrImage map = small_light_map(light);
@@ -938,6 +947,7 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
         std::make_shared<const SpecularEnvironment>(prefilter_specular(map, *rig));
     const auto whole = oer::testing::specular_of(prefilter_map(map));
     const Camera camera = front_camera();
+    const DfgTable dfg_lookup = dfg_table();
     for (const float roughness : {0.0f, 0.1f, 0.25f, 0.5f, 1.0f}) {
         FrameRequest request = linear_request(rig, camera, 128);
         request.objects.push_back(
@@ -950,14 +960,19 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
         request.specular = whole;
         const Frame reference = render(request);
         double sum_split = 0.0, sum_reference = 0.0, peak_split = 0.0, peak_reference = 0.0;
+        glm::dvec3 peak_normal(0.0);
         for (int y = 0; y < 128; ++y) {
             for (int x = 0; x < 128; ++x) {
-                if (!sphere_normal(camera, 128, x, y)) {
+                const auto normal = sphere_normal(camera, 128, x, y);
+                if (!normal) {
                     continue;
                 }
                 sum_split += linear_rgb(split, x, y).g;
                 sum_reference += linear_rgb(reference, x, y).g;
-                peak_split = std::max(peak_split, linear_rgb(split, x, y).g);
+                if (linear_rgb(split, x, y).g > peak_split) {
+                    peak_split = linear_rgb(split, x, y).g;
+                    peak_normal = *normal;
+                }
                 peak_reference = std::max(peak_reference, linear_rgb(reference, x, y).g);
             }
         }
@@ -967,15 +982,39 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
             roughness, sum_split / sum_reference, peak_split, peak_reference);
         const int levels = split_cubes->lights.levels;
         const double lod = lod_of_roughness(roughness, levels);
+        // The light's reflection at the peak turned into the BRDF's (compact_light.hpp), at the
+        // unit sphere's point there, seen from the eye.
+        const LightSpread spread = light_spread(
+            rig->lights[0].angular_radius, light_profile(rig->sh.per_light[0], light.direction));
+        GlossyPoint point;
+        point.n = peak_normal;
+        point.v = glm::normalize(glm::dvec3(camera.eye) - peak_normal);
+        point.r = glm::reflect(-point.v, point.n);
+        point.n_dot_v = std::clamp(glm::dot(point.n, point.v), 1e-4, 1.0);
+        point.alpha = double(roughness) * roughness;
+        point.f0 = glm::dvec3(1.0);
+        const glm::dvec2 dfg = sample_dfg(dfg_lookup, point.n_dot_v, roughness);
+        point.single_scattering = glm::dvec3(dfg.x + dfg.y);
+        const double factor = compact_light_factor(light.direction, spread, point).g;
         const double expected_ratio =
-            (sample_cube(split_cubes->lights, light.direction,
-                         light_lod(roughness, levels, rig->lights[0].angular_radius))
-                 .g +
+            (sample_cube(split_cubes->lights, light.direction, light_lod(roughness, levels, spread))
+                     .g *
+                 factor +
              sample_cube(split_cubes->residual, light.direction, lod).g) /
             sample_cube(whole->residual, light.direction, lod).g;
-        std::printf("[ measured ] roughness %.2f: peaks' ratio %.4f, the cubes' %.4f\n", roughness,
-                    peak_split / peak_reference, expected_ratio);
-        EXPECT_NEAR(sum_split / sum_reference, 1.0, 0.02) << roughness;
+        std::printf(
+            "[ measured ] roughness %.2f: peaks' ratio %.4f, the cubes' %.4f (the light's "
+            "factor %.3f)\n",
+            roughness, peak_split / peak_reference, expected_ratio, factor);
+        if (roughness <= 0.1f) {
+            EXPECT_NEAR(sum_split / sum_reference, 1.0, 0.02) << roughness;
+        } else {
+            EXPECT_GT(sum_split / sum_reference, 1.0) << roughness;
+            EXPECT_LT(sum_split / sum_reference, 1.08) << roughness;
+        }
+        if (roughness == 1.0f) {
+            continue;
+        }
         // 0.08: the frame's peak pixel is read at its antialiased roughness (material.glsl), a
         // little above the nominal one the CPU's ratio is taken at (measured 0.002 to 0.067 off;
         // reading the light's layer at the lod's fraction instead would be 0.21 off at 0.5).

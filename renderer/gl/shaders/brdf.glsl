@@ -1,6 +1,7 @@
 // The glTF 2.0 metallic-roughness BRDF (specification, Appendix B) in the split-sum form of
 // image-based lighting: one function per formula. The DFG table they read is
 // renderer/lighting/src/split_sum.cpp's.
+#include "math_constants.glsl"
 
 // The layers of the glTF material extensions at a surface point (mesh.hpp's Material layers,
 // docs/materials.md), as the BRDF uses them; plain_layers() is the core model's, which the
@@ -87,6 +88,41 @@ float sheen_albedo_scaling(vec3 sheen_color, float sheen_albedo) {
 // lerp(baseColor, black, metallic)").
 vec3 diffuse_color(vec3 base, float metallic) {
     return base * (1.0 - metallic);
+}
+
+// GGX's normal distribution D(h) from cos^2 of h's angle to the normal, alpha = roughness^2
+// (B. Walter, S. Marschner, H. Li and K. Torrance, "Microfacet Models for Refraction through
+// Rough Surfaces", EGSR 2007); renderer/lighting/src/sampling.cpp's ggx_distribution.
+float ggx_distribution(float alpha, float cos2_theta) {
+    float a2 = alpha * alpha;
+    float denominator = cos2_theta * (a2 - 1.0) + 1.0;
+    return a2 / (PI * denominator * denominator);
+}
+
+// The height-correlated Smith visibility G2 / (4 n.l n.v) (E. Heitz, "Understanding the
+// Masking-Shadowing Function in Microfacet-Based BRDFs", JCGT 3(2), 2014);
+// renderer/lighting/src/microfacet.cpp's smith_visibility.
+float smith_visibility(float n_dot_v, float n_dot_l, float alpha) {
+    float a2 = alpha * alpha;
+    float view = n_dot_l * sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2);
+    float light = n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
+    return 0.5 / (view + light);
+}
+
+// Schlick's Fresnel between f0 and f90 at v.h (glTF 2.0 Appendix B.3.4).
+vec3 schlick_fresnel(vec3 f0, float f90, float v_dot_h) {
+    return f0 + (f90 - f0) * pow(1.0 - clamp(v_dot_h, 0.0, 1.0), 5.0);
+}
+
+// Z(alpha), the integral of the prefiltering kernel D(h) (r.l) with n = v = r, in closed form:
+// prefilter_kernel_integral (renderer/lighting/include/oer/lighting/specular_environment.hpp).
+float prefilter_kernel_integral(float alpha) {
+    float a2 = alpha * alpha;
+    if (a2 > 0.999) {
+        return 1.0 + 2.0 / 3.0 * (1.0 - a2);
+    }
+    float d = a2 - 1.0;
+    return 8.0 * a2 / (d * d) * (log(2.0 * a2 / (1.0 + a2)) + (1.0 - a2) / (2.0 * a2));
 }
 
 // The share of the reflected environment that ambient occlusion leaves, from the occlusion of

@@ -5,6 +5,7 @@
 // without glossy materials).
 #if SPECULAR
 #include "math_constants.glsl"
+#include "brdf.glsl"
 // The cubes are seamless, mipmapped per roughness; the table holds (A, B) at (n.v, roughness).
 layout(binding = SPECULAR_CUBE_UNIT) uniform samplerCube u_specular_cube;
 layout(binding = LIGHT_CUBES_UNIT) uniform samplerCubeArray u_light_cubes;
@@ -18,37 +19,110 @@ float specular_lod(float roughness) {
 #if LIGHTS_ON > 0
 uniform int u_light_cube_layer[LIGHTS_ON];  // the light's layer in u_light_cubes: its rig index
 uniform float u_light_weight[LIGHTS_ON];  // w_k
-uniform float u_light_cap_tan2[LIGHTS_ON];  // light_cap_tan2 of its angular radius: tan^2(rho / 2)
+// LightSpread (specular_environment.hpp): the core's share of the light's energy, and
+// tan^2(radius / 2) of its core and of its glow.
+uniform vec3 u_light_reflection_spread[LIGHTS_ON];
+// compact_light_factor's bound: where the split sum's lobe has all but left the light's point
+// while the BRDF's still sees it (grazing view), the ratio of two vanishing lobes says little.
+const float kCompactLightFactorMax = 8.0;
 
 // The perceptual roughness level `level` holds: roughness_of_level (specular_environment.hpp).
 float roughness_of_level(float level) {
     return 1.0 - sqrt(1.0 - level / u_specular_max_lod);
 }
 
-// The level a light of cap_tan2 T is read at: light_lod (specular_environment.hpp), whose blend
-// of two levels keeps a compact light's peak where the lod's fraction would be the sharp
+// A light's reflection's peak over its energy, up to 1 / (4 pi), at GGX's alpha^2 = a2:
+// (1 + T) / (a2 + T) for a disc of T = tan^2(radius / 2), its core's and glow's by their shares
+// (light_lod, specular_environment.hpp).
+float light_peak(vec3 spread, float a2) {
+    return spread.x * (1.0 + spread.y) / (a2 + spread.y) +
+           (1.0 - spread.x) * (1.0 + spread.z) / (a2 + spread.z);
+}
+
+// The level a light of that spread is read at: light_lod (specular_environment.hpp), whose
+// blend of two levels keeps the light's peak where the lod's fraction would be the sharp
 // level's peak diluted once.
-float light_lod(float roughness, float cap_tan2) {
+float light_lod(float roughness, vec3 spread) {
     float lod = specular_lod(roughness);
     float below = floor(lod);
     if (below >= u_specular_max_lod) {
         return u_specular_max_lod;
     }
-    float r_sharp = roughness_of_level(below), r_wide = roughness_of_level(below + 1.0);
-    float sharp = cap_tan2 / (pow(r_sharp, 4.0) + cap_tan2);
-    float span = cap_tan2 / (pow(r_wide, 4.0) + cap_tan2) - sharp;
+    float sharp = light_peak(spread, pow(roughness_of_level(below), 4.0));
+    float span = light_peak(spread, pow(roughness_of_level(below + 1.0), 4.0)) - sharp;
     if (abs(span) < 1e-4 * sharp) {
         return lod;
     }
     float r = clamp(roughness, 0.0, 1.0);
-    return below + clamp((cap_tan2 / (pow(r, 4.0) + cap_tan2) - sharp) / span, 0.0, 1.0);
+    return below + clamp((light_peak(spread, pow(r, 4.0)) - sharp) / span, 0.0, 1.0);
 }
 
 // w_k P(k) towards r_map (r in the map's own frame), without the light's visibility.
 vec3 light_reflection(int k, vec3 r_map, float roughness) {
     return u_light_weight[k] * textureLod(u_light_cubes, vec4(r_map, float(u_light_cube_layer[k])),
-                                          light_lod(roughness, u_light_cap_tan2[k]))
+                                          light_lod(roughness, u_light_reflection_spread[k]))
                                    .rgb;
+}
+
+// The factor that turns the split sum's reflection of a compact light, single_scattering P(k),
+// into the BRDF's own. Of a light small against the lobe the split sum keeps the energy over
+// all directions but not where it goes: its lobe is the prefiltering kernel about r with
+// n = v = r, where the BRDF's, F D G2 / (4 n.l n.v) n.l, leans to the normal and rises at
+// grazing view. For a point light at l the two are Phi F D G2 / (4 n.v) and
+// single_scattering Phi K(r, l) / Z(alpha), so the factor is their ratio at the light's point
+// nearest r, for its core and for its glow by their shares. It applies by the share of the
+// lobe outside the light, 1 - T / (alpha^2 + T) per disc (GGX's cumulative distribution, as
+// light_lod takes it): a light wider than the lobe (a soft box in chrome) keeps its shape and
+// the split sum, whose lobe then draws the light's own picture. Against the reference renderer
+// (bench/material_gallery.cpp, a metal sphere under Blender's studio) this took the error of
+// roughness 0.3 from 0.19 to 0.13 and of 0.5 from 0.17 to 0.11.
+vec3 point_light_ratio(vec3 toward_light, float cap_tan2, vec3 n, vec3 view, vec3 r,
+                       float n_dot_v, float alpha, vec3 f0, float f90, vec3 single_scattering) {
+    // The light's point nearest r: its direction turned towards r by at most its radius.
+    float radius = 2.0 * atan(sqrt(cap_tan2));
+    float cos_to_r = clamp(dot(toward_light, r), -1.0, 1.0);
+    vec3 across = r - cos_to_r * toward_light;
+    float across_length = length(across);
+    float turn = min(acos(cos_to_r), radius);
+    vec3 l = across_length > 1e-5
+                 ? cos(turn) * toward_light + sin(turn) * (across / across_length)
+                 : r;
+    float n_dot_l = dot(n, l);
+    float r_dot_l = dot(r, l);
+    vec3 brdf = vec3(0.0);
+    if (n_dot_l > 0.0) {
+        vec3 h = normalize(l + view);
+        float n_dot_h = dot(n, h);
+        brdf = schlick_fresnel(f0, f90, dot(view, h)) * ggx_distribution(alpha, n_dot_h * n_dot_h) *
+               smith_visibility(n_dot_v, n_dot_l, alpha) * n_dot_l;
+    }
+    float kernel = r_dot_l > 0.0 ? ggx_distribution(alpha, 0.5 * (1.0 + r_dot_l)) * r_dot_l /
+                                       prefilter_kernel_integral(alpha)
+                                 : 0.0;
+    return clamp(brdf / max(single_scattering * kernel, vec3(1e-8)), vec3(0.0),
+                 vec3(kCompactLightFactorMax));
+}
+
+vec3 compact_light_factor(int k, vec3 toward_light, vec3 n, vec3 view, vec3 r, float n_dot_v,
+                          float alpha, vec3 f0, float f90, vec3 single_scattering) {
+    vec3 spread = u_light_reflection_spread[k];
+    float a2 = alpha * alpha;
+    float core_outside = a2 / (a2 + spread.y);
+    float glow_outside = a2 / (a2 + spread.z);
+    vec3 factor = vec3(1.0);
+    if (core_outside > 1e-3) {
+        factor += spread.x * core_outside *
+                  (point_light_ratio(toward_light, spread.y, n, view, r, n_dot_v, alpha, f0, f90,
+                                     single_scattering) -
+                   1.0);
+    }
+    if (glow_outside > 1e-3) {
+        factor += (1.0 - spread.x) * glow_outside *
+                  (point_light_ratio(toward_light, spread.z, n, view, r, n_dot_v, alpha, f0, f90,
+                                     single_scattering) -
+                   1.0);
+    }
+    return factor;
 }
 #endif
 

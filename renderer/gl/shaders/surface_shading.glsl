@@ -44,16 +44,24 @@ uniform vec4 u_floor;
 uniform vec4 u_floor_fade;
 
 // The share of a reflection along r from `position` that sees the floor instead of the map:
-// where r goes down, the floor where the ray meets it, by the weight the floor is drawn with
-// there (SceneBounds::ground_weight); blended across the horizon over the lobe's width (alpha,
-// at least 0.01), since a rough lobe about a level r sees both.
+// the share of the lobe about r below the horizon, by the weight the floor is drawn with where
+// the ray meets it (SceneBounds::ground_weight). Of a lobe whose axis is at elevation e, the
+// cap of angular radius |e| about r lies wholly on r's side of the horizon, and it holds the
+// share T / (alpha^2 + T) of the lobe, T = tan^2(|e| / 2) (GGX's cumulative distribution, as
+// light_lod takes it); of the rest, half is taken on each side. A rough lobe about a level r
+// sees both, and a lobe about an r going up still sees some floor: a smoothstep over +-alpha in
+// r.y had a rough metal sphere's lower half reflect the floor where the reference's reaches
+// the sky above it.
 float floor_share(vec3 position, vec3 r, float alpha) {
     if (u_floor_fade.w <= 0.0) {
         return 0.0;
     }
-    float width = max(alpha, 0.01);
-    float below = smoothstep(width, -width, r.y);
-    float down = min(r.y, -1e-3);
+    float elevation = asin(clamp(r.y, -1.0, 1.0));
+    float cap_tan2 = pow(tan(0.5 * abs(elevation)), 2.0);
+    float outside_cap = alpha * alpha / (alpha * alpha + cap_tan2 + 1e-12);
+    float below = r.y < 0.0 ? 1.0 - 0.5 * outside_cap : 0.5 * outside_cap;
+    // Where the lobe's downward part meets the floor: along r mirrored downwards when it rises.
+    float down = -max(abs(r.y), 1e-3);
     vec2 hit = position.xz + r.xz * ((position.y - u_floor.w) / -down);
     float t = clamp((distance(hit, u_floor_fade.xy) - u_floor_fade.z) /
                         (u_floor_fade.w - u_floor_fade.z),
@@ -115,6 +123,13 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
     vec3 r_map = map_direction(r);
     float alpha = roughness * roughness;
     vec3 lights_reflected = vec3(0.0);
+    float n_dot_v = clamp(dot(n, view), 1e-4, 1.0);
+    vec3 f0 = specular_f0(layers, base, metallic);
+    float f90 = specular_f90(layers, metallic);
+    vec3 single_scattering, multiple_scattering;
+    split_sum_weights(f0, f90, split_sum_dfg(n_dot_v, roughness), single_scattering,
+                      multiple_scattering);
+    float floor_weight = floor_share(position, r, alpha);
 #if MATERIAL_LAYERS
     // The coat reflects about its own normal at its own roughness; the thin wall transmits
     // straight through, along -v.
@@ -139,7 +154,12 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
 #if SPECULAR
         // v_k w_k P(k), only where the light reaches.
         if (glossy && v > 0.0) {
-            lights_reflected += v * light_reflection(k, r_map, roughness);
+            // The floor hides a light below its horizon, and none above it, whatever part of
+            // the lobe it takes.
+            float unhidden = u_light_direction[k].y < 0.0 ? 1.0 - floor_weight : 1.0;
+            lights_reflected += v * unhidden * light_reflection(k, r_map, roughness) *
+                                compact_light_factor(k, u_light_direction[k], n, view, r, n_dot_v,
+                                                     alpha, f0, f90, single_scattering);
 #if MATERIAL_LAYERS
             if (layers.clearcoat > 0.0) {
                 lights_coat += v * light_reflection(k, coat_r_map, layers.clearcoat_roughness);
@@ -154,19 +174,13 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
 #endif
 #if SPECULAR
     if (glossy) {
-        float n_dot_v = clamp(dot(n, view), 1e-4, 1.0);
-        vec3 single_scattering, multiple_scattering;
-        split_sum_weights(specular_f0(layers, base, metallic), specular_f90(layers, metallic),
-                          split_sum_dfg(n_dot_v, roughness), single_scattering,
-                          multiple_scattering);
-        float floor_weight = floor_share(position, r, alpha);
         // The lights' reflections are shadowed (v_k above); the residual's is occluded by what
         // the transfer says reaches the point of the residual map's light (its bounce off the
         // occluders included), as Lagarde's approximation takes an ambient occlusion.
         vec3 prefiltered =
             mix(residual_reflection(r_map, roughness), u_floor.rgb, floor_weight) *
                 specular_occlusion(n_dot_v, ao * residual_visibility(transferred, Y), alpha) +
-            (1.0 - floor_weight) * lights_reflected * specular_occlusion(n_dot_v, ao, alpha);
+            lights_reflected * specular_occlusion(n_dot_v, ao, alpha);
         // What the specular lobe leaves to the diffuse one (and to the transmitted one).
         vec3 under_specular = diffuse_color(base, metallic) *
                               (1.0 - single_scattering - multiple_scattering);

@@ -179,6 +179,8 @@ void add_shadow_views(FrameContext& frame) {
         frame.light_spreads.push_back(request.shadows.softness *
                                       float(std::tan(std::min(radius, 1.2))));
         frame.light_core_shares.push_back(float(profile.core_share));
+        frame.reflection_spreads.push_back(
+            light_spread(frame.rig.lights[k].angular_radius, profile));
     }
     frame.normal_offset = 1.5f * 2.0f * frame.scene.radius / float(resolution);
     frame.specular_define = "#define SPECULAR " + std::to_string(frame.specular ? 1 : 0) + "\n";

@@ -15,6 +15,7 @@
 
 #include "gl_program.hpp"
 #include "oer/lighting/sh.hpp"
+#include "oer/lighting/specular_environment.hpp"
 #include "oer/mesh/camera.hpp"
 #include "oer/mesh/mesh.hpp"
 #include "oer/scene/frame_request.hpp"
@@ -97,6 +98,8 @@ struct FrameContext {
     // blocker distance; and the share of its energy in a core, whose shadows are hard
     std::vector<float> light_spreads;
     std::vector<float> light_core_shares;
+    // Per lit light: how its energy spreads for its reflection (specular_environment.hpp).
+    std::vector<LightSpread> reflection_spreads;
     float normal_offset = 0.0f;  // receiver offset against acne, world units
     // SH_ORDER, LIGHTS_ON, SHADOWS and PCF for every program that lights (frame_programs.cpp).
     std::string lighting_defines;

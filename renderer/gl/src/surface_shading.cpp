@@ -73,8 +73,10 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
         const std::size_t k = frame.lit[i];
         glUniform1i(program.uniform(element("u_light_cube_layer", i)), GLint(k));
         glUniform1f(program.uniform(element("u_light_weight", i)), float(frame.weights[k]));
-        glUniform1f(program.uniform(element("u_light_cap_tan2", i)),
-                    float(light_cap_tan2(frame.rig.lights[k].angular_radius)));
+        const LightSpread& spread = frame.reflection_spreads[i];
+        glUniform3f(program.uniform(element("u_light_reflection_spread", i)),
+                    float(spread.core_share), float(spread.core_cap_tan2),
+                    float(spread.glow_cap_tan2));
     }
 }
 

@@ -589,20 +589,6 @@ std::vector<LightTexel> light_texels(const Pyramid& pyramid, std::size_t level) 
     return result;
 }
 
-// Z(alpha): the integral of K over the hemisphere about r, 2 pi times the integral of K over
-// c = r.l in [0, 1] (midpoint rule; the lobe's peak at c = 1 is 1 - c ~ 2 alpha^2 wide).
-double kernel_integral(double alpha) {
-    const double a2 = alpha * alpha;
-    constexpr int kSteps = 1 << 16;
-    double sum = 0.0;
-    for (int k = 0; k < kSteps; ++k) {
-        const double c = (k + 0.5) / kSteps;
-        const double q = 0.5 * (1.0 + c) * (a2 - 1.0) + 1.0;
-        sum += a2 / (pi * q * q) * c;
-    }
-    return 2.0 * pi * sum / kSteps;
-}
-
 // Each output texel is the mean of P over it, from k x k directions across it: k = 2 where the
 // lobe (about 2 alpha wide) is narrower than two texels, which a texel's centre alone would
 // miss or overweigh (a level's energy was then 1.4 % off at roughness 0.087 on 64 texels).
@@ -676,7 +662,7 @@ void prefilter_light_into(const HdrImage& alone, const SupportCone& support, Pre
     for (int level = 1; level < cube.levels; ++level) {
         const double alpha = std::pow(roughness_of_level(level, cube.levels), 2.0);
         alphas.push_back(alpha);
-        normalisations.push_back(kernel_integral(alpha));
+        normalisations.push_back(prefilter_kernel_integral(alpha));
         // Sources no finer than half the face: a quarter of the texels of the finest at the
         // first level, whose lobe (0.64 degrees at roughness 0.11) the output's 2 x 2 directions
         // per texel of 1.4 degrees resolve no better.
@@ -783,27 +769,53 @@ double lod_of_roughness(double roughness, int levels) {
     return double(levels - 1) * r * (2.0 - r);
 }
 
+double prefilter_kernel_integral(double alpha) {
+    const double a2 = alpha * alpha;
+    // At alpha = 1, D = 1 / pi and Z = 2 int_0^1 c dc = 1; the closed form's terms cancel
+    // towards it, and within 1e-3 of it a linear step off 1 is closer than their difference.
+    if (a2 > 0.999) {
+        return 1.0 + 2.0 / 3.0 * (1.0 - a2);
+    }
+    const double d = a2 - 1.0;
+    return 8.0 * a2 / (d * d) * (std::log(2.0 * a2 / (1.0 + a2)) + (1.0 - a2) / (2.0 * a2));
+}
+
 double light_cap_tan2(double angular_radius) {
     // At least a microradian: a light has pixels, and T > 0 keeps light_lod's shares defined.
     return std::pow(std::tan(0.5 * std::clamp(angular_radius, 1e-6, 3.0)), 2.0);
 }
 
-double light_lod(double roughness, int levels, double angular_radius) {
+LightSpread light_spread(double angular_radius, const LightProfile& profile) {
+    return {profile.core_share, light_cap_tan2(std::min(angular_radius, kLightCoreAngularRadius)),
+            light_cap_tan2(std::min(angular_radius, profile.glow_angular_radius))};
+}
+
+LightSpread disc_spread(double angular_radius) {
+    const double cap_tan2 = light_cap_tan2(angular_radius);
+    return {0.0, cap_tan2, cap_tan2};
+}
+
+double light_lod(double roughness, int levels, const LightSpread& spread) {
     const double lod = lod_of_roughness(roughness, levels);
     const int below = int(std::floor(lod));
     if (below >= levels - 1) {
         return double(levels - 1);
     }
-    const double cap_tan2 = light_cap_tan2(angular_radius);
-    const auto share = [cap_tan2](double r) { return cap_tan2 / (std::pow(r, 4.0) + cap_tan2); };
-    const double sharp = share(roughness_of_level(below, levels));
-    const double span = share(roughness_of_level(below + 1, levels)) - sharp;
+    // The peak over the light's energy, up to 1 / (4 pi): M = (1 + T) / (alpha^2 + T) per disc.
+    const auto peak = [&spread](double r) {
+        const double a2 = std::pow(r, 4.0);
+        return spread.core_share * (1.0 + spread.core_cap_tan2) / (a2 + spread.core_cap_tan2) +
+               (1.0 - spread.core_share) * (1.0 + spread.glow_cap_tan2) /
+                   (a2 + spread.glow_cap_tan2);
+    };
+    const double sharp = peak(roughness_of_level(below, levels));
+    const double span = peak(roughness_of_level(below + 1, levels)) - sharp;
     // Peaks within 1e-4 of each other (a light far larger than both lobes): the levels agree,
     // any weight will do, and the lod's fraction is better conditioned.
     if (std::abs(span) < 1e-4 * sharp) {
         return lod;
     }
-    return below + std::clamp((share(std::clamp(roughness, 0.0, 1.0)) - sharp) / span, 0.0, 1.0);
+    return below + std::clamp((peak(std::clamp(roughness, 0.0, 1.0)) - sharp) / span, 0.0, 1.0);
 }
 
 PrefilteredCube prefilter_map(const HdrImage& map, const SpecularOptions& options) {

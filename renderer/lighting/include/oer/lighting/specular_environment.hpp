@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "oer/core/image.hpp"
+#include "oer/lighting/light_location.hpp"
 #include "oer/lighting/rig.hpp"
 
 namespace oer {
@@ -76,21 +77,48 @@ struct SpecularEnvironment {
 double roughness_of_level(int level, int levels);
 double lod_of_roughness(double roughness, int levels);
 
+// How a light's energy spreads about its direction, as its reflection needs it: the share
+// `core_share` in a core of angular radius at most kLightCoreAngularRadius, the rest in a glow
+// disc (light_profile's fit, light_location.hpp), each as T = tan^2(radius / 2). A light's
+// angular_radius is the cap of all its pixels' solid angle: Blender's sunrise's sun reaches
+// 25.7 degrees into its glow while most of its energy is in a core under a degree. Taken as a
+// disc of that radius, its reflection on a metal at roughness 0.3 peaked at 1.57 times the
+// reference's, the levels' blend judged for a wide light.
+struct LightSpread {
+    double core_share = 0.0;
+    double core_cap_tan2 = 0.0;
+    double glow_cap_tan2 = 0.0;
+};
+inline constexpr double kLightCoreAngularRadius = 0.00873;  // half a degree: a sun's is 0.27
+LightSpread light_spread(double angular_radius, const LightProfile& profile);
+// A uniform disc of angular radius rho: no core.
+LightSpread disc_spread(double angular_radius);
+
 // The fractional level at which a light's layer is read for roughness r: between the levels
-// a and a + 1 around lod_of_roughness, the blend weight that gives the reflection's peak of a
-// disc of the light's angular radius rho exactly, instead of the lod's fraction. The peak of
-// a light of radiance L prefiltered at GGX's alpha = r^2 is about L F(alpha), F the lobe's
-// share within rho: for D(h) (n.h) about the reflection, whose half vectors lie within rho / 2,
-// F = T / (alpha^2 + T), T = tan^2(rho / 2) (the GGX distribution's cumulative integral,
-// Walter et al. 2007). The weight w = (F(alpha) - F(alpha_a)) / (F(alpha_b) - F(alpha_a)) then
-// makes (1 - w) P_a + w P_b peak at L F(alpha). A linear blend of levels whose peaks differ
+// a and a + 1 around lod_of_roughness, the blend weight that gives the reflection's peak of
+// the light exactly, instead of the lod's fraction. Of a disc of energy Phi, radiance
+// Phi / Omega, prefiltered at GGX's alpha = r^2, the peak is Phi / Omega F(alpha), F the lobe's
+// share within the disc's radius rho: for D(h) (n.h) about the reflection, whose half vectors
+// lie within rho / 2, F = T / (alpha^2 + T), T = tan^2(rho / 2) (the GGX distribution's
+// cumulative integral, Walter et al. 2007), and Omega = 4 pi T / (1 + T), so the peak is
+// Phi M(alpha) / (4 pi), M = (1 + T) / (alpha^2 + T); a core and a glow add theirs by their
+// shares. The weight w = (M(alpha) - M(alpha_a)) / (M(alpha_b) - M(alpha_a)) then makes
+// (1 - w) P_a + w P_b peak at the light's own. A linear blend of levels whose peaks differ
 // tenfold (a compact light between roughness 0.23 and 0.37) is the sharp level's peak diluted
 // once: 1.4 times the true peak at roughness 0.3 for a disc of 2 degrees, 1.7 at 0.2 for one
 // degree; a blend of two levels keeps each level's energy whatever its weight. A light as
 // large as the lobe has equal peaks at both levels: w is then the lod's fraction. The shader's
-// light_lod is this function, given light_cap_tan2 (T) per light.
-double light_lod(double roughness, int levels, double angular_radius);
+// light_lod is this function, given the light's spread.
+double light_lod(double roughness, int levels, const LightSpread& spread);
 double light_cap_tan2(double angular_radius);
+
+// Z(alpha), the integral over the sphere of the prefiltering kernel K(r, l) = D(h) (r.l) with
+// n = v = r ((r.h)^2 = (1 + r.l) / 2), by which the lights' cubes are normalised. In closed
+// form, with c = r.l and a2 = alpha^2:
+//   Z = 2 pi int_0^1 D c dc = 8 a2 / (a2 - 1)^2 (ln(2 a2 / (1 + a2)) + (1 - a2) / (2 a2)),
+// 4 as alpha goes to 0 and 1 at alpha = 1 (D = 1 / pi). The shader's prefilter_kernel_integral
+// is this function.
+double prefilter_kernel_integral(double alpha);
 
 // The residual map (every rig light's pixels set to 0) prefiltered. The map must be the one
 // the rig was built from (same size; rig.model Hdr: the thesis model has no specular term).
