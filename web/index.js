@@ -41,7 +41,8 @@ showState();
 
 // The link also names the uploads it shows (`mesh-name`, `environment-name`: the user's file
 // names, which the server does not keep), so that whoever opens it sees them in the pickers.
-// uploadNames is filled below, from the link and from this page's uploads.
+// uploadNames is filled below, from the link and from this page's uploads. It carries the
+// hotspots placed in the page too (`hotspot`, below).
 const uploadNames = { mesh: new Map(), environment: new Map() };
 const writeLink = () => {
   const next = new URLSearchParams();
@@ -56,6 +57,9 @@ const writeLink = () => {
     if (name) {
       next.set(`${attribute}-name`, name);
     }
+  }
+  for (const hotspot of viewer.querySelectorAll(':scope > .hotspot')) {
+    next.append('hotspot', hotspotLinkText(hotspot));
   }
   const text = next.toString();
   history.replaceState(null, '', text ? `?${text}` : location.pathname);
@@ -372,6 +376,76 @@ const CLICK_SLOP_PX = 4;
 let placing = false;
 let pressedAt = null;
 let hotspotsPlaced = 0;
+// The page's hotspots are a slotted button each, named by its slot (`hotspot-NAME`), its point
+// in data-surface: "OBJECT PRIMITIVE TRIANGLE A B C" (web/README.md).
+function addHotspot(name, surface) {
+  const hotspot = document.createElement('button');
+  hotspot.type = 'button';
+  hotspot.className = 'hotspot';
+  hotspot.slot = `hotspot-${name}`;
+  hotspot.dataset.surface = surface;
+  hotspot.textContent = name;
+  hotspot.setAttribute('aria-label', `Hotspot ${name}`);
+  viewer.append(hotspot);
+  clearHotspots.hidden = false;
+}
+// In the link each is `hotspot=NAME OBJECT PRIMITIVE TRIANGLE A B C`: its name, then its
+// data-surface; the weights rounded to 4 decimals when placed keep it short (a ten-thousandth
+// of a triangle is far below a pixel, and the server takes weights summing to 1 within 1e-3).
+const BARYCENTRIC_DECIMALS = 4;
+function hotspotLinkText(hotspot) {
+  return `${hotspot.slot.replace(/^hotspot-/, '')} ${hotspot.dataset.surface}`;
+}
+// A link's hotspot entry as { name, surface }, or an Error saying in plain words why it cannot
+// be one: the link may be mangled, or made to harm (its name becomes a slot and a button's
+// text, its numbers a request), so each part is checked against what the server takes
+// (api/openapi.yaml, HotspotName and SurfaceHotspot).
+const HOTSPOT_NAME = /^[A-Za-z0-9_-]{1,64}$/;
+const SURFACE_INDEX = /^\d{1,9}$/;  // an object's, a primitive's or a triangle's
+function hotspotFromLink(text, takenNames) {
+  const [name, ...fields] = text.trim().split(/\s+/);
+  const shown = name.length > 24 ? `${name.slice(0, 24)}…` : name;
+  if (!HOTSPOT_NAME.test(name)) {
+    return new Error(`"${shown}" is not a hotspot name (1 to 64 letters, digits, - or _)`);
+  }
+  if (takenNames.has(name)) {
+    return new Error(`hotspot ${name} is named twice`);
+  }
+  const indices = fields.slice(0, 3);
+  const weights = fields.slice(3).map(Number);
+  const weightSum = weights.reduce((sum, weight) => sum + weight, 0);
+  if (fields.length !== 6 || !indices.every((index) => SURFACE_INDEX.test(index)) ||
+      !weights.every((weight) => weight >= 0 && weight <= 1) || Math.abs(weightSum - 1) > 1e-3) {
+    return new Error(`hotspot ${name} does not name a point of the product's surface`);
+  }
+  return { name, surface: [...indices.map(Number), ...weights].join(' ') };
+}
+// GET /v1/hotspots takes at most this many; a link with more is not the page's own.
+const MAX_LINK_HOTSPOTS = 256;
+function restoreLinkHotspots() {
+  const entries = initialQuery.getAll('hotspot');
+  const taken = new Set();
+  const refused = [];
+  for (const [index, text] of entries.entries()) {
+    const hotspot = index < MAX_LINK_HOTSPOTS ? hotspotFromLink(text, taken)
+      : new Error(`more than ${MAX_LINK_HOTSPOTS} hotspots`);
+    if (hotspot instanceof Error) {
+      refused.push(hotspot.message);
+      continue;
+    }
+    taken.add(hotspot.name);
+    addHotspot(hotspot.name, hotspot.surface);
+    // A hotspot placed next gets the next number after the link's.
+    if (/^\d+$/.test(hotspot.name)) {
+      hotspotsPlaced = Math.max(hotspotsPlaced, Number(hotspot.name));
+    }
+  }
+  if (refused.length > 0) {
+    say(`This link's hotspots are not all shown: ${refused.length} of ${entries.length} left ` +
+        `out (${refused[0]}).`, { error: true });
+    writeLink();  // the link shows what the page shows
+  }
+}
 placeHotspot.addEventListener('click', () => {
   placing = !placing;
   placeHotspot.setAttribute('aria-pressed', String(placing));
@@ -383,6 +457,7 @@ placeHotspot.addEventListener('click', () => {
 clearHotspots.addEventListener('click', () => {
   viewer.querySelectorAll('.hotspot').forEach((hotspot) => hotspot.remove());
   clearHotspots.hidden = true;
+  writeLink();
 });
 viewer.addEventListener('pointerdown', (event) => { pressedAt = { x: event.clientX, y: event.clientY }; });
 viewer.addEventListener('click', async (event) => {
@@ -398,16 +473,12 @@ viewer.addEventListener('click', async (event) => {
       return;
     }
     hotspotsPlaced += 1;
-    const hotspot = document.createElement('button');
-    hotspot.type = 'button';
-    hotspot.className = 'hotspot';
-    hotspot.slot = `hotspot-${hotspotsPlaced}`;
-    hotspot.dataset.surface = surface.surface;
-    hotspot.textContent = String(hotspotsPlaced);
-    hotspot.setAttribute('aria-label', `Hotspot ${hotspotsPlaced}`);
-    viewer.append(hotspot);
-    clearHotspots.hidden = false;
-    setStatus(`Hotspot ${hotspotsPlaced} placed: data-surface="${surface.surface}"`);
+    const point = [surface.object, surface.primitive, surface.triangle,
+                   ...surface.barycentric.map((weight) => Number(weight.toFixed(BARYCENTRIC_DECIMALS)))]
+      .join(' ');
+    addHotspot(String(hotspotsPlaced), point);
+    writeLink();
+    setStatus(`Hotspot ${hotspotsPlaced} placed: data-surface="${point}"`);
   } catch (error) {
     setStatus(`The hotspot could not be placed: ${error.message}`, { error: true });
   }
@@ -825,3 +896,6 @@ document.addEventListener('drop', (event) => {
     say(`Drop one file at a time (${files.length} were dropped)`, { error: true });
   }
 });
+
+// Last, what the link carries besides the element's attributes: its hotspots.
+restoreLinkHotspots();

@@ -472,6 +472,71 @@ try {
     }
     assert.equal(await page.locator('#background').inputValue(), 'env');
     assert.equal(await page.locator('#background-color').isHidden(), true);
+
+    // A hotspot placed in the page goes into its link (its name and its point of the surface),
+    // and the link shows it again: the same name, the same point, at the same place in the view.
+    const hotspotsShown = async (where) => (await where.waitForFunction(() => {
+      const viewer = document.querySelector('oer-viewer');
+      const hotspots = [...viewer.querySelectorAll(':scope > .hotspot')];
+      if (hotspots.length === 0 || !hotspots.every((hotspot) => hotspot.hasAttribute('data-visible'))) {
+        return false;
+      }
+      const view = viewer.getBoundingClientRect();
+      return hotspots.map((hotspot) => {
+        const rect = hotspot.getBoundingClientRect();
+        return { slot: hotspot.slot, surface: hotspot.dataset.surface, text: hotspot.textContent,
+                 x: rect.x + rect.width / 2 - view.x, y: rect.y + rect.height / 2 - view.y };
+      });
+    }, null, { timeout: 15000 })).jsonValue();
+    const box = await page.locator('oer-viewer').boundingBox();
+    await page.locator('#place-hotspot').click();
+    await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+    const placed = await hotspotsShown(page);
+    await page.locator('#place-hotspot').click();
+    const withHotspot = page.url();
+    assert.deepEqual(new URL(withHotspot).searchParams.getAll('hotspot'),
+                     [`${placed[0].text} ${placed[0].surface}`], withHotspot);
+    const opened = await desktop.newPage();
+    await opened.goto(withHotspot);
+    const restored = await hotspotsShown(opened);
+    await opened.close();
+    const identity = ({ slot, surface, text }) => ({ slot, surface, text });
+    assert.deepEqual(restored.map(identity), placed.map(identity));
+    console.log(`  hotspot ${placed[0].slot} at ${placed[0].x.toFixed(1)}, ${placed[0].y.toFixed(1)} ` +
+                `placed, ${restored[0].x.toFixed(1)}, ${restored[0].y.toFixed(1)} from its link`);
+    assert.ok(Math.abs(restored[0].x - placed[0].x) < 1 && Math.abs(restored[0].y - placed[0].y) < 1,
+              `the link shows the hotspot at ${restored[0].x}, ${restored[0].y}, placed at ` +
+              `${placed[0].x}, ${placed[0].y}`);
+    await page.locator('#clear-hotspots').click();
+    assert.doesNotMatch(page.url(), /[?&]hotspot=/);
+  });
+
+  await check('hotspots in a link that are mangled or hostile are left out, in plain words', async () => {
+    const linked = await desktop.newPage();
+    const dialogs = [];
+    linked.on('dialog', (dialog) => {
+      dialogs.push(dialog.message());
+      dialog.dismiss();
+    });
+    const query = new URLSearchParams();
+    query.append('hotspot', '<img/src=x/onerror=alert(1)> 0 0 0 1 0 0');
+    query.append('hotspot', 'kept 0 0 0 0.2 0.3 0.5');
+    query.append('hotspot', 'kept 0 0 1 0.2 0.3 0.5');
+    query.append('hotspot', 'outside 0 0 0 2 -1 0');
+    query.append('hotspot', 'short 0 0');
+    await linked.goto(`${server.url}/?${query}`);
+    await fullFrame(linked);
+    const message = linked.locator('#upload-status');
+    assert.match(await message.textContent(),
+                 /^This link's hotspots are not all shown: 4 of 5 left out \("<img\/src=x\/onerror=alert…" is not a hotspot name/);
+    assert.equal(await message.getAttribute('class'), 'error');
+    assert.deepEqual(await linked.evaluate(() =>
+      [...document.querySelectorAll('oer-viewer > *')].map((child) => child.slot)), ['hotspot-kept']);
+    assert.equal(await linked.locator('img[src="x"]').count(), 0, 'no markup from the link');
+    assert.deepEqual(dialogs, []);
+    // The link now holds what the page shows.
+    assert.deepEqual(new URL(linked.url()).searchParams.getAll('hotspot'), ['kept 0 0 0 0.2 0.3 0.5']);
+    await linked.close();
   });
 
   await check('the status line shows the server\'s time, then "cached" for the same frame again',
