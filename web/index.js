@@ -935,7 +935,8 @@ let currentJob = null;
 // be started"), then why, with the server's own detail where it says what to change.
 async function jobRefusal(response, url, failed) {
   const retryAfter = response.headers.get('Retry-After');
-  const { message } = await problemOf(response, url);
+  const again = `Try again ${retryAfter ? `in ${retryAfter} s` : 'in a moment'}.`;
+  const { message, type } = await problemOf(response, url);
   switch (response.status) {
     case 401:
       return `${failed}: the server asks for a key that this page does not have.`;
@@ -943,10 +944,13 @@ async function jobRefusal(response, url, failed) {
       return `${failed}: it is more than the server makes in one job. Choose fewer views or a ` +
         `smaller size (${message}).`;
     case 429:
-      return `${failed}: the server is still making your earlier images. Try again ` +
-        `${retryAfter ? `in ${retryAfter} s` : 'later'}.`;
+      // The client's unfinished jobs are at their bounds (too-many-renders), or its address
+      // holds too many connections.
+      return type === '/v1/problems/too-many-renders'
+        ? `${failed}: the server is still making your earlier images. ${again}`
+        : `${failed}: the server is busy. ${again}`;
     case 503:
-      return `${failed}: the server is busy. Try again ${retryAfter ? `in ${retryAfter} s` : 'in a moment'}.`;
+      return `${failed}: the server is busy. ${again}`;
     default:
       return `${failed}: ${message}`;
   }
