@@ -571,8 +571,9 @@ try {
     query.append('hotspot', 'outside 0 0 0 2 -1 0');
     query.append('hotspot', 'short 0 0');
     await linked.goto(`${server.url}/?${query}`);
-    await fullFrame(linked);
+    // The page's script has run to its end once it says so.
     const message = linked.locator('#upload-status');
+    await linked.waitForFunction(() => document.getElementById('upload-status').textContent !== '');
     assert.match(await message.textContent(),
                  /^This link's hotspots are not all shown: 4 of 5 left out \("<img\/src=x\/onerror=alert…" is not a hotspot name/);
     assert.equal(await message.getAttribute('class'), 'error');
