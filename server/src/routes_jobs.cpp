@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "event_stream.hpp"
 #include "http_exchange.hpp"
 #include "oer/api/frame_encoding.hpp"
 #include "oer/api/invalid_parameter.hpp"
@@ -21,9 +22,6 @@ namespace {
 
 // A job's answers change as it runs: never kept by a cache.
 constexpr const char* kNoStore = "no-store";
-// How often an event stream says it is alive when nothing changes (a comment line), so that
-// proxies that close idle connections (nginx: proxy_read_timeout, 60 s by default) keep it.
-constexpr std::chrono::seconds kEventKeepAlive{15};
 // How often an event stream looks at its job when nothing here signals a change (another
 // replica renders its frames).
 constexpr std::chrono::milliseconds kEventPoll{500};
@@ -128,47 +126,17 @@ void add_job_routes(Router& router, ServiceContext& context) {
         single_query(request, {});
         const std::string id = request.matches[1];
         job_status(context, id, false);  // 404 before the stream starts
-        response.set_header("Cache-Control", kNoStore);
-        // Each event as it comes, not held in a proxy's buffer (nginx reads this header).
-        response.set_header("X-Accel-Buffering", "no");
         // Each change of the job's progress as one `progress` event, its data the job's
         // status (as GET /v1/jobs/{id} without frames); the stream ends after the event of
         // a settled job (done, failed, cancelled).
-        struct Stream {
-            std::string last;
-            std::uint64_t changes = 0;
-            std::chrono::steady_clock::time_point written = std::chrono::steady_clock::now();
-        };
-        auto stream = std::make_shared<Stream>();
-        response.set_chunked_content_provider(
-            "text/event-stream", [&context, id, stream](std::size_t, httplib::DataSink& sink) {
-                const auto status = context.jobs.status(id, false);
-                if (!status) {
-                    sink.done();
-                    return true;
-                }
-                const std::string data = status->dump();
-                if (data != stream->last) {
-                    const std::string event = "event: progress\ndata: " + data + "\n\n";
-                    if (!sink.write(event.data(), event.size())) {
-                        return false;
-                    }
-                    stream->last = data;
-                    stream->written = std::chrono::steady_clock::now();
-                } else if (std::chrono::steady_clock::now() - stream->written > kEventKeepAlive) {
-                    static constexpr std::string_view kAlive = ": alive\n\n";
-                    if (!sink.write(kAlive.data(), kAlive.size())) {
-                        return false;
-                    }
-                    stream->written = std::chrono::steady_clock::now();
-                }
-                if (settled(*status)) {
-                    sink.done();
-                    return true;
-                }
-                stream->changes = context.jobs.wait_for_change(stream->changes, kEventPoll);
-                return sink.is_writable();
-            });
+        send_progress_events(response,
+                             {.status = [&context, id] { return context.jobs.status(id, false); },
+                              .change = [](const nlohmann::json& status) { return status.dump(); },
+                              .settled = settled,
+                              .wait =
+                                  [&context, changes = std::make_shared<std::uint64_t>(0)] {
+                                      *changes = context.jobs.wait_for_change(*changes, kEventPoll);
+                                  }});
     });
 
     router.get("/v1/jobs/{id}/frames/{name}", [&context](const httplib::Request& request,

@@ -144,35 +144,14 @@ TEST(Jobs, TurntableOf36ViewsAndTwoVariantsCompletesSlow) {
     ASSERT_FALSE(id.empty());
 
     // Followed by its event stream to the end: the stream closes after the settled job's event.
-    std::vector<Json> events;
-    std::string buffer;
-    std::string content_type;
-    auto stream = server.client();
-    const auto followed = stream->Get(
-        ("/v1/jobs/" + id + "/events").c_str(),
-        [&](const httplib::Response& response) {
-            content_type = response.get_header_value("Content-Type");
-            return response.status == 200;
-        },
-        [&](const char* data, std::size_t length) {
-            buffer.append(data, length);
-            for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos;) {
-                const std::string event = buffer.substr(0, end);
-                buffer.erase(0, end + 2);
-                if (const auto data_at = event.find("data: "); data_at != std::string::npos) {
-                    EXPECT_EQ(event.substr(0, 16), "event: progress\n");
-                    events.push_back(Json::parse(event.substr(data_at + 6)));
-                }
-            }
-            return true;
-        });
+    const EventStream stream = follow_events(*server.client(), "/v1/jobs/" + id + "/events");
     const double seconds = seconds_since(start);
-    ASSERT_TRUE(followed);
-    EXPECT_EQ(content_type, "text/event-stream");
-    ASSERT_FALSE(events.empty());
-    EXPECT_EQ(events.back().at("state"), "done");
-    for (std::size_t i = 1; i < events.size(); ++i) {
-        EXPECT_GE(events[i].at("done"), events[i - 1].at("done"));
+    ASSERT_TRUE(stream.ended);
+    EXPECT_EQ(stream.content_type, "text/event-stream");
+    ASSERT_FALSE(stream.events.empty());
+    EXPECT_EQ(stream.events.back().at("state"), "done");
+    for (std::size_t i = 1; i < stream.events.size(); ++i) {
+        EXPECT_GE(stream.events[i].at("done"), stream.events[i - 1].at("done"));
     }
 
     const Json status = job_status(*client, id);
