@@ -685,32 +685,43 @@ const endUpload = () => {
   uploadGroup.removeAttribute('aria-busy');
 };
 // An uploaded mesh's first frames need its transfer (occlusion and one bounce), which the
-// server starts baking on upload: GET /v1/meshes/{id}/preparation says how far it has come,
-// polled until it is ready (or will not be prepared ahead), into the progress bar. The status
-// line, which a screen reader announces, changes only every 10 %.
-const PREPARATION_POLL_MS = 250;
-async function followPreparation(id, name) {
-  let announced = -1;
-  for (;;) {
-    const preparation = await fetchJson(`/v1/meshes/${id}/preparation`);
-    if (preparation.state !== 'queued' && preparation.state !== 'baking') {
-      return;
-    }
-    const percent = Math.floor(100 * preparation.progress);
-    if (preparation.state === 'queued' || percent === 0) {
-      uploadProgress.removeAttribute('value');
-    } else {
-      uploadProgress.value = preparation.progress;
-    }
-    const step = Math.floor(percent / 10);
-    if (step !== announced) {
-      announced = step;
-      const left = preparation.seconds_left === null ? ''
-        : `, about ${Math.max(1, Math.round(preparation.seconds_left))} s left`;
-      say(`Preparing ${name}'s shadows and reflected light: ${percent} %${left}`);
-    }
-    await new Promise((resolve) => setTimeout(resolve, PREPARATION_POLL_MS));
-  }
+// server starts baking on upload: GET /v1/meshes/{id}/preparation/events streams how far it
+// has come (one event a change), followed into the progress bar until it is ready (or will not
+// be prepared ahead); the bake without the floor, which the server streams after it, is not
+// waited for. The status line, which a screen reader announces, changes only every 10 %.
+// Rejects when the stream fails (the server gone, the mesh deleted meanwhile): EventSource
+// says nothing of why, and would reconnect for ever.
+function followPreparation(id, name) {
+  const url = `${viewer.server}/v1/meshes/${encodeURIComponent(id)}/preparation/events`;
+  return new Promise((resolve, reject) => {
+    let announced = -1;
+    const events = new EventSource(url);
+    events.addEventListener('progress', (event) => {
+      const preparation = JSON.parse(event.data);
+      if (preparation.state !== 'queued' && preparation.state !== 'baking') {
+        events.close();
+        resolve();
+        return;
+      }
+      const percent = Math.floor(100 * preparation.progress);
+      if (preparation.state === 'queued' || percent === 0) {
+        uploadProgress.removeAttribute('value');
+      } else {
+        uploadProgress.value = preparation.progress;
+      }
+      const step = Math.floor(percent / 10);
+      if (step !== announced) {
+        announced = step;
+        const left = preparation.seconds_left === null ? ''
+          : `, about ${Math.max(1, Math.round(preparation.seconds_left))} s left`;
+        say(`Preparing ${name}'s shadows and reflected light: ${percent} %${left}`);
+      }
+    });
+    events.addEventListener('error', () => {
+      events.close();
+      reject(new Error(`the stream ${url} broke off`));
+    });
+  });
 }
 
 // Resolves once the view shows `id` as its `attribute` (a frame of it, not a preliminary one),

@@ -1144,6 +1144,14 @@ try {
                   'f 2 3 7', 'f 2 7 6', 'f 4 8 7', 'f 4 7 3', 'f 1 2 6', 'f 1 6 5', ''].join('\n');
     const frames = await page.evaluate(() => window.oerFrames.length);
     await watchUploadStatus();
+    // The preparation is followed by its event stream, not polled.
+    const preparationRequests = [];
+    const onPreparationRequest = (request) => {
+      if (request.url().includes('/preparation')) {
+        preparationRequests.push(new URL(request.url()).pathname);
+      }
+    };
+    page.on('request', onPreparationRequest);
     const dataTransfer = await page.evaluateHandle((text) => {
       const transfer = new DataTransfer();
       transfer.items.add(new File([text], 'cube.obj'));
@@ -1165,6 +1173,8 @@ try {
     console.log(`  upload status: ${texts.join(' | ')}`);
     assert.ok(texts.some((text) => /^Preparing cube\.obj's shadows and reflected light: \d+ %/
       .test(text)), texts.join(' | '));
+    page.off('request', onPreparationRequest);
+    assert.deepEqual(preparationRequests, [`/v1/meshes/${mesh.id}/preparation/events`]);
     assert.equal(await viewerAttribute('mesh'), mesh.id);
     assert.equal(await page.locator('#mesh-picker option:checked').textContent(), 'cube.obj');
     const done = await page.evaluate(() => window.uploadSeen.at(-1));
