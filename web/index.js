@@ -41,7 +41,8 @@ showState();
 
 // The link also names the uploads it shows (`mesh-name`, `environment-name`: the user's file
 // names, which the server does not keep), so that whoever opens it sees them in the pickers.
-// uploadNames is filled below, from the link and from this page's uploads.
+// uploadNames is filled below, from the link and from this page's uploads. It carries the
+// hotspots placed in the page too (`hotspot`, below).
 const uploadNames = { mesh: new Map(), environment: new Map() };
 const writeLink = () => {
   const next = new URLSearchParams();
@@ -56,6 +57,9 @@ const writeLink = () => {
     if (name) {
       next.set(`${attribute}-name`, name);
     }
+  }
+  for (const hotspot of viewer.querySelectorAll(':scope > .hotspot')) {
+    next.append('hotspot', hotspotLinkText(hotspot));
   }
   const text = next.toString();
   history.replaceState(null, '', text ? `?${text}` : location.pathname);
@@ -169,6 +173,9 @@ const showParts = (materials) => {
 // swatch material's base color; hidden for a product without variants.
 const productVariants = document.getElementById('product-variants');
 const productVariantChoices = document.getElementById('product-variant-choices');
+// The product's variants' names, for "All variants" (below), enabled only when there are some.
+const allVariantsButton = document.getElementById('all-variants');
+let productVariantNames = [];
 const srgbHex = (linear) => `#${linear.slice(0, 3).map((value) => {
   const v = Math.min(1, Math.max(0, value));
   const encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * v ** (1 / 2.4) - 0.055;
@@ -208,6 +215,8 @@ const showProductVariants = (variants) => {
     choice('', 'As shipped', null),
     ...variants.map((variant) => choice(variant.name, variant.name, variant.swatch)));
   productVariants.hidden = variants.length === 0;
+  productVariantNames = variants.map((variant) => variant.name);
+  allVariantsButton.disabled = variants.length === 0;
   showProductVariant();
 };
 new MutationObserver(showProductVariant).observe(viewer, { attributeFilter: ['variant'] });
@@ -372,6 +381,76 @@ const CLICK_SLOP_PX = 4;
 let placing = false;
 let pressedAt = null;
 let hotspotsPlaced = 0;
+// The page's hotspots are a slotted button each, named by its slot (`hotspot-NAME`), its point
+// in data-surface: "OBJECT PRIMITIVE TRIANGLE A B C" (web/README.md).
+function addHotspot(name, surface) {
+  const hotspot = document.createElement('button');
+  hotspot.type = 'button';
+  hotspot.className = 'hotspot';
+  hotspot.slot = `hotspot-${name}`;
+  hotspot.dataset.surface = surface;
+  hotspot.textContent = name;
+  hotspot.setAttribute('aria-label', `Hotspot ${name}`);
+  viewer.append(hotspot);
+  clearHotspots.hidden = false;
+}
+// In the link each is `hotspot=NAME OBJECT PRIMITIVE TRIANGLE A B C`: its name, then its
+// data-surface; the weights rounded to 4 decimals when placed keep it short (a ten-thousandth
+// of a triangle is far below a pixel, and the server takes weights summing to 1 within 1e-3).
+const BARYCENTRIC_DECIMALS = 4;
+function hotspotLinkText(hotspot) {
+  return `${hotspot.slot.replace(/^hotspot-/, '')} ${hotspot.dataset.surface}`;
+}
+// A link's hotspot entry as { name, surface }, or an Error saying in plain words why it cannot
+// be one: the link may be mangled, or made to harm (its name becomes a slot and a button's
+// text, its numbers a request), so each part is checked against what the server takes
+// (api/openapi.yaml, HotspotName and SurfaceHotspot).
+const HOTSPOT_NAME = /^[A-Za-z0-9_-]{1,64}$/;
+const SURFACE_INDEX = /^\d{1,9}$/;  // an object's, a primitive's or a triangle's
+function hotspotFromLink(text, takenNames) {
+  const [name, ...fields] = text.trim().split(/\s+/);
+  const shown = name.length > 24 ? `${name.slice(0, 24)}…` : name;
+  if (!HOTSPOT_NAME.test(name)) {
+    return new Error(`"${shown}" is not a hotspot name (1 to 64 letters, digits, - or _)`);
+  }
+  if (takenNames.has(name)) {
+    return new Error(`hotspot ${name} is named twice`);
+  }
+  const indices = fields.slice(0, 3);
+  const weights = fields.slice(3).map(Number);
+  const weightSum = weights.reduce((sum, weight) => sum + weight, 0);
+  if (fields.length !== 6 || !indices.every((index) => SURFACE_INDEX.test(index)) ||
+      !weights.every((weight) => weight >= 0 && weight <= 1) || Math.abs(weightSum - 1) > 1e-3) {
+    return new Error(`hotspot ${name} does not name a point of the product's surface`);
+  }
+  return { name, surface: [...indices.map(Number), ...weights].join(' ') };
+}
+// GET /v1/hotspots takes at most this many; a link with more is not the page's own.
+const MAX_LINK_HOTSPOTS = 256;
+function restoreLinkHotspots() {
+  const entries = initialQuery.getAll('hotspot');
+  const taken = new Set();
+  const refused = [];
+  for (const [index, text] of entries.entries()) {
+    const hotspot = index < MAX_LINK_HOTSPOTS ? hotspotFromLink(text, taken)
+      : new Error(`more than ${MAX_LINK_HOTSPOTS} hotspots`);
+    if (hotspot instanceof Error) {
+      refused.push(hotspot.message);
+      continue;
+    }
+    taken.add(hotspot.name);
+    addHotspot(hotspot.name, hotspot.surface);
+    // A hotspot placed next gets the next number after the link's.
+    if (/^\d+$/.test(hotspot.name)) {
+      hotspotsPlaced = Math.max(hotspotsPlaced, Number(hotspot.name));
+    }
+  }
+  if (refused.length > 0) {
+    say(`This link's hotspots are not all shown: ${refused.length} of ${entries.length} left ` +
+        `out (${refused[0]}).`, { error: true });
+    writeLink();  // the link shows what the page shows
+  }
+}
 placeHotspot.addEventListener('click', () => {
   placing = !placing;
   placeHotspot.setAttribute('aria-pressed', String(placing));
@@ -383,6 +462,7 @@ placeHotspot.addEventListener('click', () => {
 clearHotspots.addEventListener('click', () => {
   viewer.querySelectorAll('.hotspot').forEach((hotspot) => hotspot.remove());
   clearHotspots.hidden = true;
+  writeLink();
 });
 viewer.addEventListener('pointerdown', (event) => { pressedAt = { x: event.clientX, y: event.clientY }; });
 viewer.addEventListener('click', async (event) => {
@@ -398,16 +478,12 @@ viewer.addEventListener('click', async (event) => {
       return;
     }
     hotspotsPlaced += 1;
-    const hotspot = document.createElement('button');
-    hotspot.type = 'button';
-    hotspot.className = 'hotspot';
-    hotspot.slot = `hotspot-${hotspotsPlaced}`;
-    hotspot.dataset.surface = surface.surface;
-    hotspot.textContent = String(hotspotsPlaced);
-    hotspot.setAttribute('aria-label', `Hotspot ${hotspotsPlaced}`);
-    viewer.append(hotspot);
-    clearHotspots.hidden = false;
-    setStatus(`Hotspot ${hotspotsPlaced} placed: data-surface="${surface.surface}"`);
+    const point = [surface.object, surface.primitive, surface.triangle,
+                   ...surface.barycentric.map((weight) => Number(weight.toFixed(BARYCENTRIC_DECIMALS)))]
+      .join(' ');
+    addHotspot(String(hotspotsPlaced), point);
+    writeLink();
+    setStatus(`Hotspot ${hotspotsPlaced} placed: data-surface="${point}"`);
   } catch (error) {
     setStatus(`The hotspot could not be placed: ${error.message}`, { error: true });
   }
@@ -609,32 +685,43 @@ const endUpload = () => {
   uploadGroup.removeAttribute('aria-busy');
 };
 // An uploaded mesh's first frames need its transfer (occlusion and one bounce), which the
-// server starts baking on upload: GET /v1/meshes/{id}/preparation says how far it has come,
-// polled until it is ready (or will not be prepared ahead), into the progress bar. The status
-// line, which a screen reader announces, changes only every 10 %.
-const PREPARATION_POLL_MS = 250;
-async function followPreparation(id, name) {
-  let announced = -1;
-  for (;;) {
-    const preparation = await fetchJson(`/v1/meshes/${id}/preparation`);
-    if (preparation.state !== 'queued' && preparation.state !== 'baking') {
-      return;
-    }
-    const percent = Math.floor(100 * preparation.progress);
-    if (preparation.state === 'queued' || percent === 0) {
-      uploadProgress.removeAttribute('value');
-    } else {
-      uploadProgress.value = preparation.progress;
-    }
-    const step = Math.floor(percent / 10);
-    if (step !== announced) {
-      announced = step;
-      const left = preparation.seconds_left === null ? ''
-        : `, about ${Math.max(1, Math.round(preparation.seconds_left))} s left`;
-      say(`Preparing ${name}'s shadows and reflected light: ${percent} %${left}`);
-    }
-    await new Promise((resolve) => setTimeout(resolve, PREPARATION_POLL_MS));
-  }
+// server starts baking on upload: GET /v1/meshes/{id}/preparation/events streams how far it
+// has come (one event a change), followed into the progress bar until it is ready (or will not
+// be prepared ahead); the bake without the floor, which the server streams after it, is not
+// waited for. The status line, which a screen reader announces, changes only every 10 %.
+// Rejects when the stream fails (the server gone, the mesh deleted meanwhile): EventSource
+// says nothing of why, and would reconnect for ever.
+function followPreparation(id, name) {
+  const url = `${viewer.server}/v1/meshes/${encodeURIComponent(id)}/preparation/events`;
+  return new Promise((resolve, reject) => {
+    let announced = -1;
+    const events = new EventSource(url);
+    events.addEventListener('progress', (event) => {
+      const preparation = JSON.parse(event.data);
+      if (preparation.state !== 'queued' && preparation.state !== 'baking') {
+        events.close();
+        resolve();
+        return;
+      }
+      const percent = Math.floor(100 * preparation.progress);
+      if (preparation.state === 'queued' || percent === 0) {
+        uploadProgress.removeAttribute('value');
+      } else {
+        uploadProgress.value = preparation.progress;
+      }
+      const step = Math.floor(percent / 10);
+      if (step !== announced) {
+        announced = step;
+        const left = preparation.seconds_left === null ? ''
+          : `, about ${Math.max(1, Math.round(preparation.seconds_left))} s left`;
+        say(`Preparing ${name}'s shadows and reflected light: ${percent} %${left}`);
+      }
+    });
+    events.addEventListener('error', () => {
+      events.close();
+      reject(new Error(`the stream ${url} broke off`));
+    });
+  });
 }
 
 // Resolves once the view shows `id` as its `attribute` (a frame of it, not a preliminary one),
@@ -825,3 +912,294 @@ document.addEventListener('drop', (event) => {
     say(`Drop one file at a time (${files.length} were dropped)`, { error: true });
   }
 });
+
+// Image sets, made by the server as batch jobs (POST /v1/jobs, docs/jobs.md): "Spin set", a
+// turntable of the view (Views around its orbit), and "All variants", the view in each of the
+// product's variants; each image Size×Size, otherwise the view's own request (its environment,
+// objects, variant, colors, lights, ground, camera). One job at a time. Its event stream
+// (GET /v1/jobs/{id}/events) moves the progress bar and the text beside it, which are not
+// announced; the status line announces the settled states only (started, done, failed,
+// cancelled). Once done the page offers links to what the job made, which the user clicks to
+// save. The page sends no API key (it has none, as for uploads): a server with one refuses it.
+const jobViews = document.getElementById('job-views');
+const jobSize = document.getElementById('job-size');
+const spinSetButton = document.getElementById('spin-set');
+const jobProgressGroup = document.getElementById('job-progress-group');
+const jobProgress = document.getElementById('job-progress');
+const jobProgressText = document.getElementById('job-progress-text');
+const jobCancel = document.getElementById('job-cancel');
+const jobResults = document.getElementById('job-results');
+const JOB_KINDS = {
+  spin: { title: 'Spin set', what: 'the spin set', noun: 'view', file: 'spin-set' },
+  variants: { title: 'All variants', what: 'the variants\' images', noun: 'variant', file: 'variants' },
+};
+const SETTLED_STATES = new Set(['done', 'failed', 'cancelled']);
+// A stream that breaks off while its job goes on is opened again this many times in a row,
+// this long after the break, before the page gives up on following the job.
+const JOB_STREAM_RETRIES = 3;
+const JOB_STREAM_RETRY_MS = 1000;
+// The job being made: { kind, button (the one that started it), id, format, events,
+// retries }; null when none.
+let currentJob = null;
+
+// A refused job request in plain words: `failed` says what failed ("The spin set could not
+// be started"), then why, with the server's own detail where it says what to change.
+async function jobRefusal(response, url, failed) {
+  const retryAfter = response.headers.get('Retry-After');
+  const again = `Try again ${retryAfter ? `in ${retryAfter} s` : 'in a moment'}.`;
+  const { message, type } = await problemOf(response, url);
+  switch (response.status) {
+    case 401:
+      return `${failed}: the server asks for a key that this page does not have.`;
+    case 413:
+      return `${failed}: it is more than the server makes in one job. Choose fewer views or a ` +
+        `smaller size (${message}).`;
+    case 429:
+      // The client's unfinished jobs are at their bounds (too-many-renders), or its address
+      // holds too many connections.
+      return type === '/v1/problems/too-many-renders'
+        ? `${failed}: the server is still making your earlier images. ${again}`
+        : `${failed}: the server is busy. ${again}`;
+    case 503:
+      return `${failed}: the server is busy. ${again}`;
+    default:
+      return `${failed}: ${message}`;
+  }
+}
+
+const showJobProgress = (kind, { state, done, failed, total, seconds_left: secondsLeft }) => {
+  const { noun } = JOB_KINDS[kind];
+  jobProgress.value = total > 0 ? (done + failed) / total : 0;
+  const parts = [`${done}/${plural(total, noun)}`];
+  if (failed > 0) {
+    parts.push(`${failed} failed`);
+  }
+  if (secondsLeft !== null && secondsLeft !== undefined) {
+    parts.push(`about ${Math.max(1, Math.ceil(secondsLeft))} s left`);
+  }
+  if (state === 'done' || state === 'cancelled') {
+    parts.push(state);
+  }
+  jobProgressText.textContent = parts.join(', ');
+};
+
+// A link the user clicks to save what `href` answers as `fileName`.
+const downloadLink = (href, fileName, ...content) => {
+  const link = document.createElement('a');
+  link.href = href;
+  link.download = fileName;
+  link.append(...content);
+  return link;
+};
+const FILE_EXTENSIONS = { jpeg: 'jpg', png: 'png' };
+
+// The links to what a done job made: a spin set's animated WebP, sprite sheet (in its frames'
+// format: PNG keeps a transparent background) and ZIP; the variants' ZIP and each variant's
+// image, shown small.
+function jobLinks(job, status) {
+  const base = `${viewer.server}/v1/jobs/${job.id}`;
+  const file = `${JOB_KINDS[job.kind].file}-${job.id.slice(0, 8)}`;
+  const extension = FILE_EXTENSIONS[job.format];
+  const zip = downloadLink(`${base}/zip`, `${file}.zip`, `ZIP (${plural(status.done, 'image')})`);
+  if (job.kind === 'spin') {
+    const sequence = `${base}/sequences/${encodeURIComponent(status.sequences[0])}`;
+    return [downloadLink(sequence, `${file}.webp`, 'Animated WebP'),
+            downloadLink(`${sequence}?format=${job.format}`, `${file}-sprites.${extension}`,
+                         'Sprite sheet'),
+            zip];
+  }
+  return [zip, ...job.frames.map(({ name, variant }) => {
+    const href = `${base}/frames/${encodeURIComponent(name)}`;
+    const thumbnail = document.createElement('img');
+    thumbnail.src = href;
+    thumbnail.alt = '';  // the link's text names it
+    return downloadLink(href, `${file}-${name}.${extension}`, thumbnail, variant);
+  })];
+}
+
+// Why a failed job's first failed frame failed, as the job's status names it.
+async function firstFailure(id) {
+  try {
+    const { frames } = await fetchJson(`/v1/jobs/${id}`);
+    const frame = frames.find((candidate) => candidate.state === 'failed');
+    return frame ? `${frame.name}: ${frame.error}` : 'the server did not say why';
+  } catch (error) {
+    return `why did not load: ${error.message}`;
+  }
+}
+
+async function settleJob(job, status) {
+  if (currentJob !== job) {
+    return;  // settled already (the cancellation's answer and the stream both say so)
+  }
+  currentJob = null;
+  job.events?.close();
+  showJobProgress(job.kind, status);
+  // Cancel goes; the keyboard's focus, if it was there, goes back to the job's button.
+  const cancelFocused = document.activeElement === jobCancel;
+  jobCancel.hidden = true;
+  if (cancelFocused) {
+    job.button.focus();
+  }
+  const { title, noun } = JOB_KINDS[job.kind];
+  if (status.state === 'done') {
+    jobResults.replaceChildren(...jobLinks(job, status));
+    setStatus(`${title} ready: ${plural(status.done, noun)}; save them with the links beside it.`);
+  } else if (status.state === 'cancelled') {
+    setStatus(`${title} cancelled after ${status.done} of ${plural(status.total, noun)}.`);
+  } else {
+    setStatus(`${title} failed: ${status.failed} of ${plural(status.total, noun)} could not be ` +
+              `made (${await firstFailure(job.id)}).`, { error: true });
+  }
+}
+
+// Gives up on a job the page can no longer follow; the server may still make it.
+function loseJob(job, text) {
+  if (currentJob === job) {
+    currentJob = null;
+    job.events?.close();
+    jobCancel.hidden = true;
+    setStatus(text, { error: true });
+  }
+}
+
+// Follows the job's events; a stream that breaks off before the job settles (the network, a
+// restarted server) is opened again while the job's status still answers.
+function followJob(job) {
+  const events = new EventSource(`${viewer.server}/v1/jobs/${job.id}/events`);
+  job.events = events;
+  events.addEventListener('progress', (event) => {
+    if (currentJob !== job) {
+      return;
+    }
+    job.retries = 0;
+    const status = JSON.parse(event.data);
+    showJobProgress(job.kind, status);
+    if (SETTLED_STATES.has(status.state)) {
+      settleJob(job, status);
+    }
+  });
+  events.addEventListener('error', async () => {
+    events.close();  // else it retries on its own, forever
+    if (currentJob !== job) {
+      return;
+    }
+    const { title } = JOB_KINDS[job.kind];
+    let status;
+    try {
+      status = await fetchJson(`/v1/jobs/${job.id}`);
+    } catch (error) {
+      loseJob(job, error.status
+        ? `${title} stopped: ${error.message}`
+        : `Network error: the server stopped answering about the ${title.toLowerCase()} ` +
+          '(it may still be making it).');
+      return;
+    }
+    if (SETTLED_STATES.has(status.state)) {
+      settleJob(job, status);
+    } else if (job.retries < JOB_STREAM_RETRIES) {
+      job.retries += 1;
+      setTimeout(() => {
+        if (currentJob === job) {
+          followJob(job);
+        }
+      }, JOB_STREAM_RETRY_MS);
+    } else {
+      loseJob(job, `${title}: its progress stopped coming; it may still be made.`);
+    }
+  });
+}
+
+// Asks for the job `body` (POST /v1/jobs) and follows it. `details` go with the job's record
+// (its frames' names, its images' format) for the links once done.
+async function startJob(kind, button, body, details) {
+  const { title, what, noun } = JOB_KINDS[kind];
+  if (currentJob) {
+    setStatus(`Wait until ${JOB_KINDS[currentJob.kind].what} is made, or cancel it.`, { error: true });
+    return;
+  }
+  const job = { kind, button, id: null, events: null, retries: 0, ...details };
+  currentJob = job;
+  jobResults.replaceChildren();
+  const url = `${viewer.server}/v1/jobs`;
+  let status;
+  try {
+    const response = await fetch(url, { method: 'POST', headers: { 'Content-Type': 'application/json' },
+                                        body: JSON.stringify(body) });
+    if (!response.ok) {
+      currentJob = null;
+      setStatus(await jobRefusal(response, url, `${title} could not be started`), { error: true });
+      return;
+    }
+    status = await response.json();
+  } catch {
+    currentJob = null;
+    setStatus(`Network error: ${what} could not be asked of the server ` +
+              `(${new URL(url, location.href).origin}).`, { error: true });
+    return;
+  }
+  job.id = status.id;
+  jobProgress.setAttribute('aria-label', `${title} progress`);
+  jobProgressGroup.hidden = false;
+  jobCancel.hidden = false;
+  showJobProgress(kind, status);
+  setStatus(`Making ${what}: ${plural(status.total, noun)}…`);
+  followJob(job);
+}
+
+// Cancel: DELETE /v1/jobs/{id}; its answer is the cancelled job's status.
+jobCancel.addEventListener('click', async () => {
+  const job = currentJob;
+  if (!job?.id) {
+    return;
+  }
+  const url = `${viewer.server}/v1/jobs/${job.id}`;
+  const { title } = JOB_KINDS[job.kind];
+  try {
+    const response = await fetch(url, { method: 'DELETE' });
+    if (!response.ok) {
+      setStatus(await jobRefusal(response, url, `${title} could not be cancelled`), { error: true });
+      return;
+    }
+    settleJob(job, await response.json());
+  } catch {
+    setStatus(`Network error: the cancellation of the ${title.toLowerCase()} did not reach the server.`,
+              { error: true });
+  }
+});
+
+// The images' side, from the Size picker.
+const jobImageSize = () => Number(jobSize.value);
+
+spinSetButton.addEventListener('click', () => {
+  const views = jobViews.valueAsNumber;
+  if (!Number.isInteger(views) || !jobViews.checkValidity()) {
+    setStatus(`Views: a whole number from ${jobViews.min} to ${jobViews.max}.`, { error: true });
+    return;
+  }
+  const size = jobImageSize();
+  const render = { ...viewer.renderRequest({ assetCamera: false }), width: size, height: size };
+  startJob('spin', spinSetButton, { turntable: { render, views } },
+           { format: render.format ?? 'jpeg' });
+});
+
+// A variant's frame name: its place and its name in the characters a job's frame name takes
+// (api/openapi.yaml, JobRequest), unique by the place.
+const variantFrameName = (variant, index) =>
+  `${String(index + 1).padStart(2, '0')}-${variant.replace(/[^A-Za-z0-9._-]+/g, '_').slice(0, 90)}`;
+
+allVariantsButton.addEventListener('click', () => {
+  const size = jobImageSize();
+  const render = { ...viewer.renderRequest(), width: size, height: size };
+  const frames = productVariantNames.map((variant, index) => ({
+    name: variantFrameName(variant, index),
+    variant,
+    render: { ...render, objects: render.objects.map((object) => ({ ...object, variant })) },
+  }));
+  startJob('variants', allVariantsButton,
+           { frames: frames.map(({ name, render: frame }) => ({ name, render: frame })) },
+           { format: render.format ?? 'jpeg', frames });
+});
+
+// Last, what the link carries besides the element's attributes: its hotspots.
+restoreLinkHotspots();

@@ -380,9 +380,17 @@ export class OerViewer extends HTMLElement {
     return this.#urlFor(stage);
   }
 
+  // The frame this element shows (frameUrl('full')) as a RenderRequest: the JSON body of
+  // POST /v1/render, and of a batch job's frames (POST /v1/jobs), which then draw that frame.
+  // assetCamera: false puts the orbit the view returns to when it turns (camera-orbit, else the
+  // server's framing) in place of one of the product's own cameras: a turntable turns an orbit.
+  renderRequest({ assetCamera = true } = {}) {
+    return renderRequestOf(new URL(this.#urlFor('full', { assetCamera }), location.href).searchParams);
+  }
+
   // frameUrl's, and also for stage 'poster': the preview recipe at POSTER_SCALE of the CSS size
   // (whatever devicePixelRatio: it is shown blurred, for a moment).
-  #urlFor(stage) {
+  #urlFor(stage, { assetCamera = true } = {}) {
     const preview = stage === 'preview' || stage === 'poster';
     const rect = this.getBoundingClientRect();
     const ratio = stage === 'poster' ? 1 : window.devicePixelRatio || 1;
@@ -398,7 +406,7 @@ export class OerViewer extends HTMLElement {
     query.set('height', side(rect.height));
     // One of the asset's own cameras (the mesh's `cameras`) replaces the orbit, which is kept
     // for when the view turns again.
-    const asset = this.getAttribute('camera-asset');
+    const asset = assetCamera ? this.getAttribute('camera-asset') : null;
     const orbit = asset ? null : this.orbit;
     if (asset) {
       query.set('camera', `asset:${asset.trim()}`);
@@ -1142,6 +1150,74 @@ const PLAIN_WORDS = {
     explanation: `${status ? `The server failed (${status}): ` : ''}${detail}`,
   }),
 };
+
+// A GET /v1/render query as the RenderRequest it names: the query's members have the body's
+// names and values (api/openapi.yaml), but for the body's nesting (objects, camera, shadows) and
+// its types (numbers, booleans, arrays). A value that is not a number stays text, so that the
+// server refuses it naming its member, as it refuses the query's.
+function renderRequestOf(query) {
+  const number = (text) => (text.trim() !== '' && Number.isFinite(Number(text)) ? Number(text) : text);
+  const numbers = (text) => text.split(',').map(number);
+  const onOff = (text) => (text === 'on' ? true : text === 'off' ? false : text);
+  const request = { environment: query.get('environment') };
+  // base_color, base_color_material and variant are every mesh's in the query.
+  const everyObject = {};
+  if (query.has('base_color')) {
+    everyObject.base_color = numbers(query.get('base_color'));
+  }
+  for (const name of ['base_color_material', 'variant']) {
+    if (query.has(name)) {
+      everyObject[name] = query.get(name);
+    }
+  }
+  request.objects = query.getAll('mesh').map((mesh) => ({ mesh, ...everyObject }));
+  for (const name of ['width', 'height', 'samples', 'quality', 'exposure', 'environment_yaw']) {
+    if (query.has(name)) {
+      request[name] = number(query.get(name));
+    }
+  }
+  for (const name of ['format', 'background']) {
+    if (query.has(name)) {
+      request[name] = query.get(name);
+    }
+  }
+  if (query.has('lights')) {
+    request.lights = numbers(query.get('lights'));
+  }
+  if (query.has('ground')) {
+    request.ground = query.get('ground') === 'shadow' ? 'shadow' : onOff(query.get('ground'));
+  }
+  const shadows = {};
+  for (const [parameter, member, read] of [['shadows', 'enabled', onOff],
+                                           ['shadow_resolution', 'resolution', number],
+                                           ['shadow_filter', 'filter', String],
+                                           ['shadow_softness', 'softness', number],
+                                           ['shadow_intensity', 'intensity', number]]) {
+    if (query.has(parameter)) {
+      shadows[member] = read(query.get(parameter));
+    }
+  }
+  if (Object.keys(shadows).length > 0) {
+    request.shadows = shadows;
+  }
+  const target = query.has('target') ? numbers(query.get('target')) : undefined;
+  if (query.has('camera')) {
+    // camera=asset:N (an index) or asset:NAME, as the server reads it.
+    const which = query.get('camera').replace(/^asset:/, '');
+    request.camera = { asset: /^\d+$/.test(which) ? Number(which) : which };
+  } else if (['yaw', 'pitch', 'distance'].some((name) => query.has(name))) {
+    const orbit = {};
+    for (const name of ['yaw', 'pitch', 'distance']) {
+      if (query.has(name)) {
+        orbit[name] = number(query.get(name));
+      }
+    }
+    request.camera = { orbit: target ? { ...orbit, target } : orbit };
+  } else if (target) {
+    request.camera = { target };
+  }
+  return request;
+}
 
 // An answer that is not 2xx, with the problem+json `detail` verbatim when there is one, and its
 // `type` (what a page switches on; RFC 9457: absent means about:blank).

@@ -6,7 +6,6 @@
 #include <ctime>
 #include <string_view>
 
-#include "oer/api/content_id.hpp"
 #include "oer/api/invalid_parameter.hpp"
 #include "oer/api/parameter_text.hpp"
 #include "oer/core/one_line.hpp"
@@ -78,17 +77,18 @@ std::map<std::string, std::string> single_query(const httplib::Request& request,
     return values;
 }
 
-ListingQuery listing_query(const httplib::Request& request) {
+ListingQuery listing_query(const httplib::Request& request, const ListingForm& form) {
     const auto query = single_query(request, {"limit", "after"});
     ListingQuery listing;
     if (const auto limit = query.find("limit"); limit != query.end()) {
-        listing.limit = std::size_t(api::parse_integer("limit", limit->second, 1, kMaxListLimit));
+        listing.limit = std::size_t(
+            api::parse_integer("limit", limit->second, 1, static_cast<long long>(form.max_limit)));
     }
     if (const auto after = query.find("after"); after != query.end()) {
-        if (!api::is_content_id(after->second)) {
-            throw api::InvalidParameter(
-                "after", "must be an id of the listing (64 lowercase hexadecimal digits), got '" +
-                             api::excerpt(after->second) + "'");
+        if (!form.is_id(after->second)) {
+            throw api::InvalidParameter("after", "must be an id of the listing (" +
+                                                     std::string(form.id_form) + "), got '" +
+                                                     api::excerpt(after->second) + "'");
         }
         listing.after = after->second;
     }

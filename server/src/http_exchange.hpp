@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <httplib.h>
@@ -46,17 +47,23 @@ void require_json_body(const httplib::Request& request, const std::string& what)
 std::map<std::string, std::string> single_query(const httplib::Request& request,
                                                 const std::vector<std::string>& allowed);
 
-// A listing's query (GET /v1/environments, GET /v1/meshes): ?limit= entries a page (1 to
-// kMaxListLimit, kDefaultListLimit when absent) and ?after= (the id a page starts after, as
-// the previous page's `next` gives it); each at most once, any other parameter unknown.
+// A listing's query (GET /v1/environments, GET /v1/meshes, GET /v1/jobs): ?limit= entries a
+// page (1 to the listing's max_limit, kDefaultListLimit when absent) and ?after= (the id a page
+// starts after, as the previous page's `next` gives it); each at most once, any other parameter
+// unknown.
 inline constexpr std::size_t kDefaultListLimit = 100;
 inline constexpr std::size_t kMaxListLimit = 1000;
+struct ListingForm {
+    bool (*is_id)(std::string_view text);   // whether `after` can be an id of the listing
+    std::string_view id_form;               // what an id is, for the 422: "64 lowercase ..."
+    std::size_t max_limit = kMaxListLimit;  // kDefaultListLimit or more
+};
 struct ListingQuery {
     std::string after;  // "" for the first page
     std::size_t limit = kDefaultListLimit;
 };
 // Throws InvalidParameter (422) naming the parameter at fault.
-ListingQuery listing_query(const httplib::Request& request);
+ListingQuery listing_query(const httplib::Request& request, const ListingForm& form);
 
 // 200 with {"<member>": entries, "next": "<path>?limit=..&after=.."}, `next` present only when
 // next_after is (more entries follow).

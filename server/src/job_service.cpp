@@ -36,6 +36,10 @@ std::set<std::string> failed_names(JobStore& store, const std::string& id) {
 
 }  // namespace
 
+bool is_settled_state(std::string_view state) {
+    return state == "done" || state == "failed" || state == "cancelled";
+}
+
 void LocalFrameQueue::push(const std::string& job, const std::vector<std::string>& frames) {
     {
         const std::lock_guard lock(mutex_);
@@ -58,14 +62,19 @@ std::optional<FrameQueue::Task> LocalFrameQueue::take(std::chrono::milliseconds 
 
 JobService::JobService(JobStore& store, FrameService& frames, std::unique_ptr<FrameQueue> queue,
                        const api::RenderLimits& render_limits, JobBounds bounds,
-                       ServiceMetrics& metrics, std::function<void(std::string_view)> log)
+                       std::chrono::hours retention, ServiceMetrics& metrics,
+                       std::function<void(std::string_view)> log)
     : store_(store),
       frames_(frames),
       queue_(std::move(queue)),
       render_limits_(render_limits),
       bounds_(bounds),
+      retention_(retention),
       metrics_(metrics),
       log_(std::move(log)) {
+    if (retention_.count() > 0) {
+        remove_expired();
+    }
     for (const std::string& id : store_.ids()) {
         const auto resumed = job(id);
         if (!resumed || store_.cancelled(id) || queue_->durable()) {
@@ -86,11 +95,82 @@ JobService::JobService(JobStore& store, FrameService& frames, std::unique_ptr<Fr
         }
     }
     runner_ = std::thread([this] { run(); });
+    if (retention_.count() > 0) {
+        sweeper_ = std::thread([this] {
+            pthread_setname_np(pthread_self(), "oer-job-sweep");
+            std::unique_lock lock(mutex_);
+            while (!change_.wait_for(lock, kRetentionSweep, [this] { return stopping_.load(); })) {
+                lock.unlock();
+                remove_expired();
+                lock.lock();
+            }
+        });
+    }
 }
 
 JobService::~JobService() {
     stopping_.store(true);
+    {
+        // Between the sweeper's look at stopping_ and its wait, never: it holds the mutex.
+        const std::lock_guard lock(mutex_);
+    }
+    change_.notify_all();
     runner_.join();
+    if (sweeper_.joinable()) {
+        sweeper_.join();
+    }
+}
+
+JobHold JobService::hold(const std::string& id) {
+    {
+        const std::lock_guard lock(holds_mutex_);
+        ++holds_[id];
+    }
+    return JobHold(nullptr, [this, id](void*) {
+        const std::lock_guard lock(holds_mutex_);
+        if (--holds_[id] == 0) {
+            holds_.erase(id);
+        }
+    });
+}
+
+void JobService::remove_expired() {
+    const auto before = std::filesystem::file_time_type::clock::now() - retention_;
+    bool removed = false;
+    for (const std::string& id : store_.ids()) {
+        try {
+            // The files' age first: a recent job, the most common, needs no status read.
+            const auto written = store_.last_write(id);
+            if (!written || *written >= before) {
+                continue;
+            }
+            const auto state = status(id, false);
+            if (!state || !is_settled_state(state->at("state").get<std::string>())) {
+                continue;
+            }
+            std::optional<std::filesystem::path> detached;
+            {
+                // No hold is taken meanwhile: a reader comes before (the job waits for the next
+                // sweep) or after (it finds no job).
+                const std::lock_guard lock(holds_mutex_);
+                if (holds_.contains(id) || !(detached = store_.detach(id))) {
+                    continue;  // being read: the next sweep; removed by another replica
+                }
+                const std::lock_guard jobs_lock(mutex_);
+                jobs_.erase(id);
+            }
+            store_.discard(*detached);
+            removed = true;
+            log_("jobs: job " + id + " (" + state->at("state").get<std::string>() +
+                 ") removed: unchanged for more than " + std::to_string(retention_.count()) +
+                 " h (--job-retention-hours)");
+        } catch (const std::exception& error) {
+            log_("error: jobs: job " + id + " could not be removed: " + error.what());
+        }
+    }
+    if (removed) {
+        changed();  // the event streams of removed jobs end
+    }
 }
 
 std::shared_ptr<const JobService::Job> JobService::job(const std::string& id) {
@@ -100,7 +180,9 @@ std::shared_ptr<const JobService::Job> JobService::job(const std::string& id) {
             return known->second;
         }
     }
-    // Made by another replica, or before a restart: read from the store.
+    // Made by another replica, or before a restart: read from the store, held, so that a job
+    // removed meanwhile is never remembered.
+    const JobHold held = hold(id);
     std::optional<nlohmann::json> record;
     try {
         record = store_.record(id);
@@ -110,6 +192,7 @@ std::shared_ptr<const JobService::Job> JobService::job(const std::string& id) {
         auto loaded = std::make_shared<Job>();
         loaded->spec = api::job_from_stored_json(record->at("job"), render_limits_);
         loaded->client = record->at("client").get<std::string>();
+        loaded->created = record->at("created").get<double>();
         loaded->seen_since = Clock::now();
         loaded->done_when_seen = store_.frames_done(id).size();
         const std::lock_guard lock(mutex_);
@@ -158,8 +241,9 @@ std::string JobService::submit(const api::JobSpec& spec, const std::string& clie
             }
         }
         for (const auto& [id, known] : own) {
-            if (store_.cancelled(id)) {
-                continue;
+            const JobHold held = hold(id);
+            if (!job(id) || store_.cancelled(id)) {
+                continue;  // removed meanwhile (settled: it holds no bound), or cancelled
             }
             const std::set<std::string> done = store_.frames_done(id);
             for (const api::JobFrame& frame : known->spec.frames) {
@@ -182,15 +266,14 @@ std::string JobService::submit(const api::JobSpec& spec, const std::string& clie
                         " pixels a client may have waiting"),
             {{"Retry-After", "60"}});
     }
+    const double created =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     const std::string id = store_.create(
-        {{"client", client},
-         {"created",
-          std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-              .count()},
-         {"job", api::stored_job_json(spec)}});
+        {{"client", client}, {"created", created}, {"job", api::stored_job_json(spec)}});
     auto made = std::make_shared<Job>();
     made->spec = spec;
     made->client = client;
+    made->created = created;
     made->seen_since = Clock::now();
     {
         const std::lock_guard lock(mutex_);
@@ -214,6 +297,7 @@ std::string JobService::submit(const api::JobSpec& spec, const std::string& clie
 }
 
 std::optional<nlohmann::json> JobService::status(const std::string& id, bool with_frames) {
+    const JobHold held = hold(id);
     const auto known = job(id);
     if (!known) {
         return std::nullopt;
@@ -273,6 +357,7 @@ std::optional<nlohmann::json> JobService::status(const std::string& id, bool wit
 }
 
 bool JobService::cancel(const std::string& id) {
+    const JobHold held = hold(id);
     if (!job(id)) {
         return false;
     }
@@ -285,6 +370,49 @@ std::uint64_t JobService::wait_for_change(std::uint64_t seen, std::chrono::milli
     std::unique_lock lock(mutex_);
     change_.wait_for(lock, wait, [&] { return changes_ != seen || stopping_.load(); });
     return changes_;
+}
+
+std::optional<JobPage> JobService::list(const std::string& client, const std::string& after,
+                                        std::size_t limit) {
+    struct Listed {
+        double created;
+        std::string id;
+    };
+    std::vector<Listed> own;
+    for (const std::string& id : store_.ids()) {
+        if (const auto known = job(id); known && known->client == client) {
+            own.push_back({known->created, id});
+        }
+    }
+    std::sort(own.begin(), own.end(), [](const Listed& a, const Listed& b) {
+        return a.created != b.created ? a.created > b.created : a.id > b.id;
+    });
+    auto next = own.begin();
+    if (!after.empty()) {
+        next = std::find_if(own.begin(), own.end(),
+                            [&](const Listed& listed) { return listed.id == after; });
+        if (next == own.end()) {
+            return std::nullopt;
+        }
+        ++next;
+    }
+    JobPage page;
+    for (; next != own.end() && page.jobs.size() < limit; ++next) {
+        auto status = this->status(next->id, false);
+        if (!status) {
+            continue;  // removed since it was listed
+        }
+        page.jobs.push_back({{"id", next->id},
+                             {"state", status->at("state")},
+                             {"done", status->at("done")},
+                             {"failed", status->at("failed")},
+                             {"total", status->at("total")},
+                             {"created", next->created}});
+    }
+    if (next != own.end() && !page.jobs.empty()) {
+        page.next_after = page.jobs.back().at("id").get<std::string>();
+    }
+    return page;
 }
 
 void JobService::changed() {
@@ -302,6 +430,7 @@ std::optional<api::JobSpec> JobService::spec(const std::string& id) {
 
 std::optional<JobFrameBytes> JobService::frame(const std::string& id, const std::string& name,
                                                bool* known) {
+    const JobHold held = hold(id);
     const auto found = job(id);
     const api::JobFrame* frame = found ? frame_named(found->spec, name) : nullptr;
     if (known) {

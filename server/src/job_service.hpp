@@ -14,6 +14,12 @@
 //
 // Bounds: a job's frames and pixels (api::JobLimits, 413 at parsing), and per client, the
 // frames and pixels its unfinished jobs still have to render on this replica (429).
+//
+// Retention: a settled job (done, failed, cancelled) whose files have not changed for the
+// retention is removed from the store, at start and every kRetentionSweep after. A job being
+// read here (a ZIP streamed, a sequence encoded, a status read: hold()) is left to the next
+// sweep; a removal renames the job's folder before removing it (JobStore::remove), so a reader
+// that comes after finds no job (404), never a job without its files.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -77,6 +83,24 @@ struct JobBounds {
     std::uint64_t client_pixels = 512ull << 20;
 };
 
+// Whether a job in this state has no frame left to render: done, failed or cancelled.
+bool is_settled_state(std::string_view state);
+
+// How often settled jobs are looked at for removal: a job outlives its retention by at most
+// this (the retention is set in hours).
+inline constexpr std::chrono::minutes kRetentionSweep{10};
+
+// One page of a client's jobs (GET /v1/jobs), newest first: each job's id, state, done,
+// failed, total and created (seconds since the epoch); next_after, when set, is the cursor of
+// the next page (the id of the page's last job).
+struct JobPage {
+    std::vector<nlohmann::json> jobs;
+    std::optional<std::string> next_after;
+};
+
+// While held, retention does not remove the job (JobService::hold).
+using JobHold = std::shared_ptr<void>;
+
 // A stored frame's bytes and media type.
 struct JobFrameBytes {
     std::string bytes;
@@ -85,11 +109,14 @@ struct JobFrameBytes {
 
 class JobService {
   public:
-    // Resumes the stored jobs not finished nor cancelled, and starts the runner.
+    // Removes the settled jobs past the retention (0: none, ever), resumes the stored jobs not
+    // finished nor cancelled, and starts the runner and the retention's sweeps.
     JobService(JobStore& store, FrameService& frames, std::unique_ptr<FrameQueue> queue,
-               const api::RenderLimits& render_limits, JobBounds bounds, ServiceMetrics& metrics,
+               const api::RenderLimits& render_limits, JobBounds bounds,
+               std::chrono::hours retention, ServiceMetrics& metrics,
                std::function<void(std::string_view)> log);
-    // Stops the runner, leaving an unfinished frame to the next start (or another replica).
+    // Stops the runner, leaving an unfinished frame to the next start (or another replica),
+    // and the sweeps.
     ~JobService();
     JobService(const JobService&) = delete;
     JobService& operator=(const JobService&) = delete;
@@ -103,6 +130,14 @@ class JobService {
     std::optional<nlohmann::json> status(const std::string& id, bool with_frames);
     // false for an unknown id.
     bool cancel(const std::string& id);
+    // The jobs `client` submitted (on any replica sharing the store), newest first (by their
+    // creation, then by id), `limit` (1 or more) after the job `after` ("": from the newest);
+    // nullopt when `after` is no job of the client's (removed meanwhile, or another's).
+    std::optional<JobPage> list(const std::string& client, const std::string& after,
+                                std::size_t limit);
+    // Keeps the job from removal while the hold lives; taken before its files are read, so
+    // that a reader finds the job whole or not at all.
+    JobHold hold(const std::string& id);
     // Waits up to `wait` for any job's progress here to change after `seen` (a count of
     // changes); the count now.
     std::uint64_t wait_for_change(std::uint64_t seen, std::chrono::milliseconds wait);
@@ -119,11 +154,14 @@ class JobService {
     struct Job {
         api::JobSpec spec;
         std::string client;
+        double created = 0.0;                              // seconds since the epoch, as stored
         std::chrono::steady_clock::time_point seen_since;  // when this process first saw it
         std::size_t done_when_seen = 0;
     };
     std::shared_ptr<const Job> job(const std::string& id);
     void run();
+    // Removes the settled jobs whose files are older than the retention, except those held.
+    void remove_expired();
     // Renders and stores one task's frame, or skips it; false when the runner stops first.
     bool render(const FrameQueue::Task& task);
     void changed();
@@ -133,6 +171,7 @@ class JobService {
     const std::unique_ptr<FrameQueue> queue_;
     const api::RenderLimits render_limits_;
     const JobBounds bounds_;
+    const std::chrono::hours retention_;
     ServiceMetrics& metrics_;
     const std::function<void(std::string_view)> log_;
 
@@ -141,7 +180,10 @@ class JobService {
     std::uint64_t changes_ = 0;                               // guarded by mutex_
     std::map<std::string, std::shared_ptr<const Job>> jobs_;  // guarded by mutex_
     std::atomic<bool> stopping_{false};
+    std::mutex holds_mutex_;
+    std::map<std::string, std::size_t> holds_;  // job id -> holds; guarded by holds_mutex_
     std::thread runner_;
+    std::thread sweeper_;  // the retention's; none without a retention
 };
 
 }  // namespace oer::server

@@ -1,5 +1,7 @@
 #include "job_store.hpp"
 
+#include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -16,6 +18,7 @@ namespace {
 
 constexpr std::string_view kHiddenPrefix = ".";  // write_file_atomically's ".tmp-..."
 constexpr std::string_view kWriteTemporaryPrefix = ".tmp-";
+constexpr std::string_view kRemovalPrefix = ".removing-";  // JobStore::remove's
 
 std::optional<std::string> read_whole(const fs::path& path) {
     std::ifstream file(path, std::ios::binary);
@@ -50,11 +53,21 @@ bool is_job_id(std::string_view text) {
 }
 
 JobStore::JobStore(const fs::path& data_dir, std::function<void(std::string_view)> log)
-    : folder_(data_dir / "jobs") {
+    : folder_(data_dir / "jobs"), log_(std::move(log)) {
     std::error_code error;
     fs::create_directories(folder_, error);
     if (error) {
         throw Error(ErrorKind::Io, "cannot create " + folder_.string() + ": " + error.message());
+    }
+    // A removal a killed process left half done: its job was gone once renamed. Another
+    // replica's removal in progress may be removed by both; each skips what the other took.
+    for (const auto& entry : fs::directory_iterator(folder_, error)) {
+        if (entry.path().filename().string().starts_with(kRemovalPrefix)) {
+            std::error_code unremovable;
+            fs::remove_all(entry.path(), unremovable);
+            log_("jobs: removed " + entry.path().string() + ", left by an interrupted removal" +
+                 (unremovable ? " (in part: " + unremovable.message() + ")" : ""));
+        }
     }
     const auto abandoned_before = fs::file_time_type::clock::now() - kAbandonedTemporaryAge;
     for (const std::string& id : names_in(folder_)) {
@@ -64,8 +77,8 @@ JobStore::JobStore(const fs::path& data_dir, std::function<void(std::string_view
                 if (entry.path().filename().string().starts_with(kWriteTemporaryPrefix) &&
                     entry.last_write_time(unreadable) < abandoned_before && !unreadable &&
                     fs::remove(entry.path(), unreadable)) {
-                    log("jobs: removed " + entry.path().string() +
-                        ", left by an interrupted write");
+                    log_("jobs: removed " + entry.path().string() +
+                         ", left by an interrupted write");
                 }
             }
         }
@@ -169,6 +182,55 @@ void JobStore::cancel(std::string_view id) {
 
 bool JobStore::cancelled(std::string_view id) const {
     return fs::exists(job_folder(id) / "cancelled");
+}
+
+std::optional<fs::file_time_type> JobStore::last_write(std::string_view id) const {
+    const fs::path folder = job_folder(id);
+    std::error_code error;
+    auto newest = fs::last_write_time(folder / "job.json", error);
+    if (error) {
+        return std::nullopt;
+    }
+    const auto take = [&](const fs::path& path) {
+        std::error_code unreadable;  // gone meanwhile (a temporary file renamed)
+        const auto written = fs::last_write_time(path, unreadable);
+        if (!unreadable) {
+            newest = std::max(newest, written);
+        }
+    };
+    take(folder / "cancelled");
+    for (const char* sub : {"frames", "failed"}) {
+        for (const auto& entry : fs::directory_iterator(folder / sub, error)) {
+            take(entry.path());
+        }
+    }
+    return newest;
+}
+
+std::optional<fs::path> JobStore::detach(std::string_view id) {
+    const fs::path folder = job_folder(id);
+    char suffix[9];
+    std::snprintf(suffix, sizeof suffix, "%08x", unsigned(std::random_device{}()));
+    fs::path detached = folder_ / (std::string(kRemovalPrefix) + std::string(id) + "-" + suffix);
+    std::error_code error;
+    fs::rename(folder, detached, error);
+    if (error == std::errc::no_such_file_or_directory) {
+        return std::nullopt;
+    }
+    if (error) {
+        throw Error(ErrorKind::Io,
+                    "cannot remove " + folder.string() + " (renaming it): " + error.message());
+    }
+    return detached;
+}
+
+void JobStore::discard(const fs::path& detached) {
+    std::error_code error;
+    fs::remove_all(detached, error);
+    if (error) {
+        log_("jobs: " + detached.string() + " was not removed whole (" + error.message() +
+             "); the next start removes the rest");
+    }
 }
 
 }  // namespace oer::server

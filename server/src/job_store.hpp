@@ -30,7 +30,7 @@ class JobStore {
     // Creates DIR/jobs if missing (throws oer::Error (Io) when it cannot), and removes the
     // temporary files of frame writes a killed process left, as the asset store does its own:
     // those unmodified for kAbandonedTemporaryAge (younger ones may be another replica's writes
-    // in progress), each logged.
+    // in progress), each logged; and the folders of removals a killed process left (detach).
     JobStore(const std::filesystem::path& data_dir, std::function<void(std::string_view)> log);
 
     // A new job's id, its record written whole before it returns.
@@ -53,6 +53,20 @@ class JobStore {
     void cancel(std::string_view id);
     bool cancelled(std::string_view id) const;
 
+    // When the job's files last changed: the newest write time of its record, frames, failures
+    // and cancellation (of a settled job: when it settled, or was cancelled, or its frame in
+    // flight at the cancellation was stored). nullopt when no job has that id.
+    std::optional<std::filesystem::file_time_type> last_write(std::string_view id) const;
+    // Takes the job out of the store: its folder renamed to a hidden name
+    // (DIR/jobs/.removing-<id>-<random>), at once no longer a job for anyone reading the folder,
+    // this process or another replica; the renamed folder, for discard(). nullopt when the job
+    // was not there (removed meanwhile by another replica). Throws oer::Error (Io) when the
+    // rename fails otherwise.
+    std::optional<std::filesystem::path> detach(std::string_view id);
+    // Removes a folder detach() renamed, with everything in it (what cannot be removed is
+    // logged, and removed at the next start).
+    void discard(const std::filesystem::path& detached);
+
   private:
     // DIR/jobs/<id>; throws oer::Error (InvalidInput) for a malformed id or frame name.
     std::filesystem::path job_folder(std::string_view id) const;
@@ -60,6 +74,7 @@ class JobStore {
                                 std::string_view name) const;
 
     const std::filesystem::path folder_;
+    const std::function<void(std::string_view)> log_;
 };
 
 }  // namespace oer::server

@@ -1,11 +1,12 @@
-// POST /v1/jobs, GET and DELETE /v1/jobs/{id}, GET /v1/jobs/{id}/events (server-sent events),
-// GET /v1/jobs/{id}/frames/{name}, GET /v1/jobs/{id}/zip, GET /v1/jobs/{id}/sequences/{name}
-// (job_service.hpp, docs/jobs.md)
+// POST and GET /v1/jobs, GET and DELETE /v1/jobs/{id}, GET /v1/jobs/{id}/events
+// (server-sent events), GET /v1/jobs/{id}/frames/{name}, GET /v1/jobs/{id}/zip,
+// GET /v1/jobs/{id}/sequences/{name} (job_service.hpp, docs/jobs.md)
 #include <charconv>
 #include <cmath>
 #include <memory>
 #include <string>
 
+#include "event_stream.hpp"
 #include "http_exchange.hpp"
 #include "oer/api/frame_encoding.hpp"
 #include "oer/api/invalid_parameter.hpp"
@@ -21,9 +22,10 @@ namespace {
 
 // A job's answers change as it runs: never kept by a cache.
 constexpr const char* kNoStore = "no-store";
-// How often an event stream says it is alive when nothing changes (a comment line), so that
-// proxies that close idle connections (nginx: proxy_read_timeout, 60 s by default) keep it.
-constexpr std::chrono::seconds kEventKeepAlive{15};
+// The most jobs a page of GET /v1/jobs lists: each entry is a status read from the store (its
+// frames' and failures' folders listed, each failure read), not one file's size as an asset
+// listing's entry is.
+constexpr std::size_t kMaxJobsListed = 100;
 // How often an event stream looks at its job when nothing here signals a change (another
 // replica renders its frames).
 constexpr std::chrono::milliseconds kEventPoll{500};
@@ -41,8 +43,7 @@ nlohmann::json job_status(ServiceContext& context, const std::string& id, bool w
 }
 
 bool settled(const nlohmann::json& status) {
-    const std::string state = status.at("state");
-    return state == "done" || state == "failed" || state == "cancelled";
+    return is_settled_state(status.at("state").get<std::string>());
 }
 
 // A finished job's whole results; 503 with Retry-After while frames are still to come.
@@ -102,6 +103,34 @@ void add_job_routes(Router& router, ServiceContext& context) {
             send_json(response, 202, job_status(context, id, false));
         });
 
+    // The requesting client's jobs only, as the per-client bounds count them (by address): a
+    // job's id is what lets anyone read or follow it, so a listing of every client's jobs would
+    // hand them out. With an API key, the key too, as for making and cancelling jobs.
+    router.get(
+        "/v1/jobs",
+        [&context](const httplib::Request& request, httplib::Response& response) {
+            const ListingQuery query = listing_query(
+                request, {is_job_id, "32 lowercase hexadecimal digits", kMaxJobsListed});
+            const auto page = context.jobs.list(request.remote_addr, query.after, query.limit);
+            if (!page) {
+                throw api::InvalidParameter("after",
+                                            "no job of this client's has id '" + query.after +
+                                                "' (removed since the previous page was read?)");
+            }
+            nlohmann::json entries = nlohmann::json::array();
+            for (nlohmann::json entry : page->jobs) {
+                entry["url"] = job_path(entry.at("id"));
+                entry["created"] = rfc3339(std::chrono::system_clock::time_point(
+                    std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                        std::chrono::duration<double>(entry.at("created").get<double>()))));
+                entries.push_back(std::move(entry));
+            }
+            response.set_header("Cache-Control", kNoStore);
+            send_listing(response, "/v1/jobs", "jobs", std::move(entries), page->next_after,
+                         query.limit);
+        },
+        RoutePolicy{.needs_api_key = true});
+
     router.get("/v1/jobs/{id}",
                [&context](const httplib::Request& request, httplib::Response& response) {
                    single_query(request, {});
@@ -128,47 +157,17 @@ void add_job_routes(Router& router, ServiceContext& context) {
         single_query(request, {});
         const std::string id = request.matches[1];
         job_status(context, id, false);  // 404 before the stream starts
-        response.set_header("Cache-Control", kNoStore);
-        // Each event as it comes, not held in a proxy's buffer (nginx reads this header).
-        response.set_header("X-Accel-Buffering", "no");
         // Each change of the job's progress as one `progress` event, its data the job's
         // status (as GET /v1/jobs/{id} without frames); the stream ends after the event of
         // a settled job (done, failed, cancelled).
-        struct Stream {
-            std::string last;
-            std::uint64_t changes = 0;
-            std::chrono::steady_clock::time_point written = std::chrono::steady_clock::now();
-        };
-        auto stream = std::make_shared<Stream>();
-        response.set_chunked_content_provider(
-            "text/event-stream", [&context, id, stream](std::size_t, httplib::DataSink& sink) {
-                const auto status = context.jobs.status(id, false);
-                if (!status) {
-                    sink.done();
-                    return true;
-                }
-                const std::string data = status->dump();
-                if (data != stream->last) {
-                    const std::string event = "event: progress\ndata: " + data + "\n\n";
-                    if (!sink.write(event.data(), event.size())) {
-                        return false;
-                    }
-                    stream->last = data;
-                    stream->written = std::chrono::steady_clock::now();
-                } else if (std::chrono::steady_clock::now() - stream->written > kEventKeepAlive) {
-                    static constexpr std::string_view kAlive = ": alive\n\n";
-                    if (!sink.write(kAlive.data(), kAlive.size())) {
-                        return false;
-                    }
-                    stream->written = std::chrono::steady_clock::now();
-                }
-                if (settled(*status)) {
-                    sink.done();
-                    return true;
-                }
-                stream->changes = context.jobs.wait_for_change(stream->changes, kEventPoll);
-                return sink.is_writable();
-            });
+        send_progress_events(response,
+                             {.status = [&context, id] { return context.jobs.status(id, false); },
+                              .change = [](const nlohmann::json& status) { return status.dump(); },
+                              .settled = settled,
+                              .wait =
+                                  [&context, changes = std::make_shared<std::uint64_t>(0)] {
+                                      *changes = context.jobs.wait_for_change(*changes, kEventPoll);
+                                  }});
     });
 
     router.get("/v1/jobs/{id}/frames/{name}", [&context](const httplib::Request& request,
@@ -195,15 +194,17 @@ void add_job_routes(Router& router, ServiceContext& context) {
                                                httplib::Response& response) {
         single_query(request, {});
         const std::string id = request.matches[1];
-        require_settled(job_status(context, id, false));
-        const auto spec = context.jobs.spec(id);
         // One frame read at a time as the client takes the archive: its memory is one frame's.
         struct Archive {
+            JobHold held;  // the job is not removed (retention) until the last byte is sent
             std::vector<std::string> names;
             std::size_t next = 0;
             ZipWriter zip;
         };
         auto archive = std::make_shared<Archive>();
+        archive->held = context.jobs.hold(id);
+        require_settled(job_status(context, id, false));
+        const auto spec = context.jobs.spec(id);
         for (const api::JobFrame& frame : spec->frames) {
             if (context.jobs.store().has_frame(id, frame.name)) {
                 archive->names.push_back(frame.name);
@@ -221,11 +222,16 @@ void add_job_routes(Router& router, ServiceContext& context) {
                 }
                 const std::string& name = archive->names[archive->next++];
                 const auto bytes = context.jobs.store().frame(id, name);
+                if (!bytes) {
+                    // Removed under the archive by another replica's retention: a cut-off
+                    // download the client sees as one, never an archive of empty frames.
+                    return false;
+                }
                 const auto* frame = &*std::find_if(
                     spec->frames.begin(), spec->frames.end(),
                     [&](const api::JobFrame& candidate) { return candidate.name == name; });
-                const std::string entry = archive->zip.entry(
-                    name + "." + api::to_string(frame->spec.format), bytes.value_or(""));
+                const std::string entry =
+                    archive->zip.entry(name + "." + api::to_string(frame->spec.format), *bytes);
                 return sink.write(entry.data(), entry.size());
             });
     });
@@ -235,6 +241,7 @@ void add_job_routes(Router& router, ServiceContext& context) {
         const auto query = single_query(request, {"format", "frame_ms", "columns", "quality"});
         const std::string id = request.matches[1];
         const std::string name = request.matches[2];
+        const JobHold held = context.jobs.hold(id);  // its views stay until they are read
         const nlohmann::json status = job_status(context, id, false);
         const auto spec = context.jobs.spec(id);
         const auto sequence =

@@ -1,6 +1,11 @@
-// POST and GET /v1/meshes, GET and DELETE /v1/meshes/{id}
+// POST and GET /v1/meshes, GET and DELETE /v1/meshes/{id}, GET /v1/meshes/{id}/preparation and
+// its server-sent events
+#include <chrono>
+#include <cmath>
 #include <string_view>
+#include <thread>
 
+#include "event_stream.hpp"
 #include "http_exchange.hpp"
 #include "oer/api/mesh_json.hpp"
 #include "oer/api/parameter_text.hpp"
@@ -98,6 +103,42 @@ nlohmann::json preparation_json(const MeshPreparation& preparation) {
     return answer;
 }
 
+// The mesh's preparation as GET /v1/meshes/{id}/preparation answers it; 404 for an unknown id.
+nlohmann::json requested_preparation(ServiceContext& context, const std::string& id) {
+    const auto preparation = context.frame_service.preparation(id);
+    if (!preparation) {
+        throw unknown_asset(kMeshKind, id);
+    }
+    return preparation_json(*preparation);
+}
+
+// Whether a scene's bake ahead has ended, one way or the other (ready, or not prepared: refused
+// over a budget, failed, or not queued).
+bool scene_settled(const nlohmann::json& scene) {
+    const std::string state = scene.at("state");
+    return state != "queued" && state != "baking";
+}
+
+// What of a preparation must change for another event: a state, a whole percent of a bake, a
+// whole second of its estimate (the fraction and the estimate change at every look).
+std::string preparation_change(const nlohmann::json& preparation) {
+    std::string change;
+    for (const nlohmann::json* scene : {&preparation, &preparation.at("without_floor")}) {
+        const nlohmann::json& left = scene->at("seconds_left");
+        change += scene->at("state").get<std::string>() + " " +
+                  std::to_string(int(std::floor(100.0 * scene->at("progress").get<double>()))) +
+                  "% " + (left.is_null() ? "-" : std::to_string(std::lround(left.get<double>()))) +
+                  " s; ";
+    }
+    return change;
+}
+
+// How often the preparation's event stream looks at the bake: its progress is counted by the
+// bake's own threads (BakeProgress's atomic counters, in the renderer's library), which signal
+// no one, so a stream looks again after this long; a tenth of a second is below what a progress
+// bar shows, and a look costs two map lookups under the registry's mutexes.
+constexpr std::chrono::milliseconds kPreparationPoll{100};
+
 }  // namespace
 
 void add_mesh_routes(Router& router, ServiceContext& context) {
@@ -133,13 +174,32 @@ void add_mesh_routes(Router& router, ServiceContext& context) {
     router.get("/v1/meshes/{id}/preparation",
                [&context](const httplib::Request& request, httplib::Response& response) {
                    single_query(request, {});
-                   const std::string& id = request.matches[1];
-                   const auto preparation = context.frame_service.preparation(id);
-                   if (!preparation) {
-                       throw unknown_asset(kMeshKind, id);
-                   }
-                   send_json(response, 200, preparation_json(*preparation));
+                   send_json(response, 200, requested_preparation(context, request.matches[1]));
                });
+
+    // The same answer as server-sent events: one `progress` event each time it changes, the
+    // stream ending after the event in which both scenes' bakes have ended.
+    router.get("/v1/meshes/{id}/preparation/events", [&context](const httplib::Request& request,
+                                                                httplib::Response& response) {
+        single_query(request, {});
+        const std::string id = request.matches[1];
+        requested_preparation(context, id);  // 404 before the stream starts
+        send_progress_events(response,
+                             {.status = [&context, id]() -> std::optional<nlohmann::json> {
+                                  const auto preparation = context.frame_service.preparation(id);
+                                  if (!preparation) {
+                                      return std::nullopt;  // deleted meanwhile
+                                  }
+                                  return preparation_json(*preparation);
+                              },
+                              .change = preparation_change,
+                              .settled =
+                                  [](const nlohmann::json& preparation) {
+                                      return scene_settled(preparation) &&
+                                             scene_settled(preparation.at("without_floor"));
+                                  },
+                              .wait = [] { std::this_thread::sleep_for(kPreparationPoll); }});
+    });
 }
 
 }  // namespace oer::server

@@ -212,7 +212,7 @@ void Service::Impl::start() {
         jobs_store, *frame_service, job_queue(), render_limits,
         JobBounds{api::JobLimits{config.job_max_frames, config.job_max_pixels},
                   config.client_job_frames, config.client_job_pixels},
-        metrics, log);
+        std::chrono::hours(config.job_retention_hours), metrics, log);
 
     const std::size_t max_body =
         std::max<std::size_t>(config.max_upload_bytes, render_limits.max_body_bytes);

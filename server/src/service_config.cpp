@@ -272,6 +272,10 @@ const std::vector<Option>& options() {
         integer_option("client-job-pixels", "PIXELS",
                        "most pixels a client's unfinished batch jobs may still hold; more: 429",
                        &ServiceConfig::client_job_pixels, 1, 1ull << 44),
+        integer_option("job-retention-hours", "HOURS",
+                       "hours a settled batch job (done, failed, cancelled) is kept after its "
+                       "last change, then removed with its frames; 0: kept for ever",
+                       &ServiceConfig::job_retention_hours, 0, 1'000'000),
         Option{"queue", "URL",
                "redis://HOST:PORT: the Redis stream replicas share batch jobs' frames through; "
                "empty: jobs stay in this replica",

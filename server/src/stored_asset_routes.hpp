@@ -13,6 +13,7 @@
 #include "asset_registry.hpp"
 #include "http_errors.hpp"
 #include "http_exchange.hpp"
+#include "oer/api/content_id.hpp"
 #include "router.hpp"
 
 namespace oer::server {
@@ -58,7 +59,8 @@ void add_asset_listing_route(Router& router, Registry& registry, StoredAssetKind
     const std::string route = kind.collection;
     router.get(route, [&registry, kind = std::move(kind), members = std::move(members)](
                           const httplib::Request& request, httplib::Response& response) {
-        const ListingQuery query = listing_query(request);
+        const ListingQuery query =
+            listing_query(request, {api::is_content_id, "64 lowercase hexadecimal digits"});
         send_asset_listing(response, kind, registry.list(query.after, query.limit), query.limit,
                            members);
     });

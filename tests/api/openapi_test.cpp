@@ -455,12 +455,13 @@ TEST(OpenApi, SchemasDescribeTheDocumentsTheApiWrites) {
                             "x/quality");
 }
 
-// The server asks for the API key, when it has one, on the uploads and deletions only
-// (tests/integration/errors_test.cpp, ApiKey): the spec declares it there, as optional (`{}`
+// The server asks for the API key, when it has one, on the uploads and deletions only, and on
+// the jobs' listing (tests/integration/errors_test.cpp, ApiKey; jobs_test.cpp, JobsListing):
+// the spec declares it there, as optional (`{}`
 // or the key: without --api-key they are open), says `security: []` everywhere else, and lists
 // 401 exactly where it declares the key, so that a generated client neither sends the key
 // elsewhere nor expects a 401 that cannot come.
-TEST(OpenApi, DeclaresTheApiKeyOnExactlyTheUploadsAndDeletions) {
+TEST(OpenApi, DeclaresTheApiKeyOnExactlyTheUploadsDeletionsAndJobs) {
     const Json& document = spec().json();
     EXPECT_FALSE(document.contains("security")) << "a top-level security would cover every route";
     const Json optional_key = Json::parse(R"([{}, {"apiKey": []}])");
@@ -482,7 +483,8 @@ TEST(OpenApi, DeclaresTheApiKeyOnExactlyTheUploadsAndDeletions) {
         }
     }
     EXPECT_GT(operations, 10);
-    EXPECT_EQ(keyed, (std::set<std::string>{"post /v1/environments", "post /v1/meshes",
-                                            "post /v1/jobs", "delete /v1/environments/{id}",
-                                            "delete /v1/meshes/{id}", "delete /v1/jobs/{id}"}));
+    EXPECT_EQ(keyed,
+              (std::set<std::string>{"post /v1/environments", "post /v1/meshes", "post /v1/jobs",
+                                     "get /v1/jobs", "delete /v1/environments/{id}",
+                                     "delete /v1/meshes/{id}", "delete /v1/jobs/{id}"}));
 }

@@ -791,6 +791,32 @@ Json upload_mesh(httplib::Client& client, const std::string& bytes,
     return expect_conforms("POST", "/v1/meshes", result);
 }
 
+EventStream follow_events(httplib::Client& client, const std::string& path) {
+    EventStream stream;
+    std::string buffer;
+    const auto followed = client.Get(
+        path.c_str(),
+        [&](const httplib::Response& response) {
+            stream.status = response.status;
+            stream.content_type = response.get_header_value("Content-Type");
+            return response.status == 200;
+        },
+        [&](const char* data, std::size_t length) {
+            buffer.append(data, length);
+            for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos;) {
+                const std::string event = buffer.substr(0, end);
+                buffer.erase(0, end + 2);
+                if (const auto data_at = event.find("data: "); data_at != std::string::npos) {
+                    EXPECT_EQ(event.substr(0, 16), "event: progress\n") << event;
+                    stream.events.push_back(Json::parse(event.substr(data_at + 6)));
+                }
+            }
+            return true;
+        });
+    stream.ended = bool(followed);
+    return stream;
+}
+
 std::string wait_for_preparation(httplib::Client& client, const std::string& mesh_id) {
     const std::string path = "/v1/meshes/" + mesh_id + "/preparation";
     const auto under_way = [](const std::string& state) {

@@ -196,6 +196,17 @@ Json upload_mesh(httplib::Client& client, const std::string& bytes,
 // their CPU is not taken for what a test measures next; returns the state the first frames'
 // bake ended in.
 std::string wait_for_preparation(httplib::Client& client, const std::string& mesh_id);
+// A server-sent event stream (GET .../events) read to its end, or until the client's read
+// timeout: the answer's status and Content-Type, each `progress` event's data (an event of
+// another type fails the test), and whether the server ended the stream (the chunked body's
+// last chunk came).
+struct EventStream {
+    int status = 0;
+    std::string content_type;
+    std::vector<Json> events;
+    bool ended = false;
+};
+EventStream follow_events(httplib::Client& client, const std::string& path);
 httplib::Result post_json(httplib::Client& client, const std::string& path, const Json& body,
                           const httplib::Headers& headers = {});
 // GET /v1/render with this path and query, checked to succeed and to conform to the spec: the

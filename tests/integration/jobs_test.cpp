@@ -1,12 +1,15 @@
 // Batch jobs over HTTP (POST /v1/jobs, docs/jobs.md): a turntable of 36 views x 2 variants
 // followed to the end by its event stream, its frames by name, as spin sets and as a ZIP (a
 // server killed mid-job and started again: tests/process/kill_restart_test.cpp);
-// cancellation; the bounds per job and per client; malformed jobs named by member; and the
-// latency of interactive frames with and without a running job (printed).
+// cancellation; the bounds per job and per client; malformed jobs named by member; the
+// latency of interactive frames with and without a running job (printed); a client's listing
+// of its jobs; and the retention of settled jobs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <iterator>
 #include <map>
 #include <string>
 #include <thread>
@@ -144,35 +147,14 @@ TEST(Jobs, TurntableOf36ViewsAndTwoVariantsCompletesSlow) {
     ASSERT_FALSE(id.empty());
 
     // Followed by its event stream to the end: the stream closes after the settled job's event.
-    std::vector<Json> events;
-    std::string buffer;
-    std::string content_type;
-    auto stream = server.client();
-    const auto followed = stream->Get(
-        ("/v1/jobs/" + id + "/events").c_str(),
-        [&](const httplib::Response& response) {
-            content_type = response.get_header_value("Content-Type");
-            return response.status == 200;
-        },
-        [&](const char* data, std::size_t length) {
-            buffer.append(data, length);
-            for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos;) {
-                const std::string event = buffer.substr(0, end);
-                buffer.erase(0, end + 2);
-                if (const auto data_at = event.find("data: "); data_at != std::string::npos) {
-                    EXPECT_EQ(event.substr(0, 16), "event: progress\n");
-                    events.push_back(Json::parse(event.substr(data_at + 6)));
-                }
-            }
-            return true;
-        });
+    const EventStream stream = follow_events(*server.client(), "/v1/jobs/" + id + "/events");
     const double seconds = seconds_since(start);
-    ASSERT_TRUE(followed);
-    EXPECT_EQ(content_type, "text/event-stream");
-    ASSERT_FALSE(events.empty());
-    EXPECT_EQ(events.back().at("state"), "done");
-    for (std::size_t i = 1; i < events.size(); ++i) {
-        EXPECT_GE(events[i].at("done"), events[i - 1].at("done"));
+    ASSERT_TRUE(stream.ended);
+    EXPECT_EQ(stream.content_type, "text/event-stream");
+    ASSERT_FALSE(stream.events.empty());
+    EXPECT_EQ(stream.events.back().at("state"), "done");
+    for (std::size_t i = 1; i < stream.events.size(); ++i) {
+        EXPECT_GE(stream.events[i].at("done"), stream.events[i - 1].at("done"));
     }
 
     const Json status = job_status(*client, id);
@@ -393,4 +375,189 @@ TEST(Jobs, InteractiveLatencyWithAndWithoutAJobSlow) {
         "over their phases (each 200 ms alone first), %.0f of them stopped to let an "
         "interactive frame go first\n",
         alone_ms, beside_ms, beside_ms / alone_ms, job_frames / job_seconds, yielded);
+}
+
+namespace {
+
+std::vector<std::string> listed_ids(const Json& page) {
+    std::vector<std::string> ids;
+    for (const Json& entry : page.value("jobs", Json::array())) {
+        ids.push_back(entry.value("id", ""));
+    }
+    return ids;
+}
+
+}  // namespace
+
+// GET /v1/jobs: the requesting client's jobs, newest first, a page at a time in the form of the
+// other listings (limit, after, next); another client's jobs are never listed, nor usable as a
+// cursor; a cursor that is not a job id, a limit out of 1..100 and an unknown parameter are 422.
+TEST(JobsListing, AClientsOwnJobsNewestFirstAPageAtATime) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    std::vector<std::string> newest_first;
+    for (int i = 0; i < 3; ++i) {
+        newest_first.insert(newest_first.begin(), submit(*client, turntable(2)));
+        ASSERT_FALSE(newest_first.front().empty());
+    }
+    const Json all = expect_conforms("GET", "/v1/jobs", client->Get("/v1/jobs"));
+    EXPECT_EQ(listed_ids(all), newest_first);
+    EXPECT_FALSE(all.contains("next"));
+    for (const Json& entry : all.value("jobs", Json::array())) {
+        EXPECT_EQ(entry.at("url"), "/v1/jobs/" + entry.at("id").get<std::string>());
+        EXPECT_EQ(entry.at("total"), 2);
+        // As GET /v1/jobs/{id} says it, at a moment of its own: never behind the listing.
+        const Json status = job_status(*client, entry.at("id"));
+        EXPECT_GE(status.at("done"), entry.at("done"));
+    }
+
+    const Json first = expect_conforms("GET", "/v1/jobs", client->Get("/v1/jobs?limit=2"));
+    EXPECT_EQ(listed_ids(first), (std::vector<std::string>{newest_first[0], newest_first[1]}));
+    ASSERT_EQ(first.value("next", ""), "/v1/jobs?limit=2&after=" + newest_first[1]);
+    const Json second = expect_conforms("GET", "/v1/jobs",
+                                        client->Get(first.at("next").get<std::string>().c_str()));
+    EXPECT_EQ(listed_ids(second), std::vector<std::string>{newest_first[2]});
+    EXPECT_FALSE(second.contains("next"));
+
+    // Another client (another address) lists its own job alone, and the first client's list
+    // stays its own.
+    auto other = load_client(server.port(), 0, 60);
+    const std::string theirs = submit(*other, turntable(1));
+    ASSERT_FALSE(theirs.empty());
+    EXPECT_EQ(listed_ids(expect_conforms("GET", "/v1/jobs", other->Get("/v1/jobs"))),
+              std::vector<std::string>{theirs});
+    EXPECT_EQ(listed_ids(expect_conforms("GET", "/v1/jobs", client->Get("/v1/jobs"))),
+              newest_first);
+    using server::ProblemKind;
+    expect_problem("GET", "/v1/jobs", client->Get(("/v1/jobs?after=" + theirs).c_str()),
+                   ProblemKind::InvalidParameter, "after");
+    expect_problem("GET", "/v1/jobs",
+                   client->Get(("/v1/jobs?after=" + std::string(64, 'a')).c_str()),
+                   ProblemKind::InvalidParameter, "after");
+    expect_problem("GET", "/v1/jobs", client->Get("/v1/jobs?limit=101"),
+                   ProblemKind::InvalidParameter, "limit");
+    expect_problem("GET", "/v1/jobs", client->Get("/v1/jobs?limit=0"),
+                   ProblemKind::InvalidParameter, "limit");
+    expect_problem("GET", "/v1/jobs", client->Get("/v1/jobs?page=2"), ProblemKind::InvalidParameter,
+                   "page");
+}
+
+// With an API key, the listing needs it, as making and cancelling jobs do.
+TEST(JobsListing, NeedsTheApiKeyWhenTheServerHasOne) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.api_key = "s3cret-key";
+    TestServer server(config);
+    auto client = server.client();
+    expect_problem("GET", "/v1/jobs", client->Get("/v1/jobs"), server::ProblemKind::Unauthorized);
+    expect_problem("GET", "/v1/jobs",
+                   client->Get("/v1/jobs", {{"Authorization", "Bearer wrong-key"}}),
+                   server::ProblemKind::Unauthorized);
+    const Json page = expect_conforms(
+        "GET", "/v1/jobs", client->Get("/v1/jobs", {{"Authorization", "Bearer s3cret-key"}}));
+    EXPECT_EQ(page, (Json{{"jobs", Json::array()}}));
+}
+
+namespace {
+
+// Sets the write time of every file of the job's folder `age` back: its last change, as the
+// retention reads it (JobStore::last_write), as if it had settled that long ago.
+void age_job(const TempRoot& root, const std::string& id, std::chrono::hours age) {
+    const auto when = std::filesystem::file_time_type::clock::now() - age;
+    for (const auto& entry :
+         std::filesystem::recursive_directory_iterator(root.data() / "jobs" / id)) {
+        if (entry.is_regular_file()) {
+            std::filesystem::last_write_time(entry.path(), when);
+        }
+    }
+}
+
+std::size_t stored_frame_files(const TempRoot& root, const std::string& id) {
+    const auto frames = root.data() / "jobs" / id / "frames";
+    return std::size_t(std::distance(std::filesystem::directory_iterator(frames),
+                                     std::filesystem::directory_iterator()));
+}
+
+int status_code(httplib::Client& client, const std::string& path) {
+    const auto answer = client.Get(path.c_str());
+    return answer ? answer->status : 0;
+}
+
+}  // namespace
+
+// A settled job (done, cancelled) unchanged for longer than --job-retention-hours is removed at
+// start, its folder with it; a recent one is kept, and an unsettled one never, however old;
+// with a retention of 0 nothing is removed.
+TEST(JobsRetention, SettledJobsPastTheRetentionGoAtStartUnsettledOnesNever) {
+    TempRoot root;
+    std::string done_old, done_recent, cancelled_old, running_old;
+    constexpr int kLongJob = 1000;  // seconds of frames: still running when its server stops
+    {
+        TestServer first(test_config(root.data()));
+        auto client = first.client();
+        done_old = submit(*client, turntable(1));
+        done_recent = submit(*client, turntable(1));
+        ASSERT_TRUE(eventually(
+            [&] {
+                return job_status(*client, done_old).at("state") == "done" &&
+                       job_status(*client, done_recent).at("state") == "done";
+            },
+            std::chrono::minutes(1)));
+        cancelled_old = submit(*client, turntable(kLongJob));
+        client->Delete(("/v1/jobs/" + cancelled_old).c_str());
+        running_old = submit(*client, turntable(kLongJob));
+        ASSERT_TRUE(eventually([&] { return job_status(*client, running_old).at("done") >= 2; },
+                               std::chrono::minutes(1)));
+    }
+    const auto age_old_jobs = [&] {
+        ASSERT_LT(stored_frame_files(root, running_old), std::size_t(kLongJob));
+        for (const std::string& id : {done_old, cancelled_old, running_old}) {
+            age_job(root, id, std::chrono::hours(200));
+        }
+    };
+    age_old_jobs();
+    {
+        server::ServiceConfig config = test_config(root.data());
+        config.job_retention_hours = 0;
+        TestServer keeping(config);
+        auto client = keeping.client();
+        for (const std::string& id : {done_old, done_recent, cancelled_old, running_old}) {
+            EXPECT_EQ(status_code(*client, "/v1/jobs/" + id), 200) << id;
+        }
+    }
+    age_old_jobs();  // the frames the resumed job stored meanwhile too
+
+    server::ServiceConfig config = test_config(root.data());
+    EXPECT_EQ(config.job_retention_hours, 168);
+    TestServer server(config);
+    auto client = server.client();
+    for (const std::string& id : {done_old, cancelled_old}) {
+        expect_problem("GET", "/v1/jobs/{id}", client->Get(("/v1/jobs/" + id).c_str()),
+                       server::ProblemKind::UnknownId);
+        EXPECT_FALSE(std::filesystem::exists(root.data() / "jobs" / id)) << id;
+    }
+    bool logged = false;
+    for (const std::string& line : server.log_lines()) {
+        logged |= line.find("jobs: job " + done_old + " (done) removed: unchanged for more than " +
+                            "168 h (--job-retention-hours)") != std::string::npos;
+    }
+    EXPECT_TRUE(logged);
+    for (const auto& entry : std::filesystem::directory_iterator(root.data() / "jobs")) {
+        EXPECT_FALSE(entry.path().filename().string().starts_with("."))
+            << entry.path() << " left behind";
+    }
+    ASSERT_EQ(status_code(*client, "/v1/jobs/" + running_old), 200) << "an unsettled job is gone";
+    ASSERT_EQ(status_code(*client, "/v1/jobs/" + done_recent), 200) << "a recent job is gone";
+    const Json running = job_status(*client, running_old);
+    EXPECT_TRUE(running.at("state") == "queued" || running.at("state") == "running")
+        << running.dump();
+    EXPECT_EQ(job_status(*client, done_recent).at("state"), "done");
+    std::vector<std::string> listed =
+        listed_ids(expect_conforms("GET", "/v1/jobs", client->Get("/v1/jobs")));
+    std::sort(listed.begin(), listed.end());
+    std::vector<std::string> kept{done_recent, running_old};
+    std::sort(kept.begin(), kept.end());
+    EXPECT_EQ(listed, kept);
+    client->Delete(("/v1/jobs/" + running_old).c_str());
 }

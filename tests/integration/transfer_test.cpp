@@ -6,6 +6,8 @@
 // start-up. Scenes here are small (a box, the default product), so that the bakes stay quick.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <latch>
@@ -13,6 +15,7 @@
 #include <thread>
 
 #include "http_support.hpp"
+#include "json_schema.hpp"
 #include "oer/server/asset_store.hpp"
 
 using namespace oer;
@@ -515,7 +518,86 @@ TEST(TransferPreparation, AnUploadBakesItsFirstFramesTransferAhead) {
                    ProblemKind::UnknownId);
 }
 
-// While the bake runs, the preparation reports its progress and the time left.
+namespace {
+
+bool under_way(const Json& scene) {
+    const std::string state = scene.value("state", "");
+    return state == "queued" || state == "baking";
+}
+
+// A preparation's event stream, held to what GET .../preparation/events promises: each event a
+// MeshPreparation, each scene's progress never going back, consecutive events differing in a
+// state, a whole percent or a whole second of an estimate (not an event per look), every event
+// but the last with a bake under way, and the end of the stream after the last.
+void expect_preparation_stream(const EventStream& stream) {
+    EXPECT_EQ(stream.status, 200);
+    EXPECT_EQ(stream.content_type, "text/event-stream");
+    EXPECT_TRUE(stream.ended) << "the stream did not end";
+    ASSERT_FALSE(stream.events.empty());
+    const auto change = [](const Json& scene) {
+        const Json& left = scene.at("seconds_left");
+        return scene.at("state").dump() + " " +
+               std::to_string(int(std::floor(100.0 * scene.at("progress").get<double>()))) + " " +
+               (left.is_null() ? "-" : std::to_string(std::lround(left.get<double>())));
+    };
+    for (std::size_t i = 0; i < stream.events.size(); ++i) {
+        const Json& event = stream.events[i];
+        EXPECT_EQ(
+            oer::testing::openapi_schema_errors(event, "#/components/schemas/MeshPreparation"),
+            std::vector<std::string>{})
+            << event.dump();
+        const bool last = i + 1 == stream.events.size();
+        EXPECT_EQ(under_way(event) || under_way(event.at("without_floor")), !last) << event.dump();
+        if (i == 0) {
+            continue;
+        }
+        const Json& before = stream.events[i - 1];
+        for (const char* scene : {"", "without_floor"}) {
+            const Json& now = *scene ? event.at(scene) : event;
+            const Json& then = *scene ? before.at(scene) : before;
+            EXPECT_GE(now.at("progress").get<double>(), then.at("progress").get<double>())
+                << "progress went back: " << then.dump() << " then " << now.dump();
+        }
+        EXPECT_TRUE(change(event) != change(before) ||
+                    change(event.at("without_floor")) != change(before.at("without_floor")))
+            << "an event without a change: " << before.dump() << " then " << event.dump();
+    }
+}
+
+}  // namespace
+
+// The preparation as server-sent events: followed from the upload to the end of both bakes;
+// followed again once prepared, one event (the same as GET .../preparation) and the end; 404
+// for a mesh that is not there.
+TEST(TransferPreparation, ItsEventStreamFollowsTheBakesToTheirEnd) {
+    TempRoot root;
+    TestServer server(test_config(root.data()));
+    auto client = server.client();
+    const std::string mesh = upload_box(*client);
+    ASSERT_FALSE(mesh.empty());
+    const std::string path = "/v1/meshes/" + mesh + "/preparation";
+    const EventStream stream = follow_events(*client, path + "/events");
+    expect_preparation_stream(stream);
+    ASSERT_FALSE(stream.events.empty());
+    EXPECT_EQ(stream.events.back().at("state"), "ready");
+    EXPECT_EQ(stream.events.back().at("without_floor").at("state"), "ready");
+    std::printf("[ preparation ] %zu events\n", stream.events.size());
+
+    const EventStream prepared = follow_events(*client, path + "/events");
+    expect_preparation_stream(prepared);
+    ASSERT_EQ(prepared.events.size(), 1u);
+    EXPECT_EQ(prepared.events[0],
+              expect_conforms("GET", "/v1/meshes/{id}/preparation", client->Get(path.c_str())));
+
+    expect_problem(
+        "GET", "/v1/meshes/{id}/preparation/events",
+        client->Get(("/v1/meshes/" + std::string(64, 'f') + "/preparation/events").c_str()),
+        ProblemKind::UnknownId);
+}
+
+// While the bake runs, the preparation reports its progress and the time left, polled and, at
+// the same time, as its event stream: events partway too, each with its estimate (and, as
+// every stream, each differing from the one before: expect_preparation_stream).
 TEST(TransferPreparation, ABakeReportsItsProgressSlow) {
     TempRoot root;
     server::ServiceConfig config = test_config(root.data());
@@ -525,6 +607,8 @@ TEST(TransferPreparation, ABakeReportsItsProgressSlow) {
     const Json uploaded = upload_mesh(*client, grid_obj(150), "model/obj");
     ASSERT_FALSE(::testing::Test::HasFatalFailure());
     const std::string path = "/v1/meshes/" + uploaded.at("id").get<std::string>() + "/preparation";
+    EventStream stream;
+    std::thread follower([&] { stream = follow_events(*server.client(), path + "/events"); });
     std::vector<Json> seen;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
     while (std::chrono::steady_clock::now() < deadline &&
@@ -533,6 +617,7 @@ TEST(TransferPreparation, ABakeReportsItsProgressSlow) {
             expect_conforms("GET", "/v1/meshes/{id}/preparation", client->Get(path.c_str())));
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
+    follower.join();
     ASSERT_EQ(seen.back().value("state", ""), "ready");
     bool partway = false;
     double last = 0.0;
@@ -546,6 +631,23 @@ TEST(TransferPreparation, ABakeReportsItsProgressSlow) {
         }
     }
     EXPECT_TRUE(partway) << "no progress was seen between 0 and 1 in " << seen.size() << " answers";
+
+    expect_preparation_stream(stream);
+    ASSERT_FALSE(stream.events.empty());
+    EXPECT_EQ(stream.events.back().at("state"), "ready");
+    std::size_t streamed_partway = 0;
+    for (const Json& event : stream.events) {
+        for (const Json* scene : {&event, &event.at("without_floor")}) {
+            const double progress = scene->at("progress").get<double>();
+            if (scene->at("state") == "baking" && progress > 0.0 && progress < 1.0) {
+                ++streamed_partway;
+                EXPECT_TRUE(scene->at("seconds_left").is_number()) << event.dump();
+            }
+        }
+    }
+    EXPECT_GE(streamed_partway, 2u) << "too few events partway through the bakes";
+    std::printf("[ preparation ] %zu answers polled, %zu events streamed, %zu of them partway\n",
+                seen.size(), stream.events.size(), streamed_partway);
 }
 
 namespace {

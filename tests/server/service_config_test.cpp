@@ -80,6 +80,7 @@ const std::vector<std::string> kEveryFlag{
     "job-max-pixels",
     "client-job-frames",
     "client-job-pixels",
+    "job-retention-hours",
     "queue",
     "access-log",
     "warm-default-scene",
@@ -93,7 +94,7 @@ const std::vector<std::string> kEveryValue{
     "1000", "2000", "3000", "3", "5000000", "20",
     "640", "480", "4", "2", "60", "10", "7", "50", "16", "8", "0", "250000",
     "1073741824", "20", "0.25", "33554432", "268435456",
-    "500", "100000000", "900", "200000000", "redis://127.0.0.1:6390", "off", "off",
+    "500", "100000000", "900", "200000000", "24", "redis://127.0.0.1:6390", "off", "off",
 };
 // clang-format on
 
@@ -132,6 +133,7 @@ void expect_every_value(const ServiceConfig& config) {
     EXPECT_EQ(config.job_max_pixels, 100'000'000u);
     EXPECT_EQ(config.client_job_frames, 900u);
     EXPECT_EQ(config.client_job_pixels, 200'000'000u);
+    EXPECT_EQ(config.job_retention_hours, 24);
     EXPECT_EQ(config.queue, "redis://127.0.0.1:6390");
     EXPECT_FALSE(config.access_log);
     EXPECT_FALSE(config.warm_default_scene);
@@ -170,6 +172,7 @@ TEST(ServiceConfig, DefaultsWithoutFlagsOrVariables) {
     EXPECT_EQ(config.client_render_rate, 1.0);
     EXPECT_EQ(config.max_transfer_bytes, 64u << 20);
     EXPECT_EQ(config.transfer_store_bytes, 1u << 30);
+    EXPECT_EQ(config.job_retention_hours, 168);
     EXPECT_TRUE(config.access_log);
     EXPECT_TRUE(config.warm_default_scene);
 }
@@ -228,6 +231,7 @@ TEST(ServiceConfig, RangeLimitsAreInclusive) {
     EXPECT_EQ(parse({"--port", "0"}).port, 0);
     EXPECT_EQ(parse({"--port", "65535"}).port, 65535);
     EXPECT_EQ(parse({"--frame-cache-bytes", "1099511627776"}).frame_cache_bytes, 1ull << 40);
+    EXPECT_EQ(parse({"--job-retention-hours", "0"}).job_retention_hours, 0);  // kept for ever
     EXPECT_EQ(parse({"--cors-origins", "*"}).cors_origins, std::vector<std::string>{"*"});
     EXPECT_TRUE(parse({"--cors-origins", " "}).cors_origins.empty());
 }
@@ -264,6 +268,8 @@ TEST(ServiceConfig, NotANumberOrOutOfRange) {
               "--max-upload-bytes: expected an integer 1..1099511627776, got "
               "\"99999999999999999999999\"");
     EXPECT_EQ(failure({"--max-frame-width", "16385"}).first, "--max-frame-width");
+    EXPECT_EQ(failure({"--job-retention-hours", "-1"}).second,
+              "--job-retention-hours: expected an integer 0..1000000, got \"-1\"");
 }
 
 TEST(ServiceConfig, InvalidTextValues) {

@@ -109,11 +109,12 @@ async function overlays(page) {
 // The moderate, serious and critical violations axe-core finds on the page (WCAG 2.0 to 2.2 A
 // and AA, and best practices), each as `id (impact): targets`.
 const AXE_SOURCE = readFileSync(join(here, 'node_modules', 'axe-core', 'axe.min.js'), 'utf8');
-async function axeViolations(page) {
+// `selector`: only that part of the page.
+async function axeViolations(page, selector = null) {
   await page.addScriptTag({ content: AXE_SOURCE });
-  const results = await page.evaluate(() => window.axe.run(document, {
+  const results = await page.evaluate((part) => window.axe.run(part ?? document, {
     runOnly: { type: 'tag', values: ['wcag2a', 'wcag2aa', 'wcag21a', 'wcag21aa', 'wcag22aa', 'best-practice'] },
-  }));
+  }), selector);
   return {
     passes: results.passes.length,
     serious: results.violations
@@ -179,6 +180,55 @@ function assertRealFrame(image, what) {
   assert.ok(image.deviation >= 10, `${what}: luminance deviation ${image.deviation}`);
   assert.ok(image.mean > 5 && image.mean < 250, `${what}: mean luminance ${image.mean}`);
 }
+
+// The chunks of a RIFF WebP file (Google's WebP container specification): each its FourCC and
+// payload, padded to an even size.
+function webpChunks(bytes) {
+  assert.equal(bytes.toString('latin1', 0, 4), 'RIFF');
+  assert.equal(bytes.toString('latin1', 8, 12), 'WEBP');
+  assert.equal(bytes.readUInt32LE(4) + 8, bytes.length, 'the RIFF size is the file\'s');
+  const chunks = [];
+  for (let offset = 12; offset + 8 <= bytes.length;) {
+    const size = bytes.readUInt32LE(offset + 4);
+    chunks.push({ fourcc: bytes.toString('latin1', offset, offset + 4),
+                  payload: bytes.subarray(offset + 8, offset + 8 + size) });
+    offset += 8 + size + (size & 1);
+  }
+  return chunks;
+}
+
+// The entries a ZIP archive holds, from its end of central directory record (APPNOTE 4.3.16:
+// signature 0x06054b50, the total entries at offset 10), found from the end (a comment may
+// follow it).
+function zipEntryCount(bytes) {
+  assert.equal(bytes.readUInt32LE(0), 0x04034b50, 'a ZIP starts with a local file header');
+  for (let offset = bytes.length - 22; offset >= 0; offset -= 1) {
+    if (bytes.readUInt32LE(offset) === 0x06054b50) {
+      return bytes.readUInt16LE(offset + 10);
+    }
+  }
+  return assert.fail('no end of central directory record');
+}
+
+// What a link of the page answers, fetched in the page: its Content-Type, its sprite columns
+// header, its bytes, and for an image its size.
+async function fetchedInPage(page, href) {
+  const answer = await page.evaluate(async (url) => {
+    const response = await fetch(url);
+    const blob = await response.blob();
+    const image = blob.type.startsWith('image/') ? await createImageBitmap(blob) : null;
+    return { status: response.status, type: blob.type,
+             columns: response.headers.get('X-Oer-Sprite-Columns'),
+             width: image?.width, height: image?.height,
+             bytes: [...new Uint8Array(await blob.arrayBuffer())] };
+  }, href);
+  return { ...answer, bytes: Buffer.from(answer.bytes) };
+}
+
+// The job the page posts next (POST /v1/jobs), as the server answered it.
+const postedJob = (page) => page.waitForResponse((response) =>
+  new URL(response.url()).pathname === '/v1/jobs' && response.request().method() === 'POST')
+  .then((response) => response.json());
 
 let server = null;
 let shop = null;
@@ -404,13 +454,45 @@ try {
     assert.deepEqual(lowest, { overFloor: 0, withoutFloor: -8 });
   });
 
-  await check('the page\'s URL reproduces the same frame (same ETag)', async () => {
+  await check('the page\'s URL reproduces the same frame (same ETag) and its hotspots', async () => {
+    // A hotspot placed in the page goes into its link (its name and its point of the surface),
+    // and the link shows it again: the same name, the same point, at the same place in the view.
+    const hotspotsShown = async (where) => (await where.waitForFunction(() => {
+      const viewer = document.querySelector('oer-viewer');
+      const hotspots = [...viewer.querySelectorAll(':scope > .hotspot')];
+      if (hotspots.length === 0 || !hotspots.every((hotspot) => hotspot.hasAttribute('data-visible'))) {
+        return false;
+      }
+      const view = viewer.getBoundingClientRect();
+      return hotspots.map((hotspot) => {
+        const rect = hotspot.getBoundingClientRect();
+        return { slot: hotspot.slot, surface: hotspot.dataset.surface, text: hotspot.textContent,
+                 x: rect.x + rect.width / 2 - view.x, y: rect.y + rect.height / 2 - view.y };
+      });
+    }, null, { timeout: 15000 })).jsonValue();
     await page.waitForFunction(() => location.search.includes('camera-orbit'));
+    const box = await page.locator('oer-viewer').boundingBox();
+    await page.locator('#place-hotspot').click();
+    await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+    const placed = await hotspotsShown(page);
+    await page.locator('#place-hotspot').click();
     const saved = page.url();
+    assert.deepEqual(new URL(saved).searchParams.getAll('hotspot'),
+                     [`${placed[0].text} ${placed[0].surface}`], saved);
     const again = await desktop.newPage();
     await again.goto(saved);
     const frame = await fullFrame(again);
     assert.equal(frame.etag, afterDrag.etag, `${saved} gives the frame it was saved from`);
+    const restored = await hotspotsShown(again);
+    const identity = ({ slot, surface, text }) => ({ slot, surface, text });
+    assert.deepEqual(restored.map(identity), placed.map(identity));
+    console.log(`  hotspot ${placed[0].slot} at ${placed[0].x.toFixed(1)}, ${placed[0].y.toFixed(1)} ` +
+                `placed, ${restored[0].x.toFixed(1)}, ${restored[0].y.toFixed(1)} from its link`);
+    assert.ok(Math.abs(restored[0].x - placed[0].x) < 1 && Math.abs(restored[0].y - placed[0].y) < 1,
+              `the link shows the hotspot at ${restored[0].x}, ${restored[0].y}, placed at ` +
+              `${placed[0].x}, ${placed[0].y}`);
+    await page.locator('#clear-hotspots').click();
+    assert.doesNotMatch(page.url(), /[?&]hotspot=/);
 
     // Exposure, a background color, no ground and a turned environment, set with the controls.
     const frames = await page.evaluate(() => window.oerFrames.length);
@@ -472,6 +554,36 @@ try {
     }
     assert.equal(await page.locator('#background').inputValue(), 'env');
     assert.equal(await page.locator('#background-color').isHidden(), true);
+
+  });
+
+  await check('hotspots in a link that are mangled or hostile are left out, in plain words', async () => {
+    const linked = await desktop.newPage();
+    const dialogs = [];
+    linked.on('dialog', (dialog) => {
+      dialogs.push(dialog.message());
+      dialog.dismiss();
+    });
+    const query = new URLSearchParams();
+    query.append('hotspot', '<img/src=x/onerror=alert(1)> 0 0 0 1 0 0');
+    query.append('hotspot', 'kept 0 0 0 0.2 0.3 0.5');
+    query.append('hotspot', 'kept 0 0 1 0.2 0.3 0.5');
+    query.append('hotspot', 'outside 0 0 0 2 -1 0');
+    query.append('hotspot', 'short 0 0');
+    await linked.goto(`${server.url}/?${query}`);
+    // The page's script has run to its end once it says so.
+    const message = linked.locator('#upload-status');
+    await linked.waitForFunction(() => document.getElementById('upload-status').textContent !== '');
+    assert.match(await message.textContent(),
+                 /^This link's hotspots are not all shown: 4 of 5 left out \("<img\/src=x\/onerror=alert…" is not a hotspot name/);
+    assert.equal(await message.getAttribute('class'), 'error');
+    assert.deepEqual(await linked.evaluate(() =>
+      [...document.querySelectorAll('oer-viewer > *')].map((child) => child.slot)), ['hotspot-kept']);
+    assert.equal(await linked.locator('img[src="x"]').count(), 0, 'no markup from the link');
+    assert.deepEqual(dialogs, []);
+    // The link now holds what the page shows.
+    assert.deepEqual(new URL(linked.url()).searchParams.getAll('hotspot'), ['kept 0 0 0 0.2 0.3 0.5']);
+    await linked.close();
   });
 
   await check('the status line shows the server\'s time, then "cached" for the same frame again',
@@ -723,6 +835,154 @@ try {
     console.log(`  downloaded ${bytes.length} bytes, ${bytes.readUInt32BE(16)}x${bytes.readUInt32BE(20)}`);
   });
 
+  await check('Spin set: a turntable job of the view, its progress, then an animated WebP, a sprite ' +
+              'sheet and a ZIP', async () => {
+    // The view dressed beyond the defaults, which the job's request must carry: the element's
+    // renderRequest() posted is the frame shown (the same ETag).
+    const viewer = page.locator('oer-viewer');
+    const frames = await page.evaluate(() => window.oerFrames.length);
+    await viewer.evaluate((element) => {
+      element.setAttribute('lights', '1,0.5,0');
+      element.setAttribute('exposure', '0.5');
+      element.setAttribute('ground', 'shadow');
+    });
+    const dressed = await (await page.waitForFunction((count) => window.oerFrames.slice(count)
+      .find((frame) => !frame.preview && !frame.preliminary && frame.url.includes('ground=shadow') &&
+        frame.url.includes('exposure=0.5') && frame.url.includes('lights=1%2C0.5%2C0')) ?? false,
+    frames, { timeout: 30000 })).jsonValue();
+    const posted = await page.evaluate(async () => {
+      const response = await fetch('/v1/render', {
+        method: 'POST', headers: { 'Content-Type': 'application/json' },
+        body: JSON.stringify(document.querySelector('oer-viewer').renderRequest()),
+      });
+      return { status: response.status, etag: response.headers.get('ETag') };
+    });
+    assert.deepEqual(posted, { status: 200, etag: dressed.etag });
+
+    // Views out of the field's range are refused in the page, with no job.
+    const jobPosts = [];
+    const onRequest = (request) => {
+      if (request.url().endsWith('/v1/jobs')) {
+        jobPosts.push(request.url());
+      }
+    };
+    page.on('request', onRequest);
+    await page.locator('#job-views').fill('500');
+    await page.locator('#spin-set').click();
+    assert.equal(await page.locator('#status').textContent(), 'Views: a whole number from 2 to 60.');
+    page.off('request', onRequest);
+    assert.deepEqual(jobPosts, []);
+
+    // A small set: 6 views of 128x128. The status announces its start and its end only; the
+    // progress goes to the bar and the text beside it.
+    await page.locator('#job-views').fill('6');
+    await page.locator('#job-size').selectOption('128');
+    await page.evaluate(() => {
+      window.jobTexts = { status: [], progress: [] };
+      window.jobObserver = new MutationObserver((records) => {
+        for (const record of records) {
+          window.jobTexts[record.target.id === 'status' ? 'status' : 'progress']
+            .push(record.target.textContent);
+        }
+      });
+      for (const id of ['status', 'job-progress-text']) {
+        window.jobObserver.observe(document.getElementById(id), { childList: true });
+      }
+    });
+    const posting = postedJob(page);
+    await page.locator('#spin-set').click();
+    const { id } = await posting;
+    const links = page.locator('#job-results a');
+    await links.nth(2).waitFor({ timeout: 30000 });
+    const texts = await page.evaluate(() => {
+      window.jobObserver.disconnect();
+      return window.jobTexts;
+    });
+    console.log(`  spin set progress: ${texts.progress.join(' | ')}`);
+    assert.deepEqual(texts.status, ['Making the spin set: 6 views…',
+                                    'Spin set ready: 6 views; save them with the links beside it.']);
+    assert.equal(texts.progress.at(-1), '6/6 views, done');
+    assert.equal(await page.locator('#job-progress').evaluate((bar) => bar.value), 1);
+    assert.equal(await page.locator('#job-cancel').isHidden(), true);
+    const job = await (await fetch(`${server.url}/v1/jobs/${id}`)).json();
+    assert.deepEqual({ state: job.state, done: job.done, total: job.total },
+                     { state: 'done', done: 6, total: 6 });
+
+    const shown = await links.evaluateAll((anchors) => anchors.map((anchor) => {
+      const box = anchor.getBoundingClientRect();
+      return { text: anchor.textContent, href: anchor.href, download: anchor.download,
+               width: box.width, height: box.height };
+    }));
+    assert.deepEqual(shown.map((link) => link.text), ['Animated WebP', 'Sprite sheet', 'ZIP (6 images)']);
+    const file = `spin-set-${id.slice(0, 8)}`;
+    assert.deepEqual(shown.map((link) => link.download),
+                     [`${file}.webp`, `${file}-sprites.jpg`, `${file}.zip`]);
+    for (const link of shown) {
+      assert.ok(link.width >= 24 && link.height >= 24, `${link.text}: ${link.width}x${link.height}`);
+    }
+    const [webp, sheet, zip] = await Promise.all(shown.map((link) => fetchedInPage(page, link.href)));
+    // An animated WebP: VP8X (its canvas 128x128, stored minus one), ANIM, one ANMF per view.
+    const chunks = webpChunks(webp.bytes);
+    assert.equal(webp.type, 'image/webp');
+    assert.equal(chunks[0].fourcc, 'VP8X');
+    assert.deepEqual([chunks[0].payload.readUIntLE(4, 3) + 1, chunks[0].payload.readUIntLE(7, 3) + 1],
+                     [128, 128]);
+    assert.ok(chunks.some((chunk) => chunk.fourcc === 'ANIM'), 'an ANIM chunk');
+    assert.equal(chunks.filter((chunk) => chunk.fourcc === 'ANMF').length, 6, 'a frame per view');
+    // The sheet: the views in rows of ceil(sqrt(6)) = 3, two rows, in the frames' format.
+    assert.deepEqual({ type: sheet.type, columns: sheet.columns, width: sheet.width, height: sheet.height },
+                     { type: 'image/jpeg', columns: '3', width: 3 * 128, height: 2 * 128 });
+    assert.equal(zipEntryCount(zip.bytes), 6);
+    console.log(`  WebP ${webp.bytes.length} bytes, sprite sheet ${sheet.bytes.length}, ZIP ${zip.bytes.length}`);
+
+    // Its first view is the view itself (same yaw) at 128x128, byte for byte.
+    const sameAsView = await page.evaluate(async ([jobId, frameName]) => {
+      const render = { ...document.querySelector('oer-viewer').renderRequest(), width: 128, height: 128 };
+      const [fromJob, fromView] = await Promise.all([
+        fetch(`/v1/jobs/${jobId}/frames/${frameName}`),
+        fetch('/v1/render', { method: 'POST', headers: { 'Content-Type': 'application/json' },
+                              body: JSON.stringify(render) }),
+      ]);
+      const [a, b] = await Promise.all([fromJob, fromView].map(async (response) =>
+        new Uint8Array(await response.arrayBuffer())));
+      return { sizes: [a.length, b.length], same: a.length === b.length && a.every((value, i) => value === b[i]) };
+    }, [id, job.frames[0].name]);
+    assert.ok(sameAsView.same, `the job's first view and the view differ: ${sameAsView.sizes.join(' vs ')} bytes`);
+
+    const found = await axeViolations(page, '#downloads');
+    assert.deepEqual(found.serious, [], 'axe-core on the image sets');
+    for (const name of ['lights', 'exposure', 'ground']) {
+      await viewer.evaluate((element, attribute) => element.removeAttribute(attribute), name);
+    }
+  });
+
+  await check('Cancel stops a spin set: the page says so and the server\'s job is cancelled', async () => {
+    // A set far longer than the click that cancels it.
+    await page.locator('#job-views').fill('60');
+    await page.locator('#job-size').selectOption('1024');
+    const posting = postedJob(page);
+    await page.locator('#spin-set').click();
+    const { id } = await posting;
+    await page.locator('#job-cancel').click();
+    const status = await (await page.waitForFunction(() => {
+      const text = document.getElementById('status').textContent;
+      return text.includes('cancelled') ? text : false;
+    }, null, { timeout: 15000 })).jsonValue();
+    const job = await (await fetch(`${server.url}/v1/jobs/${id}`)).json();
+    console.log(`  "${status}"; the server's job: ${job.state}, ${job.done} of ${job.total} done`);
+    assert.equal(job.state, 'cancelled');
+    assert.ok(job.done < job.total, 'cancelled before its views were all made');
+    const made = Number(/^Spin set cancelled after (\d+) of 60 views\.$/.exec(status)?.[1]);
+    assert.ok(made <= job.done, `"${status}" against ${job.done} made`);
+    assert.match(await page.locator('#job-progress-text').textContent(), /, cancelled$/);
+    assert.equal(await page.locator('#job-cancel').isHidden(), true);
+    assert.equal(await page.locator('#job-results a').count(), 0, 'nothing to save');
+    // The keyboard's focus does not go with the Cancel button: to the button that started it.
+    assert.equal(await page.evaluate(() => document.activeElement.id), 'spin-set');
+    await page.locator('#job-views').fill('36');
+    await page.locator('#job-size').selectOption('512');
+  });
+
   await check('Tab reaches every control of the strip, each named and its focus outlined', async () => {
     // From the view, by keyboard, so that :focus-visible applies as it does for a keyboard user.
     await page.locator('oer-viewer').focus();
@@ -751,7 +1011,8 @@ try {
     }
     const names = seen.map((control) => control.name);
     for (const expected of ['Product', 'Environment', 'Upload…', 'Reset view', 'Background', 'Ground',
-                            'Shadows', 'Turntable', 'Download PNG', 'Place hotspot',
+                            'Shadows', 'Turntable', 'Download PNG', 'Place hotspot', 'Views', 'Size',
+                            'Spin set',
                             'Light 1 weight', 'All on',
                             'All off']) {
       assert.ok(names.includes(expected), `Tab never reaches ${expected}: ${names.join(' | ')}`);
@@ -883,6 +1144,14 @@ try {
                   'f 2 3 7', 'f 2 7 6', 'f 4 8 7', 'f 4 7 3', 'f 1 2 6', 'f 1 6 5', ''].join('\n');
     const frames = await page.evaluate(() => window.oerFrames.length);
     await watchUploadStatus();
+    // The preparation is followed by its event stream, not polled.
+    const preparationRequests = [];
+    const onPreparationRequest = (request) => {
+      if (request.url().includes('/preparation')) {
+        preparationRequests.push(new URL(request.url()).pathname);
+      }
+    };
+    page.on('request', onPreparationRequest);
     const dataTransfer = await page.evaluateHandle((text) => {
       const transfer = new DataTransfer();
       transfer.items.add(new File([text], 'cube.obj'));
@@ -904,6 +1173,8 @@ try {
     console.log(`  upload status: ${texts.join(' | ')}`);
     assert.ok(texts.some((text) => /^Preparing cube\.obj's shadows and reflected light: \d+ %/
       .test(text)), texts.join(' | '));
+    page.off('request', onPreparationRequest);
+    assert.deepEqual(preparationRequests, [`/v1/meshes/${mesh.id}/preparation/events`]);
     assert.equal(await viewerAttribute('mesh'), mesh.id);
     assert.equal(await page.locator('#mesh-picker option:checked').textContent(), 'cube.obj');
     const done = await page.evaluate(() => window.uploadSeen.at(-1));
@@ -943,6 +1214,8 @@ try {
     assert.equal(status, 201, JSON.stringify(mesh));
     assert.deepEqual(mesh.variants.map((variant) => variant.name), ['Ruby', 'Sky']);
     const previous = await viewerAttribute('mesh');
+    const allVariants = page.locator('#all-variants');
+    assert.equal(await allVariants.isDisabled(), true, 'the cube has no variants');
     await page.evaluate((id) => document.querySelector('oer-viewer').setAttribute('mesh', id),
                         mesh.id);
     const choices = page.locator('#product-variants input[name=product-variant]');
@@ -964,10 +1237,53 @@ try {
     const front = await fullFrame(page, viewed);
     assert.match(front.url, /[?&]camera=asset%3A0(&|$)/, front.url);
     assert.doesNotMatch(front.url, /[?&]yaw=/);
+    // All variants: this view (its camera) in each variant, a ZIP and each image.
+    assert.equal(await allVariants.isEnabled(), true);
+    await page.locator('#job-size').selectOption('128');
+    const posting = postedJob(page);
+    await allVariants.click();
+    const { id } = await posting;
+    const links = page.locator('#job-results a');
+    await links.nth(2).waitFor({ timeout: 30000 });
+    assert.equal(await page.locator('#status').textContent(),
+                 'All variants ready: 2 variants; save them with the links beside it.');
+    const made = await links.evaluateAll((anchors) => Promise.all(anchors.map(async (anchor) => {
+      const image = anchor.querySelector('img');
+      if (!image) {
+        return { text: anchor.textContent, download: anchor.download };
+      }
+      await image.decode();
+      const canvas = document.createElement('canvas');
+      canvas.width = image.naturalWidth;
+      canvas.height = image.naturalHeight;
+      const context = canvas.getContext('2d');
+      context.drawImage(image, 0, 0);
+      const { data } = context.getImageData(0, 0, canvas.width, canvas.height);
+      let redMinusBlue = 0;
+      for (let i = 0; i < data.length; i += 4) {
+        redMinusBlue += data[i] - data[i + 2];
+      }
+      return { text: anchor.textContent, download: anchor.download, width: image.naturalWidth,
+               redMinusBlue: redMinusBlue / (data.length / 4) };
+    })));
+    const file = `variants-${id.slice(0, 8)}`;
+    assert.deepEqual(made.map(({ text, download, width }) => ({ text, download, width })), [
+      { text: 'ZIP (2 images)', download: `${file}.zip`, width: undefined },
+      { text: 'Ruby', download: `${file}-01-Ruby.jpg`, width: 128 },
+      { text: 'Sky', download: `${file}-02-Sky.jpg`, width: 128 },
+    ]);
+    const [, rubyImage, skyImage] = made;
+    console.log(`  mean red minus blue: Ruby ${rubyImage.redMinusBlue.toFixed(2)}, ` +
+                `Sky ${skyImage.redMinusBlue.toFixed(2)}`);
+    assert.ok(rubyImage.redMinusBlue > skyImage.redMinusBlue + 5, 'Ruby is redder than Sky');
+    const zip = await fetchedInPage(page, await links.first().getAttribute('href'));
+    assert.equal(zipEntryCount(zip.bytes), 2);
+    await page.locator('#job-size').selectOption('512');
     // Another product: its variant goes, and so do the swatches.
     await page.locator('#mesh-picker').selectOption(previous);
     await page.waitForFunction(() => document.getElementById('product-variants').hidden);
     assert.equal(await page.locator('oer-viewer').getAttribute('variant'), null);
+    assert.equal(await allVariants.isDisabled(), true, 'no variants, no images of them');
   });
 
   await check('the pickers list the presets and the uploads, and choosing one changes the request',

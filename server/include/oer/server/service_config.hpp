@@ -80,6 +80,9 @@ struct ServiceConfig {
     std::uint64_t job_max_pixels = 256ull << 20;
     std::size_t client_job_frames = 2000;
     std::uint64_t client_job_pixels = 512ull << 20;
+    // A settled job (done, failed, cancelled) whose files are unchanged this long is removed
+    // from the data folder (job_service.hpp); 0: jobs are kept until their owner removes them.
+    int job_retention_hours = 168;
     // The queue replicas share a job's frames through: "redis://HOST:PORT" (a Redis stream,
     // redis_frame_queue.hpp); empty: this process's own queue, its jobs in its own store.
     std::string queue;
