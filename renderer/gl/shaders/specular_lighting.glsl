@@ -22,6 +22,8 @@ uniform float u_light_weight[LIGHTS_ON];  // w_k
 // LightSpread (specular_environment.hpp): the core's share of the light's energy, and
 // tan^2(radius / 2) of its core and of its glow.
 uniform vec3 u_light_reflection_spread[LIGHTS_ON];
+// The share of the light's energy below the horizon (0 without a floor).
+uniform float u_light_below_horizon[LIGHTS_ON];
 // compact_light_factor's bound: where the split sum's lobe has all but left the light's point
 // while the BRDF's still sees it (grazing view), the ratio of two vanishing lobes says little.
 const float kCompactLightFactorMax = 8.0;
@@ -77,7 +79,8 @@ vec3 light_reflection(int k, vec3 r_map, float roughness) {
 // (bench/material_gallery.cpp, a metal sphere under Blender's studio) this took the error of
 // roughness 0.3 from 0.19 to 0.13 and of 0.5 from 0.17 to 0.11.
 vec3 point_light_ratio(vec3 toward_light, float cap_tan2, vec3 n, vec3 view, vec3 r,
-                       float n_dot_v, float alpha, vec3 f0, float f90, vec3 single_scattering) {
+                       float n_dot_v, float alpha, vec3 f0, float f90, vec3 single_scattering,
+                       bool floor_below) {
     // The light's point nearest r: its direction turned towards r by at most its radius.
     float radius = 2.0 * atan(sqrt(cap_tan2));
     float cos_to_r = clamp(dot(toward_light, r), -1.0, 1.0);
@@ -87,6 +90,11 @@ vec3 point_light_ratio(vec3 toward_light, float cap_tan2, vec3 n, vec3 view, vec
     vec3 l = across_length > 1e-5
                  ? cos(turn) * toward_light + sin(turn) * (across / across_length)
                  : r;
+    // With an opaque floor, the light's part below the horizon is hidden: its point nearest r
+    // is then on the horizon.
+    if (floor_below && l.y < 0.0) {
+        l = normalize(vec3(l.x, 1e-4, l.z));
+    }
     float n_dot_l = dot(n, l);
     float r_dot_l = dot(r, l);
     vec3 brdf = vec3(0.0);
@@ -104,7 +112,8 @@ vec3 point_light_ratio(vec3 toward_light, float cap_tan2, vec3 n, vec3 view, vec
 }
 
 vec3 compact_light_factor(int k, vec3 toward_light, vec3 n, vec3 view, vec3 r, float n_dot_v,
-                          float alpha, vec3 f0, float f90, vec3 single_scattering) {
+                          float alpha, vec3 f0, float f90, vec3 single_scattering,
+                          bool floor_below) {
     vec3 spread = u_light_reflection_spread[k];
     float a2 = alpha * alpha;
     float core_outside = a2 / (a2 + spread.y);
@@ -113,13 +122,13 @@ vec3 compact_light_factor(int k, vec3 toward_light, vec3 n, vec3 view, vec3 r, f
     if (core_outside > 1e-3) {
         factor += spread.x * core_outside *
                   (point_light_ratio(toward_light, spread.y, n, view, r, n_dot_v, alpha, f0, f90,
-                                     single_scattering) -
+                                     single_scattering, floor_below) -
                    1.0);
     }
     if (glow_outside > 1e-3) {
         factor += (1.0 - spread.x) * glow_outside *
                   (point_light_ratio(toward_light, spread.z, n, view, r, n_dot_v, alpha, f0, f90,
-                                     single_scattering) -
+                                     single_scattering, floor_below) -
                    1.0);
     }
     return factor;

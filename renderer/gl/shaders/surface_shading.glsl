@@ -154,12 +154,13 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
 #if SPECULAR
         // v_k w_k P(k), only where the light reaches.
         if (glossy && v > 0.0) {
-            // The floor hides a light below its horizon, and none above it, whatever part of
-            // the lobe it takes.
-            float unhidden = u_light_direction[k].y < 0.0 ? 1.0 - floor_weight : 1.0;
+            // The floor hides the light's part below its horizon, where the lobe goes below
+            // it, and none of its part above, whatever part of the lobe that takes.
+            float unhidden = 1.0 - floor_weight * u_light_below_horizon[k];
             lights_reflected += v * unhidden * light_reflection(k, r_map, roughness) *
                                 compact_light_factor(k, u_light_direction[k], n, view, r, n_dot_v,
-                                                     alpha, f0, f90, single_scattering);
+                                                     alpha, f0, f90, single_scattering,
+                                                     u_floor_fade.w > 0.0);
 #if MATERIAL_LAYERS
             if (layers.clearcoat > 0.0) {
                 lights_coat += v * light_reflection(k, coat_r_map, layers.clearcoat_roughness);

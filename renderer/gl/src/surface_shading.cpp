@@ -1,5 +1,6 @@
 #include "surface_shading.hpp"
 
+#include <algorithm>
 #include <numbers>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -73,6 +74,17 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
         const std::size_t k = frame.lit[i];
         glUniform1i(program.uniform(element("u_light_cube_layer", i)), GLint(k));
         glUniform1f(program.uniform(element("u_light_weight", i)), float(frame.weights[k]));
+        // The share of the light below the horizon, which an opaque floor hides from its
+        // reflections (surface_shading.glsl): Blender's courtyard's brightest light straddles
+        // the horizon, a third of it below.
+        double below_horizon = 0.0;
+        const ShProjection& sh = frame.rig.sh;
+        if (request.ground && k < sh.per_light_above_horizon.size()) {
+            const double whole = luminance(sh.per_light[k].coefficients[0]);
+            const double above = luminance(sh.per_light_above_horizon[k].coefficients[0]);
+            below_horizon = whole > 0.0 ? std::clamp(1.0 - above / whole, 0.0, 1.0) : 0.0;
+        }
+        glUniform1f(program.uniform(element("u_light_below_horizon", i)), float(below_horizon));
         const LightSpread& spread = frame.reflection_spreads[i];
         glUniform3f(program.uniform(element("u_light_reflection_spread", i)),
                     float(spread.core_share), float(spread.core_cap_tan2),

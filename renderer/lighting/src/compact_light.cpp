@@ -17,9 +17,12 @@ glm::dvec3 point_light_ratio(const glm::dvec3& toward_light, double cap_tan2,
     const glm::dvec3 across = point.r - cos_to_r * toward_light;
     const double across_length = glm::length(across);
     const double turn = std::min(std::acos(cos_to_r), radius);
-    const glm::dvec3 l = across_length > 1e-5 ? std::cos(turn) * toward_light +
-                                                    std::sin(turn) * (across / across_length)
-                                              : point.r;
+    glm::dvec3 l = across_length > 1e-5
+                       ? std::cos(turn) * toward_light + std::sin(turn) * (across / across_length)
+                       : point.r;
+    if (point.floor_below && l.y < 0.0) {
+        l = glm::normalize(glm::dvec3(l.x, 1e-4, l.z));
+    }
     const double n_dot_l = glm::dot(point.n, l);
     const double r_dot_l = glm::dot(point.r, l);
     const double a2 = point.alpha * point.alpha;

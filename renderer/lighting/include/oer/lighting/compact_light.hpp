@@ -38,6 +38,9 @@ struct GlossyPoint {
     glm::dvec3 f0{0.04};
     double f90 = 1.0;
     glm::dvec3 single_scattering{1.0};
+    // An opaque floor hides the light's part below the horizon (y < 0): the light's point
+    // nearest r is then taken on the horizon.
+    bool floor_below = false;
 };
 
 // The shader's bound on the ratio: where the kernel has all but left the light's point while
