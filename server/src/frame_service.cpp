@@ -410,9 +410,14 @@ HotspotPlacements FrameService::place_hotspots(const api::HotspotRequest& hotspo
     return {resolved.camera, std::move(*placements)};
 }
 
-PickedSurface FrameService::pick(const api::PickRequest& pick, RequestForm form) {
+PickedSurface FrameService::pick(const api::PickRequest& pick, RequestForm form,
+                                 const Client& client) {
     const api::RenderSpec spec = geometry_only(pick.render);
     const ResolvedRender resolved = resolve(spec, form);
+    // Its work (the scene's ray-tracing structure, built for this request) is the client's, as
+    // a frame's is: held past its share, and charged.
+    hold_past_share(client);
+    const auto start = Clock::now();
     // The surfaces alone: neither the map nor a specular cube, which frame_request would fetch.
     const FrameRequest request = api::to_frame_request(
         spec, resolved.camera, resolved.environment->rig, nullptr, resolved.meshes);
@@ -429,6 +434,7 @@ PickedSurface FrameService::pick(const api::PickRequest& pick, RequestForm form)
                                           request.objects.at(spot.object).transform, spot);
         picked.spot = spot;
     }
+    client_work_.charge(client.address, milliseconds_since(start) / 1000.0);
     return picked;
 }
 

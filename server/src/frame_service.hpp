@@ -158,8 +158,9 @@ class FrameService {
     // The surface the pixel's centre shows in the frame that request.render draws: a ray cast on
     // the HTTP thread against the objects' triangles (the reference renderer's Embree scene;
     // alpha-tested and blended surfaces let it through as the reference does), the ground never
-    // counting as the product. Throws as render does before it renders.
-    PickedSurface pick(const api::PickRequest& request, RequestForm form);
+    // counting as the product. Held while the client is past its share of render work, and
+    // the time it took charged to that share. Throws as render does before it renders.
+    PickedSurface pick(const api::PickRequest& request, RequestForm form, const Client& client);
     // What render checks before any work: the ids known (404), the cost within the budgets
     // (413), the variants and materials in the meshes (422), each named as a JSON request names
     // it. For a batch job's frames, when it is submitted.

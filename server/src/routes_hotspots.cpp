@@ -41,9 +41,10 @@ void answer_placements(ServiceContext& context, const httplib::Request& request,
                {"hotspots", std::move(answers)}});
 }
 
-void answer_pick(ServiceContext& context, httplib::Response& response, const api::PickRequest& pick,
-                 RequestForm form) {
-    const PickedSurface picked = context.frame_service.pick(pick, form);
+void answer_pick(ServiceContext& context, const httplib::Request& request,
+                 httplib::Response& response, const api::PickRequest& pick, RequestForm form) {
+    const PickedSurface picked =
+        context.frame_service.pick(pick, form, {request.remote_addr, client_has_gone});
     nlohmann::json answer = {{"camera", camera_header(picked.camera)},
                              {"width", pick.render.width},
                              {"height", pick.render.height},
@@ -93,15 +94,15 @@ void add_hotspot_routes(Router& router, ServiceContext& context) {
         [&context](const httplib::Request& request, httplib::Response& response,
                    const std::string& body) {
             single_query(request, {});
-            answer_pick(context, response, api::parse_pick_json(body, context.render_limits),
-                        RequestForm::Json);
+            answer_pick(context, request, response,
+                        api::parse_pick_json(body, context.render_limits), RequestForm::Json);
         });
 
     router.get(
         "/v1/pick", [&context](const httplib::Request& request, httplib::Response& response) {
             const api::RenderQuery query(request.params.begin(), request.params.end());
-            answer_pick(context, response, api::parse_pick_query(query, context.render_limits),
-                        RequestForm::Query);
+            answer_pick(context, request, response,
+                        api::parse_pick_query(query, context.render_limits), RequestForm::Query);
         });
 }
 

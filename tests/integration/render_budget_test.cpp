@@ -222,6 +222,37 @@ TEST(RenderBudgetShare, AClientPastItsShareGets429WhileOthersAndCachedFramesAreS
     EXPECT_EQ(cached->get_header_value("X-Oer-Cache"), "hit");
 }
 
+// A pick's work (its ray-tracing structure, built per request) is the client's as a frame's is:
+// an address that picks pixel after pixel spends its share and is answered 429, and another
+// address still picks.
+TEST(RenderBudgetShare, PicksSpendTheClientsShare) {
+    TempRoot root;
+    server::ServiceConfig config = test_config(root.data());
+    config.client_render_rate = 0.001;  // a millisecond of work earned a second
+    config.max_render_seconds = 1;      // saved up to a second: 74 to 142 picks of 7 ms here
+    TestServer server(config);
+    const auto picker = load_client(server.port(), 1, 60);
+    const auto other = load_client(server.port(), 2, 60);
+    const std::string pick =
+        "/v1/pick?environment=default&mesh=default&width=256&height=256&pixel=128,128";
+    int refused_at = -1;
+    for (int i = 0; i < 400 && refused_at < 0; ++i) {
+        const auto result = picker->Get(pick);
+        ASSERT_TRUE(result);
+        if (result->status == 429) {
+            refused_at = i;
+            expect_problem("GET", "/v1/pick", result, server::ProblemKind::TooManyRenders);
+        } else {
+            ASSERT_EQ(result->status, 200) << result->body;
+        }
+    }
+    std::printf("[ measured ] the picking address was refused after %d picks\n", refused_at);
+    ASSERT_GT(refused_at, 0) << "picks never spent the address's share";
+    const auto others = other->Get(pick);
+    ASSERT_TRUE(others);
+    EXPECT_EQ(others->status, 200) << others->body;
+}
+
 // The share protects the others' latency: while one address floods the server with uncached
 // renders (two connections asking without pause, whatever the answer), another address's
 // uncached frames keep their latency (median within 1.5 times the one measured without the
