@@ -73,7 +73,7 @@ Frame FrameRenderer::render(const FrameRequest& request, const std::stop_token& 
     start = Clock::now();
     GLuint finished = shade_surfaces(frame, lighting, shadows, targets, state, stop);
     if (frame.layered) {
-        finished = shade_layered_surfaces(frame, lighting, targets, state);
+        finished = shade_layered_surfaces(frame, lighting, targets, state, stop);
     }
     if (frame.blending) {
         finished = blend_transparent_surfaces(frame, lighting, targets, state);

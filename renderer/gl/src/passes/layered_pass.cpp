@@ -10,13 +10,24 @@
 // test LEQUAL against its own depth (mesh.vert's gl_Position is invariant), not written, and
 // shaded forward by the layered program. Leaves the depth and stencil tests and culling off,
 // depth writes on, and the material units without samplers.
+#include <algorithm>
+
 #include "material_uniforms.hpp"
+#include "oer/core/cancellation.hpp"
 #include "passes/frame_passes.hpp"
 
 namespace oer {
 
+int shading_band_rows(const FrameContext& frame, const std::stop_token& stop) {
+    constexpr long kShadingBandSamples = 1l << 20;
+    return stop.stop_possible()
+               ? std::max(1, int(kShadingBandSamples / std::max(1, frame.samples_wide)))
+               : frame.samples_high;
+}
+
 GLuint shade_layered_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
-                              const RenderTargets& targets, RendererState& state) {
+                              const RenderTargets& targets, RendererState& state,
+                              const std::stop_token& stop) {
     const FrameRequest& request = frame.request;
     glBindFramebuffer(GL_FRAMEBUFFER, targets.shaded_framebuffer.get());
     glViewport(0, 0, frame.samples_wide, frame.samples_high);
@@ -27,25 +38,34 @@ GLuint shade_layered_surfaces(const FrameContext& frame, const FrameLightingBuff
     glStencilMask(0x00);
     glStencilFunc(GL_EQUAL, kLayeredSurface, 0xff);
     glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-    gl::Program* current = nullptr;
-    for (std::size_t i = 0; i < request.objects.size(); ++i) {
-        const Mesh& mesh = *request.objects[i].mesh;
-        for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-            const Material& material = mesh.materials.at(
-                std::size_t(mesh.primitives[p].material_under(request.objects[i].variant)));
-            if (material.alpha_mode == AlphaMode::Blend || !shaded_layered(frame, material)) {
-                continue;
+    const int band_rows = shading_band_rows(frame, stop);
+    glEnable(GL_SCISSOR_TEST);
+    for (int band = 0; band < frame.samples_high; band += band_rows) {
+        throw_if_stopped(stop, "the frame's layered pass");
+        glScissor(0, band, frame.samples_wide, std::min(band_rows, frame.samples_high - band));
+        gl::Program* current = nullptr;
+        for (std::size_t i = 0; i < request.objects.size(); ++i) {
+            const Mesh& mesh = *request.objects[i].mesh;
+            for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+                const Material& material = mesh.materials.at(
+                    std::size_t(mesh.primitives[p].material_under(request.objects[i].variant)));
+                if (material.alpha_mode == AlphaMode::Blend || !shaded_layered(frame, material)) {
+                    continue;
+                }
+                // MASK ones cut where the geometry pass cut, or they would shade a layered surface
+                // behind their holes.
+                const bool alpha_test = material.alpha_mode == AlphaMode::Mask &&
+                                        alpha_tested(material, mesh.primitives[p]);
+                gl::Program& program =
+                    state.program("layered", frame.lighting_defines + frame.specular_define +
+                                                 frame.transfer_define + "#define ALPHA_TEST " +
+                                                 (alpha_test ? "1" : "0") + "\n");
+                draw_forward(frame, lighting, state, program, current, i, p);
             }
-            // MASK ones cut where the geometry pass cut, or they would shade a layered surface
-            // behind their holes.
-            const bool alpha_test = material.alpha_mode == AlphaMode::Mask &&
-                                    alpha_tested(material, mesh.primitives[p]);
-            gl::Program& program = state.program(
-                "layered", frame.lighting_defines + frame.specular_define + frame.transfer_define +
-                               "#define ALPHA_TEST " + (alpha_test ? "1" : "0") + "\n");
-            draw_forward(frame, lighting, state, program, current, i, p);
         }
+        glFinish();
     }
+    glDisable(GL_SCISSOR_TEST);
     glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
     glStencilMask(0xff);

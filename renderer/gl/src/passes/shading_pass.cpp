@@ -22,15 +22,7 @@
 
 namespace oer {
 
-namespace {
-
-// The samples shaded between two looks at the stop token: about 0.1-0.25 s of shading on
-// llvmpipe. Each band ends with a glFinish, which costs a frame of one band 15-20 % (measured
-// with 256-row bands: the bunny's 512x512 colour pass went from 27 to 32 ms), so frames up to
-// this size are one band, and a frame that cannot be stopped is never banded.
-constexpr long kShadingBandSamples = 1l << 20;
-
-}  // namespace
+namespace {}  // namespace
 
 FrameLightingBuffers upload_irradiance_sets(const FrameContext& frame, RendererState& state) {
     const int order = frame.rig.sh.all.order;
@@ -110,10 +102,7 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     // In bands of rows, each finished before the next starts, so that a frame asked to stop
     // stops within a band's time (a 2048 x 2048 shading pass takes about a second on llvmpipe
     // under load), not the whole pass's.
-    const int band_rows =
-        stop.stop_possible()
-            ? std::max(1, int(kShadingBandSamples / std::max(1, frame.samples_wide)))
-            : frame.samples_high;
+    const int band_rows = shading_band_rows(frame, stop);
     glEnable(GL_SCISSOR_TEST);
     for (int band = 0; band < frame.samples_high; band += band_rows) {
         throw_if_stopped(stop, "the frame's shading pass");
