@@ -67,6 +67,13 @@ FrameLightingBuffers upload_irradiance_sets(const FrameContext& frame, RendererS
     return buffers;
 }
 
+int shading_band_rows(const FrameContext& frame, const std::stop_token& stop) {
+    constexpr long kShadingBandSamples = 1l << 20;
+    return stop.stop_possible()
+               ? std::max(1, int(kShadingBandSamples / std::max(1, frame.samples_wide)))
+               : frame.samples_high;
+}
+
 GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
                       const ShadowMaps& shadows, const RenderTargets& targets, RendererState& state,
                       const std::stop_token& stop) {
