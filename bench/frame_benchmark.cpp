@@ -108,7 +108,7 @@ std::shared_ptr<const oer::Mesh> with_material(const oer::Mesh& mesh, float meta
 }
 
 // The bunny as with_material's dielectric of roughness 0.5 with the material extensions' layers
-// `add_layers` gives it (docs/materials.md), shaded by the layered pass.
+// `add_layers` gives it (docs/materials.md), whose layers the G-buffer's layer targets hold.
 template <typename AddLayers>
 std::shared_ptr<const oer::Mesh> with_layers(const oer::Mesh& mesh, AddLayers add_layers) {
     auto layered = std::make_shared<oer::Mesh>(*with_material(mesh, 0.0f, 0.5f));
@@ -325,8 +325,9 @@ int main(int argc, char** argv) {
             if (lambertian_ms == 0.0) {
                 lambertian_ms = color_ms;
             }
-            std::printf("  %4dx%-4d  %-28s %7.1f  %5.2fx\n", width, height, name, color_ms,
-                        color_ms / lambertian_ms);
+            std::printf("  %4dx%-4d  %-28s %7.1f  %5.2fx  geometry %5.1f  shading %5.1f\n", width,
+                        height, name, color_ms, color_ms / lambertian_ms, pass(m, "geometry_pass"),
+                        pass(m, "shading_pass"));
         }
     }
     std::printf(

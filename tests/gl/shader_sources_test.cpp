@@ -59,11 +59,11 @@ struct Variant {
     std::string defines;
 };
 
-// The values a define is compiled with: all of a switch's or a kind's (SURFACE's four); a
+// The values a define is compiled with: all of a switch's or a kind's (SURFACE's five); a
 // count's ends and the value after the first (they only size arrays and loops, and #if tests
 // only LIGHTS_ON > 0).
 std::vector<int> values_of(const DefineRange& range) {
-    if (range.max - range.min <= 3) {
+    if (range.max - range.min <= 4) {
         std::vector<int> values;
         for (int value = range.min; value <= range.max; ++value) {
             values.push_back(value);
@@ -305,10 +305,10 @@ TEST(ShaderSources, EachFileIsIncludedOnceWhateverIncludesIt) {
     // The frame's shading program: math_constants.glsl comes through surface_shading.glsl,
     // shadow_filter.glsl and specular_lighting.glsl, and is there once.
     const ShaderSource shade = program_source("shade.frag", "");
-    EXPECT_EQ(shade.files,
-              (std::vector<std::string>{"shade.frag", "surface_shading.glsl", "math_constants.glsl",
-                                        "sh_lighting.glsl", "shadow_filter.glsl", "brdf.glsl",
-                                        "specular_lighting.glsl", "display.glsl"}));
+    EXPECT_EQ(shade.files, (std::vector<std::string>{
+                               "shade.frag", "surface_shading.glsl", "math_constants.glsl",
+                               "sh_lighting.glsl", "shadow_filter.glsl", "brdf.glsl",
+                               "specular_lighting.glsl", "layer_gbuffer.glsl", "display.glsl"}));
     const std::size_t pi = shade.text.find("const float PI");
     ASSERT_NE(pi, std::string::npos);
     EXPECT_EQ(shade.text.find("const float PI", pi + 1), std::string::npos);
@@ -487,10 +487,10 @@ TEST(ShaderSourcesGlslang, EveryVariantOfEveryFrameProgramCompiles) {
                                            std::move(source)});
         }
     }
-    // The shading pass's 3 SH orders x 3 light counts x 192 switch combinations, the
-    // transparent pass's 3 x 3 x 32, the layered pass's 3 x 3 x 16, the bake's 3 x 3 x 2, the
-    // resolve's 2, depth's 2 and geometry's 8.
-    EXPECT_EQ(variants.size(), 2304u + 288u + 144u + 18u + 2u + 2u + 8u);
+    // The shading pass's 3 SH orders x 3 light counts x 320 switch combinations (5 surfaces), the
+    // transparent pass's 3 x 3 x 32, the bake's 3 x 3 x 2, the resolve's 2, depth's 2 and
+    // geometry's 16.
+    EXPECT_EQ(variants.size(), 2880u + 288u + 18u + 2u + 2u + 16u);
 
     // Each distinct error once, with the variants that have it.
     std::map<std::string, std::vector<const Compiled*>> errors;

@@ -5,7 +5,7 @@
 // shadow pass's alpha test and the transparent pass. MATERIAL_TEXTURES 0 (a material without
 // textures on a primitive without vertex colours, as an OBJ's): the factors alone, with no uv,
 // colour or tangent read, so that the program interpolates none of them (llvmpipe interpolates
-// every input a fragment shader reads). MATERIAL_LAYERS 1 (the layered and transparent programs
+// every input a fragment shader reads). MATERIAL_LAYERS 1 (the geometry and transparent programs
 // of a material with extension layers, mesh.hpp's Material::layered): also the layers' factors
 // and nine textures, as SurfaceLayers (brdf.glsl); 0: none of them is declared or read.
 in vec3 v_world_position;

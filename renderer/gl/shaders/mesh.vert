@@ -27,9 +27,6 @@ out vec2 v_texcoord1;
 out vec4 v_color;
 out vec4 v_tangent;
 out vec3 v_transferred_irradiance;
-// The layered pass draws the geometry pass's primitives again over their own depth: invariant,
-// so that both programs compute the same depths (GLSL 4.50 section 4.8.1).
-invariant gl_Position;
 void main() {
     vec4 world = u_model * vec4(a_position, 1.0);
     v_world_position = world.xyz;

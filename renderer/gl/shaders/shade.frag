@@ -2,14 +2,18 @@
 #extension GL_GOOGLE_include_directive : require
 // Deferred shading: every sample is shaded once, in whole blocks, by the program of its
 // surface (SURFACE 0 the background, 1 objects, 2 the ground plane, 3 the ground plane as a
-// shadow catcher), which the stencil test routes to it. Shading the meshes' fragments directly costs far more on llvmpipe, whose 4x4
+// shadow catcher, 4 objects whose material has the extensions' layers), which the stencil test
+// routes to it. Shading the meshes' fragments directly costs far more on llvmpipe, whose 4x4
 // blocks are mostly empty on small triangles, and whose SIMD lanes would run every branch of
-// a shader that handled all three surfaces. Objects are shaded by surface_shading.glsl from
+// a shader that handled all the surfaces. Objects are shaded by surface_shading.glsl from
 // the G-buffer (geometry.frag); the transparent pass shades BLEND primitives with the same
-// code afterwards. Materials with the extensions' layers are the layered pass's
-// (layered.frag), so every object here has the core model's.
-#define MATERIAL_LAYERS 0
+// code afterwards. SURFACE 4 also reads the layers the geometry pass packed
+// (layer_gbuffer.glsl); SURFACE 1 reads none, and shades the core model.
+#define OBJECT_SURFACE (SURFACE == 1 || SURFACE == 4)
+#define GROUND_SURFACE (SURFACE == 2 || SURFACE == 3)
+#define MATERIAL_LAYERS (SURFACE == 4)
 #include "surface_shading.glsl"
+#include "layer_gbuffer.glsl"
 // Position and ao; shading normal and roughness; base colour and metallic (-1: Lambertian).
 layout(binding = GBUFFER_POSITIONS_UNIT) uniform sampler2D u_positions;
 layout(binding = GBUFFER_NORMALS_UNIT) uniform sampler2D u_normals;
@@ -26,18 +30,22 @@ uniform vec3 u_flat_irradiance[1 + LIGHTS_ON];
 // in light space is a function of the shadow-map uv), read with one bilinear fetch.
 layout(binding = GROUND_VISIBILITY_UNIT) uniform sampler2DArray u_ground_visibility;
 #endif
-#if TRANSFER && SURFACE == 1
+#if TRANSFER && OBJECT_SURFACE
 // The G-buffer's transferred irradiance.
 layout(binding = GBUFFER_TRANSFERRED_UNIT) uniform sampler2D u_transferred;
-#elif TRANSFER && SURFACE >= 2
+#elif TRANSFER && GROUND_SURFACE
 // The transfer's irradiance over the ground's grid (GroundTransfer), one texel per receiver,
 // read bilinearly; clamped beyond the grid, whose edge holds the unoccluded ground's.
 layout(binding = GROUND_TRANSFER_UNIT) uniform sampler2D u_ground_transfer;
 uniform vec4 u_ground_transfer_rect;  // the grid's lowest x and z, 1 / its side
 uniform vec3 u_open_ground_transferred;  // FrameContext::open_ground_transferred
 #endif
-#if SURFACE >= 2
+#if GROUND_SURFACE
 uniform vec4 u_ground_fade;  // the scene's centre (x, z), the fade's start and end radius
+#endif
+#if MATERIAL_LAYERS
+layout(binding = GBUFFER_LAYERS_FIRST_UNIT) uniform usampler2D u_layers_first;
+layout(binding = GBUFFER_LAYERS_SECOND_UNIT) uniform usampler2D u_layers_second;
 #endif
 #if SURFACE == 3
 uniform float u_shadow_intensity;  // ShadowOptions::intensity
@@ -65,7 +73,7 @@ vec4 background() {
 vec4 shade(ivec2 pixel) {
     return background();
 }
-#elif SURFACE == 1
+#elif OBJECT_SURFACE
 vec4 shade(ivec2 pixel) {
     vec4 position = texelFetch(u_positions, pixel, 0);
     vec4 normal = texelFetch(u_normals, pixel, 0);
@@ -76,8 +84,14 @@ vec4 shade(ivec2 pixel) {
 #else
     vec3 transferred = vec3(0.0);
 #endif
+#if MATERIAL_LAYERS
+    SurfaceLayers layers = unpack_layers(texelFetch(u_layers_first, pixel, 0),
+                                         texelFetch(u_layers_second, pixel, 0));
+#else
+    SurfaceLayers layers = plain_layers();
+#endif
     return vec4(shade_object(position.xyz, normal.xyz, albedo.rgb, albedo.a, normal.w, position.w,
-                             emissive, transferred, plain_layers()),
+                             emissive, transferred, layers),
                 1.0);
 }
 #else

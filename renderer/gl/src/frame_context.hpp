@@ -27,8 +27,8 @@ namespace oer {
 constexpr int kBackgroundSurface = 0;
 constexpr int kObjectSurface = 1;
 constexpr int kGroundSurface = 2;
-// An object whose material has the extensions' layers (Material::layered): shaded by the
-// layered pass, never by the deferred one.
+// An object whose material has the extensions' layers (Material::layered), which the G-buffer's
+// layer targets hold: shaded by its own program (shade.frag, SURFACE 4).
 constexpr int kLayeredSurface = 4;
 // The shading program of the ground's samples when it is a shadow catcher (shade.frag).
 constexpr int kShadowCatcherProgram = 3;
@@ -72,14 +72,12 @@ struct FrameContext {
     // model is hdr (the thesis's has no specular BRDF): the frame reads FrameRequest::specular
     // and the DFG table, and its object programs are the SPECULAR 1 variants. blending: some
     // primitive is alpha mode BLEND, for the transparent pass. layered: in a specular frame,
-    // some primitive's material has the extensions' layers (Material::layered), for the layered
-    // pass (OPAQUE and MASK ones) and the transparent pass's MATERIAL_LAYERS 1 (BLEND ones).
+    // some primitive's material has the extensions' layers (Material::layered), for the
+    // G-buffer's layer targets and the shading pass's SURFACE 4 (OPAQUE and MASK ones) and the
+    // transparent pass's MATERIAL_LAYERS 1 (BLEND ones).
     bool specular = false;
     bool blending = false;
     bool layered = false;
-    // Whether a pass after the deferred shading writes the shaded target (the layered and the
-    // transparent passes): it then holds linear radiance, which the resolve pass displays.
-    bool forward_passes() const { return blending || layered; }
 
     // Scene and camera.
     SceneBounds scene;

@@ -26,7 +26,7 @@ const std::vector<FrameProgram> kPrograms{
     {"geometry",
      "mesh.vert",
      "geometry.frag",
-     {kAlphaTest, {"MATERIAL_TEXTURES", 0, 1}, kTransfer}},
+     {kAlphaTest, {"MATERIAL_TEXTURES", 0, 1}, kTransfer, {"MATERIAL_LAYERS", 0, 1}}},
     // Baked only for a light that is on and casts shadows.
     {"ground visibility",
      "fullscreen.vert",
@@ -42,17 +42,12 @@ const std::vector<FrameProgram> kPrograms{
       {"ENVIRONMENT_BACKGROUND", 0, 1},
       kDisplayOutput,
       kSpecular,
-      {"SURFACE", 0, 3},
+      {"SURFACE", 0, 4},
       kTransfer}},
     {"transparent",
      "mesh.vert",
      "transparent.frag",
      {kShOrder, kLightsOn, kShadows, kPcf, kSpecular, kTransfer, {"MATERIAL_LAYERS", 0, 1}}},
-    // Materials with layers exist only in specular frames.
-    {"layered",
-     "mesh.vert",
-     "layered.frag",
-     {kShOrder, kLightsOn, kShadows, kPcf, {"SPECULAR", 1, 1}, kAlphaTest, kTransfer}},
     {"resolve", "fullscreen.vert", "resolve.frag", {kDisplayOutput}},
 };
 

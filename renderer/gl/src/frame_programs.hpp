@@ -9,7 +9,8 @@
 // SHADOWS (0: no shadow maps, every light reaches every point), PCF (0: the thesis's hard test,
 // 1: filtered), ENVIRONMENT_BACKGROUND (1: the map behind the scene, 0: nothing, alpha 0),
 // DISPLAY_OUTPUT (1: tone-mapped sRGB, 0: linear radiance), SURFACE (the shading pass's
-// surface: 0 background, 1 objects, 2 ground plane), SPECULAR (1: glossy materials, with the
+// surface: 0 background, 1 objects, 2 ground plane, 3 ground plane as a shadow catcher, 4 objects
+// with the extensions' layers), SPECULAR (1: glossy materials, with the
 // specular cubes and DFG table; 0: every material Lambertian), ALPHA_TEST
 // (1: fragments under the material's alpha cutoff are discarded), MATERIAL_TEXTURES (0: a
 // material without textures, whose program reads no uv or tangent) and MATERIAL_LAYERS (1: a

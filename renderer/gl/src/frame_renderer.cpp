@@ -72,13 +72,10 @@ Frame FrameRenderer::render(const FrameRequest& request, const std::stop_token& 
     throw_if_stopped(stop, "the frame");
     start = Clock::now();
     GLuint finished = shade_surfaces(frame, lighting, shadows, targets, state, stop);
-    if (frame.layered) {
-        finished = shade_layered_surfaces(frame, lighting, targets, state, stop);
-    }
     if (frame.blending) {
         finished = blend_transparent_surfaces(frame, lighting, targets, state);
     }
-    if (frame.forward_passes() || frame.scale > 1) {
+    if (frame.blending || frame.scale > 1) {
         finished = resolve_supersamples(frame, finished, targets, state);
     }
     glFinish();

@@ -37,6 +37,12 @@ inline constexpr Binding kGBufferEmissive{"GBUFFER_EMISSIVE_UNIT", BindingKind::
 inline constexpr Binding kGBufferTransferred{"GBUFFER_TRANSFERRED_UNIT", BindingKind::TextureUnit,
                                              15};
 inline constexpr Binding kGroundTransfer{"GROUND_TRANSFER_UNIT", BindingKind::TextureUnit, 15};
+// The G-buffer's layers of materials with the extensions' layers, packed in two targets
+// (layer_gbuffer.glsl), read for them (SURFACE 4).
+inline constexpr Binding kGBufferLayersFirst{"GBUFFER_LAYERS_FIRST_UNIT", BindingKind::TextureUnit,
+                                             27};
+inline constexpr Binding kGBufferLayersSecond{"GBUFFER_LAYERS_SECOND_UNIT",
+                                              BindingKind::TextureUnit, 28};
 // The environment map behind the scene (shade.frag, SURFACE 0).
 inline constexpr Binding kEnvironment{"ENVIRONMENT_UNIT", BindingKind::TextureUnit, 3};
 // The shadow layers (shadow_layers.hpp), bound by the shadow pass for its ground-visibility
@@ -76,17 +82,15 @@ inline constexpr Binding kResolveRadiance{"RESOLVE_RADIANCE_UNIT", BindingKind::
 inline constexpr Binding kIrradianceSets{"IRRADIANCE_SETS_BINDING", BindingKind::ShaderStorage, 0};
 
 // Every binding above.
-inline constexpr std::array<Binding, 30> kBindings{
-    kGBufferPositions,     kGBufferNormals,       kGBufferAlbedos,
-    kGBufferEmissive,      kGBufferTransferred,   kGroundTransfer,
-    kEnvironment,          kShadowMaps,           kShadowDepths,
-    kGroundVisibility,     kSpecularCube,         kDfgTable,
-    kMaterialTextures[0],  kMaterialTextures[1],  kMaterialTextures[2],
-    kMaterialTextures[3],  kMaterialTextures[4],  kMaterialTextures[5],
-    kMaterialTextures[6],  kMaterialTextures[7],  kMaterialTextures[8],
-    kMaterialTextures[9],  kMaterialTextures[10], kMaterialTextures[11],
-    kMaterialTextures[12], kMaterialTextures[13], kSheenAlbedo,
-    kResolveRadiance,      kIrradianceSets,       kLightCubes};
+inline constexpr std::array<Binding, 32> kBindings{
+    kGBufferPositions,     kGBufferNormals,       kGBufferAlbedos,       kGBufferEmissive,
+    kGBufferTransferred,   kGroundTransfer,       kEnvironment,          kShadowMaps,
+    kShadowDepths,         kGroundVisibility,     kSpecularCube,         kDfgTable,
+    kMaterialTextures[0],  kMaterialTextures[1],  kMaterialTextures[2],  kMaterialTextures[3],
+    kMaterialTextures[4],  kMaterialTextures[5],  kMaterialTextures[6],  kMaterialTextures[7],
+    kMaterialTextures[8],  kMaterialTextures[9],  kMaterialTextures[10], kMaterialTextures[11],
+    kMaterialTextures[12], kMaterialTextures[13], kSheenAlbedo,          kResolveRadiance,
+    kIrradianceSets,       kLightCubes,           kGBufferLayersFirst,   kGBufferLayersSecond};
 
 // Pairs of bindings that share their point within one program because no variant of it reads
 // both (#if branches apart).

@@ -1,6 +1,5 @@
 #include "render_targets.hpp"
 
-#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -18,7 +17,7 @@ gl::Object make_texture(GLenum format, int width, int height) {
     return texture;
 }
 
-gl::Object make_framebuffer(std::initializer_list<GLuint> colors, GLuint depth, const char* what) {
+gl::Object make_framebuffer(const std::vector<GLuint>& colors, GLuint depth, const char* what) {
     gl::Object framebuffer = gl::create_framebuffer();
     std::vector<GLenum> buffers;
     for (const GLuint color : colors) {
@@ -40,9 +39,9 @@ gl::Object make_framebuffer(std::initializer_list<GLuint> colors, GLuint depth, 
 
 }  // namespace
 
-RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool linear,
-                                      bool forward_passes) {
-    const auto key = std::make_tuple(width, height, scale, linear, forward_passes);
+RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool linear, bool blending,
+                                      bool layered) {
+    const auto key = std::make_tuple(width, height, scale, linear, blending, layered);
     auto found = targets_.find(key);
     if (found != targets_.end()) {
         return found->second;
@@ -63,12 +62,23 @@ RenderTargets& RenderTargetCache::get(int width, int height, int scale, bool lin
     t.transferred = make_texture(GL_RGBA16F, samples_wide, samples_high);
     t.depth = gl::create_renderbuffer();
     glNamedRenderbufferStorage(t.depth.get(), GL_DEPTH24_STENCIL8, samples_wide, samples_high);
-    t.geometry_framebuffer = make_framebuffer({t.positions.get(), t.normals.get(), t.albedos.get(),
-                                               t.emissive.get(), t.transferred.get()},
-                                              t.depth.get(), "geometry");
+    std::vector<GLuint> geometry_targets{t.positions.get(), t.normals.get(), t.albedos.get(),
+                                         t.emissive.get(), t.transferred.get()};
+    if (layered) {
+        t.layers_first = make_texture(GL_RGBA32UI, samples_wide, samples_high);
+        t.layers_second = make_texture(GL_RGBA32UI, samples_wide, samples_high);
+        // An integer texture filtered linearly (GL's default) is incomplete, and reads as 0.
+        for (const GLuint layers : {t.layers_first.get(), t.layers_second.get()}) {
+            glTextureParameteri(layers, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTextureParameteri(layers, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        }
+        geometry_targets.insert(geometry_targets.end(),
+                                {t.layers_first.get(), t.layers_second.get()});
+    }
+    t.geometry_framebuffer = make_framebuffer(geometry_targets, t.depth.get(), "geometry");
     // Blending needs radiance, not display values: a frame with transparent surfaces shades
     // into floats and resolves even at one sample per pixel.
-    const bool resolves = scale > 1 || forward_passes;
+    const bool resolves = scale > 1 || blending;
     const GLenum shaded_format = linear ? GL_RGBA32F : resolves ? GL_RGBA16F : GL_RGBA8;
     t.shaded = make_texture(shaded_format, samples_wide, samples_high);
     // The shading pass tests the geometry pass's stencil (the surface kind of each sample).

@@ -79,31 +79,6 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
                       const ShadowMaps& shadows, const RenderTargets& targets, RendererState& state,
                       const std::stop_token& stop);
 
-// One primitive (`primitive_index` of request.objects[object_index]) drawn by a forward program
-// of the layered or transparent pass, `program`: made current with the surface shading's
-// uniforms unless it is `current` (which it becomes), then the object's transform, the
-// material's uniforms and textures, its winding and culling, and its transferred irradiance.
-void draw_forward(const FrameContext& frame, const FrameLightingBuffers& lighting,
-                  RendererState& state, gl::Program& program, gl::Program*& current,
-                  std::size_t object_index, std::size_t primitive_index);
-
-// The rows of samples the shading and layered passes shade between two looks at the stop token:
-// about 0.1-0.25 s of shading on llvmpipe (2^20 samples). Each band ends with a glFinish, which
-// costs a frame of one band 15-20 % (measured with 256-row bands: the bunny's 512x512 colour
-// pass went from 27 to 32 ms), so frames up to this size are one band, and a frame that cannot
-// be stopped is never banded.
-int shading_band_rows(const FrameContext& frame, const std::stop_token& stop);
-
-// Layered pass, for frames with materials with the extensions' layers: the OPAQUE and MASK
-// primitives of such materials shaded forward over targets.shaded, on the samples the geometry
-// pass marked kLayeredSurface, as the transparent pass shades (with the textures and buffers the
-// shading pass left bound); returns targets.shaded. In bands of rows, as the shading pass, so
-// that a frame asked to stop stops within a band's time: unbanded, a 1024x1024 frame of the
-// default product at 4 samples was stopped 1.0 s after its client left in a CI run.
-GLuint shade_layered_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
-                              const RenderTargets& targets, RendererState& state,
-                              const std::stop_token& stop);
-
 // Transparent pass, for frames with BLEND primitives: each blended over targets.shaded, the
 // shading pass's product, farthest first, shaded as the shading pass shades objects (with the
 // textures and buffers it left bound); returns targets.shaded.

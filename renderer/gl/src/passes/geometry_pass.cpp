@@ -6,7 +6,8 @@
 // positions with ambient occlusion, shading normals with roughness, base colours with metallic
 // (-1 for Lambertian), emitted radiance, in an occlusion frame the transferred irradiance,
 // depth, and in the stencil each sample's surface kind (kBackgroundSurface where nothing was
-// drawn, kLayeredSurface where a material with layers was, for the layered pass). Back faces of
+// drawn, kLayeredSurface where a material with layers was, whose layers it packs into the layer
+// targets: layer_gbuffer.glsl). Back faces of
 // single-sided materials are culled. Material textures use gl_bindings.hpp's kMaterialTextures,
 // whose samplers it unbinds.
 #include <algorithm>
@@ -39,14 +40,23 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
     const FrameRequest& request = frame.request;
     const Camera& camera = frame.camera;
     RenderTargets& targets = state.targets.get(request.width, request.height, frame.scale,
-                                               request.linear, frame.forward_passes());
+                                               request.linear, frame.blending, frame.layered);
     glBindFramebuffer(GL_FRAMEBUFFER, targets.geometry_framebuffer.get());
-    // The fifth target, the transferred irradiance, only in occlusion frames: a frame without
-    // occlusion writes and pays for four.
-    constexpr GLenum kTargets[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                   GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
-    glNamedFramebufferDrawBuffers(targets.geometry_framebuffer.get(), frame.transfer ? 5 : 4,
-                                  kTargets);
+    // The fifth target, the transferred irradiance, only in occlusion frames, and the sixth and
+    // seventh, the layers, only in frames with layered materials: a frame without either writes
+    // and pays for four.
+    const GLenum targets_drawn[] = {GL_COLOR_ATTACHMENT0,
+                                    GL_COLOR_ATTACHMENT1,
+                                    GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3,
+                                    frame.transfer ? GLenum(GL_COLOR_ATTACHMENT4) : GLenum(GL_NONE),
+                                    GL_COLOR_ATTACHMENT5,
+                                    GL_COLOR_ATTACHMENT6};
+    glNamedFramebufferDrawBuffers(targets.geometry_framebuffer.get(),
+                                  frame.layered    ? 7
+                                  : frame.transfer ? 5
+                                                   : 4,
+                                  targets_drawn);
     glViewport(0, 0, frame.samples_wide, frame.samples_high);
     // The colour targets are not cleared: the shading pass reads them only at the samples whose
     // stencil names an object or the ground, and a fragment that passes there writes every
@@ -54,7 +64,7 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
     // sample, 42 MB in the default 512x512 frame at 4 samples.) The draws need every target's write
     // mask on, and the clear below the depth and stencil masks: the previous frame's passes may
     // have left them off.
-    for (GLuint buffer = 0; buffer < 5; ++buffer) {
+    for (GLuint buffer = 0; buffer < 7; ++buffer) {
         glColorMaski(buffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
     glDepthMask(GL_TRUE);
@@ -83,16 +93,16 @@ RenderTargets& render_geometry(const FrameContext& frame, const FrameLightingBuf
             if (material.alpha_mode == AlphaMode::Blend) {
                 continue;
             }
-            glStencilFunc(GL_ALWAYS,
-                          drawn && shaded_layered(frame, material) ? kLayeredSurface : surface_kind,
-                          0xff);
+            const bool layered = drawn && shaded_layered(frame, material);
+            glStencilFunc(GL_ALWAYS, layered ? kLayeredSurface : surface_kind, 0xff);
             const bool alpha_test = material.alpha_mode == AlphaMode::Mask &&
                                     alpha_tested(material, mesh.primitives[p]);
             gl::Program& geometry = state.program(
                 "geometry",
                 std::string("#define ALPHA_TEST ") + (alpha_test ? "1" : "0") +
                     "\n#define MATERIAL_TEXTURES " +
-                    (reads_textures_or_colors(material, mesh.primitives[p]) ? "1" : "0") + "\n" +
+                    (reads_textures_or_colors(material, mesh.primitives[p]) ? "1" : "0") +
+                    "\n#define MATERIAL_LAYERS " + (layered ? "1" : "0") + "\n" +
                     frame.transfer_define);
             if (current != &geometry) {
                 current = &geometry;

@@ -1,9 +1,8 @@
-// Resolve pass, for frames of more than one sample per pixel or with forward passes (layered or
-// blended surfaces). Reads: `shaded`
-// (the targets' shaded texture), linear radiance at scale x scale samples per pixel. Writes:
-// targets.output, which it returns, each pixel the mean of its samples' radiance, then (display
-// output) exposed, tone mapped and sRGB-encoded: averaging before tone mapping, as a camera's pixel
-// integrates light.
+// Resolve pass, for frames of more than one sample per pixel or with blended surfaces. Reads:
+// `shaded` (the targets' shaded texture), linear radiance at scale x scale samples per pixel.
+// Writes: targets.output, which it returns, each pixel the mean of its samples' radiance, then
+// (display output) exposed, tone mapped and sRGB-encoded: averaging before tone mapping, as a
+// camera's pixel integrates light.
 #include <string>
 
 #include "gl_bindings.hpp"

@@ -1,12 +1,12 @@
-// Shading pass. Reads: the targets' G-buffer and its stencil, the irradiance sets and in an
-// occlusion frame the transferred irradiance (lighting), the environment map for its
-// background, the shadow layers (shadows: the depth layers the shadow pass bound, the ground
-// visibility bound here), the lights (frame), and in a specular frame the prefiltered cube and
-// the DFG table (bound here for the transparent pass too), each at its binding of
-// gl_bindings.hpp. Writes: targets.shaded, one shaded sample per G-buffer sample: linear
-// radiance, or at one sample per pixel with display output and no blending the display-encoded
-// color. Leaves the stencil test off and every texture and sampler bound, for the transparent
-// pass.
+// Shading pass. Reads: the targets' G-buffer (with the layer targets in a frame with layered
+// materials) and its stencil, the irradiance sets and in an occlusion frame the transferred
+// irradiance (lighting), the environment map for its background, the shadow layers (shadows: the
+// depth layers the shadow pass bound, the ground visibility bound here), the lights (frame), and in
+// a specular frame the prefiltered cube and the DFG table (bound here for the transparent pass
+// too), each at its binding of gl_bindings.hpp. Writes: targets.shaded, one shaded sample per
+// G-buffer sample: linear radiance, or at one sample per pixel with display output and no blending
+// the display-encoded color. Leaves the stencil test off and every texture and sampler bound, for
+// the transparent pass.
 #include <algorithm>
 #include <optional>
 #include <string>
@@ -21,8 +21,6 @@
 #include "surface_shading.hpp"
 
 namespace oer {
-
-namespace {}  // namespace
 
 FrameLightingBuffers upload_irradiance_sets(const FrameContext& frame, RendererState& state) {
     const int order = frame.rig.sh.all.order;
@@ -67,6 +65,13 @@ FrameLightingBuffers upload_irradiance_sets(const FrameContext& frame, RendererS
     return buffers;
 }
 
+namespace {
+
+// The rows of samples the pass shades between two looks at the stop token: about 0.1-0.25 s of
+// shading on llvmpipe (2^20 samples). Each band ends with a glFinish, which costs a frame of one
+// band 15-20 % (measured with 256-row bands: the bunny's 512x512 colour pass went from 27 to
+// 32 ms), so frames up to this size are one band, and a frame that cannot be stopped is never
+// banded.
 int shading_band_rows(const FrameContext& frame, const std::stop_token& stop) {
     constexpr long kShadingBandSamples = 1l << 20;
     return stop.stop_possible()
@@ -74,13 +79,15 @@ int shading_band_rows(const FrameContext& frame, const std::stop_token& stop) {
                : frame.samples_high;
 }
 
+}  // namespace
+
 GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
                       const ShadowMaps& shadows, const RenderTargets& targets, RendererState& state,
                       const std::stop_token& stop) {
     using namespace gl_bindings;
     const FrameRequest& request = frame.request;
     const bool environment_background = request.background.kind == BackgroundKind::Environment;
-    const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.forward_passes();
+    const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.blending;
     const bool shadow_catcher = request.ground_look == GroundLook::ShadowCatcher;
     const std::string shading_defines =
         frame.lighting_defines + frame.transfer_define + "#define ENVIRONMENT_BACKGROUND " +
@@ -96,6 +103,10 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     glBindTextureUnit(kGBufferNormals.index, targets.normals.get());
     glBindTextureUnit(kGBufferAlbedos.index, targets.albedos.get());
     glBindTextureUnit(kGBufferEmissive.index, targets.emissive.get());
+    if (frame.layered) {
+        glBindTextureUnit(kGBufferLayersFirst.index, targets.layers_first.get());
+        glBindTextureUnit(kGBufferLayersSecond.index, targets.layers_second.get());
+    }
     if (environment_background) {
         glBindTextureUnit(kEnvironment.index, state.environment(request.environment_map));
     }
@@ -114,14 +125,17 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     for (int band = 0; band < frame.samples_high; band += band_rows) {
         throw_if_stopped(stop, "the frame's shading pass");
         glScissor(0, band, frame.samples_wide, std::min(band_rows, frame.samples_high - band));
-        for (const int surface : {kBackgroundSurface, kObjectSurface, kGroundSurface}) {
+        for (const int surface :
+             {kBackgroundSurface, kObjectSurface, kLayeredSurface, kGroundSurface}) {
             if ((surface == kObjectSurface && request.objects.empty()) ||
+                (surface == kLayeredSurface && !frame.layered) ||
                 (surface == kGroundSurface && !request.ground)) {
                 continue;
             }
+            const bool object = surface == kObjectSurface || surface == kLayeredSurface;
             // Only objects have specular materials; the background and the ground take SPECULAR 0.
             const std::string specular_define =
-                surface == kObjectSurface ? frame.specular_define : "#define SPECULAR 0\n";
+                object ? frame.specular_define : "#define SPECULAR 0\n";
             // The shadow-catching ground (GroundLook::ShadowCatcher) is program SURFACE 3 of
             // the ground's samples.
             const int program =
@@ -137,7 +151,7 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
                         float(frame.samples_high));
             glUniform3fv(shade.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
                          glm::value_ptr(flat_irradiance[0]));
-            if (frame.transfer && surface == kObjectSurface) {
+            if (frame.transfer && object) {
                 glBindTextureUnit(kGBufferTransferred.index, targets.transferred.get());
             }
             if (frame.transfer && surface == kGroundSurface) {

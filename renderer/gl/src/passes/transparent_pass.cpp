@@ -24,6 +24,12 @@
 
 namespace oer {
 
+namespace {
+
+// One primitive (`primitive_index` of request.objects[object_index]) drawn by a forward program
+// of this pass, `program`: made current with the surface shading's uniforms unless it is
+// `current` (which it becomes), then the object's transform, the material's uniforms and
+// textures, its winding and culling, and its transferred irradiance.
 void draw_forward(const FrameContext& frame, const FrameLightingBuffers& lighting,
                   RendererState& state, gl::Program& program, gl::Program*& current,
                   std::size_t object_index, std::size_t primitive_index) {
@@ -56,6 +62,8 @@ void draw_forward(const FrameContext& frame, const FrameLightingBuffers& lightin
     draw_primitive(primitive, sample_lod_error(frame, mesh, object.transform),
                    transfer_lod_edge(frame, mesh));
 }
+
+}  // namespace
 
 GLuint blend_transparent_surfaces(const FrameContext& frame, const FrameLightingBuffers& lighting,
                                   const RenderTargets& targets, RendererState& state) {
