@@ -125,6 +125,16 @@ float prefilter_kernel_integral(float alpha) {
     return 8.0 * a2 / (d * d) * (log(2.0 * a2 / (1.0 + a2)) + (1.0 - a2) / (2.0 * a2));
 }
 
+// The direction the split sum's prefiltered radiance is read along: its lobe, prefiltered with
+// n = v = r, is centred on the mirror direction r, where the BRDF's leans towards the normal as
+// the lobe widens, all the more at grazing view (the off-specular peak). Lagarde and de Rousiers,
+// "Moving Frostbite to Physically Based Rendering", SIGGRAPH 2014 course, section 4.9.3,
+// listing 22: r at alpha 0, n at alpha 1, between them by (1 - alpha)(sqrt(1 - alpha) + alpha).
+vec3 specular_dominant_direction(vec3 n, vec3 r, float alpha) {
+    float smoothness = 1.0 - alpha;
+    return normalize(mix(n, r, smoothness * (sqrt(smoothness) + alpha)));
+}
+
 // The share of the reflected environment that ambient occlusion leaves, from the occlusion of
 // the diffuse light (S. Lagarde and C. de Rousiers, "Moving Frostbite to Physically Based
 // Rendering 3.0", SIGGRAPH 2014 course notes, section 4.10.2, with their roughness as

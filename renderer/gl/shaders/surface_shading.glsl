@@ -119,9 +119,9 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
 #if SPECULAR
     bool glossy = metallic >= 0.0;
     vec3 view = normalize(u_eye - position);
-    vec3 r = reflect(-view, n);
-    vec3 r_map = map_direction(r);
     float alpha = roughness * roughness;
+    vec3 r = specular_dominant_direction(n, reflect(-view, n), alpha);
+    vec3 r_map = map_direction(r);
     vec3 lights_reflected = vec3(0.0);
     float n_dot_v = clamp(dot(n, view), 1e-4, 1.0);
     vec3 f0 = specular_f0(layers, base, metallic);
@@ -133,8 +133,9 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
 #if MATERIAL_LAYERS
     // The coat reflects about its own normal at its own roughness; the thin wall transmits
     // straight through, along -v.
-    vec3 coat_r_map = map_direction(reflect(-view, layers.clearcoat_normal));
     float coat_alpha = layers.clearcoat_roughness * layers.clearcoat_roughness;
+    vec3 coat_r_map = map_direction(specular_dominant_direction(
+        layers.clearcoat_normal, reflect(-view, layers.clearcoat_normal), coat_alpha));
     float through_roughness = transmission_roughness(roughness, layers.ior);
     vec3 through_map = map_direction(-view);
     vec3 lights_coat = vec3(0.0);
