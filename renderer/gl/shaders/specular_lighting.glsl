@@ -22,8 +22,6 @@ uniform float u_light_weight[LIGHTS_ON];  // w_k
 // LightSpread (specular_environment.hpp): the core's share of the light's energy, and
 // tan^2(radius / 2) of its core and of its glow.
 uniform vec3 u_light_reflection_spread[LIGHTS_ON];
-// The share of the light's energy below the horizon (0 without a floor).
-uniform float u_light_below_horizon[LIGHTS_ON];
 // compact_light_factor's bound: where the split sum's lobe has all but left the light's point
 // while the BRDF's still sees it (grazing view), the ratio of two vanishing lobes says little.
 const float kCompactLightFactorMax = 8.0;

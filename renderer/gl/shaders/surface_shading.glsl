@@ -153,20 +153,10 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
         E -= (1.0 - v) * light_irradiance;
         attenuation -= (1.0 - v) * u_light_share[k];
 #if SPECULAR
-        // v_k w_k P(k), only where the light reaches.
+        // v_k w_k P(k), only where the light reaches. On an opaque floor, which hides what lies
+        // below the horizon, P(k) is of the light's pixels above it (its floor layer).
         if (glossy && v > 0.0) {
-            // The floor hides what of the light's reflection comes from below its horizon. Of
-            // the light's energy the share b lies below; of the lobe the share f (floor_weight):
-            // the reflection's part from below is then about b f / (b f + (1 - b)(1 - f)), 1 for
-            // a narrow lobe pointing down at a light that reaches below, b for a wide lobe across
-            // the horizon, 0 for a light wholly above. No opaque floor (none, or a shadow
-            // catcher's): nothing hidden.
-            float below = u_light_below_horizon[k];
-            float from_below = below * floor_weight /
-                               max(below * floor_weight + (1.0 - below) * (1.0 - floor_weight),
-                                   1e-6);
-            float unhidden = u_floor_fade.w > 0.0 ? 1.0 - from_below : 1.0;
-            lights_reflected += v * unhidden * light_reflection(k, r_map, roughness) *
+            lights_reflected += v * light_reflection(k, r_map, roughness) *
                                 compact_light_factor(k, u_light_direction[k], n, view, r, n_dot_v,
                                                      alpha, f0, f90, single_scattering,
                                                      u_floor_fade.w > 0.0);

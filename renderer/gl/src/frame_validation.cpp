@@ -79,10 +79,21 @@ void validate_specular(const SpecularEnvironment& specular, const Rig& rig, int 
         fail("specular", "the residual's cube has " + std::to_string(specular.residual.layers) +
                              " layers, not 1");
     }
-    if (std::size_t(specular.lights.layers) != rig.lights.size()) {
+    if (std::size_t(specular.lights.layers) < rig.lights.size() ||
+        specular.floor_layers.size() != rig.lights.size()) {
         fail("specular", "the lights' cube has " + std::to_string(specular.lights.layers) +
-                             " layers for a rig of " + std::to_string(rig.lights.size()) +
+                             " layers and " + std::to_string(specular.floor_layers.size()) +
+                             " floor layers for a rig of " + std::to_string(rig.lights.size()) +
                              " lights: it was prefiltered for another rig");
+    }
+    for (std::size_t k = 0; k < specular.floor_layers.size(); ++k) {
+        const int layer = specular.floor_layers[k];
+        if (layer < -1 || layer >= specular.lights.layers) {
+            fail("specular", "light " + std::to_string(k) + "'s floor layer " +
+                                 std::to_string(layer) + " is neither -1 nor one of the " +
+                                 std::to_string(specular.lights.layers) +
+                                 " layers of the lights' cube");
+        }
     }
     if (specular.lights.levels != specular.residual.levels) {
         fail("specular", "the lights' cube has " + std::to_string(specular.lights.levels) +

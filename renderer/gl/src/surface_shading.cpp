@@ -49,8 +49,9 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
     // nothing shadows (set 0, the transfer's open ground, no light below the plane's horizon),
     // and the fade that draws it. A shadow catcher's floor is not seen, so it reflects nothing.
     const FrameRequest& request = frame.request;
+    const bool opaque_floor = request.ground && request.ground_look == GroundLook::Opaque;
     glm::vec4 floor(0.0f), floor_fade(0.0f);
-    if (request.ground && request.ground_look == GroundLook::Opaque) {
+    if (opaque_floor) {
         const glm::dvec3 up(0.0, 1.0, 0.0);
         glm::dvec3 irradiance = frame.irradiance_sets[0].evaluate(up);
         if (frame.transfer) {
@@ -69,22 +70,18 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
     glUniform4fv(program.uniform("u_floor"), 1, glm::value_ptr(floor));
     glUniform4fv(program.uniform("u_floor_fade"), 1, glm::value_ptr(floor_fade));
     // Light k's reflection is layer k of the lights' cube, by its weight (its visibility is
-    // the shader's).
+    // the shader's). On an opaque floor, which hides what lies below the horizon, it is the
+    // layer of its pixels above the horizon (SpecularEnvironment::floor_layers): nothing of a
+    // light wholly below.
+    const SpecularEnvironment& specular = *request.specular;
     for (std::size_t i = 0; i < frame.lit.size(); ++i) {
         const std::size_t k = frame.lit[i];
-        glUniform1i(program.uniform(element("u_light_cube_layer", i)), GLint(k));
-        glUniform1f(program.uniform(element("u_light_weight", i)), float(frame.weights[k]));
-        // The share of the light below the horizon, which an opaque floor hides from its
-        // reflections (surface_shading.glsl): Blender's courtyard's brightest light straddles
-        // the horizon, a third of it below.
-        double below_horizon = 0.0;
-        const ShProjection& sh = frame.rig.sh;
-        if (request.ground && k < sh.per_light_above_horizon.size()) {
-            const double whole = luminance(sh.per_light[k].coefficients[0]);
-            const double above = luminance(sh.per_light_above_horizon[k].coefficients[0]);
-            below_horizon = whole > 0.0 ? std::clamp(1.0 - above / whole, 0.0, 1.0) : 0.0;
-        }
-        glUniform1f(program.uniform(element("u_light_below_horizon", i)), float(below_horizon));
+        const int floor_layer = specular.floor_layers.at(k);
+        const bool hidden = opaque_floor && floor_layer < 0;
+        glUniform1i(program.uniform(element("u_light_cube_layer", i)),
+                    opaque_floor && !hidden ? GLint(floor_layer) : GLint(k));
+        glUniform1f(program.uniform(element("u_light_weight", i)),
+                    hidden ? 0.0f : float(frame.weights[k]));
         const LightSpread& spread = frame.reflection_spreads[i];
         glUniform3f(program.uniform(element("u_light_reflection_spread", i)),
                     float(spread.core_share), float(spread.core_cap_tan2),

@@ -55,14 +55,16 @@ constexpr int kMaxFaceSize = 2048;
 constexpr int kMaxSamples = 4096;
 constexpr int kSubsamplesPerAxis = 4;  // per texel of the unfiltered cube
 constexpr float kMaxHalf = 65504.0f;
-// The most layers a stored lights' cube may claim: the renderer's most lights per frame
-// (kMaxFrameLights, renderer/gl/src/frame_programs.hpp); a rig has at most 16.
+// The most lights a stored environment may claim: the renderer's most lights per frame
+// (kMaxFrameLights, renderer/gl/src/frame_programs.hpp); a rig has at most 16. Its lights' cube
+// has at most twice as many layers (a floor layer each).
 constexpr int kMaxStoredLights = 64;
 
 constexpr char kMagic[] = "OERSPEC";  // 7 bytes, then the version character
-constexpr char kVersion = '2';
-// Magic and version, then face_size, levels and layers (uint32 LE) of each of the two cubes.
-constexpr std::size_t kHeaderBytes = 32;
+constexpr char kVersion = '3';
+// Magic and version, then face_size, levels and layers (uint32 LE) of each of the two cubes,
+// then the count of floor layers (uint32 LE), each of them (int32 LE) after the header.
+constexpr std::size_t kHeaderBytes = 36;
 
 [[noreturn]] void invalid(const std::string& what) {
     throw Error(ErrorKind::InvalidInput, what);
@@ -836,8 +838,8 @@ PrefilteredCube prefilter_residual(const HdrImage& map, const Rig& rig,
     return prefilter(residual, options);
 }
 
-PrefilteredCube prefilter_lights(const HdrImage& map, const Rig& rig,
-                                 const SpecularOptions& options) {
+PrefilteredLights prefilter_lights(const HdrImage& map, const Rig& rig,
+                                   const SpecularOptions& options) {
     validate_rig_map(map, rig, options);
     // The lights' cube has the residual's levels, so that one lod reads both.
     const int min_light_face = 1 << (options.levels - 1);
@@ -848,26 +850,47 @@ PrefilteredCube prefilter_lights(const HdrImage& map, const Rig& rig,
                 std::to_string(options.face_size) + "] (levels " + std::to_string(options.levels) +
                 ", face_size " + std::to_string(options.face_size) + ")");
     }
-    PrefilteredCube cube =
-        allocate_cube(options.light_face_size, options.levels, int(rig.lights.size()));
-    // One map holds each light's pixels in turn, black elsewhere.
-    HdrImage alone(map.width, map.height);
+    // Which pixels of each light lie above the horizon, and so which lights need a floor layer.
+    const equirect::Grid grid(map.width, map.height);
+    const auto above_horizon = [&](std::uint32_t index) { return grid.direction(index).y > 0.0; };
+    PrefilteredLights result;
+    int layers = int(rig.lights.size());
     for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+        const std::vector<std::uint32_t>& pixels = rig.lights[k].pixels;
+        const auto above = std::count_if(pixels.begin(), pixels.end(), above_horizon);
+        result.floor_layers.push_back(above == std::ptrdiff_t(pixels.size()) ? int(k)
+                                      : above == 0                           ? -1
+                                                                             : layers++);
+    }
+    result.cube = allocate_cube(options.light_face_size, options.levels, layers);
+    // One map holds each light's pixels (or those above the horizon) in turn, black elsewhere.
+    HdrImage alone(map.width, map.height);
+    const auto prefilter_pixels = [&](std::size_t k, int layer, bool only_above) {
         for (const std::uint32_t index : rig.lights[k].pixels) {
-            alone.set(index, map.rgb(index));
+            if (!only_above || above_horizon(index)) {
+                alone.set(index, map.rgb(index));
+            }
         }
-        prefilter_light_into(alone, light_support(rig.lights[k], map, cube.face_size), cube,
-                             int(k));
+        prefilter_light_into(alone, light_support(rig.lights[k], map, result.cube.face_size),
+                             result.cube, layer);
         for (const std::uint32_t index : rig.lights[k].pixels) {
             alone.set(index, glm::vec3(0.0f));
         }
+    };
+    for (std::size_t k = 0; k < rig.lights.size(); ++k) {
+        prefilter_pixels(k, int(k), false);
+        if (result.floor_layers[k] >= int(rig.lights.size())) {
+            prefilter_pixels(k, result.floor_layers[k], true);
+        }
     }
-    return cube;
+    return result;
 }
 
 SpecularEnvironment prefilter_specular(const HdrImage& map, const Rig& rig,
                                        const SpecularOptions& options) {
-    return {prefilter_residual(map, rig, options), prefilter_lights(map, rig, options)};
+    PrefilteredLights lights = prefilter_lights(map, rig, options);
+    return {prefilter_residual(map, rig, options), std::move(lights.cube),
+            std::move(lights.floor_layers)};
 }
 
 glm::dvec3 sample_cube(const PrefilteredCube& cube, const glm::dvec3& d, double lod, int layer) {
@@ -912,13 +935,17 @@ glm::dvec3 sample_cube(const PrefilteredCube& cube, const glm::dvec3& d, double 
 
 std::string encode_specular_environment(const SpecularEnvironment& environment) {
     std::string out;
-    out.reserve(kHeaderBytes + environment.byte_size());
+    out.reserve(kHeaderBytes + 4 * environment.floor_layers.size() + environment.byte_size());
     out.append(kMagic, 7);
     out.push_back(kVersion);
     for (const PrefilteredCube* cube : {&environment.residual, &environment.lights}) {
         put_u32(out, std::uint32_t(cube->face_size));
         put_u32(out, std::uint32_t(cube->levels));
         put_u32(out, std::uint32_t(cube->layers));
+    }
+    put_u32(out, std::uint32_t(environment.floor_layers.size()));
+    for (const int layer : environment.floor_layers) {
+        put_u32(out, std::uint32_t(layer));
     }
     for (const PrefilteredCube* cube : {&environment.residual, &environment.lights}) {
         for (const std::vector<std::uint16_t>& level : cube->rgb_half) {
@@ -963,8 +990,8 @@ SpecularEnvironment decode_specular_environment(std::string_view bytes) {
             invalid(cube_what + "levels " + std::to_string(levels) + " is not in [2, " +
                     std::to_string(max_levels) + "] for face_size " + std::to_string(face_size));
         }
-        // The residual is one cube; the lights' are at most a rig's lights.
-        const std::uint32_t max_layers = c == 0 ? 1 : std::uint32_t(kMaxStoredLights);
+        // The residual is one cube; the lights' are at most a rig's lights and a floor layer each.
+        const std::uint32_t max_layers = c == 0 ? 1 : std::uint32_t(2 * kMaxStoredLights);
         if ((c == 0 && layers != 1) || layers > max_layers) {
             invalid(cube_what + std::to_string(layers) + " layers, at most " +
                     std::to_string(max_layers) + (c == 0 ? " (exactly 1)" : ""));
@@ -982,11 +1009,33 @@ SpecularEnvironment decode_specular_environment(std::string_view bytes) {
                 " levels, the residual's " + std::to_string(environment.residual.levels) +
                 ": one lod reads both");
     }
+    const std::uint32_t lights = get_u32(bytes, 32);
+    if (lights > std::uint32_t(kMaxStoredLights) ||
+        lights > std::uint32_t(environment.lights.layers)) {
+        invalid(what + std::to_string(lights) + " lights, at most " +
+                std::to_string(kMaxStoredLights) + " and at most the lights' cube's " +
+                std::to_string(environment.lights.layers) + " layers");
+    }
+    expected += 4 * std::size_t(lights);
+    const std::size_t floor_layers_end = kHeaderBytes + 4 * std::size_t(lights);
+    if (bytes.size() < floor_layers_end) {
+        invalid(what + "truncated: " + std::to_string(bytes.size()) + " bytes, the header and " +
+                std::to_string(lights) + " floor layers take " + std::to_string(floor_layers_end));
+    }
+    for (std::uint32_t k = 0; k < lights; ++k) {
+        const std::int32_t layer = std::int32_t(get_u32(bytes, kHeaderBytes + 4 * std::size_t(k)));
+        if (layer < -1 || layer >= environment.lights.layers) {
+            invalid(what + "light " + std::to_string(k) + "'s floor layer " +
+                    std::to_string(layer) + " is neither -1 nor a layer of the lights' cube (" +
+                    std::to_string(environment.lights.layers) + ")");
+        }
+        environment.floor_layers.push_back(int(layer));
+    }
     if (bytes.size() != expected) {
         invalid(what + std::to_string(bytes.size()) + " bytes, but its cubes' sizes take " +
                 std::to_string(expected) + (bytes.size() < expected ? " (truncated)" : ""));
     }
-    std::size_t offset = kHeaderBytes;
+    std::size_t offset = floor_layers_end;
     for (int c = 0; c < 2; ++c) {
         PrefilteredCube& cube = *cubes[c];
         for (int level = 0; level < cube.levels; ++level) {

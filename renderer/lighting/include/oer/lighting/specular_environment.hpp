@@ -58,11 +58,16 @@ struct PrefilteredCube {
 };
 
 // What a glossy frame reads: P(residual), and P(k) for every light k of the rig as layer k of
-// `lights` (layers = the rig's lights; none: a cube of 0 layers), both of the same levels, so
-// that one lod (lod_of_roughness) reads both.
+// `lights` (none: a cube of 0 layers), both of the same levels, so that one lod
+// (lod_of_roughness) reads both. An opaque floor hides what lies below the horizon, the map's
+// y < 0, from every reflection: of a light that straddles the horizon (Blender's courtyard's
+// brightest, a third of it below) a frame on such a floor reads P(k above), its pixels above
+// the horizon alone, from a layer after the rig's lights; floor_layers[k] names it, k itself
+// for a light wholly above, -1 for one wholly below (nothing to reflect).
 struct SpecularEnvironment {
     PrefilteredCube residual;
     PrefilteredCube lights;
+    std::vector<int> floor_layers;  // one per rig light
 
     std::size_t byte_size() const;
 };
@@ -128,10 +133,16 @@ double prefilter_kernel_integral(double alpha);
 PrefilteredCube prefilter_residual(const HdrImage& map, const Rig& rig,
                                    const SpecularOptions& options = {});
 
-// Each light's pixels alone, prefiltered: layer k of the result is P(k) of rig light k, at
-// light_face_size. Validation and errors as prefilter_residual.
-PrefilteredCube prefilter_lights(const HdrImage& map, const Rig& rig,
-                                 const SpecularOptions& options = {});
+// Each light's pixels alone, prefiltered: layer k of `cube` is P(k) of rig light k, at
+// light_face_size, and after them, in the order of the rig's lights, P(k above) of each light
+// that straddles the horizon, which `floor_layers` names (SpecularEnvironment). Validation and
+// errors as prefilter_residual.
+struct PrefilteredLights {
+    PrefilteredCube cube;
+    std::vector<int> floor_layers;
+};
+PrefilteredLights prefilter_lights(const HdrImage& map, const Rig& rig,
+                                   const SpecularOptions& options = {});
 
 // Both, as a glossy frame reads them.
 SpecularEnvironment prefilter_specular(const HdrImage& map, const Rig& rig,
@@ -146,10 +157,12 @@ PrefilteredCube prefilter_map(const HdrImage& map, const SpecularOptions& option
 // its edge): what the renderer reads, for tests and measurements on the CPU.
 glm::dvec3 sample_cube(const PrefilteredCube& cube, const glm::dvec3& d, double lod, int layer = 0);
 
-// A stored form for the asset store: a versioned header ("OERSPEC2"), each cube's sizes (face
-// size, levels, layers: the residual's, then the lights'), then their texels. decode throws
-// oer::Error (InvalidInput) naming what is wrong for bytes that are truncated, of another
-// version, of inconsistent sizes, or whose texels are not finite and non-negative.
+// A stored form for the asset store: a versioned header ("OERSPEC3"), each cube's sizes (face
+// size, levels, layers: the residual's, then the lights'), the count of floor layers and each
+// (int32), then the cubes' texels. decode throws oer::Error (InvalidInput) naming what is wrong
+// for bytes that are truncated, of another version, of inconsistent sizes, with a floor layer
+// that is not -1 or a layer of the lights' cube, or whose texels are not finite and
+// non-negative.
 std::string encode_specular_environment(const SpecularEnvironment& environment);
 SpecularEnvironment decode_specular_environment(std::string_view bytes);
 
