@@ -15,7 +15,8 @@
 // the same w_k v_k as its diffuse light (specular_lighting.glsl), so that switching, dimming or
 // shadowing a light takes its reflection with it; so is the specular occlusion of ao. With
 // an opaque floor, what a reflection sees below the horizon is the floor, not the map
-// (floor_share).
+// (floor_share), and of a light only its pixels above the horizon (its floor layer,
+// SpecularEnvironment::floor_layers). P is read along the lobe's dominant direction (brdf.glsl).
 // An unlit material (metallic -2, KHR_materials_unlit) sends its base colour.
 //
 // MATERIAL_LAYERS 1 (a material with the extensions' layers, brdf.glsl's SurfaceLayers;
