@@ -20,7 +20,41 @@
 namespace oer {
 namespace {
 
-class GlossyReferenceTest : public oer::testing::RendererSuite {};
+class GlossyReferenceTest : public oer::testing::RendererSuite {
+  protected:
+    // A unit metal sphere of `color` and `roughness` under `map` with one light, 96 x 96 pixels
+    // from the front, no shadows, on an opaque floor or none.
+    static FrameRequest metal_sphere(std::shared_ptr<const HdrImage> map, glm::vec3 color,
+                                     float roughness, bool floor) {
+        const auto rig = oer::testing::make_rig(*map, 1, 3);
+        FrameRequest request = oer::testing::linear_request(rig, oer::testing::front_camera(), 96);
+        request.ground = floor;
+        request.objects.push_back(
+            {oer::testing::sphere_of(oer::testing::metallic_roughness(color, 1.0f, roughness)),
+             glm::mat4(1.0f), std::nullopt});
+        request.specular =
+            std::make_shared<const SpecularEnvironment>(prefilter_specular(*map, *rig));
+        request.environment_map = std::move(map);
+        request.shadows.enabled = false;
+        return request;
+    }
+
+    // The frame's relative RMS of luminance over 4 x 4 blocks of the sphere against the
+    // reference's at 256 samples (one bounce: the floor's light), printed with the reference's
+    // noise over blocks under `what`.
+    static double error_against_reference(const FrameRequest& request, const char* what) {
+        ReferenceOptions options;
+        options.samples = 256;
+        options.bounce = Bounce::One;
+        const ReferenceFrame truth = render_reference(request, options);
+        const double error = oer::testing::block_relative_rms(render(request).linear, truth,
+                                                              ReferenceSurface::Object);
+        std::printf(
+            "[ measured ] %s against the reference: %.4f (reference noise over blocks %.4f)\n",
+            what, error, truth.noise.object / oer::testing::kBlock);
+        return error;
+    }
+};
 
 // A metal sphere of roughness 1 under a map with one small bright light above and beside the
 // camera, no ground: the rasteriser's frame against the reference's, relative RMS of luminance
@@ -31,27 +65,12 @@ class GlossyReferenceTest : public oer::testing::RendererSuite {};
 // the reference's noise over blocks is 0.006, and both renderers are deterministic.
 TEST_F(GlossyReferenceTest, ARoughMetalsReflectionOfALightLeansToTheNormal) {
     const glm::dvec3 direction = glm::normalize(glm::dvec3(0.6, 0.7, 0.4));
-    const auto map = std::make_shared<const HdrImage>(oer::testing::disc_map(
-        512, 256, glm::vec3(0.05f, 0.06f, 0.08f), {{direction, 0.15, glm::vec3(60.0f)}}));
-    const auto rig = oer::testing::make_rig(*map, 1, 3);
-    ASSERT_EQ(rig->lights.size(), 1u);
-    FrameRequest request = oer::testing::linear_request(rig, oer::testing::front_camera(), 96);
-    request.environment_map = map;
-    request.objects.push_back({oer::testing::sphere_of(oer::testing::metallic_roughness(
-                                   glm::vec3(0.9f, 0.7f, 0.5f), 1.0f, 1.0f)),
-                               glm::mat4(1.0f), std::nullopt});
-    request.specular = std::make_shared<const SpecularEnvironment>(prefilter_specular(*map, *rig));
-    request.shadows.enabled = false;
-    ReferenceOptions options;
-    options.samples = 256;
-    const ReferenceFrame truth = render_reference(request, options);
-    const double error =
-        oer::testing::block_relative_rms(render(request).linear, truth, ReferenceSurface::Object);
-    std::printf(
-        "[ measured ] metal of roughness 1 under a small light against the reference: %.4f "
-        "(reference noise over blocks %.4f)\n",
-        error, truth.noise.object / oer::testing::kBlock);
-    EXPECT_LT(error, 0.125);
+    const FrameRequest request = metal_sphere(
+        std::make_shared<const HdrImage>(oer::testing::disc_map(
+            512, 256, glm::vec3(0.05f, 0.06f, 0.08f), {{direction, 0.15, glm::vec3(60.0f)}})),
+        glm::vec3(0.9f, 0.7f, 0.5f), 1.0f, false);
+    ASSERT_EQ(request.rig->lights.size(), 1u);
+    EXPECT_LT(error_against_reference(request, "metal of roughness 1 under a small light"), 0.125);
 }
 
 // A light across the horizon over an opaque floor, which hides the map below the horizon from
@@ -62,30 +81,15 @@ TEST_F(GlossyReferenceTest, ARoughMetalsReflectionOfALightLeansToTheNormal) {
 // sphere; reading the whole light's layer, 0.465. Bound 0.15.
 TEST_F(GlossyReferenceTest, AFloorHidesTheLightsPartBelowTheHorizonFromReflections) {
     const glm::dvec3 direction = glm::normalize(glm::dvec3(-0.8, 0.06, 0.6));
-    const auto map = std::make_shared<const HdrImage>(
-        oer::testing::disc_map(512, 256, glm::vec3(0.02f), {{direction, 0.2, glm::vec3(40.0f)}}));
-    const auto rig = oer::testing::make_rig(*map, 1, 3);
-    ASSERT_EQ(rig->lights.size(), 1u);
-    FrameRequest request = oer::testing::linear_request(rig, oer::testing::front_camera(), 96);
-    request.environment_map = map;
-    request.ground = true;
-    request.objects.push_back({oer::testing::sphere_of(oer::testing::metallic_roughness(
-                                   glm::vec3(0.9f, 0.9f, 0.9f), 1.0f, 0.3f)),
-                               glm::mat4(1.0f), std::nullopt});
-    request.specular = std::make_shared<const SpecularEnvironment>(prefilter_specular(*map, *rig));
+    const FrameRequest request =
+        metal_sphere(std::make_shared<const HdrImage>(oer::testing::disc_map(
+                         512, 256, glm::vec3(0.02f), {{direction, 0.2, glm::vec3(40.0f)}})),
+                     glm::vec3(0.9f), 0.3f, true);
+    ASSERT_EQ(request.rig->lights.size(), 1u);
     ASSERT_GT(request.specular->floor_layers.at(0), 0);
-    request.shadows.enabled = false;
-    ReferenceOptions options;
-    options.samples = 256;
-    options.bounce = Bounce::One;
-    const ReferenceFrame truth = render_reference(request, options);
-    const double error =
-        oer::testing::block_relative_rms(render(request).linear, truth, ReferenceSurface::Object);
-    std::printf(
-        "[ measured ] metal of roughness 0.3 on a floor, a light across the horizon, against the "
-        "reference: %.4f (reference noise over blocks %.4f)\n",
-        error, truth.noise.object / oer::testing::kBlock);
-    EXPECT_LT(error, 0.15);
+    EXPECT_LT(error_against_reference(
+                  request, "metal of roughness 0.3 on a floor, a light across the horizon,"),
+              0.15);
 }
 
 }  // namespace
