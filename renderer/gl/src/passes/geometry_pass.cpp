@@ -7,9 +7,8 @@
 // (-1 for Lambertian), emitted radiance, in an occlusion frame the transferred irradiance,
 // depth, and in the stencil each sample's surface kind (kBackgroundSurface where nothing was
 // drawn, kLayeredSurface where a material with layers was, whose layers it packs into the layer
-// targets: layer_gbuffer.glsl). Back faces of
-// single-sided materials are culled. Material textures use gl_bindings.hpp's kMaterialTextures,
-// whose samplers it unbinds.
+// targets: layer_gbuffer.glsl). Back faces of single-sided materials are culled. Material
+// textures use gl_bindings.hpp's kMaterialTextures, whose samplers it unbinds.
 #include <algorithm>
 #include <cmath>
 #include <optional>
