@@ -989,9 +989,10 @@ TEST_F(MaterialShadingTest, TheSwitchableReflectionMatchesTheWholeMapPrefiltered
         GlossyPoint point;
         point.n = peak_normal;
         point.v = glm::normalize(glm::dvec3(camera.eye) - peak_normal);
-        point.r = glm::reflect(-point.v, point.n);
         point.n_dot_v = std::clamp(glm::dot(point.n, point.v), 1e-4, 1.0);
         point.alpha = double(roughness) * roughness;
+        point.r =
+            specular_dominant_direction(point.n, glm::reflect(-point.v, point.n), point.alpha);
         point.f0 = glm::dvec3(1.0);
         const glm::dvec2 dfg = sample_dfg(dfg_lookup, point.n_dot_v, roughness);
         point.single_scattering = glm::dvec3(dfg.x + dfg.y);

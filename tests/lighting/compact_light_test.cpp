@@ -132,3 +132,21 @@ TEST(CompactLight, ALightWiderThanTheLobeKeepsTheSplitSum) {
         }
     }
 }
+
+// The dominant direction is r for a mirror, n at alpha 1, and between them turns from r towards
+// n as alpha grows (Lagarde and de Rousiers 2014's lerp factor falls monotonically), in the
+// plane of n and r, of unit length.
+TEST(CompactLight, TheDominantDirectionLeansFromTheMirrorToTheNormal) {
+    const glm::dvec3 n(0.0, 1.0, 0.0);
+    const glm::dvec3 r = glm::normalize(glm::dvec3(1.0, 0.2, 0.0));
+    EXPECT_LT(glm::length(specular_dominant_direction(n, r, 0.0) - r), 1e-12);
+    EXPECT_LT(glm::length(specular_dominant_direction(n, r, 1.0) - n), 1e-12);
+    double previous = glm::dot(r, n);
+    for (const double alpha : {0.05, 0.1, 0.25, 0.5, 0.75, 0.95}) {
+        const glm::dvec3 d = specular_dominant_direction(n, r, alpha);
+        EXPECT_NEAR(glm::length(d), 1.0, 1e-12) << alpha;
+        EXPECT_NEAR(d.z, 0.0, 1e-12) << alpha;
+        EXPECT_GT(glm::dot(d, n), previous) << alpha;
+        previous = glm::dot(d, n);
+    }
+}

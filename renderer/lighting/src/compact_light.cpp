@@ -42,6 +42,11 @@ glm::dvec3 point_light_ratio(const glm::dvec3& toward_light, double cap_tan2,
                       glm::dvec3(0.0), glm::dvec3(kCompactLightFactorMax));
 }
 
+glm::dvec3 specular_dominant_direction(const glm::dvec3& n, const glm::dvec3& r, double alpha) {
+    const double smoothness = 1.0 - alpha;
+    return glm::normalize(glm::mix(n, r, smoothness * (std::sqrt(smoothness) + alpha)));
+}
+
 glm::dvec3 compact_light_factor(const glm::dvec3& toward_light, const LightSpread& spread,
                                 const GlossyPoint& point) {
     const double a2 = point.alpha * point.alpha;

@@ -26,9 +26,15 @@
 
 namespace oer {
 
+// The direction the split sum's cubes are read along (the shader's specular_dominant_direction,
+// brdf.glsl): the mirror direction r leaned towards n as the lobe widens, normalize(mix(n, r,
+// s)), s = (1 - alpha)(sqrt(1 - alpha) + alpha) (Lagarde and de Rousiers 2014, listing 22).
+glm::dvec3 specular_dominant_direction(const glm::dvec3& n, const glm::dvec3& r, double alpha);
+
 // A glossy surface point as the split sum shades it: unit normal, view and reflection
-// directions, n.v (clamped as the shader clamps it), GGX's alpha, the Fresnel terms, and the
-// split sum's single-scattering weight F0 A + F90 B at (n.v, roughness).
+// directions (r: the direction the cubes are read along, specular_dominant_direction), n.v (clamped
+// as the shader clamps it), GGX's alpha, the Fresnel terms, and the split sum's single-scattering
+// weight F0 A + F90 B at (n.v, roughness).
 struct GlossyPoint {
     glm::dvec3 n;
     glm::dvec3 v;
