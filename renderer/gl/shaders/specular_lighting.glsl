@@ -22,6 +22,10 @@ uniform float u_light_weight[LIGHTS_ON];  // w_k
 // LightSpread (specular_environment.hpp): the core's share of the light's energy, and
 // tan^2(radius / 2) of its core and of its glow.
 uniform vec3 u_light_reflection_spread[LIGHTS_ON];
+// The energy of the light's core in the layer read (its core share times sum L dOmega; 0 where
+// a floor hides it) and its direction in the map's frame.
+uniform vec3 u_light_core_energy[LIGHTS_ON];
+uniform vec3 u_light_map_direction[LIGHTS_ON];
 // compact_light_factor's bound: where the split sum's lobe has all but left the light's point
 // while the BRDF's still sees it (grazing view), the ratio of two vanishing lobes says little.
 const float kCompactLightFactorMax = 8.0;
@@ -57,11 +61,35 @@ float light_lod(float roughness, vec3 spread) {
     return below + clamp((light_peak(spread, pow(r, 4.0)) - sharp) / span, 0.0, 1.0);
 }
 
-// w_k P(k) towards r_map (r in the map's own frame), without the light's visibility.
+// K(r, l) / Z(alpha) at r.l = r_dot_l: prefilter_kernel (specular_environment.hpp).
+float prefilter_kernel(float alpha, float r_dot_l) {
+    return r_dot_l > 0.0 ? ggx_distribution(alpha, 0.5 * (1.0 + r_dot_l)) * r_dot_l /
+                               prefilter_kernel_integral(alpha)
+                         : 0.0;
+}
+
+// What the layer read at `lod` (light_lod) lacks of a point core's reflection at `roughness`,
+// per unit of its energy: light_core_correction (specular_environment.hpp), given the lod.
+float light_core_correction(float roughness, float lod, float r_dot_l) {
+    float below = floor(lod);
+    if (below < 1.0 || below >= u_specular_max_lod) {
+        return 0.0;
+    }
+    float w = lod - below;
+    float r = clamp(roughness, 0.0, 1.0);
+    float sharp = roughness_of_level(below), wide = roughness_of_level(below + 1.0);
+    return prefilter_kernel(r * r, r_dot_l) - ((1.0 - w) * prefilter_kernel(sharp * sharp, r_dot_l) +
+                                               w * prefilter_kernel(wide * wide, r_dot_l));
+}
+
+// w_k P(k) towards r_map (r in the map's own frame), without the light's visibility: the layer
+// read at light_lod, its core's reflection made the exact kernel's (light_core_correction).
 vec3 light_reflection(int k, vec3 r_map, float roughness) {
-    return u_light_weight[k] * textureLod(u_light_cubes, vec4(r_map, float(u_light_cube_layer[k])),
-                                          light_lod(roughness, u_light_reflection_spread[k]))
-                                   .rgb;
+    float lod = light_lod(roughness, u_light_reflection_spread[k]);
+    vec3 layer = textureLod(u_light_cubes, vec4(r_map, float(u_light_cube_layer[k])), lod).rgb;
+    vec3 core = u_light_core_energy[k] *
+                light_core_correction(roughness, lod, dot(r_map, u_light_map_direction[k]));
+    return u_light_weight[k] * max(layer + core, vec3(0.0));
 }
 
 // The factor that turns the split sum's reflection of a compact light, single_scattering P(k),
@@ -102,9 +130,7 @@ vec3 point_light_ratio(vec3 toward_light, float cap_tan2, vec3 n, vec3 view, vec
         brdf = schlick_fresnel(f0, f90, dot(view, h)) * ggx_distribution(alpha, n_dot_h * n_dot_h) *
                smith_visibility(n_dot_v, n_dot_l, alpha) * n_dot_l;
     }
-    float kernel = r_dot_l > 0.0 ? ggx_distribution(alpha, 0.5 * (1.0 + r_dot_l)) * r_dot_l /
-                                       prefilter_kernel_integral(alpha)
-                                 : 0.0;
+    float kernel = prefilter_kernel(alpha, r_dot_l);
     return clamp(brdf / max(single_scattering * kernel, vec3(1e-8)), vec3(0.0),
                  vec3(kCompactLightFactorMax));
 }

@@ -86,6 +86,17 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
         glUniform3f(program.uniform(element("u_light_reflection_spread", i)),
                     float(spread.core_share), float(spread.core_cap_tan2),
                     float(spread.glow_cap_tan2));
+        // The core is at the light's direction: a floor layer holds it where that is above
+        // the horizon.
+        const Light& light = frame.rig.lights[k];
+        const bool core_hidden = opaque_floor && light.direction.y < 0.0;
+        const glm::vec3 core_energy =
+            core_hidden ? glm::vec3(0.0f) : float(spread.core_share) * glm::vec3(light.intensity);
+        glUniform3fv(program.uniform(element("u_light_core_energy", i)), 1,
+                     glm::value_ptr(core_energy));
+        const glm::vec3 map_direction(light.direction);
+        glUniform3fv(program.uniform(element("u_light_map_direction", i)), 1,
+                     glm::value_ptr(map_direction));
     }
 }
 

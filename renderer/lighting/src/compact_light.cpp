@@ -35,9 +35,7 @@ glm::dvec3 point_light_ratio(const glm::dvec3& toward_light, double cap_tan2,
         brdf = fresnel * sampling::ggx_distribution(a2, n_dot_h * n_dot_h) *
                smith_visibility(point.n_dot_v, n_dot_l, point.alpha) * n_dot_l;
     }
-    const double kernel = r_dot_l > 0.0 ? sampling::ggx_distribution(a2, 0.5 * (1.0 + r_dot_l)) *
-                                              r_dot_l / prefilter_kernel_integral(point.alpha)
-                                        : 0.0;
+    const double kernel = prefilter_kernel(point.alpha, r_dot_l);
     return glm::clamp(brdf / glm::max(point.single_scattering * kernel, glm::dvec3(1e-8)),
                       glm::dvec3(0.0), glm::dvec3(kCompactLightFactorMax));
 }

@@ -782,6 +782,28 @@ double prefilter_kernel_integral(double alpha) {
     return 8.0 * a2 / (d * d) * (std::log(2.0 * a2 / (1.0 + a2)) + (1.0 - a2) / (2.0 * a2));
 }
 
+double prefilter_kernel(double alpha, double r_dot_l) {
+    return r_dot_l > 0.0 ? sampling::ggx_distribution(alpha * alpha, 0.5 * (1.0 + r_dot_l)) *
+                               r_dot_l / prefilter_kernel_integral(alpha)
+                         : 0.0;
+}
+
+double light_core_correction(double roughness, int levels, const LightSpread& spread,
+                             double r_dot_l) {
+    const double lod = light_lod(roughness, levels, spread);
+    const int below = int(std::floor(lod));
+    if (below < 1 || below >= levels - 1) {
+        return 0.0;
+    }
+    const double w = lod - below;
+    const double r = std::clamp(roughness, 0.0, 1.0);
+    const auto level_kernel = [&](int level) {
+        return prefilter_kernel(std::pow(roughness_of_level(level, levels), 2.0), r_dot_l);
+    };
+    return prefilter_kernel(r * r, r_dot_l) -
+           ((1.0 - w) * level_kernel(below) + w * level_kernel(below + 1));
+}
+
 double light_cap_tan2(double angular_radius) {
     // At least a microradian: a light has pixels, and T > 0 keeps light_lod's shares defined.
     return std::pow(std::tan(0.5 * std::clamp(angular_radius, 1e-6, 3.0)), 2.0);

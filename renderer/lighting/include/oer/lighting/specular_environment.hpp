@@ -125,6 +125,25 @@ double light_cap_tan2(double angular_radius);
 // is this function.
 double prefilter_kernel_integral(double alpha);
 
+// K(r, l) / Z(alpha) for r.l = r_dot_l: the share of a point's energy that a level prefiltered
+// at alpha holds towards r, per steradian (0 where r.l <= 0). The shader's prefilter_kernel.
+double prefilter_kernel(double alpha, double r_dot_l);
+
+// What a light's layer read at light_lod lacks of its core's reflection at roughness r, per
+// unit of the core's energy, towards an r at r.l = r_dot_l from the light's direction:
+//   K_alpha(r.l) - ((1 - w) K_alpha_a(r.l) + w K_alpha_b(r.l)),
+// alpha = r^2, a and a + 1 the levels around light_lod and w its fraction. Two levels' kernels
+// blended have the exact peak (light_lod) but not the exact shape: a spike of the sharp level
+// on the wide level's skirt. For a sun, whose core holds most of its energy in under a degree,
+// that put 0.78 of the reference's light within two pixels of a metal sphere's highlight at
+// roughness 0.3 and the rest in a wide skirt (Blender's sunrise, 128^2). Taking the core as a
+// point, adding its energy times this turns the blend into the exact kernel about the core;
+// the glow keeps the levels' blend, which for a light wider than the lobe is its own shape.
+// 0 below the first level (between the mirror level, the light's own pixels resampled, and the
+// first, the core is a texel of the cube, not a point) and at the last.
+double light_core_correction(double roughness, int levels, const LightSpread& spread,
+                             double r_dot_l);
+
 // The residual map (every rig light's pixels set to 0) prefiltered. The map must be the one
 // the rig was built from (same size; rig.model Hdr: the thesis model has no specular term).
 // Throws oer::Error (InvalidInput) for options out of range, a map of another size than the
