@@ -14,20 +14,19 @@ inline double luminance(const float* rgba) {
 }
 
 // Relative RMS of luminance, sqrt(sum (ours - truth)^2 / sum truth^2), over the means of the
-// block x block blocks of pixels whose centres the reference all sees as `surface`: a block's
-// mean of kBlock^2 pixels has a kBlock-th of a pixel's Monte Carlo noise (the reference's pixels
-// are independent), so the reference is brute force at a tolerable number of samples. A block
-// of 1 compares pixels, for what lies within one (a mirror's image of a small light).
+// kBlock x kBlock blocks of pixels whose centres the reference all sees as `surface`: a block's
+// mean has a kBlock-th of a pixel's Monte Carlo noise (the reference's pixels are independent),
+// so the reference is brute force at a tolerable number of samples.
 inline constexpr int kBlock = 4;
 inline double block_relative_rms(const std::vector<float>& ours, const ReferenceFrame& truth,
-                                 ReferenceSurface surface, int block = kBlock) {
+                                 ReferenceSurface surface) {
     double error = 0.0, total = 0.0;
-    for (int by = 0; by + block <= truth.height; by += block) {
-        for (int bx = 0; bx + block <= truth.width; bx += block) {
+    for (int by = 0; by + kBlock <= truth.height; by += kBlock) {
+        for (int bx = 0; bx + kBlock <= truth.width; bx += kBlock) {
             double expected = 0.0, got = 0.0;
             bool whole = true;
-            for (int y = by; y < by + block; ++y) {
-                for (int x = bx; x < bx + block; ++x) {
+            for (int y = by; y < by + kBlock; ++y) {
+                for (int x = bx; x < bx + kBlock; ++x) {
                     const std::size_t i =
                         std::size_t(y) * std::size_t(truth.width) + std::size_t(x);
                     whole = whole && truth.surfaces[i] == surface;
