@@ -98,8 +98,8 @@ TEST_F(GlossyReferenceTest, AFloorHidesTheLightsPartBelowTheHorizonFromReflectio
 // the blend of their kernels has the highlight's peak but not its shape (the sharp level's
 // spike on the wide level's skirt); the frame adds what the blend lacks of the core's exact
 // kernel (specular_lighting.glsl's light_core_correction). Relative RMS of luminance over 4 x 4
-// blocks of the sphere against the reference: 0.037, the blend alone 0.174 (the reference's
-// noise over blocks 0.007). Bound 0.08.
+// blocks of the sphere against the reference: 0.055, the blend alone 0.187 (the reference's
+// noise over blocks 0.007). Bound 0.1.
 TEST_F(GlossyReferenceTest, ASunsHighlightHasTheLobesShapeBetweenLevels) {
     const glm::dvec3 direction = glm::normalize(glm::dvec3(0.4, 0.5, 0.75));
     const double core_radius = glm::radians(0.3), glow_radius = glm::radians(10.0);
@@ -115,7 +115,7 @@ TEST_F(GlossyReferenceTest, ASunsHighlightHasTheLobesShapeBetweenLevels) {
                           {direction, core_radius, glm::vec3(core_radiance)}})),
                      glm::vec3(0.9f), 0.3f, false);
     ASSERT_EQ(request.rig->lights.size(), 1u);
-    EXPECT_LT(error_against_reference(request, "metal of roughness 0.3 under a sun"), 0.08);
+    EXPECT_LT(error_against_reference(request, "metal of roughness 0.3 under a sun"), 0.1);
 }
 
 }  // namespace

@@ -69,10 +69,11 @@ float prefilter_kernel(float alpha, float r_dot_l) {
 }
 
 // What the layer read at `lod` (light_lod) lacks of a point core's reflection at `roughness`,
-// per unit of its energy: light_core_correction (specular_environment.hpp), given the lod.
+// per unit of its energy: light_core_correction (specular_environment.hpp), given the lod; 0
+// below the second level, whose kernels hold a core as a texel.
 float light_core_correction(float roughness, float lod, float r_dot_l) {
     float below = floor(lod);
-    if (below < 1.0 || below >= u_specular_max_lod) {
+    if (below < 2.0 || below >= u_specular_max_lod) {
         return 0.0;
     }
     float w = lod - below;

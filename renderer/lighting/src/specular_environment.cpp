@@ -792,7 +792,7 @@ double light_core_correction(double roughness, int levels, const LightSpread& sp
                              double r_dot_l) {
     const double lod = light_lod(roughness, levels, spread);
     const int below = int(std::floor(lod));
-    if (below < 1 || below >= levels - 1) {
+    if (below < 2 || below >= levels - 1) {
         return 0.0;
     }
     const double w = lod - below;

@@ -139,8 +139,10 @@ double prefilter_kernel(double alpha, double r_dot_l);
 // roughness 0.3 and the rest in a wide skirt (Blender's sunrise, 128^2). Taking the core as a
 // point, adding its energy times this turns the blend into the exact kernel about the core;
 // the glow keeps the levels' blend, which for a light wider than the lobe is its own shape.
-// 0 below the first level (between the mirror level, the light's own pixels resampled, and the
-// first, the core is a texel of the cube, not a point) and at the last.
+// 0 below the second level and at the last: the mirror level is the light's own pixels
+// resampled, and the first level's kernel (alpha 0.011) is narrower than the texels it is summed
+// from (1.4 degrees at the default 128^2), so both hold a core as a texel, not a point (taken
+// from the first level, a mirror's error under Blender's city went 0.378 -> 0.497).
 double light_core_correction(double roughness, int levels, const LightSpread& spread,
                              double r_dot_l);
 
