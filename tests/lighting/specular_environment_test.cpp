@@ -144,6 +144,13 @@ double kernel_half_width(double roughness) {
     return low;
 }
 
+// The rig of `light_count` lights the service would build for `map`.
+Rig rig_of(const HdrImage& map, int light_count) {
+    RigOptions rig_options;
+    rig_options.light_count = light_count;
+    return build_rig(map, RepairCounts{}, rig_options);
+}
+
 const glm::dvec3 kDiscDirection = glm::normalize(glm::dvec3(0.3, 0.5, -0.8));
 constexpr double kDiscRadius = 3.0 * kPi / 180.0;
 constexpr float kDiscRadiance = 100.0f;
@@ -330,9 +337,7 @@ TEST(SpecularEnvironment, ASoftBoxKeepsItsShapeAtEveryRoughness) {
             box_pixels.push_back(i);
         }
     }
-    RigOptions rig_options;
-    rig_options.light_count = 1;
-    const Rig rig = build_rig(map, RepairCounts{}, rig_options);
+    const Rig rig = rig_of(map, 1);
     ASSERT_EQ(rig.lights.size(), 1u);
     // The light's pixels are the box's (the locator may take a rim of the background with it).
     double light_energy = 0.0, box_energy = 0.0;
@@ -489,9 +494,7 @@ TEST(SpecularEnvironment, ALightAcrossTheHorizonHasAFloorLayerOfItsPixelsAbove) 
                  {DiscLight{glm::dvec3(0.3, 0.8, 0.5), 0.08, glm::vec3(500.0f)},
                   DiscLight{glm::dvec3(1.0, 0.05, 0.0), 0.15, glm::vec3(300.0f)},
                   DiscLight{glm::dvec3(-0.5, -0.7, 0.4), 0.08, glm::vec3(400.0f)}});
-    RigOptions rig_options;
-    rig_options.light_count = 3;
-    const Rig rig = build_rig(map, RepairCounts{}, rig_options);
+    const Rig rig = rig_of(map, 3);
     ASSERT_EQ(rig.lights.size(), 3u);
     const equirect::Grid grid(map.width, map.height);
     const SpecularOptions options;
@@ -704,9 +707,7 @@ TEST(SpecularEnvironment, ACompactLightsPeakBetweenLevelsIsTheExactOne) {
         const double radius = glm::radians(degrees);
         const HdrImage map =
             disc_map(2048, 1024, glm::vec3(0.0f), {{direction, radius, glm::vec3(1000.0f)}});
-        RigOptions rig_options;
-        rig_options.light_count = 1;
-        const Rig rig = build_rig(map, RepairCounts{}, rig_options);
+        const Rig rig = rig_of(map, 1);
         ASSERT_EQ(rig.lights.size(), 1u);
         const PrefilteredCube lights = prefilter_lights(map, rig).cube;
         for (int step = 1; step < 20; ++step) {
@@ -761,9 +762,7 @@ TEST(SpecularEnvironment, ASunsPeakBetweenLevelsFollowsItsCoreAndGlow) {
         const float glow_radiance = kSunGlowRadiance;
         const float core_radiance = sun_core_radiance(core_radius);
         const HdrImage map = sun_map(core_radius);
-        RigOptions rig_options;
-        rig_options.light_count = 1;
-        const Rig rig = build_rig(map, RepairCounts{}, rig_options);
+        const Rig rig = rig_of(map, 1);
         ASSERT_EQ(rig.lights.size(), 1u);
         const Light& sun = rig.lights[0];
         const LightProfile profile = light_profile(rig.sh.per_light[0], sun.direction);
@@ -811,9 +810,7 @@ TEST(SpecularEnvironment, ASunsPeakBetweenLevelsFollowsItsCoreAndGlow) {
 TEST(SpecularEnvironment, ASunsCoreReflectsWithTheExactKernelBetweenLevels) {
     const double core_radius = glm::radians(0.3);
     const HdrImage map = sun_map(core_radius);
-    RigOptions rig_options;
-    rig_options.light_count = 1;
-    const Rig rig = build_rig(map, RepairCounts{}, rig_options);
+    const Rig rig = rig_of(map, 1);
     ASSERT_EQ(rig.lights.size(), 1u);
     const Light& sun = rig.lights[0];
     const LightSpread spread =
