@@ -741,10 +741,11 @@ float sun_core_radiance(double core_radius) {
                  (1.0 - std::cos(core_radius)));
 }
 
-HdrImage sun_map(double core_radius) {
-    return disc_map(2048, 1024, glm::vec3(0.0f),
-                    {{kSunDirection, kSunGlowRadius, glm::vec3(kSunGlowRadiance)},
-                     {kSunDirection, core_radius, glm::vec3(sun_core_radiance(core_radius))}});
+HdrImage sun_map(double core_radius, float scale = 1.0f) {
+    return disc_map(
+        2048, 1024, glm::vec3(0.0f),
+        {{kSunDirection, kSunGlowRadius, glm::vec3(scale * kSunGlowRadiance)},
+         {kSunDirection, core_radius, glm::vec3(scale * sun_core_radiance(core_radius))}});
 }
 
 // A sun: a core of 0.3 or 0.5 degrees (the sky's sun is 0.27) with 85 % of the energy, inside
@@ -815,8 +816,9 @@ TEST(SpecularEnvironment, ASunsCoreReflectsWithTheExactKernelBetweenLevels) {
     const Light& sun = rig.lights[0];
     const LightSpread spread =
         light_spread(sun.angular_radius, light_profile(rig.sh.per_light[0], sun.direction));
-    const double core_energy = spread.core_share * sun.intensity.g;
     const PrefilteredCube lights = prefilter_lights(map, rig).cube;
+    const double core_energy = light_core_energy(sun, spread, lights.levels).g;
+    EXPECT_NEAR(core_energy, spread.core_share * sun.intensity.g, 1e-9 * core_energy);
     // The sun's pixels, each as its energy and direction.
     const equirect::Grid grid(map.width, map.height);
     std::vector<std::pair<double, glm::dvec3>> pixels;
@@ -865,4 +867,26 @@ TEST(SpecularEnvironment, ASunsCoreReflectsWithTheExactKernelBetweenLevels) {
         EXPECT_LT(corrected_error, 0.6 * blend_error) << "roughness " << roughness;
         EXPECT_LT(corrected_error, 0.11) << "roughness " << roughness;
     }
+}
+
+// A sun whose core's reflection at the second level passes the largest half float, to which
+// the layer's texels are clamped, gets no core correction: the layer does not hold its core as
+// the kernel, and the correction would be out of all proportion to it. The 0.3-degree sun
+// above, a thousand times as bright (its core's peak there about 3e5): 0. At its own radiance
+// it keeps its core's energy, and a cube of three levels gets none (no level of it is
+// corrected).
+TEST(SpecularEnvironment, ACoreBeyondTheHalfFloatRangeIsNotCorrected) {
+    const Rig rig = rig_of(sun_map(glm::radians(0.3), 1000.0f), 1);
+    ASSERT_EQ(rig.lights.size(), 1u);
+    const LightSpread spread = light_spread(
+        rig.lights[0].angular_radius, light_profile(rig.sh.per_light[0], rig.lights[0].direction));
+    ASSERT_GT(spread.core_share * rig.lights[0].intensity.g, 0.0);
+    EXPECT_EQ(light_core_energy(rig.lights[0], spread, 6), glm::dvec3(0.0));
+
+    const Rig sun = rig_of(sun_map(glm::radians(0.3)), 1);
+    ASSERT_EQ(sun.lights.size(), 1u);
+    const LightSpread sun_spread = light_spread(
+        sun.lights[0].angular_radius, light_profile(sun.sh.per_light[0], sun.lights[0].direction));
+    EXPECT_GT(light_core_energy(sun.lights[0], sun_spread, 6).g, 0.0);
+    EXPECT_EQ(light_core_energy(sun.lights[0], sun_spread, 3), glm::dvec3(0.0));
 }

@@ -91,7 +91,8 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
         const Light& light = frame.rig.lights[k];
         const bool core_hidden = opaque_floor && light.direction.y < 0.0;
         const glm::vec3 core_energy =
-            core_hidden ? glm::vec3(0.0f) : float(spread.core_share) * glm::vec3(light.intensity);
+            core_hidden ? glm::vec3(0.0f)
+                        : glm::vec3(light_core_energy(light, spread, specular.lights.levels));
         glUniform3fv(program.uniform(element("u_light_core_energy", i)), 1,
                      glm::value_ptr(core_energy));
         const glm::vec3 map_direction(light.direction);

@@ -804,6 +804,18 @@ double light_core_correction(double roughness, int levels, const LightSpread& sp
            ((1.0 - w) * level_kernel(below) + w * level_kernel(below + 1));
 }
 
+glm::dvec3 light_core_energy(const Light& light, const LightSpread& spread, int levels) {
+    // Under four levels light_core_correction is 0 everywhere (it starts at the second level
+    // and stops below the last).
+    if (levels < 4) {
+        return glm::dvec3(0.0);
+    }
+    const glm::dvec3 energy = spread.core_share * light.intensity;
+    const double peak = std::max({energy.r, energy.g, energy.b}) *
+                        prefilter_kernel(std::pow(roughness_of_level(2, levels), 2.0), 1.0);
+    return std::isfinite(peak) && peak <= double(kMaxHalf) ? energy : glm::dvec3(0.0);
+}
+
 double light_cap_tan2(double angular_radius) {
     // At least a microradian: a light has pixels, and T > 0 keeps light_lod's shares defined.
     return std::pow(std::tan(0.5 * std::clamp(angular_radius, 1e-6, 3.0)), 2.0);

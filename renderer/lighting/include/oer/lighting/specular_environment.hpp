@@ -146,6 +146,13 @@ double prefilter_kernel(double alpha, double r_dot_l);
 double light_core_correction(double roughness, int levels, const LightSpread& spread,
                              double r_dot_l);
 
+// The energy of a light's core that light_core_correction scales: core_share times the light's
+// sum of L dOmega. 0 where the light's layer cannot hold its core as that kernel: where the
+// core's peak at the second level passes the largest half float, to which the layer's texels
+// are clamped (a sun at the largest float: the correction would be out of all proportion to
+// the layer).
+glm::dvec3 light_core_energy(const Light& light, const LightSpread& spread, int levels);
+
 // The residual map (every rig light's pixels set to 0) prefiltered. The map must be the one
 // the rig was built from (same size; rig.model Hdr: the thesis model has no specular term).
 // Throws oer::Error (InvalidInput) for options out of range, a map of another size than the
