@@ -79,8 +79,9 @@ float light_core_correction(float roughness, float lod, float r_dot_l) {
     float w = lod - below;
     float r = clamp(roughness, 0.0, 1.0);
     float sharp = roughness_of_level(below), wide = roughness_of_level(below + 1.0);
-    return prefilter_kernel(r * r, r_dot_l) - ((1.0 - w) * prefilter_kernel(sharp * sharp, r_dot_l) +
-                                               w * prefilter_kernel(wide * wide, r_dot_l));
+    float blend = (1.0 - w) * prefilter_kernel(sharp * sharp, r_dot_l) +
+                  w * prefilter_kernel(wide * wide, r_dot_l);
+    return prefilter_kernel(r * r, r_dot_l) - blend;
 }
 
 // w_k P(k) towards r_map (r in the map's own frame), without the light's visibility: the layer
