@@ -174,22 +174,13 @@ const gl_bindings::Binding* find_binding(std::string_view glsl) {
     return nullptr;
 }
 
-bool alternatives(std::string_view a, std::string_view b) {
-    return std::any_of(gl_bindings::kAlternativeBindings.begin(),
-                       gl_bindings::kAlternativeBindings.end(), [&](const auto& pair) {
-                           return (pair.first == a && pair.second == b) ||
-                                  (pair.first == b && pair.second == a);
-                       });
-}
-
-// The pairs of `used` (the bindings one program reads) at one unit or binding point that are
-// not alternatives, as "A and B, both at N".
+// The pairs of `used` (the bindings one program reads) at one unit or binding point, as "A and
+// B, both at N".
 std::vector<std::string> shared_points(const std::vector<const gl_bindings::Binding*>& used) {
     std::vector<std::string> shared;
     for (std::size_t i = 0; i < used.size(); ++i) {
         for (std::size_t j = i + 1; j < used.size(); ++j) {
-            if (used[i]->kind == used[j]->kind && used[i]->index == used[j]->index &&
-                !alternatives(used[i]->glsl, used[j]->glsl)) {
+            if (used[i]->kind == used[j]->kind && used[i]->index == used[j]->index) {
                 shared.push_back(std::string(used[i]->glsl) + " and " + std::string(used[j]->glsl) +
                                  ", both at " + std::to_string(used[i]->index));
             }
@@ -253,15 +244,6 @@ TEST(ShaderSourcesBindings, NoProgramReadsTwoNamesOfOnePoint) {
         for (const std::string& shared : shared_points(used)) {
             ADD_FAILURE() << "program '" << program.name << "' reads " << shared;
         }
-        if (program.name == "shade") {
-            // Both of the pair are there, in branches apart.
-            for (const gl_bindings::Binding& pair :
-                 {gl_bindings::kGroundTransfer, gl_bindings::kGBufferTransferred}) {
-                EXPECT_TRUE(std::any_of(used.begin(), used.end(), [&](const auto* binding) {
-                    return binding->glsl == pair.glsl;
-                })) << pair.glsl;
-            }
-        }
     }
 }
 
@@ -305,10 +287,11 @@ TEST(ShaderSources, EachFileIsIncludedOnceWhateverIncludesIt) {
     // The frame's shading program: math_constants.glsl comes through surface_shading.glsl,
     // shadow_filter.glsl and specular_lighting.glsl, and is there once.
     const ShaderSource shade = program_source("shade.frag", "");
-    EXPECT_EQ(shade.files, (std::vector<std::string>{
-                               "shade.frag", "surface_shading.glsl", "math_constants.glsl",
-                               "sh_lighting.glsl", "shadow_filter.glsl", "brdf.glsl",
-                               "specular_lighting.glsl", "layer_gbuffer.glsl", "display.glsl"}));
+    EXPECT_EQ(shade.files,
+              (std::vector<std::string>{"shade.frag", "surface_shading.glsl", "math_constants.glsl",
+                                        "sh_lighting.glsl", "shadow_filter.glsl", "brdf.glsl",
+                                        "specular_lighting.glsl", "ground_lighting.glsl",
+                                        "layer_gbuffer.glsl", "display.glsl"}));
     const std::size_t pi = shade.text.find("const float PI");
     ASSERT_NE(pi, std::string::npos);
     EXPECT_EQ(shade.text.find("const float PI", pi + 1), std::string::npos);

@@ -12,6 +12,10 @@
 #define OBJECT_SURFACE (SURFACE == 1 || SURFACE == 4)
 #define GROUND_SURFACE (SURFACE == 2 || SURFACE == 3)
 #define MATERIAL_LAYERS (SURFACE == 4)
+// A glossy object reflects the opaque floor as the ground is drawn (ground_lighting.glsl), from
+// the ground's textures, which the pass binds where there is one (surface_shading.glsl reads
+// them only where a reflection meets the floor).
+#define FLOOR_LIGHTING (OBJECT_SURFACE && SPECULAR)
 #include "surface_shading.glsl"
 #include "layer_gbuffer.glsl"
 // Position and ao; shading normal and roughness; base colour and metallic (-1: Lambertian).
@@ -22,23 +26,9 @@ layout(binding = ENVIRONMENT_UNIT) uniform sampler2D u_environment;
 layout(binding = GBUFFER_EMISSIVE_UNIT) uniform sampler2D u_emissive;
 uniform mat4 u_inverse_view_projection;
 uniform vec2 u_viewport_size;
-// The ground plane's normal never changes: its irradiance per set is computed once per frame
-// on the CPU, and no SH is evaluated for its pixels.
-uniform vec3 u_flat_irradiance[1 + LIGHTS_ON];
-#if LIGHTS_ON > 0 && SHADOWS
-// Each light's visibility on the ground plane, baked once per shadow map (the ground's depth
-// in light space is a function of the shadow-map uv), read with one bilinear fetch.
-layout(binding = GROUND_VISIBILITY_UNIT) uniform sampler2DArray u_ground_visibility;
-#endif
 #if TRANSFER && OBJECT_SURFACE
 // The G-buffer's transferred irradiance.
 layout(binding = GBUFFER_TRANSFERRED_UNIT) uniform sampler2D u_transferred;
-#elif TRANSFER && GROUND_SURFACE
-// The transfer's irradiance over the ground's grid (GroundTransfer), one texel per receiver,
-// read bilinearly; clamped beyond the grid, whose edge holds the unoccluded ground's.
-layout(binding = GROUND_TRANSFER_UNIT) uniform sampler2D u_ground_transfer;
-uniform vec4 u_ground_transfer_rect;  // the grid's lowest x and z, 1 / its side
-uniform vec3 u_open_ground_transferred;  // FrameContext::open_ground_transferred
 #endif
 #if GROUND_SURFACE
 uniform vec4 u_ground_fade;  // the scene's centre (x, z), the fade's start and end radius
@@ -95,68 +85,14 @@ vec4 shade(ivec2 pixel) {
                 1.0);
 }
 #else
-#if LIGHTS_ON > 0
-float ground_visibility(int k, vec3 position) {
-#if SHADOWS
-    vec4 p = u_light_matrix[k] * vec4(position, 1.0);
-    vec2 uv = p.xy / p.w * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
-        return 1.0;
-    }
-    return textureLod(u_ground_visibility, vec3(uv, float(u_light_layer[k])), 0.0).r;
-#else
-    return 1.0;
-#endif
-}
-#endif
-
-#if TRANSFER
-// The transfer's irradiance at the ground point xz. Beyond the grid the clamped texture would
-// hold the edge's occlusion out to the plane's edge; there the objects' effect falls off as a
-// compact occluder's does, with the cube of the distance (its solid angle as 1 / r^2, its
-// cosine at the receiver as 1 / r), towards the open ground's.
-vec3 ground_transferred(vec2 xz) {
-    vec2 uv = (xz - u_ground_transfer_rect.xy) * u_ground_transfer_rect.z;
-    vec3 edge = textureLod(u_ground_transfer, uv, 0.0).rgb;
-    float outside = 2.0 * max(abs(uv.x - 0.5), abs(uv.y - 0.5));  // 1 on the grid's edge
-    return outside <= 1.0 ? edge
-                          : u_open_ground_transferred +
-                                (edge - u_open_ground_transferred) / (outside * outside * outside);
-}
-#endif
-
-// The ground is Lambertian (docs/design.md section 7). Its irradiance E, and E_open, what it
-// would be without the objects (their shadows and occlusion gone, the plane's own horizon
-// still hiding the lights below it), which the shadow catcher compares E with.
+// The ground's irradiance at the sample (ground_lighting.glsl), shaded as its albedo reflects
+// it, or as the shadow it catches.
 vec4 shade(ivec2 pixel) {
     vec3 position = texelFetch(u_positions, pixel, 0).xyz;
     vec4 albedo = texelFetch(u_albedos, pixel, 0);
-    vec3 E_open = u_flat_irradiance[0];
-#if TRANSFER
-    vec3 E = E_open + ground_transferred(position.xz);
-    E_open += u_open_ground_transferred;
-#else
-    vec3 E = E_open;
-#endif
-    float attenuation = u_attenuation_base;
-    float open_attenuation = u_attenuation_base;
-#if LIGHTS_ON > 0
-    for (int k = 0; k < LIGHTS_ON; ++k) {
-        // The ground's own plane hides a light below its horizon from its top (the true
-        // irradiance there is 0, cos < 0), shadows on or off: visibility 0, so that none of the
-        // light's SH is left, whose truncated clamped cosine still reaches above the horizon
-        // (order 3, 5 degrees below: 0.05 of the light's facing irradiance, f(t) = 1/4 + t/2 +
-        // 5/32 (3 t^2 - 1) at t = -0.087; Ramamoorthi and Hanrahan 2001, eq. 8).
-        bool below_horizon = u_light_direction[k].y < 0.0;
-        float v = below_horizon ? 0.0 : ground_visibility(k, position);
-        E -= (1.0 - v) * u_flat_irradiance[k + 1];
-        attenuation -= (1.0 - v) * u_light_share[k];
-        if (below_horizon) {
-            E_open -= u_flat_irradiance[k + 1];
-            open_attenuation -= u_light_share[k];
-        }
-    }
-#endif
+    vec3 E, E_open;
+    float attenuation, open_attenuation;
+    ground_irradiance(position, E, attenuation, E_open, open_attenuation);
     // SceneBounds::ground_weight: the plane fades into the background far from the scene.
     float t = clamp((distance(position.xz, u_ground_fade.xy) - u_ground_fade.z) /
                         (u_ground_fade.w - u_ground_fade.z),

@@ -38,22 +38,53 @@ uniform vec2 u_yaw;  // (cos, sin) of the environment's yaw
 uniform vec3 u_eye;
 uniform float u_albedo_scale;      // 1 / pi (hdr model) or 1 (thesis model)
 uniform float u_attenuation_base;  // thesis: 1 - sum_k (1 - w_k) luminance_share_k
+#if LIGHTS_ON > 0
+uniform vec3 u_light_direction[LIGHTS_ON];  // world space: turned by the yaw
+uniform float u_light_share[LIGHTS_ON];     // w_k luminance_share_k (thesis); 0 (hdr)
+#endif
+#include "ground_lighting.glsl"
 #if SPECULAR
-// The opaque floor as reflections see it (surface_shading.cpp): its radiance and height, and
-// its fade (the scene's centre x and z, the fade's start and end radius; end 0: no floor).
+// The opaque floor as reflections see it (surface_shading.cpp): its radiance with nothing on
+// it and its height, and its fade (the scene's centre x and z, the fade's start and end radius;
+// end 0: no floor). FLOOR_LIGHTING 1: the floor is shaded where the reflection meets it
+// instead, as the ground pass draws it (ground_lighting.glsl), of albedo u_floor_albedo.
 uniform vec4 u_floor;
 uniform vec4 u_floor_fade;
+#if FLOOR_LIGHTING
+uniform float u_floor_albedo;
+#endif
 
-// The share of a reflection along r from `position` that sees the floor instead of the map:
-// the share of the lobe about r below the horizon, by the weight the floor is drawn with where
-// the ray meets it (SceneBounds::ground_weight). Of a lobe whose axis is at elevation e, the
+// Where a reflection along r from `position` meets the floor: along r mirrored downwards when
+// it rises, so that a lobe about a rising r takes its downward part's floor.
+vec3 floor_hit(vec3 position, vec3 r) {
+    float down = -max(abs(r.y), 1e-3);
+    return vec3(position.xz + r.xz * ((position.y - u_floor.w) / -down), u_floor.w).xzy;
+}
+
+// The radiance a reflection sees of the floor at `hit`: with FLOOR_LIGHTING, the floor's own
+// shading there, the shadows and the occlusion the objects cast on it included (a chrome
+// product's underside reflects the shadow it stands in); else the open floor's.
+vec3 floor_radiance(vec3 hit) {
+#if FLOOR_LIGHTING
+    vec3 E, E_open;
+    float attenuation, open_attenuation;
+    ground_irradiance(hit, E, attenuation, E_open, open_attenuation);
+    return vec3(u_floor_albedo * u_albedo_scale) * E * attenuation;
+#else
+    return u_floor.rgb;
+#endif
+}
+
+// The share of a reflection along r that sees the floor instead of the map: the share of the
+// lobe about r below the horizon, by the weight the floor is drawn with at `hit`, where the ray
+// meets it (floor_hit; SceneBounds::ground_weight). Of a lobe whose axis is at elevation e, the
 // cap of angular radius |e| about r lies wholly on r's side of the horizon, and it holds the
 // share T / (alpha^2 + T) of the lobe, T = tan^2(|e| / 2) (GGX's cumulative distribution, as
 // light_lod takes it); of the rest, half is taken on each side. A rough lobe about a level r
 // sees both, and a lobe about an r going up still sees some floor: a smoothstep over +-alpha in
 // r.y had a rough metal sphere's lower half reflect the floor where the reference's reaches
 // the sky above it.
-float floor_share(vec3 position, vec3 r, float alpha) {
+float floor_share(vec3 hit, vec3 r, float alpha) {
     if (u_floor_fade.w <= 0.0) {
         return 0.0;
     }
@@ -61,18 +92,11 @@ float floor_share(vec3 position, vec3 r, float alpha) {
     float cap_tan2 = pow(tan(0.5 * abs(elevation)), 2.0);
     float outside_cap = alpha * alpha / (alpha * alpha + cap_tan2 + 1e-12);
     float below = r.y < 0.0 ? 1.0 - 0.5 * outside_cap : 0.5 * outside_cap;
-    // Where the lobe's downward part meets the floor: along r mirrored downwards when it rises.
-    float down = -max(abs(r.y), 1e-3);
-    vec2 hit = position.xz + r.xz * ((position.y - u_floor.w) / -down);
-    float t = clamp((distance(hit, u_floor_fade.xy) - u_floor_fade.z) /
+    float t = clamp((distance(hit.xz, u_floor_fade.xy) - u_floor_fade.z) /
                         (u_floor_fade.w - u_floor_fade.z),
                     0.0, 1.0);
     return below * (1.0 - t * t * (3.0 - 2.0 * t));
 }
-#endif
-#if LIGHTS_ON > 0
-uniform vec3 u_light_direction[LIGHTS_ON];  // world space: turned by the yaw
-uniform float u_light_share[LIGHTS_ON];     // w_k luminance_share_k (thesis); 0 (hdr)
 #endif
 #if SPECULAR && MATERIAL_LAYERS
 // The sheen lobe's directional albedo E_sheen at (n.v, sheen roughness)
@@ -130,7 +154,8 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
     vec3 single_scattering, multiple_scattering;
     split_sum_weights(f0, f90, split_sum_dfg(n_dot_v, roughness), single_scattering,
                       multiple_scattering);
-    float floor_weight = floor_share(position, r, alpha);
+    vec3 floor_point = floor_hit(position, r);
+    float floor_weight = floor_share(floor_point, r, alpha);
 #if MATERIAL_LAYERS
     // The coat reflects about its own normal at its own roughness; the thin wall transmits
     // straight through, along -v.
@@ -179,7 +204,8 @@ vec3 shade_object(vec3 position, vec3 n, vec3 base, float metallic, float roughn
         // the transfer says reaches the point of the residual map's light (its bounce off the
         // occluders included), as Lagarde's approximation takes an ambient occlusion.
         vec3 prefiltered =
-            mix(residual_reflection(r_map, roughness), u_floor.rgb, floor_weight) *
+            mix(residual_reflection(r_map, roughness),
+                floor_weight > 0.0 ? floor_radiance(floor_point) : vec3(0.0), floor_weight) *
                 specular_occlusion(n_dot_v, ao * residual_visibility(transferred, Y), alpha) +
             lights_reflected * specular_occlusion(n_dot_v, ao, alpha);
         // What the specular lobe leaves to the diffuse one (and to the transmitted one).

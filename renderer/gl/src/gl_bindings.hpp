@@ -5,14 +5,12 @@
 // (binding_defines), so that a shader declares `layout(binding = SHADOW_MAPS_UNIT)` and no
 // number is matched by hand. The shader test (tests/gl/shader_sources_test.cpp) fails if a
 // shader binds a point by a literal or by a name missing here, if a name here is bound by no
-// shader, or if one program reads two names of the same point other than an alternative pair
-// (kAlternativeBindings).
+// shader, or if one program reads two names of the same point.
 #include <GL/glcorearb.h>
 
 #include <array>
 #include <string>
 #include <string_view>
-#include <utility>
 
 namespace oer::gl_bindings {
 
@@ -33,10 +31,11 @@ inline constexpr Binding kGBufferNormals{"GBUFFER_NORMALS_UNIT", BindingKind::Te
 inline constexpr Binding kGBufferAlbedos{"GBUFFER_ALBEDOS_UNIT", BindingKind::TextureUnit, 2};
 inline constexpr Binding kGBufferEmissive{"GBUFFER_EMISSIVE_UNIT", BindingKind::TextureUnit, 7};
 // The occlusion frame's transferred irradiance: the G-buffer's, read for objects (SURFACE 1),
-// and the ground's grid, read for the ground (SURFACE 2); no variant reads both.
+// and the ground's grid, read for the ground (SURFACE 2) and for what glossy objects reflect of
+// it (FLOOR_LIGHTING 1), which reads both.
 inline constexpr Binding kGBufferTransferred{"GBUFFER_TRANSFERRED_UNIT", BindingKind::TextureUnit,
                                              15};
-inline constexpr Binding kGroundTransfer{"GROUND_TRANSFER_UNIT", BindingKind::TextureUnit, 15};
+inline constexpr Binding kGroundTransfer{"GROUND_TRANSFER_UNIT", BindingKind::TextureUnit, 29};
 // The G-buffer's layers of materials with the extensions' layers, packed in two targets
 // (layer_gbuffer.glsl), read for them (SURFACE 4).
 inline constexpr Binding kGBufferLayersFirst{"GBUFFER_LAYERS_FIRST_UNIT", BindingKind::TextureUnit,
@@ -91,11 +90,6 @@ inline constexpr std::array<Binding, 32> kBindings{
     kMaterialTextures[8],  kMaterialTextures[9],  kMaterialTextures[10], kMaterialTextures[11],
     kMaterialTextures[12], kMaterialTextures[13], kSheenAlbedo,          kResolveRadiance,
     kIrradianceSets,       kLightCubes,           kGBufferLayersFirst,   kGBufferLayersSecond};
-
-// Pairs of bindings that share their point within one program because no variant of it reads
-// both (#if branches apart).
-inline constexpr std::array<std::pair<std::string_view, std::string_view>, 1> kAlternativeBindings{
-    {{kGBufferTransferred.glsl, kGroundTransfer.glsl}}};
 
 // "#define GBUFFER_POSITIONS_UNIT 0\n..." for every binding, for the shaders.
 inline std::string binding_defines() {

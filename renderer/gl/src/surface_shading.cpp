@@ -68,6 +68,7 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
                                frame.scene.ground_fade_start(), frame.scene.ground_half_size());
     }
     glUniform4fv(program.uniform("u_floor"), 1, glm::value_ptr(floor));
+    glUniform1f(program.uniform("u_floor_albedo"), kGroundAlbedo);
     glUniform4fv(program.uniform("u_floor_fade"), 1, glm::value_ptr(floor_fade));
     // Light k's reflection is layer k of the lights' cube, by its weight (its visibility is
     // the shader's). On an opaque floor, which hides what lies below the horizon, it is the

@@ -89,6 +89,7 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     const bool environment_background = request.background.kind == BackgroundKind::Environment;
     const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.blending;
     const bool shadow_catcher = request.ground_look == GroundLook::ShadowCatcher;
+    const bool opaque_floor = request.ground && request.ground_look == GroundLook::Opaque;
     const std::string shading_defines =
         frame.lighting_defines + frame.transfer_define + "#define ENVIRONMENT_BACKGROUND " +
         std::to_string(environment_background ? 1 : 0) + "\n#define DISPLAY_OUTPUT " +
@@ -136,6 +137,10 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
             // Only objects have specular materials; the background and the ground take SPECULAR 0.
             const std::string specular_define =
                 object ? frame.specular_define : "#define SPECULAR 0\n";
+            // A glossy object reflects the opaque floor as the ground pass draws it, its shadows
+            // and the transfer's occlusion on it (ground_lighting.glsl, shade.frag's
+            // FLOOR_LIGHTING), from the ground's textures.
+            const bool floor_lighting = object && frame.specular && opaque_floor;
             // The shadow-catching ground (GroundLook::ShadowCatcher) is program SURFACE 3 of
             // the ground's samples.
             const int program =
@@ -154,7 +159,7 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
             if (frame.transfer && object) {
                 glBindTextureUnit(kGBufferTransferred.index, targets.transferred.get());
             }
-            if (frame.transfer && surface == kGroundSurface) {
+            if (frame.transfer && (surface == kGroundSurface || floor_lighting)) {
                 const GroundTransfer& ground = *request.transfer->ground;
                 glBindTextureUnit(kGroundTransfer.index, lighting.ground_transfer);
                 glUniform4f(shade.uniform("u_ground_transfer_rect"),
