@@ -13,8 +13,8 @@
 #define GROUND_SURFACE (SURFACE == 2 || SURFACE == 3)
 #define MATERIAL_LAYERS (SURFACE == 4)
 // A glossy object reflects the opaque floor as the ground is drawn (ground_lighting.glsl), from
-// the ground's textures, which the pass binds where there is one (surface_shading.glsl reads
-// them only where a reflection meets the floor).
+// the ground's textures, which the pass binds where there is a ground (surface_shading.glsl
+// reads them only where a reflection meets an opaque floor).
 #define FLOOR_LIGHTING (OBJECT_SURFACE && SPECULAR)
 #include "surface_shading.glsl"
 #include "layer_gbuffer.glsl"

@@ -6,10 +6,10 @@
 // src + (1 - src alpha) dst by the pass's blend state, alpha being coverage. MATERIAL_LAYERS 1:
 // a material with the extensions' layers (material.glsl).
 #define MATERIAL_TEXTURES 1
-// It draws objects only, which reflect the floor with nothing on it (u_floor): the ground's
-// shadow and transfer textures are the shading pass's (shade.frag's FLOOR_LIGHTING).
+// It draws objects only; glossy ones reflect the floor as the ground is drawn, from the ground's
+// textures the shading pass left bound (ground_lighting.glsl, shade.frag's FLOOR_LIGHTING).
 #define GROUND_SURFACE 0
-#define FLOOR_LIGHTING 0
+#define FLOOR_LIGHTING SPECULAR
 #include "material.glsl"
 #include "surface_shading.glsl"
 in vec3 v_transferred_irradiance;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numbers>
+#include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -23,6 +24,30 @@ void bind_specular_textures(const FrameContext& frame, RendererState& state) {
     }
 }
 
+namespace {
+
+// The uniforms of ground_lighting.glsl, which the ground's shading and glossy objects' reflection
+// of the floor read: the irradiance of each set on the plane (its normal +Y, which the yaw
+// leaves unchanged) and, in an occlusion frame with a ground, its transfer grid's place and the
+// open ground's transferred irradiance.
+void set_ground_lighting_uniforms(gl::Program& program, const FrameContext& frame) {
+    std::vector<glm::vec3> flat_irradiance;
+    for (const ShRgb& set : frame.irradiance_sets) {
+        flat_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
+    }
+    glUniform3fv(program.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
+                 glm::value_ptr(flat_irradiance[0]));
+    if (frame.transfer && frame.request.ground) {
+        const GroundTransfer& ground = *frame.request.transfer->ground;
+        glUniform4f(program.uniform("u_ground_transfer_rect"), ground.centre.x - ground.half_size,
+                    ground.centre.y - ground.half_size, 0.5f / ground.half_size, 0.0f);
+        glUniform3fv(program.uniform("u_open_ground_transferred"), 1,
+                     glm::value_ptr(frame.open_ground_transferred));
+    }
+}
+
+}  // namespace
+
 void set_surface_shading_uniforms(gl::Program& program, const FrameContext& frame) {
     const Rig& rig = frame.rig;
     const bool thesis = rig.model == LightingModel::Thesis;
@@ -39,6 +64,7 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
         glUniform1f(program.uniform(element("u_light_share", i)),
                     thesis ? float(frame.weights[k] * rig.lights[k].luminance_share) : 0.0f);
     }
+    set_ground_lighting_uniforms(program, frame);
     if (!frame.specular) {
         return;
     }

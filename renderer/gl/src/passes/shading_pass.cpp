@@ -89,16 +89,10 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     const bool environment_background = request.background.kind == BackgroundKind::Environment;
     const bool display_in_shading = frame.scale == 1 && !request.linear && !frame.blending;
     const bool shadow_catcher = request.ground_look == GroundLook::ShadowCatcher;
-    const bool opaque_floor = request.ground && request.ground_look == GroundLook::Opaque;
     const std::string shading_defines =
         frame.lighting_defines + frame.transfer_define + "#define ENVIRONMENT_BACKGROUND " +
         std::to_string(environment_background ? 1 : 0) + "\n#define DISPLAY_OUTPUT " +
         std::to_string(display_in_shading ? 1 : 0) + "\n";
-    // The ground's normal is +Y, which the yaw leaves unchanged.
-    std::vector<glm::vec3> flat_irradiance;
-    for (const ShRgb& set : frame.irradiance_sets) {
-        flat_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
-    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kIrradianceSets.index, lighting.irradiance_sets);
     glBindTextureUnit(kGBufferPositions.index, targets.positions.get());
     glBindTextureUnit(kGBufferNormals.index, targets.normals.get());
@@ -111,8 +105,13 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
     if (environment_background) {
         glBindTextureUnit(kEnvironment.index, state.environment(request.environment_map));
     }
+    // The ground's textures: for its own shading, and for what glossy objects reflect of it
+    // (ground_lighting.glsl), here and in the transparent pass.
     if (frame.shadows) {
         glBindTextureUnit(kGroundVisibility.index, shadows.ground_visibility_layers);
+    }
+    if (frame.transfer && request.ground) {
+        glBindTextureUnit(kGroundTransfer.index, lighting.ground_transfer);
     }
     bind_specular_textures(frame, state);
     glBindFramebuffer(GL_FRAMEBUFFER, targets.shaded_framebuffer.get());
@@ -137,10 +136,6 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
             // Only objects have specular materials; the background and the ground take SPECULAR 0.
             const std::string specular_define =
                 object ? frame.specular_define : "#define SPECULAR 0\n";
-            // A glossy object reflects the opaque floor as the ground pass draws it, its shadows
-            // and the transfer's occlusion on it (ground_lighting.glsl, shade.frag's
-            // FLOOR_LIGHTING), from the ground's textures.
-            const bool floor_lighting = object && frame.specular && opaque_floor;
             // The shadow-catching ground (GroundLook::ShadowCatcher) is program SURFACE 3 of
             // the ground's samples.
             const int program =
@@ -154,19 +149,8 @@ GLuint shade_surfaces(const FrameContext& frame, const FrameLightingBuffers& lig
                                glm::value_ptr(glm::inverse(frame.view_projection)));
             glUniform2f(shade.uniform("u_viewport_size"), float(frame.samples_wide),
                         float(frame.samples_high));
-            glUniform3fv(shade.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
-                         glm::value_ptr(flat_irradiance[0]));
             if (frame.transfer && object) {
                 glBindTextureUnit(kGBufferTransferred.index, targets.transferred.get());
-            }
-            if (frame.transfer && (surface == kGroundSurface || floor_lighting)) {
-                const GroundTransfer& ground = *request.transfer->ground;
-                glBindTextureUnit(kGroundTransfer.index, lighting.ground_transfer);
-                glUniform4f(shade.uniform("u_ground_transfer_rect"),
-                            ground.centre.x - ground.half_size, ground.centre.y - ground.half_size,
-                            0.5f / ground.half_size, 0.0f);
-                glUniform3fv(shade.uniform("u_open_ground_transferred"), 1,
-                             glm::value_ptr(frame.open_ground_transferred));
             }
             if (surface == kGroundSurface) {
                 glUniform4f(shade.uniform("u_ground_fade"), frame.scene.centre.x,
