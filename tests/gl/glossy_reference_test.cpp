@@ -40,6 +40,18 @@ class GlossyReferenceTest : public oer::testing::RendererSuite {
         return request;
     }
 
+    // metal_sphere of roughness 0.3 on the floor under a light high above (a disc of 0.2 rad,
+    // over a dim sky), with shadows: its lower half reflects its own shadow.
+    static FrameRequest sphere_in_its_shadow() {
+        const glm::dvec3 direction = glm::normalize(glm::dvec3(0.3, 0.9, 0.3));
+        FrameRequest request =
+            metal_sphere(std::make_shared<const HdrImage>(oer::testing::disc_map(
+                             512, 256, glm::vec3(0.05f), {{direction, 0.2, glm::vec3(40.0f)}})),
+                         glm::vec3(0.9f), 0.3f, true);
+        request.shadows.enabled = true;
+        return request;
+    }
+
     // The frame's relative RMS of luminance over 4 x 4 blocks of the sphere against the
     // reference's at 256 samples (one bounce: the floor's light), printed with the reference's
     // noise over blocks under `what`.
@@ -125,12 +137,7 @@ TEST_F(GlossyReferenceTest, ASunsHighlightHasTheLobesShapeBetweenLevels) {
 // of the sphere against the reference; reflecting the open floor instead, 0.135. Bound 0.12;
 // the reference's noise over blocks is 0.012, and both renderers are deterministic.
 TEST_F(GlossyReferenceTest, AGlossySphereReflectsTheShadowItStandsIn) {
-    const glm::dvec3 direction = glm::normalize(glm::dvec3(0.3, 0.9, 0.3));
-    FrameRequest request =
-        metal_sphere(std::make_shared<const HdrImage>(oer::testing::disc_map(
-                         512, 256, glm::vec3(0.05f), {{direction, 0.2, glm::vec3(40.0f)}})),
-                     glm::vec3(0.9f), 0.3f, true);
-    request.shadows.enabled = true;
+    const FrameRequest request = sphere_in_its_shadow();
     ASSERT_EQ(request.rig->lights.size(), 1u);
     EXPECT_LT(error_against_reference(request, "metal of roughness 0.3 on a floor, in its shadow"),
               0.12);
@@ -142,12 +149,7 @@ TEST_F(GlossyReferenceTest, AGlossySphereReflectsTheShadowItStandsIn) {
 // the relative RMS of luminance between the two frames is below 1e-4; with the blended sphere
 // reflecting the open floor, 0.347. Bound 0.01.
 TEST_F(GlossyReferenceTest, ABlendedSphereReflectsTheFloorAsAnOpaqueOneDoes) {
-    const glm::dvec3 direction = glm::normalize(glm::dvec3(0.3, 0.9, 0.3));
-    FrameRequest opaque =
-        metal_sphere(std::make_shared<const HdrImage>(oer::testing::disc_map(
-                         512, 256, glm::vec3(0.05f), {{direction, 0.2, glm::vec3(40.0f)}})),
-                     glm::vec3(0.9f), 0.3f, true);
-    opaque.shadows.enabled = true;
+    const FrameRequest opaque = sphere_in_its_shadow();
     Material material = oer::testing::metallic_roughness(glm::vec3(0.9f), 1.0f, 0.3f);
     material.alpha_mode = AlphaMode::Blend;
     FrameRequest blended = opaque;
