@@ -133,9 +133,9 @@ TEST_F(GlossyReferenceTest, ASunsHighlightHasTheLobesShapeBetweenLevels) {
 // A metal sphere of roughness 0.3 standing on the opaque floor under a light high above, with
 // shadows: the sphere's lower half reflects the floor about its foot, which lies in its shadow.
 // The frame shades the floor where the reflection meets it, as the ground pass draws it
-// (ground_lighting.glsl, FLOOR_LIGHTING 1): 0.110 relative RMS of luminance over 4 x 4 blocks
-// of the sphere against the reference; reflecting the open floor instead, 0.135. Bound 0.12;
-// the reference's noise over blocks is 0.012, and both renderers are deterministic.
+// (ground_lighting.glsl, surface_shading.glsl's floor_radiance): 0.110 relative RMS of luminance
+// over 4 x 4 blocks of the sphere against the reference; reflecting the open floor instead, 0.135.
+// Bound 0.12; the reference's noise over blocks is 0.012, and both renderers are deterministic.
 TEST_F(GlossyReferenceTest, AGlossySphereReflectsTheShadowItStandsIn) {
     const FrameRequest request = sphere_in_its_shadow();
     ASSERT_EQ(request.rig->lights.size(), 1u);

@@ -1,10 +1,10 @@
 // The opaque ground plane's irradiance at a point of it: the lights' through their shadows on
 // the plane and the residual's through the transfer's occlusion of it. Shared by the ground's
 // own shading (shade.frag, SURFACE 2 and 3) and by what a glossy object reflects of the floor
-// (surface_shading.glsl, FLOOR_LIGHTING 1), so that a product's reflection of the floor holds
-// the shadows drawn on it. Needs LIGHTS_ON's u_light_direction and u_light_share, and
+// (surface_shading.glsl's floor_radiance, SPECULAR 1), so that a product's reflection of the
+// floor holds the shadows drawn on it. Needs LIGHTS_ON's u_light_direction and u_light_share, and
 // u_attenuation_base (surface_shading.glsl), declared before it is included.
-#if GROUND_SURFACE || FLOOR_LIGHTING
+#if GROUND_SURFACE || SPECULAR
 // The ground plane's normal never changes: its irradiance per set is computed once per frame
 // on the CPU, and no SH is evaluated for its points.
 uniform vec3 u_flat_irradiance[1 + LIGHTS_ON];

@@ -12,10 +12,6 @@
 #define OBJECT_SURFACE (SURFACE == 1 || SURFACE == 4)
 #define GROUND_SURFACE (SURFACE == 2 || SURFACE == 3)
 #define MATERIAL_LAYERS (SURFACE == 4)
-// A glossy object reflects the opaque floor as the ground is drawn (ground_lighting.glsl), from
-// the ground's textures, which the pass binds where there is a ground (surface_shading.glsl
-// reads them only where a reflection meets an opaque floor).
-#define FLOOR_LIGHTING (OBJECT_SURFACE && SPECULAR)
 #include "surface_shading.glsl"
 #include "layer_gbuffer.glsl"
 // Position and ao; shading normal and roughness; base colour and metallic (-1: Lambertian).

@@ -44,35 +44,30 @@ uniform float u_light_share[LIGHTS_ON];     // w_k luminance_share_k (thesis); 0
 #endif
 #include "ground_lighting.glsl"
 #if SPECULAR
-// The opaque floor as reflections see it (surface_shading.cpp): its radiance with nothing on
-// it and its height, and its fade (the scene's centre x and z, the fade's start and end radius;
-// end 0: no floor). FLOOR_LIGHTING 1: the floor is shaded where the reflection meets it
-// instead, as the ground pass draws it (ground_lighting.glsl), of albedo u_floor_albedo.
-uniform vec4 u_floor;
-uniform vec4 u_floor_fade;
-#if FLOOR_LIGHTING
+// The opaque floor as reflections see it (surface_shading.cpp): its height and albedo, and its
+// fade (the scene's centre x and z, the fade's start and end radius; end 0: no floor).
+uniform float u_floor_height;
 uniform float u_floor_albedo;
-#endif
+uniform vec4 u_floor_fade;
 
 // Where a reflection along r from `position` meets the floor: along r mirrored downwards when
 // it rises, so that a lobe about a rising r takes its downward part's floor.
 vec3 floor_hit(vec3 position, vec3 r) {
     float down = -max(abs(r.y), 1e-3);
-    return vec3(position.xz + r.xz * ((position.y - u_floor.w) / -down), u_floor.w).xzy;
+    return vec3(position.xz + r.xz * ((position.y - u_floor_height) / -down), u_floor_height)
+        .xzy;
 }
 
-// The radiance a reflection sees of the floor at `hit`: with FLOOR_LIGHTING, the floor's own
-// shading there, the shadows and the occlusion the objects cast on it included (a chrome
-// product's underside reflects the shadow it stands in); else the open floor's.
+// The radiance a reflection sees of the floor at `hit`: the floor's own shading there, as the
+// ground pass draws it (ground_lighting.glsl), the shadows and the occlusion the objects cast on
+// it included (a chrome product's underside reflects the shadow it stands in). The ground's
+// textures are bound wherever there is a ground; the caller reads this only where a reflection
+// meets an opaque floor.
 vec3 floor_radiance(vec3 hit) {
-#if FLOOR_LIGHTING
     vec3 E, E_open;
     float attenuation, open_attenuation;
     ground_irradiance(hit, E, attenuation, E_open, open_attenuation);
     return vec3(u_floor_albedo * u_albedo_scale) * E * attenuation;
-#else
-    return u_floor.rgb;
-#endif
 }
 
 // The share of a reflection along r that sees the floor instead of the map: the share of the

@@ -7,9 +7,8 @@
 // a material with the extensions' layers (material.glsl).
 #define MATERIAL_TEXTURES 1
 // It draws objects only; glossy ones reflect the floor as the ground is drawn, from the ground's
-// textures the shading pass left bound (ground_lighting.glsl, shade.frag's FLOOR_LIGHTING).
+// textures the shading pass left bound (ground_lighting.glsl).
 #define GROUND_SURFACE 0
-#define FLOOR_LIGHTING SPECULAR
 #include "material.glsl"
 #include "surface_shading.glsl"
 in vec3 v_transferred_irradiance;

@@ -79,6 +79,9 @@ void add_lights(FrameContext& frame) {
         }
         frame.irradiance_sets.push_back(irradiance_coefficients(residual, rig.window));
     }
+    for (const ShRgb& set : frame.irradiance_sets) {
+        frame.ground_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
+    }
     if (rig.model == LightingModel::Thesis) {
         for (std::size_t k = 0; k < light_count; ++k) {
             frame.attenuation_base -=

@@ -51,6 +51,9 @@ struct FrameContext {
     // occlusion has one more, last: the open residual map's E(all) - sum_k E(k), against which
     // the shading measures how much of the residual's light the transfer lets through.
     std::vector<ShRgb> irradiance_sets;
+    // Each set's irradiance on the ground plane (its normal +Y, which the yaw leaves unchanged):
+    // ground_lighting.glsl's u_flat_irradiance.
+    std::vector<glm::vec3> ground_irradiance;
     // Thesis model: 1 - sum_k (1 - w_k) luminance_share_k, split as the irradiance is.
     double attenuation_base = 1.0;
 

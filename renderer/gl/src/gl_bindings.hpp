@@ -32,7 +32,7 @@ inline constexpr Binding kGBufferAlbedos{"GBUFFER_ALBEDOS_UNIT", BindingKind::Te
 inline constexpr Binding kGBufferEmissive{"GBUFFER_EMISSIVE_UNIT", BindingKind::TextureUnit, 7};
 // The occlusion frame's transferred irradiance: the G-buffer's, read for objects (SURFACE 1),
 // and the ground's grid, read for the ground (SURFACE 2) and for what glossy objects reflect of
-// it (FLOOR_LIGHTING 1), which reads both.
+// it (SPECULAR 1), which reads both.
 inline constexpr Binding kGBufferTransferred{"GBUFFER_TRANSFERRED_UNIT", BindingKind::TextureUnit,
                                              15};
 inline constexpr Binding kGroundTransfer{"GROUND_TRANSFER_UNIT", BindingKind::TextureUnit, 29};

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <numbers>
-#include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -27,16 +26,11 @@ void bind_specular_textures(const FrameContext& frame, RendererState& state) {
 namespace {
 
 // The uniforms of ground_lighting.glsl, which the ground's shading and glossy objects' reflection
-// of the floor read: the irradiance of each set on the plane (its normal +Y, which the yaw
-// leaves unchanged) and, in an occlusion frame with a ground, its transfer grid's place and the
-// open ground's transferred irradiance.
+// of the floor read: the irradiance of each set on the plane and, in an occlusion frame with a
+// ground, its transfer grid's place and the open ground's transferred irradiance.
 void set_ground_lighting_uniforms(gl::Program& program, const FrameContext& frame) {
-    std::vector<glm::vec3> flat_irradiance;
-    for (const ShRgb& set : frame.irradiance_sets) {
-        flat_irradiance.push_back(glm::vec3(set.evaluate({0.0, 1.0, 0.0})));
-    }
-    glUniform3fv(program.uniform("u_flat_irradiance"), GLsizei(flat_irradiance.size()),
-                 glm::value_ptr(flat_irradiance[0]));
+    glUniform3fv(program.uniform("u_flat_irradiance"), GLsizei(frame.ground_irradiance.size()),
+                 glm::value_ptr(frame.ground_irradiance[0]));
     if (frame.transfer && frame.request.ground) {
         const GroundTransfer& ground = *frame.request.transfer->ground;
         glUniform4f(program.uniform("u_ground_transfer_rect"), ground.centre.x - ground.half_size,
@@ -70,30 +64,17 @@ void set_surface_shading_uniforms(gl::Program& program, const FrameContext& fram
     }
     glUniform1f(program.uniform("u_specular_max_lod"),
                 float(frame.request.specular->residual.levels - 1));
-    // The opaque floor as reflections see it (surface_shading.glsl, floor_share): the open
-    // floor's radiance, albedo kGroundAlbedo under the light the ground pass gives a point that
-    // nothing shadows (set 0, the transfer's open ground, no light below the plane's horizon),
-    // and the fade that draws it. A shadow catcher's floor is not seen, so it reflects nothing.
+    // The opaque floor as reflections see it (surface_shading.glsl, floor_share and
+    // floor_radiance): its height and albedo, and the fade that draws it. A shadow catcher's
+    // floor is not seen, so it reflects nothing.
     const FrameRequest& request = frame.request;
     const bool opaque_floor = request.ground && request.ground_look == GroundLook::Opaque;
-    glm::vec4 floor(0.0f), floor_fade(0.0f);
+    glm::vec4 floor_fade(0.0f);
     if (opaque_floor) {
-        const glm::dvec3 up(0.0, 1.0, 0.0);
-        glm::dvec3 irradiance = frame.irradiance_sets[0].evaluate(up);
-        if (frame.transfer) {
-            irradiance += glm::dvec3(frame.open_ground_transferred);
-        }
-        for (std::size_t i = 0; i < frame.lit.size(); ++i) {
-            if (frame.light_directions[i].y < 0.0f) {
-                irradiance -= frame.irradiance_sets[i + 1].evaluate(up);
-            }
-        }
-        floor = glm::vec4(glm::vec3(double(kGroundAlbedo) / std::numbers::pi * irradiance),
-                          frame.scene.box.min.y);
         floor_fade = glm::vec4(frame.scene.centre.x, frame.scene.centre.z,
                                frame.scene.ground_fade_start(), frame.scene.ground_half_size());
     }
-    glUniform4fv(program.uniform("u_floor"), 1, glm::value_ptr(floor));
+    glUniform1f(program.uniform("u_floor_height"), frame.scene.box.min.y);
     glUniform1f(program.uniform("u_floor_albedo"), kGroundAlbedo);
     glUniform4fv(program.uniform("u_floor_fade"), 1, glm::value_ptr(floor_fade));
     // Light k's reflection is layer k of the lights' cube, by its weight (its visibility is
